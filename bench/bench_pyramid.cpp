@@ -1,0 +1,72 @@
+// Pyramid + Toksvig bake against a plain memcpy of the same input: the bake is memory-bound,
+// so the ratio to memcpy says how close it runs to the machine's limit.
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <random>
+
+#include <benchmark/benchmark.h>
+
+#include "ndfmip/bake.h"
+#include "ndfmip/pyramid.h"
+
+namespace {
+
+// Random unit normals within 45 degrees of +z, fixed seed.
+const ndfmip::Image& syntheticMap(int size) {
+    static std::map<int, ndfmip::Image> cache;
+    auto it = cache.find(size);
+    if (it != cache.end()) return it->second;
+    ndfmip::Image map(size, size, 3);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-0.7f, 0.7f);
+    for (size_t i = 0; i < map.texelCount(); ++i) {
+        float x = u(rng), y = u(rng), z = 1.f, l = std::sqrt(x * x + y * y + z * z);
+        map.pixels[3 * i] = x / l;
+        map.pixels[3 * i + 1] = y / l;
+        map.pixels[3 * i + 2] = z / l;
+    }
+    return cache.emplace(size, std::move(map)).first->second;
+}
+
+void setBytes(benchmark::State& state, const ndfmip::Image& map) {
+    state.SetBytesProcessed(int64_t(state.iterations()) * int64_t(map.pixels.size() * sizeof(float)));
+}
+
+void BM_Memcpy(benchmark::State& state) {
+    const ndfmip::Image& map = syntheticMap(int(state.range(0)));
+    std::vector<float> copy(map.pixels.size());
+    for (auto _ : state) {
+        std::memcpy(copy.data(), map.pixels.data(), map.pixels.size() * sizeof(float));
+        benchmark::DoNotOptimize(copy.data());
+        benchmark::ClobberMemory();
+    }
+    setBytes(state, map);
+}
+
+void BM_Pyramid(benchmark::State& state) {
+    const ndfmip::Image& map = syntheticMap(int(state.range(0)));
+    for (auto _ : state) {
+        ndfmip::Pyramid p = ndfmip::buildPyramid(map);
+        benchmark::DoNotOptimize(p.levels.back().mean.pixels.data());
+    }
+    setBytes(state, map);
+}
+
+void BM_ToksvigBake(benchmark::State& state) {
+    const ndfmip::Image& map = syntheticMap(int(state.range(0)));
+    for (auto _ : state) {
+        ndfmip::Pyramid p = ndfmip::buildPyramid(map);
+        ndfmip::Bake bake = ndfmip::bakeToksvig(p, {});
+        benchmark::DoNotOptimize(bake.levels.back().front().pixels.data());
+    }
+    setBytes(state, map);
+}
+
+BENCHMARK(BM_Memcpy)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Pyramid)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ToksvigBake)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+} // namespace
+
+BENCHMARK_MAIN();

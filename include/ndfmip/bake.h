@@ -1,0 +1,89 @@
+// A method turns a normal map's pyramid into per-level parameter images ("planes") that a
+// shader samples. Every method is a bake function plus shade functions (in its own header);
+// this header holds the data they share and the bake directory on disk.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ndfmip/image.h"
+#include "ndfmip/normal_map.h"
+#include "ndfmip/pyramid.h"
+#include "ndfmip/result.h"
+
+namespace ndfmip {
+
+enum class Method {
+    Naive,   // standard mipmap: mean normal, renormalised
+    Toksvig, // mean normal kept unnormalised; |Na| widens the lobe
+};
+
+std::optional<Method> methodFromString(std::string_view name);
+const char* methodName(Method method);
+std::vector<Method> allMethods();
+
+// One parameter image per level: its name, what each channel means, and whether it may be
+// interpolated linearly (trilinear filtering) before shading.
+struct PlaneInfo {
+    std::string name;                  // file stem: <name>_L<level>.exr
+    std::vector<std::string> channels; // meaning of each channel, e.g. "Na.x"
+    std::string description;
+    bool linear = true;
+};
+
+struct BakeOptions {
+    float baseRoughness = 0.f; // alpha of the material before filtering (roughness planes)
+    // Called after each level is done: (levels done, levels in all).
+    std::function<void(int, int)> progress;
+};
+
+struct Bake {
+    Method method = Method::Naive;
+    std::vector<PlaneInfo> planes;
+    std::vector<std::vector<Image>> levels; // levels[k][p]: plane p at level k
+    std::map<std::string, double> parameters;
+};
+
+Bake bakeNaive(const Pyramid& pyramid, const BakeOptions& options);
+Bake bakeToksvig(const Pyramid& pyramid, const BakeOptions& options);
+Bake bakeMethod(Method method, const Pyramid& pyramid, const BakeOptions& options);
+
+// Where a bake came from, recorded in its manifest.
+struct BakeSource {
+    std::string path;
+    std::string sha256;
+    int width = 0, height = 0;
+    DecodeOptions decode;
+    std::string gloss; // gloss map path, if one shortened the normals
+};
+
+struct BakeWriteOptions {
+    // Engine-ready 16-bit PNG mips in DIR/png16: normal_L<k>.png (unit normal, encoded
+    // c = (n+1)/2 in the source's green convention) and, where the method has roughness,
+    // roughness_L<k>.png (perceptual GGX roughness, sqrt(alpha)).
+    bool png16 = false;
+};
+
+// Writes DIR/manifest.json and DIR/<plane>_L<k>.exr (float). The whole folder is staged beside
+// DIR and renamed into place at the end: a failure leaves no partial bake, and an existing
+// DIR is replaced only if it holds an earlier bake (or nothing).
+Status writeBake(const std::string& dir, const Bake& bake, const BakeSource& source,
+                 const BakeWriteOptions& options = {});
+
+// A bake read back: the manifest's facts and, for one level, the plane images.
+struct LoadedBake {
+    Method method = Method::Naive;
+    std::vector<PlaneInfo> planes;
+    std::vector<std::pair<int, int>> levelSizes;
+    std::map<std::string, double> parameters;
+    BakeSource source;
+    std::vector<Image> level; // planes of the requested level
+};
+
+Result<LoadedBake> readBake(const std::string& dir, int level);
+
+} // namespace ndfmip

@@ -1,0 +1,41 @@
+// Reading and writing image files. The only place file formats live.
+// Every error message is one line that starts with the file's path.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "ndfmip/image.h"
+#include "ndfmip/result.h"
+
+namespace ndfmip {
+
+// An image as read from disk. Integer formats are scaled to [0,1] (by 255 or 65535);
+// float formats (OpenEXR half/float) are returned as stored.
+struct SourceImage {
+    Image image;            // 1 to 4 channels, top row first
+    int bitsPerChannel = 8; // 8 or 16 for integer formats, 16 (half) or 32 for EXR
+    bool isFloat = false;   // true for OpenEXR
+    std::string format;     // "png", "jpeg", "tga", "exr", ...
+};
+
+// Reads PNG (8/16-bit), JPEG, TGA (and other stb formats) and OpenEXR (half/float).
+// Grey+alpha is returned with 2 channels, RGBA with 4; alpha is never dropped here.
+Result<SourceImage> loadImage(const std::string& path);
+
+// Writes a float OpenEXR file (FLOAT pixels, ZIP compression). channelNames, when given,
+// has one name per channel; the default is R,G,B,A (Y for one channel). Written to a
+// temporary file beside `path` and renamed, so a failure leaves no partial file.
+Status saveExr(const std::string& path, const Image& image,
+               const std::vector<std::string>& channelNames = {});
+
+// Writes an 8- or 16-bit PNG (1 to 4 channels) of values clamped to [0,1]; atomic as above.
+Status savePng(const std::string& path, const Image& image, int bitsPerChannel);
+
+// Writes bytes to `path` through a temporary file and a rename.
+Status writeFileAtomic(const std::string& path, const std::string& bytes);
+
+// Lower-case hex SHA-256 of a file's bytes.
+Result<std::string> sha256File(const std::string& path);
+
+} // namespace ndfmip

@@ -1,0 +1,30 @@
+// Method names and dispatch.
+#include "ndfmip/bake.h"
+
+namespace ndfmip {
+
+std::optional<Method> methodFromString(std::string_view name) {
+    for (Method m : allMethods())
+        if (name == methodName(m)) return m;
+    return std::nullopt;
+}
+
+const char* methodName(Method method) {
+    switch (method) {
+    case Method::Naive: return "naive";
+    case Method::Toksvig: return "toksvig";
+    }
+    return "?";
+}
+
+std::vector<Method> allMethods() { return {Method::Naive, Method::Toksvig}; }
+
+Bake bakeMethod(Method method, const Pyramid& pyramid, const BakeOptions& options) {
+    switch (method) {
+    case Method::Naive: return bakeNaive(pyramid, options);
+    case Method::Toksvig: return bakeToksvig(pyramid, options);
+    }
+    return {};
+}
+
+} // namespace ndfmip

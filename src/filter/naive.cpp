@@ -1,0 +1,35 @@
+// The standard mipmap: every level stores the mean normal, renormalised.
+#include <cmath>
+
+#include "ndfmip/bake.h"
+
+namespace ndfmip {
+
+Bake bakeNaive(const Pyramid& pyramid, const BakeOptions& options) {
+    Bake bake;
+    bake.method = Method::Naive;
+    bake.planes = {{"normal", {"n.x", "n.y", "n.z"}, "mean normal renormalised to unit length", true}};
+    const int count = int(pyramid.levels.size());
+    bake.levels.resize(count);
+    for (int k = 0; k < count; ++k) {
+        const Image& mean = levelMean(pyramid, k);
+        Image normal(mean.width, mean.height, 3);
+        const size_t n = mean.texelCount();
+#pragma omp parallel for schedule(static)
+        for (size_t i = 0; i < n; ++i) {
+            const float* m = &mean.pixels[3 * i];
+            float length = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+            float* out = &normal.pixels[3 * i];
+            if (length > 0.f) {
+                for (int c = 0; c < 3; ++c) out[c] = m[c] / length;
+            } else {
+                out[2] = 1.f; // normals that cancel out exactly: no direction left, take flat
+            }
+        }
+        bake.levels[k].push_back(std::move(normal));
+        if (options.progress) options.progress(k + 1, count);
+    }
+    return bake;
+}
+
+} // namespace ndfmip

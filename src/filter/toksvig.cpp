@@ -1,0 +1,40 @@
+// Toksvig bake: the unnormalised mean normal Na per texel (linear, so it may be trilinearly
+// filtered before shading) and, for engines, Beckmann/GGX roughness from its length.
+#include <cmath>
+
+#include "ndfmip/bake.h"
+#include "ndfmip/roughness.h"
+
+namespace ndfmip {
+
+Bake bakeToksvig(const Pyramid& pyramid, const BakeOptions& options) {
+    Bake bake;
+    bake.method = Method::Toksvig;
+    bake.parameters["base_roughness"] = options.baseRoughness;
+    bake.planes = {
+        {"mean", {"Na.x", "Na.y", "Na.z"}, "unnormalised mean normal Na (first moment of the NDF)",
+         true},
+        {"roughness_beckmann", {"alpha"},
+         "Beckmann alpha: sqrt(alpha0^2 + 2 sigma^2), sigma^2 = (1-|Na|)/|Na|", false},
+        {"roughness_ggx", {"alpha"}, "GGX alpha, same mapping as Beckmann", false},
+    };
+    const int count = int(pyramid.levels.size());
+    bake.levels.resize(count);
+    for (int k = 0; k < count; ++k) {
+        const Image& mean = levelMean(pyramid, k);
+        Image beckmann(mean.width, mean.height, 1);
+        const size_t n = mean.texelCount();
+#pragma omp parallel for schedule(static)
+        for (size_t i = 0; i < n; ++i) {
+            const float* m = &mean.pixels[3 * i];
+            float length = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+            beckmann.pixels[i] = varianceRoughness(length, options.baseRoughness);
+        }
+        Image ggx = beckmann;
+        bake.levels[k] = {mean, std::move(beckmann), std::move(ggx)};
+        if (options.progress) options.progress(k + 1, count);
+    }
+    return bake;
+}
+
+} // namespace ndfmip

@@ -1,0 +1,557 @@
+// Image file reading and writing: PNG through libpng, OpenEXR through OpenEXR, the rest
+// through stb_image. Nothing here throws: every failure becomes a one-line Error/Status
+// that starts with the file's path.
+#include "ndfmip/io.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <csetjmp>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string_view>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <openssl/evp.h>
+#include <png.h>
+#include <stb_image.h> // implementation lives in Debian's libstb.so
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfIO.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+
+namespace ndfmip {
+namespace {
+
+std::string oneLine(std::string text) {
+    std::replace(text.begin(), text.end(), '\n', ' ');
+    std::replace(text.begin(), text.end(), '\r', ' ');
+    while (!text.empty() && (text.back() == ' ' || text.back() == '.')) text.pop_back();
+    return text;
+}
+
+Error fail(const std::string& path, const std::string& problem) {
+    return Error{path + ": " + oneLine(problem)};
+}
+
+std::string errnoText(int err) { return std::strerror(err); }
+
+std::string stbReason() {
+    const char* reason = stbi_failure_reason();
+    return reason ? reason : "unknown error";
+}
+
+// ---- reading whole files ---------------------------------------------------------------------
+
+// Reads up to `limit` bytes (all when limit is 0). Fails on a missing file or a directory.
+Result<std::string> readBytes(const std::string& path, size_t limit = 0) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) return fail(path, "is a directory");
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file) return fail(path, "cannot open (" + errnoText(errno) + ")");
+    std::string bytes;
+    std::array<char, 1 << 16> chunk;
+    bool error = false;
+    while (limit == 0 || bytes.size() < limit) {
+        size_t want = limit == 0 ? chunk.size() : std::min(chunk.size(), limit - bytes.size());
+        size_t got = std::fread(chunk.data(), 1, want, file);
+        bytes.append(chunk.data(), got);
+        if (got < want) {
+            error = std::ferror(file) != 0;
+            break;
+        }
+    }
+    int err = errno;
+    std::fclose(file);
+    if (error) return fail(path, "read error (" + errnoText(err) + ")");
+    return bytes;
+}
+
+bool startsWith(const std::string& bytes, std::string_view magic) {
+    return bytes.size() >= magic.size() && std::string_view(bytes).substr(0, magic.size()) == magic;
+}
+
+// ---- PNG reading (libpng's full API) ---------------------------------------------------------
+// The simplified png_image API premultiplies alpha in 16-bit output and applies gAMA/sRGB
+// conversions; a normal map is data, so we read the stored samples untouched instead.
+
+struct PngReadJob {
+    const std::string* bytes = nullptr;
+    size_t position = 0;
+    uint32_t width = 0, height = 0;
+    int channels = 0, bits = 0;
+    std::vector<unsigned char> samples; // rows of channels * bits/8 bytes, host byte order
+    char message[256] = "";
+};
+
+void pngError(png_structp png, png_const_charp message) {
+    auto* job = static_cast<PngReadJob*>(png_get_error_ptr(png));
+    std::snprintf(job->message, sizeof job->message, "%s", message);
+    png_longjmp(png, 1);
+}
+
+void pngWarning(png_structp, png_const_charp) {} // e.g. "known incorrect sRGB profile": harmless
+
+void pngReadBytes(png_structp png, png_bytep out, size_t count) {
+    auto* job = static_cast<PngReadJob*>(png_get_io_ptr(png));
+    if (count > job->bytes->size() - job->position) png_error(png, "file is truncated");
+    std::memcpy(out, job->bytes->data() + job->position, count);
+    job->position += count;
+}
+
+// Everything that outlives a longjmp lives in `job` (outside this frame) and no C++ object
+// with a destructor is created between setjmp and the libpng calls, so the jump is safe.
+bool decodePngSamples(PngReadJob& job) {
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &job, pngError, pngWarning);
+    if (!png) return false;
+    png_infop info = png_create_info_struct(png);
+    if (!info || setjmp(png_jmpbuf(png))) {
+        png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
+        return false;
+    }
+    png_set_read_fn(png, &job, pngReadBytes);
+    png_read_info(png, info);
+    png_set_expand(png); // palette -> RGB, grey < 8 bits -> 8 bits, tRNS -> alpha
+    if (png_get_bit_depth(png, info) == 16 && std::endian::native == std::endian::little)
+        png_set_swap(png);
+    int passes = png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    job.width = png_get_image_width(png, info);
+    job.height = png_get_image_height(png, info);
+    job.channels = png_get_channels(png, info);
+    job.bits = png_get_bit_depth(png, info);
+    size_t rowBytes = png_get_rowbytes(png, info);
+    bool allocated = true;
+    try {
+        job.samples.resize(rowBytes * job.height);
+    } catch (const std::exception&) {
+        allocated = false;
+    }
+    if (!allocated) png_error(png, "image too large for memory");
+    for (int pass = 0; pass < passes; ++pass)
+        for (uint32_t y = 0; y < job.height; ++y)
+            png_read_row(png, job.samples.data() + y * rowBytes, nullptr);
+    png_read_end(png, nullptr); // checks the rest of the file (CRCs, IEND)
+    png_destroy_read_struct(&png, &info, nullptr);
+    return true;
+}
+
+Result<SourceImage> loadPng(const std::string& path, const std::string& bytes) {
+    PngReadJob job;
+    job.bytes = &bytes;
+    if (!decodePngSamples(job))
+        return fail(path, std::string("corrupt or truncated PNG (") + job.message + ")");
+    if (job.channels < 1 || job.channels > 4 || (job.bits != 8 && job.bits != 16))
+        return fail(path, "unsupported PNG sample layout");
+    SourceImage out;
+    out.format = "png";
+    out.bitsPerChannel = job.bits;
+    out.image = Image(int(job.width), int(job.height), job.channels);
+    std::vector<float>& pixels = out.image.pixels;
+    if (job.bits == 8) {
+        for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = job.samples[i] / 255.f;
+    } else {
+        for (size_t i = 0; i < pixels.size(); ++i) {
+            uint16_t v;
+            std::memcpy(&v, job.samples.data() + 2 * i, 2);
+            pixels[i] = v / 65535.f;
+        }
+    }
+    return out;
+}
+
+// ---- OpenEXR reading -------------------------------------------------------------------------
+
+// Which channels to read: RGB(A), Y(A), RG, R, or the only channel there is.
+Result<std::vector<std::string>> exrChannelsToRead(const std::string& path,
+                                                   const Imf::ChannelList& list) {
+    auto has = [&](const char* name) { return list.findChannel(name) != nullptr; };
+    bool alpha = has("A");
+    if (has("R") && has("G") && has("B"))
+        return alpha ? std::vector<std::string>{"R", "G", "B", "A"}
+                     : std::vector<std::string>{"R", "G", "B"};
+    if (has("Y")) return alpha ? std::vector<std::string>{"Y", "A"} : std::vector<std::string>{"Y"};
+    if (has("R") && has("G")) return std::vector<std::string>{"R", "G"};
+    if (has("R")) return std::vector<std::string>{"R"};
+    std::vector<std::string> all;
+    for (auto it = list.begin(); it != list.end(); ++it) all.push_back(it.name());
+    if (all.size() == 1) return all;
+    std::string names;
+    for (const auto& n : all) names += (names.empty() ? "" : ", ") + n;
+    return fail(path, "no R,G,B or Y channels in EXR (has: " + names + ")");
+}
+
+Result<SourceImage> loadExrUnchecked(const std::string& path) {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i window = file.header().dataWindow();
+    int64_t width = int64_t(window.max.x) - window.min.x + 1;
+    int64_t height = int64_t(window.max.y) - window.min.y + 1;
+    if (width <= 0 || height <= 0) return fail(path, "image is empty (0x0)");
+    if (width > INT32_MAX || height > INT32_MAX) return fail(path, "image is too large");
+    auto names = exrChannelsToRead(path, file.header().channels());
+    if (!names) return names.error();
+    SourceImage out;
+    out.format = "exr";
+    out.isFloat = true;
+    out.bitsPerChannel = 16;
+    int channels = int(names->size());
+    out.image = Image(int(width), int(height), channels);
+    Imf::FrameBuffer frame;
+    size_t xStride = sizeof(float) * channels;
+    for (int c = 0; c < channels; ++c) {
+        const std::string& name = names.value()[c];
+        if (file.header().channels().findChannel(name)->type != Imf::HALF)
+            out.bitsPerChannel = 32;
+        frame.insert(name, Imf::Slice::Make(Imf::FLOAT, out.image.pixels.data() + c, window,
+                                            xStride, xStride * size_t(width)));
+    }
+    file.setFrameBuffer(frame);
+    file.readPixels(window.min.y, window.max.y);
+    return out;
+}
+
+Result<SourceImage> loadExr(const std::string& path) {
+    try {
+        return loadExrUnchecked(path);
+    } catch (const std::exception& e) {
+        return fail(path, std::string("corrupt or unreadable OpenEXR file (") + e.what() + ")");
+    }
+}
+
+// ---- stb_image formats -----------------------------------------------------------------------
+
+std::string stbFormat(const std::string& bytes) {
+    if (startsWith(bytes, "\xFF\xD8\xFF")) return "jpeg";
+    if (startsWith(bytes, "BM")) return "bmp";
+    if (startsWith(bytes, "GIF8")) return "gif";
+    if (startsWith(bytes, "8BPS")) return "psd";
+    if (startsWith(bytes, "#?RADIANCE") || startsWith(bytes, "#?RGBE")) return "hdr";
+    if (startsWith(bytes, "P5") || startsWith(bytes, "P6")) return "pnm";
+    if (startsWith(bytes, "\x53\x80\xF6\x34")) return "pic";
+    return "tga"; // TGA has no signature; stb decides whether it is one
+}
+
+// Copies stb's interleaved samples into an Image, scaling integers to [0,1]. Divides (not
+// multiplies by 1/range) so k/255 and k/65535 come out exactly as for PNG.
+template <class T>
+Image imageFromStb(const T* data, int w, int h, int c, float range) {
+    Image image(w, h, c);
+    for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = float(data[i]) / range;
+    return image;
+}
+
+Result<SourceImage> loadWithStb(const std::string& path, const std::string& bytes) {
+    auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+    int size = int(std::min<size_t>(bytes.size(), INT32_MAX));
+    int w = 0, h = 0, c = 0;
+    SourceImage out;
+    out.format = stbFormat(bytes);
+    if (!stbi_info_from_memory(data, size, &w, &h, &c)) {
+        if (out.format == "tga") return fail(path, "unsupported or unrecognised image format");
+        return fail(path, "corrupt " + out.format + " file (" + stbReason() + ")");
+    }
+    if (out.format == "hdr") {
+        float* f = stbi_loadf_from_memory(data, size, &w, &h, &c, 0);
+        if (f) out.image = imageFromStb(f, w, h, c, 1.f);
+        out.isFloat = true;
+        out.bitsPerChannel = 32;
+        stbi_image_free(f);
+        if (!f) return fail(path, "corrupt image (" + stbReason() + ")");
+    } else if (stbi_is_16_bit_from_memory(data, size)) {
+        stbi_us* s = stbi_load_16_from_memory(data, size, &w, &h, &c, 0);
+        if (s) out.image = imageFromStb(s, w, h, c, 65535.f);
+        out.bitsPerChannel = 16;
+        stbi_image_free(s);
+        if (!s) return fail(path, "corrupt image (" + stbReason() + ")");
+    } else {
+        stbi_uc* b = stbi_load_from_memory(data, size, &w, &h, &c, 0);
+        if (b) out.image = imageFromStb(b, w, h, c, 255.f);
+        stbi_image_free(b);
+        if (!b) return fail(path, "corrupt image (" + stbReason() + ")");
+    }
+    return out;
+}
+
+Result<SourceImage> loadDetected(const std::string& path) {
+    auto head = readBytes(path, 8);
+    if (!head) return head.error();
+    if (head->empty()) return fail(path, "file is empty");
+    if (startsWith(head.value(), "\x76\x2F\x31\x01")) return loadExr(path); // OpenEXR reads the file
+    auto bytes = readBytes(path);
+    if (!bytes) return bytes.error();
+    if (startsWith(bytes.value(), "\x89PNG\r\n\x1A\n")) return loadPng(path, bytes.value());
+    return loadWithStb(path, bytes.value());
+}
+
+// ---- writing ---------------------------------------------------------------------------------
+
+std::string tempPathFor(const std::string& path) {
+    std::random_device random;
+    char suffix[64];
+    std::snprintf(suffix, sizeof suffix, ".tmp-%ld-%08x%08x", long(::getpid()), random(),
+                  random());
+    return path + suffix;
+}
+
+// Writes all of `bytes` to a new file and syncs it; returns 0 or an errno value.
+int writeNewFile(const std::string& path, const std::string& bytes) {
+    int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) return errno;
+    size_t done = 0;
+    while (done < bytes.size()) {
+        ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            int err = n < 0 ? errno : EIO;
+            ::close(fd);
+            return err;
+        }
+        done += size_t(n);
+    }
+    // Flush to disk before the rename so a crash cannot leave an empty file under `path`.
+    if (::fsync(fd) != 0) {
+        int err = errno;
+        ::close(fd);
+        return err;
+    }
+    return ::close(fd) == 0 ? 0 : errno;
+}
+
+Status cannotWrite(const std::string& path, const std::string& why) {
+    return Status::failure(path + ": cannot write (" + oneLine(why) + ")");
+}
+
+// An in-memory OpenEXR output stream (OpenEXR seeks back to fill in the offset table).
+class MemoryOStream : public Imf::OStream {
+public:
+    explicit MemoryOStream(std::string& bytes) : Imf::OStream("memory"), bytes_(bytes) {}
+    void write(const char c[], int n) override {
+        if (position_ + size_t(n) > bytes_.size()) bytes_.resize(position_ + size_t(n));
+        std::memcpy(bytes_.data() + position_, c, size_t(n));
+        position_ += size_t(n);
+    }
+    uint64_t tellp() override { return position_; }
+    void seekp(uint64_t pos) override { position_ = pos; }
+
+private:
+    std::string& bytes_;
+    uint64_t position_ = 0;
+};
+
+bool validImage(const Image& image) {
+    return !image.empty() && image.pixels.size() == image.texelCount() * size_t(image.channels);
+}
+
+std::vector<std::string> exrChannelNames(const Image& image,
+                                         const std::vector<std::string>& given) {
+    if (!given.empty()) return given;
+    if (image.channels == 1) return {"Y"};
+    std::vector<std::string> names{"R", "G", "B", "A"};
+    names.resize(size_t(image.channels));
+    return names;
+}
+
+Status checkExrNames(const std::string& path, const Image& image,
+                     const std::vector<std::string>& names) {
+    if (names.size() != size_t(image.channels))
+        return cannotWrite(path, std::to_string(names.size()) + " channel names for " +
+                                     std::to_string(image.channels) + " channels");
+    for (size_t i = 0; i < names.size(); ++i) {
+        if (names[i].empty()) return cannotWrite(path, "empty channel name");
+        if (std::find(names.begin(), names.begin() + long(i), names[i]) != names.begin() + long(i))
+            return cannotWrite(path, "channel name " + names[i] + " given twice");
+    }
+    return Status::success();
+}
+
+void encodeExr(const Image& image, const std::vector<std::string>& names, std::string& bytes) {
+    Imf::Header header(image.width, image.height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    Imf::FrameBuffer frame;
+    size_t xStride = sizeof(float) * size_t(image.channels);
+    char* base = reinterpret_cast<char*>(const_cast<float*>(image.pixels.data()));
+    for (int c = 0; c < image.channels; ++c) {
+        header.channels().insert(names[size_t(c)], Imf::Channel(Imf::FLOAT));
+        frame.insert(names[size_t(c)], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xStride,
+                                                  xStride * size_t(image.width)));
+    }
+    MemoryOStream stream(bytes);
+    Imf::OutputFile file(stream, header); // its destructor writes the offset table
+    file.setFrameBuffer(frame);
+    file.writePixels(image.height);
+}
+
+// ---- PNG writing (libpng's full API, no colour-space chunks) ---------------------------------
+
+struct PngWriteJob {
+    const Image* image = nullptr;
+    int bits = 8;
+    std::vector<unsigned char> samples; // big-endian rows, as PNG stores them
+    std::string* out = nullptr;
+    char message[256] = "";
+};
+
+void pngWriteBytes(png_structp png, png_bytep data, size_t count) {
+    auto* job = static_cast<PngWriteJob*>(png_get_io_ptr(png));
+    bool ok = true;
+    try {
+        job->out->append(reinterpret_cast<const char*>(data), count);
+    } catch (const std::exception&) {
+        ok = false;
+    }
+    if (!ok) png_error(png, "out of memory");
+}
+
+void pngFlush(png_structp) {}
+
+void pngWriteError(png_structp png, png_const_charp message) {
+    auto* job = static_cast<PngWriteJob*>(png_get_error_ptr(png));
+    std::snprintf(job->message, sizeof job->message, "%s", message);
+    png_longjmp(png, 1);
+}
+
+// Quantises to 8 or 16 bits, clamping to [0,1] (NaN -> 0) and rounding to nearest.
+void quantisePng(PngWriteJob& job) {
+    const std::vector<float>& pixels = job.image->pixels;
+    int bytesPer = job.bits / 8;
+    float top = job.bits == 8 ? 255.f : 65535.f;
+    job.samples.resize(pixels.size() * size_t(bytesPer));
+    for (size_t i = 0; i < pixels.size(); ++i) {
+        float v = pixels[i] > 0.f ? std::min(pixels[i], 1.f) : 0.f;
+        auto q = uint32_t(std::lround(v * top));
+        if (bytesPer == 1) {
+            job.samples[i] = static_cast<unsigned char>(q);
+        } else {
+            job.samples[2 * i] = static_cast<unsigned char>(q >> 8);
+            job.samples[2 * i + 1] = static_cast<unsigned char>(q & 0xFF);
+        }
+    }
+}
+
+// Same longjmp rules as decodePngSamples.
+bool encodePng(PngWriteJob& job) {
+    png_structp png =
+        png_create_write_struct(PNG_LIBPNG_VER_STRING, &job, pngWriteError, pngWarning);
+    if (!png) return false;
+    png_infop info = png_create_info_struct(png);
+    if (!info || setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, info ? &info : nullptr);
+        return false;
+    }
+    static const int colourTypes[] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA,
+                                      PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGB_ALPHA};
+    const Image& image = *job.image;
+    png_set_write_fn(png, &job, pngWriteBytes, pngFlush);
+    png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), job.bits,
+                 colourTypes[image.channels - 1], PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    size_t rowBytes = size_t(image.width) * size_t(image.channels) * size_t(job.bits / 8);
+    for (int y = 0; y < image.height; ++y)
+        png_write_row(png, job.samples.data() + size_t(y) * rowBytes);
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    return true;
+}
+
+} // namespace
+
+Result<SourceImage> loadImage(const std::string& path) {
+    try {
+        auto loaded = loadDetected(path);
+        if (loaded && loaded->image.empty()) return fail(path, "image is empty (0x0)");
+        return loaded;
+    } catch (const std::exception& e) { // e.g. bad_alloc for a huge declared size
+        return fail(path, std::string("cannot read (") + e.what() + ")");
+    }
+}
+
+Status saveExr(const std::string& path, const Image& image,
+               const std::vector<std::string>& channelNames) {
+    if (!validImage(image)) return cannotWrite(path, "empty or inconsistent image");
+    std::vector<std::string> names = exrChannelNames(image, channelNames);
+    if (Status status = checkExrNames(path, image, names); !status) return status;
+    std::string bytes;
+    try {
+        encodeExr(image, names, bytes);
+    } catch (const std::exception& e) {
+        return cannotWrite(path, e.what());
+    }
+    return writeFileAtomic(path, bytes);
+}
+
+Status savePng(const std::string& path, const Image& image, int bitsPerChannel) {
+    if (!validImage(image)) return cannotWrite(path, "empty or inconsistent image");
+    if (image.channels > 4) return cannotWrite(path, "PNG holds 1 to 4 channels");
+    if (bitsPerChannel != 8 && bitsPerChannel != 16)
+        return cannotWrite(path, "PNG bit depth must be 8 or 16");
+    std::string bytes;
+    PngWriteJob job;
+    job.image = &image;
+    job.bits = bitsPerChannel;
+    job.out = &bytes;
+    try {
+        quantisePng(job);
+    } catch (const std::exception& e) {
+        return cannotWrite(path, e.what());
+    }
+    if (!encodePng(job)) return cannotWrite(path, job.message);
+    return writeFileAtomic(path, bytes);
+}
+
+Status writeFileAtomic(const std::string& path, const std::string& bytes) {
+    std::string temp = tempPathFor(path);
+    if (int err = writeNewFile(temp, bytes); err != 0) {
+        ::unlink(temp.c_str()); // fails harmlessly when it was never created
+        return cannotWrite(path, errnoText(err));
+    }
+    std::error_code ec;
+    std::filesystem::rename(temp, path, ec);
+    if (ec) {
+        ::unlink(temp.c_str());
+        return cannotWrite(path, ec.message());
+    }
+    return Status::success();
+}
+
+Result<std::string> sha256File(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) return fail(path, "is a directory");
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file) return fail(path, "cannot open (" + errnoText(errno) + ")");
+    EVP_MD_CTX* ctx = EVP_MD_CTX_new();
+    bool ok = ctx && EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr) == 1;
+    std::array<unsigned char, 1 << 16> chunk;
+    size_t got;
+    while (ok && (got = std::fread(chunk.data(), 1, chunk.size(), file)) > 0)
+        ok = EVP_DigestUpdate(ctx, chunk.data(), got) == 1;
+    bool readError = std::ferror(file) != 0;
+    std::fclose(file);
+    unsigned char digest[EVP_MAX_MD_SIZE];
+    unsigned int length = 0;
+    ok = ok && !readError && EVP_DigestFinal_ex(ctx, digest, &length) == 1;
+    EVP_MD_CTX_free(ctx);
+    if (!ok) return fail(path, readError ? "read error" : "SHA-256 failed");
+    static const char hex[] = "0123456789abcdef";
+    std::string text;
+    for (unsigned int i = 0; i < length; ++i) {
+        text += hex[digest[i] >> 4];
+        text += hex[digest[i] & 15];
+    }
+    return text;
+}
+
+} // namespace ndfmip

@@ -1,0 +1,95 @@
+// ndfmip bake IN --method M -o DIR: per-level parameter images and a manifest.
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "cli.h"
+#include "ndfmip/bake.h"
+#include "ndfmip/io.h"
+#include "ndfmip/toksvig.h"
+
+namespace ndfmip::cli {
+namespace {
+
+struct BakeArgs {
+    std::string input, output, method = "toksvig", gloss, exportFormat;
+    InputOptions input_options;
+    float maxExponent = 0.f;
+    float baseRoughness = 0.f;
+    bool quiet = false;
+};
+
+void applyGlossOrFail(Image& normals, const BakeArgs& a) {
+    Result<SourceImage> gloss = loadImage(a.gloss);
+    if (!gloss) throw Failure(gloss.error().message);
+    const Image& g = gloss->image;
+    if (g.width != normals.width || g.height != normals.height)
+        throw Failure(a.gloss + ": gloss map is " + std::to_string(g.width) + "x" +
+                      std::to_string(g.height) + " but the normal map is " +
+                      std::to_string(normals.width) + "x" + std::to_string(normals.height));
+    for (size_t i = 0; i < g.texelCount(); ++i)
+        if (!std::isfinite(g.pixels[i * g.channels]))
+            throw Failure(a.gloss + ": NaN or infinite gloss value at texel (" +
+                          std::to_string(i % g.width) + ", " + std::to_string(i / g.width) + ")");
+    applyGlossMap(normals, g, a.maxExponent);
+}
+
+void runBake(const BakeArgs& a) {
+    auto method = methodFromString(a.method);
+    if (!method) throw Failure("unknown method '" + a.method + "' (naive, toksvig)");
+    if (!a.gloss.empty() && a.maxExponent <= 0.f)
+        throw Failure("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");
+    DecodeOptions decode = a.input_options.resolved();
+
+    long long start = nowNanoseconds();
+    Image normals = loadNormalsOrFail(a.input, decode, a.quiet);
+    if (!a.gloss.empty()) applyGlossOrFail(normals, a);
+    double decodeMs = millisecondsSince(start);
+
+    start = nowNanoseconds();
+    Pyramid pyramid = buildPyramid(normals);
+    BakeOptions options;
+    options.baseRoughness = a.baseRoughness;
+    if (!a.quiet) options.progress = [](int done, int total) { showProgress("bake: level", done, total); };
+    Bake bake = bakeMethod(*method, pyramid, options);
+    if (!a.gloss.empty()) bake.parameters["max_exponent"] = a.maxExponent;
+    double bakeMs = millisecondsSince(start);
+
+    start = nowNanoseconds();
+    Result<std::string> hash = sha256File(a.input);
+    if (!hash) throw Failure(hash.error().message);
+    BakeSource source{a.input, hash.value(), normals.width, normals.height, decode, a.gloss};
+    BakeWriteOptions write;
+    write.png16 = a.exportFormat == "png16";
+    Status status = writeBake(a.output, bake, source, write);
+    if (!status) throw Failure(status.error);
+    double writeMs = millisecondsSince(start);
+
+    if (!a.quiet)
+        std::printf("%-8s: %dx%d, %zu levels -> %s (decode %.1f ms, bake %.1f ms, write %.1f ms)\n",
+                    methodName(*method), normals.width, normals.height, bake.levels.size(),
+                    a.output.c_str(), decodeMs, bakeMs, writeMs);
+}
+
+} // namespace
+
+void addBakeCommand(CLI::App& app) {
+    auto args = std::make_shared<BakeArgs>();
+    CLI::App* c = app.add_subcommand("bake", "filter a normal map into a per-level bake directory");
+    c->add_option("input", args->input, "normal map (PNG 8/16-bit, JPEG, TGA, OpenEXR)")->required();
+    c->add_option("-o,--output", args->output, "output directory")->required();
+    c->add_option("--method", args->method, "naive or toksvig")->capture_default_str();
+    addInputOptions(c, args->input_options);
+    c->add_option("--gloss", args->gloss, "gloss map in [0,1]: s = gloss * S0 (Toksvig eq. 12)");
+    c->add_option("--max-exponent", args->maxExponent, "S0, the exponent of gloss 1.0")
+        ->check(CLI::Range(1e-3f, 1e6f));
+    c->add_option("--base-roughness", args->baseRoughness,
+                  "GGX/Beckmann alpha of the material before filtering")
+        ->check(CLI::Range(0.f, 1.f))->capture_default_str();
+    c->add_option("--export", args->exportFormat, "also write engine-ready mips: png16")
+        ->check(CLI::IsMember({"png16"}));
+    c->add_flag("-q,--quiet", args->quiet, "print nothing but errors");
+    c->callback([args] { runBake(*args); });
+}
+
+} // namespace ndfmip::cli

@@ -1,0 +1,43 @@
+// Pieces every subcommand shares: its registration, the error it throws, decode options.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "ndfmip/normal_map.h"
+
+namespace ndfmip::cli {
+
+// A user-facing failure: main prints "ndfmip: error: <message>" and exits with 1.
+struct Failure : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// Each subcommand adds itself to the app (one file per subcommand).
+void addBakeCommand(CLI::App& app);
+void addInspectCommand(CLI::App& app);
+void addLutCommand(CLI::App& app);
+void addDemoCommand(CLI::App& app);
+
+// The options that say how a file's pixels become normals (bake, demo).
+struct InputOptions {
+    DecodeOptions decode;
+    float heightScale = 0.f; // > 0: --height given
+    bool clamp = false;
+    DecodeOptions resolved() const; // decode with height and address filled in
+};
+void addInputOptions(CLI::App* command, InputOptions& options);
+
+// Loads and decodes a normal map, prints its decode report to stderr, throws on error.
+Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bool quiet);
+
+// A short "\r<label> k/n" progress line on stderr when it is a terminal.
+void showProgress(const char* label, int done, int total);
+
+// Milliseconds since `start`.
+double millisecondsSince(long long startNanoseconds);
+long long nowNanoseconds();
+
+} // namespace ndfmip::cli

@@ -1,0 +1,66 @@
+#include <chrono>
+#include <cstdio>
+#include <unistd.h>
+
+#include "cli.h"
+
+namespace ndfmip::cli {
+
+DecodeOptions InputOptions::resolved() const {
+    DecodeOptions d = decode;
+    d.height = heightScale > 0.f;
+    d.heightScale = d.height ? heightScale : 1.f;
+    d.address = clamp ? AddressMode::Clamp : AddressMode::Wrap;
+    return d;
+}
+
+void addInputOptions(CLI::App* command, InputOptions& o) {
+    command->add_flag("--green-down", o.decode.greenDown,
+                      "DirectX-style map (green points down): flip Y");
+    command->add_flag("--two-channel", o.decode.twoChannel,
+                      "use R,G only and rebuild z (BC5-style maps)");
+    command->add_flag("--signed", o.decode.signedValues,
+                      "float (EXR) maps already hold n in [-1,1]");
+    command->add_option("--height", o.heightScale,
+                        "input is a height map; SCALE is the height of value 1.0 in texels")
+        ->check(CLI::Range(1e-6f, 1e6f));
+    command->add_flag("--clamp", o.clamp, "the map does not tile (default: wrap)");
+}
+
+Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bool quiet) {
+    DecodeReport report;
+    Result<Image> normals = loadNormalMap(path, decode, &report);
+    if (!normals) throw Failure(normals.error().message);
+    if (!quiet) {
+        auto percent = [&](size_t n) { return 100.0 * double(n) / double(report.texels); };
+        if (report.offUnitLength * 20 > report.texels)
+            std::fprintf(stderr,
+                         "ndfmip: warning: %s: %.1f%% of the normals are far from unit length "
+                         "(wrong convention, or not a normal map?)\n",
+                         path.c_str(), percent(report.offUnitLength));
+        if (report.degenerate)
+            std::fprintf(stderr, "ndfmip: warning: %s: %zu zero-length normals replaced by (0,0,1)\n",
+                         path.c_str(), report.degenerate);
+        if (report.facingDown)
+            std::fprintf(stderr, "ndfmip: warning: %s: %zu normals face away from the surface (z < 0)\n",
+                         path.c_str(), report.facingDown);
+    }
+    return std::move(normals.value());
+}
+
+void showProgress(const char* label, int done, int total) {
+    static const bool terminal = isatty(2);
+    if (!terminal) return;
+    std::fprintf(stderr, "\r%s %d/%d%s", label, done, total, done == total ? "\n" : "");
+    std::fflush(stderr);
+}
+
+long long nowNanoseconds() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+
+double millisecondsSince(long long start) { return double(nowNanoseconds() - start) * 1e-6; }
+
+} // namespace ndfmip::cli

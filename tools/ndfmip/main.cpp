@@ -1,0 +1,26 @@
+// ndfmip: filters (mipmaps) normal maps so that shading stays right at every distance.
+#include <cstdio>
+
+#include "cli.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"ndfmip " NDFMIP_VERSION ": normal-map filtering (Toksvig; Han et al. 2007)"};
+    app.set_version_flag("--version", "ndfmip " NDFMIP_VERSION);
+    app.require_subcommand(1);
+    ndfmip::cli::addBakeCommand(app);
+    ndfmip::cli::addInspectCommand(app);
+    ndfmip::cli::addLutCommand(app);
+    ndfmip::cli::addDemoCommand(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    } catch (const ndfmip::cli::Failure& e) {
+        std::fprintf(stderr, "ndfmip: error: %s\n", e.what());
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "ndfmip: internal error: %s\n", e.what());
+        return 2;
+    }
+    return 0;
+}
