@@ -289,7 +289,8 @@ Result<SourceImage> loadDetected(const std::string& path) {
     auto head = readBytes(path, 8);
     if (!head) return head.error();
     if (head->empty()) return fail(path, "file is empty");
-    if (startsWith(head.value(), "\x76\x2F\x31\x01")) return loadExr(path); // OpenEXR reads the file
+    // OpenEXR reads the file itself, so only the signature is read here.
+    if (startsWith(head.value(), "\x76\x2F\x31\x01")) return loadExr(path);
     auto bytes = readBytes(path);
     if (!bytes) return bytes.error();
     if (startsWith(bytes.value(), "\x89PNG\r\n\x1A\n")) return loadPng(path, bytes.value());

@@ -330,7 +330,8 @@ TEST(ImageIo, WritingIntoMissingDirectoryFails) {
     std::string paths[] = {png, exr, raw};
     for (int i = 0; i < 3; ++i) {
         EXPECT_FALSE(results[i]);
-        EXPECT_TRUE(startsWith(results[i].error, paths[i] + ": cannot write (")) << results[i].error;
+        const std::string& error = results[i].error;
+        EXPECT_TRUE(startsWith(error, paths[i] + ": cannot write (")) << error;
     }
     EXPECT_FALSE(fs::exists(missing));
     EXPECT_TRUE(listing(dir.path).empty());
