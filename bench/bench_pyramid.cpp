@@ -13,8 +13,8 @@
 namespace {
 
 // Random unit normals within 45 degrees of +z, fixed seed.
-const ndfmip::Image& syntheticMap(int size) {
-    static std::map<int, ndfmip::Image> cache;
+const ndfmip::SharedImage& syntheticMap(int size) {
+    static std::map<int, ndfmip::SharedImage> cache;
     auto it = cache.find(size);
     if (it != cache.end()) return it->second;
     ndfmip::Image map(size, size, 3);
@@ -26,7 +26,7 @@ const ndfmip::Image& syntheticMap(int size) {
         map.pixels[3 * i + 1] = y / l;
         map.pixels[3 * i + 2] = z / l;
     }
-    return cache.emplace(size, std::move(map)).first->second;
+    return cache.emplace(size, std::make_shared<const ndfmip::Image>(std::move(map))).first->second;
 }
 
 void setBytes(benchmark::State& state, const ndfmip::Image& map) {
@@ -34,7 +34,8 @@ void setBytes(benchmark::State& state, const ndfmip::Image& map) {
 }
 
 void BM_Memcpy(benchmark::State& state) {
-    const ndfmip::Image& map = syntheticMap(int(state.range(0)));
+    const ndfmip::SharedImage& shared = syntheticMap(int(state.range(0)));
+    const ndfmip::Image& map = *shared;
     std::vector<float> copy(map.pixels.size());
     for (auto _ : state) {
         std::memcpy(copy.data(), map.pixels.data(), map.pixels.size() * sizeof(float));
@@ -45,20 +46,22 @@ void BM_Memcpy(benchmark::State& state) {
 }
 
 void BM_Pyramid(benchmark::State& state) {
-    const ndfmip::Image& map = syntheticMap(int(state.range(0)));
+    const ndfmip::SharedImage& shared = syntheticMap(int(state.range(0)));
+    const ndfmip::Image& map = *shared;
     for (auto _ : state) {
-        ndfmip::Pyramid p = ndfmip::buildPyramid(map);
-        benchmark::DoNotOptimize(p.levels.back().mean.pixels.data());
+        ndfmip::Pyramid p = ndfmip::buildPyramid(shared);
+        benchmark::DoNotOptimize(p.levels.back().mean->pixels.data());
     }
     setBytes(state, map);
 }
 
 void BM_ToksvigBake(benchmark::State& state) {
-    const ndfmip::Image& map = syntheticMap(int(state.range(0)));
+    const ndfmip::SharedImage& shared = syntheticMap(int(state.range(0)));
+    const ndfmip::Image& map = *shared;
     for (auto _ : state) {
-        ndfmip::Pyramid p = ndfmip::buildPyramid(map);
+        ndfmip::Pyramid p = ndfmip::buildPyramid(shared);
         ndfmip::Bake bake = ndfmip::bakeToksvig(p, {});
-        benchmark::DoNotOptimize(bake.levels.back().front().pixels.data());
+        benchmark::DoNotOptimize(bake.levels.back().front()->pixels.data());
     }
     setBytes(state, map);
 }

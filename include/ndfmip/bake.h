@@ -44,7 +44,7 @@ struct BakeOptions {
 struct Bake {
     Method method = Method::Naive;
     std::vector<PlaneInfo> planes;
-    std::vector<std::vector<Image>> levels; // levels[k][p]: plane p at level k
+    std::vector<std::vector<SharedImage>> levels; // levels[k][p]: plane p at level k
     std::map<std::string, double> parameters;
 };
 

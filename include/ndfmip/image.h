@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace ndfmip {
@@ -22,5 +23,8 @@ struct Image {
     float* at(int x, int y) { return pixels.data() + index(x, y); }
     const float* at(int x, int y) const { return pixels.data() + index(x, y); }
 };
+
+// Images handed between stages without copies (a pyramid's means are a Toksvig bake's plane).
+using SharedImage = std::shared_ptr<const Image>;
 
 } // namespace ndfmip

@@ -27,11 +27,11 @@ struct PyramidLevel {
     int width = 0, height = 0;
     std::vector<int> columnEdges; // width + 1 level-0 column boundaries: texel i covers [e[i], e[i+1])
     std::vector<int> rowEdges;    // height + 1 level-0 row boundaries
-    Image mean; // 3 channels: Na, the mean of the covered level-0 normals (empty at level 0)
+    SharedImage mean; // 3 channels: Na, the mean of the covered level-0 normals (level 0: the map)
 };
 
 struct Pyramid {
-    const Image* base = nullptr;      // level-0 normals (not owned; must outlive the pyramid)
+    SharedImage base;                 // level-0 normals
     std::vector<PyramidLevel> levels; // levels[0] is the map itself, the last one is 1x1
 };
 
@@ -41,10 +41,13 @@ int levelCount(int width, int height);
 // Builds every level. Means are accumulated in double from the children, weighted by the
 // number of level-0 texels each child covers (exact up to float rounding of each level's
 // stored mean; no quantisation between levels). `normals` has 3 channels.
-Pyramid buildPyramid(const Image& normals);
+Pyramid buildPyramid(SharedImage normals);
+Pyramid buildPyramid(const Image& normals); // copies the map
 
-// Na of every texel of `level`; level 0 is the base map itself, not a copy.
-const Image& levelMean(const Pyramid& pyramid, int level);
+// Na of every texel of `level`; level 0 is the base map itself.
+inline const Image& levelMean(const Pyramid& pyramid, int level) {
+    return *pyramid.levels[level].mean;
+}
 
 // Level-0 texels covered by texel (x, y) of `level`.
 Footprint footprint(const Pyramid& pyramid, int level, int x, int y);

@@ -28,9 +28,10 @@ std::vector<int> coarserEdges(const std::vector<int>& fineEdges, int coarse) {
 }
 
 // Mean of the children of each coarse texel, each child weighted by its level-0 area.
-void averageChildren(const PyramidLevel& fine, const Image& fineMean, PyramidLevel& coarse) {
+Image averageChildren(const PyramidLevel& fine, const PyramidLevel& coarse) {
     const int cw = coarse.width, ch = coarse.height;
-    coarse.mean = Image(cw, ch, 3);
+    const Image& fineMean = *fine.mean;
+    Image mean(cw, ch, 3);
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < ch; ++y) {
         ChildRange rows = children(y, ch, fine.height);
@@ -48,21 +49,22 @@ void averageChildren(const PyramidLevel& fine, const Image& fineMean, PyramidLev
                     area += a;
                 }
             }
-            float* out = coarse.mean.at(x, y);
+            float* out = mean.at(x, y);
             for (int c = 0; c < 3; ++c) out[c] = float(sum[c] / area);
         }
     }
+    return mean;
 }
 
 // Level 1 straight from level 0 for the common even-size case: the hot, memory-bound pass.
-void averageEvenBlocks(const Image& base, PyramidLevel& coarse) {
+Image averageEvenBlocks(const Image& base, const PyramidLevel& coarse) {
     const int cw = coarse.width, ch = coarse.height;
-    coarse.mean = Image(cw, ch, 3);
+    Image mean(cw, ch, 3);
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < ch; ++y) {
         const float* r0 = base.at(0, 2 * y);
         const float* r1 = base.at(0, 2 * y + 1);
-        float* out = coarse.mean.at(0, y);
+        float* out = mean.at(0, y);
         for (int x = 0; x < cw; ++x) {
             const float* a = r0 + 6 * x;
             const float* b = r1 + 6 * x;
@@ -70,6 +72,7 @@ void averageEvenBlocks(const Image& base, PyramidLevel& coarse) {
                 out[3 * x + c] = float((double(a[c]) + a[c + 3] + (double(b[c]) + b[c + 3])) * 0.25);
         }
     }
+    return mean;
 }
 
 // Level-0 boundaries of every texel of `level` along an axis of `size` texels.
@@ -95,10 +98,13 @@ int levelCount(int width, int height) {
     return levels;
 }
 
-Pyramid buildPyramid(const Image& normals) {
+Pyramid buildPyramid(const Image& normals) { return buildPyramid(std::make_shared<Image>(normals)); }
+
+Pyramid buildPyramid(SharedImage base) {
+    const Image& normals = *base;
     assert(normals.channels == 3 && !normals.empty());
     Pyramid pyramid;
-    pyramid.base = &normals;
+    pyramid.base = base;
     const int count = levelCount(normals.width, normals.height);
     pyramid.levels.resize(count);
 
@@ -107,6 +113,7 @@ Pyramid buildPyramid(const Image& normals) {
     level0.height = normals.height;
     level0.columnEdges = axisEdges(normals.width, 0);
     level0.rowEdges = axisEdges(normals.height, 0);
+    level0.mean = base;
 
     for (int k = 1; k < count; ++k) {
         const PyramidLevel& fine = pyramid.levels[k - 1];
@@ -116,16 +123,10 @@ Pyramid buildPyramid(const Image& normals) {
         coarse.columnEdges = coarserEdges(fine.columnEdges, coarse.width);
         coarse.rowEdges = coarserEdges(fine.rowEdges, coarse.height);
         bool evenBlocks = k == 1 && fine.width % 2 == 0 && fine.height % 2 == 0;
-        if (evenBlocks)
-            averageEvenBlocks(normals, coarse);
-        else
-            averageChildren(fine, levelMean(pyramid, k - 1), coarse);
+        coarse.mean = std::make_shared<Image>(evenBlocks ? averageEvenBlocks(normals, coarse)
+                                                         : averageChildren(fine, coarse));
     }
     return pyramid;
-}
-
-const Image& levelMean(const Pyramid& pyramid, int level) {
-    return level == 0 ? *pyramid.base : pyramid.levels[level].mean;
 }
 
 Footprint footprint(const Pyramid& pyramid, int level, int x, int y) {

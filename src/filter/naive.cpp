@@ -26,7 +26,7 @@ Bake bakeNaive(const Pyramid& pyramid, const BakeOptions& options) {
                 out[2] = 1.f; // normals that cancel out exactly: no direction left, take flat
             }
         }
-        bake.levels[k].push_back(std::move(normal));
+        bake.levels[k].push_back(std::make_shared<Image>(std::move(normal)));
         if (options.progress) options.progress(k + 1, count);
     }
     return bake;

@@ -30,8 +30,9 @@ Bake bakeToksvig(const Pyramid& pyramid, const BakeOptions& options) {
             float length = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
             beckmann.pixels[i] = varianceRoughness(length, options.baseRoughness);
         }
-        Image ggx = beckmann;
-        bake.levels[k] = {mean, std::move(beckmann), std::move(ggx)};
+        // The mean plane is the pyramid's own image; GGX shares Beckmann's (same mapping).
+        auto roughness = std::make_shared<const Image>(std::move(beckmann));
+        bake.levels[k] = {pyramid.levels[k].mean, roughness, roughness};
         if (options.progress) options.progress(k + 1, count);
     }
     return bake;

@@ -69,8 +69,8 @@ Result<std::vector<std::string>> writePng16(const fs::path& folder, const Bake& 
     for (size_t k = 0; k < bake.levels.size(); ++k) {
         std::vector<std::pair<std::string, Image>> files;
         if (dirPlane >= 0)
-            files.emplace_back("normal", encodeNormals(bake.levels[k][dirPlane], greenDown));
-        if (ggx >= 0) files.emplace_back("roughness", perceptual(bake.levels[k][ggx]));
+            files.emplace_back("normal", encodeNormals(*bake.levels[k][dirPlane], greenDown));
+        if (ggx >= 0) files.emplace_back("roughness", perceptual(*bake.levels[k][ggx]));
         for (auto& [stem, image] : files) {
             std::string name = "png16/" + stem + "_L" + std::to_string(k) + ".png";
             Status s = savePng((folder / name).string(), image, 16);
@@ -90,7 +90,7 @@ json manifestJson(const Bake& bake, const BakeSource& source) {
     for (size_t k = 0; k < bake.levels.size(); ++k) {
         json files = json::object();
         for (const PlaneInfo& p : bake.planes) files[p.name] = planeFile(p, int(k));
-        const Image& first = bake.levels[k].front();
+        const Image& first = *bake.levels[k].front();
         levels.push_back({{"level", k}, {"width", first.width}, {"height", first.height},
                           {"files", files}});
     }
@@ -164,7 +164,7 @@ Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource&
     for (size_t k = 0; k < bake.levels.size(); ++k) {
         for (size_t p = 0; p < bake.planes.size(); ++p) {
             Status s = saveExr((staging / planeFile(bake.planes[p], int(k))).string(),
-                               bake.levels[k][p]);
+                               *bake.levels[k][p]);
             if (!s) return fail(s.error);
         }
     }

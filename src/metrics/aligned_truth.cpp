@@ -17,7 +17,7 @@ float shadeSpecular(Method method, const float* p, const ShadeContext& ctx) {
 }
 
 Image shadeLevel(const Bake& bake, int level, const ShadeContext& ctx) {
-    const Image& params = bake.levels[level].front();
+    const Image& params = *bake.levels[level].front();
     Image out(params.width, params.height, 1);
     const size_t n = params.texelCount();
 #pragma omp parallel for schedule(static)

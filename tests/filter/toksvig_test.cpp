@@ -75,14 +75,14 @@ TEST(Toksvig, BakeStoresUnnormalisedMeanAndRoughness) {
     options.baseRoughness = 0.1f;
     Bake bake = bakeToksvig(p, options);
     ASSERT_EQ(bake.levels.size(), 2u);
-    const float* na = bake.levels[1][0].at(0, 0);
+    const float* na = bake.levels[1][0]->at(0, 0);
     EXPECT_NEAR(na[2], std::cos(theta), 1e-6f);
     EXPECT_NEAR(na[0], 0.f, 1e-6f);
     float sigma2 = (1 - std::cos(theta)) / std::cos(theta);
-    EXPECT_NEAR(bake.levels[1][1].at(0, 0)[0], std::sqrt(0.01f + 2 * sigma2), 1e-5f);
-    EXPECT_NEAR(bake.levels[0][1].at(0, 0)[0], 0.1f, 1e-6f); // unit normals: base roughness
+    EXPECT_NEAR(bake.levels[1][1]->at(0, 0)[0], std::sqrt(0.01f + 2 * sigma2), 1e-5f);
+    EXPECT_NEAR(bake.levels[0][1]->at(0, 0)[0], 0.1f, 1e-6f); // unit normals: base roughness
     Bake naive = bakeNaive(p, {});
-    EXPECT_NEAR(naive.levels[1][0].at(0, 0)[2], 1.f, 1e-6f);
+    EXPECT_NEAR(naive.levels[1][0]->at(0, 0)[2], 1.f, 1e-6f);
 }
 
 TEST(Roughness, VarianceRoughnessClosedForm) {

@@ -47,7 +47,8 @@ void runBake(const BakeArgs& a) {
     double decodeMs = millisecondsSince(start);
 
     start = nowNanoseconds();
-    Pyramid pyramid = buildPyramid(normals);
+    const int width = normals.width, height = normals.height;
+    Pyramid pyramid = buildPyramid(std::make_shared<const Image>(std::move(normals)));
     BakeOptions options;
     options.baseRoughness = a.baseRoughness;
     if (!a.quiet) options.progress = [](int done, int total) { showProgress("bake: level", done, total); };
@@ -58,7 +59,7 @@ void runBake(const BakeArgs& a) {
     start = nowNanoseconds();
     Result<std::string> hash = sha256File(a.input);
     if (!hash) throw Failure(hash.error().message);
-    BakeSource source{a.input, hash.value(), normals.width, normals.height, decode, a.gloss};
+    BakeSource source{a.input, hash.value(), width, height, decode, a.gloss};
     BakeWriteOptions write;
     write.png16 = a.exportFormat == "png16";
     Status status = writeBake(a.output, bake, source, write);
@@ -67,7 +68,7 @@ void runBake(const BakeArgs& a) {
 
     if (!a.quiet)
         std::printf("%-8s: %dx%d, %zu levels -> %s (decode %.1f ms, bake %.1f ms, write %.1f ms)\n",
-                    methodName(*method), normals.width, normals.height, bake.levels.size(),
+                    methodName(*method), width, height, bake.levels.size(),
                     a.output.c_str(), decodeMs, bakeMs, writeMs);
 }
 

@@ -74,16 +74,22 @@ void runDemo(DemoArgs a) {
     std::filesystem::create_directories(a.output, ec);
     if (ec) throw Failure(a.output + ": cannot create (" + ec.message() + ")");
 
-    Image normals = loadNormalsOrFail(a.input, decode, false);
-    Pyramid pyramid = buildPyramid(normals);
+    Pyramid pyramid = buildPyramid(std::make_shared<const Image>(loadNormalsOrFail(a.input, decode, false)));
+    const Image& normals = *pyramid.base;
     std::vector<Bake> bakes;
     for (Method m : allMethods()) bakes.push_back(bakeMethod(m, pyramid, {}));
-    std::printf("%s: %dx%d, %zu levels; specular lobe vs truth (mean over 4 lights)\n",
-                a.input.c_str(), normals.width, normals.height, pyramid.levels.size());
-    std::printf("%-5s %-9s %-9s %8s %10s %8s\n", "level", "footprint", "method", "s", "rel_rmse", "energy");
+    const std::vector<float> exponents = {8.f, 32.f, 128.f, 512.f};
+    std::printf("%s: %dx%d, %zu levels\n", a.input.c_str(), normals.width, normals.height,
+                pyramid.levels.size());
+    std::printf("relative RMSE of the specular lobe vs the truth (energy ratio), 4 lights\n");
+    std::printf("%-5s %-9s", "level", "footprint");
+    for (float s : exponents)
+        for (const Bake& bake : bakes) std::printf(" %9s s=%-4g", methodName(bake.method), s);
+    std::printf("\n");
     for (int k = 1; k < int(pyramid.levels.size()); ++k) {
         Footprint f = footprint(pyramid, k, 0, 0);
-        for (float s : {8.f, 32.f, 128.f, 512.f}) {
+        std::printf("%-5d %4dx%-4d", k, f.width(), f.height());
+        for (float s : exponents) {
             std::vector<ShadeContext> lights = lightings(s);
             std::vector<Image> truths;
             for (const ShadeContext& c : lights) truths.push_back(groundTruthLevel(pyramid, k, c));
@@ -94,10 +100,10 @@ void runDemo(DemoArgs a) {
                     rel += e.relativeRmse / double(lights.size());
                     energy += e.energyRatio / double(lights.size());
                 }
-                std::printf("%-5d %4dx%-4d %-9s %8g %10.4f %8.3f\n", k, f.width(), f.height(),
-                            methodName(bake.method), s, rel, energy);
+                std::printf(" %6.3f (%5.2f)", rel, energy);
             }
         }
+        std::printf("\n");
     }
     writePicture(a, pyramid, bakes);
 }
