@@ -151,7 +151,8 @@ Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource&
     std::error_code ec;
     fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
     if (!fs::is_directory(parent, ec))
-        return Status::failure(dirName + ": parent folder " + parent.string() + " does not exist");
+        return Status::failure(dirName + ": parent folder " + parent.string() +
+                               (fs::exists(parent, ec) ? " is not a folder" : " does not exist"));
     fs::path staging = dir.string() + ".partial-" + std::to_string(getpid());
     fs::remove_all(staging, ec);
     if (!fs::create_directory(staging, ec))

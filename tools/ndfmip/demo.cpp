@@ -70,11 +70,11 @@ void writePicture(const DemoArgs& a, const Pyramid& pyramid, const std::vector<B
 void runDemo(DemoArgs a) {
     DecodeOptions decode = a.input_options.resolved();
     if (a.defaultGreenDown) decode.greenDown = true;
+    Pyramid pyramid = buildPyramid(std::make_shared<const Image>(loadNormalsOrFail(a.input, decode, false)));
+    // Only once the map has loaded: a bad map leaves no empty output folder behind.
     std::error_code ec;
     std::filesystem::create_directories(a.output, ec);
     if (ec) throw Failure(a.output + ": cannot create (" + ec.message() + ")");
-
-    Pyramid pyramid = buildPyramid(std::make_shared<const Image>(loadNormalsOrFail(a.input, decode, false)));
     const Image& normals = *pyramid.base;
     std::vector<Bake> bakes;
     for (Method m : allMethods()) bakes.push_back(bakeMethod(m, pyramid, {}));

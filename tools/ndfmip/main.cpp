@@ -7,6 +7,10 @@ int main(int argc, char** argv) {
     CLI::App app{"ndfmip " NDFMIP_VERSION ": normal-map filtering (Toksvig; Han et al. 2007)"};
     app.set_version_flag("--version", "ndfmip " NDFMIP_VERSION);
     app.require_subcommand(1);
+    // Usage errors are one line, like every other error (CLI11's default adds a second).
+    app.failure_message([](const CLI::App*, const CLI::Error& e) {
+        return std::string("ndfmip: error: ") + e.what() + " (see --help)\n";
+    });
     ndfmip::cli::addBakeCommand(app);
     ndfmip::cli::addInspectCommand(app);
     ndfmip::cli::addLutCommand(app);

@@ -1,0 +1,858 @@
+// End-to-end tests of the ndfmip command-line tool: each test writes its inputs into a fresh
+// temporary folder, runs the built binary and checks what it printed and wrote.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "ndfmip/image.h"
+#include "ndfmip/io.h"
+#include "ndfmip/toksvig.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace ndfmip::test {
+namespace {
+
+struct CliRun {
+    int status = -1;
+    std::string output;
+};
+
+std::string shellQuoted(const std::string& text) {
+    return "'" + text + "'";
+}
+
+CliRun cli(const std::string& args) {
+    CliRun run;
+    run.status = runCli(args, &run.output);
+    return run;
+}
+
+// Encodes unit normals (3 channels, values in [-1,1]) as stored colours c = (n + 1)/2.
+Image encodeNormals(const Image& normals) {
+    Image out = normals;
+    for (float& v : out.pixels) v = 0.5f * (v + 1.f);
+    return out;
+}
+
+void writePng16(const std::string& path, const Image& image) {
+    Status s = savePng(path, image, 16);
+    ASSERT_TRUE(s.ok()) << s.error;
+}
+
+void writeExr(const std::string& path, const Image& image) {
+    Status s = saveExr(path, image);
+    ASSERT_TRUE(s.ok()) << s.error;
+}
+
+std::string readFile(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+void writeFile(const fs::path& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    out << bytes;
+}
+
+json readManifest(const fs::path& dir) {
+    std::ifstream in(dir / "manifest.json");
+    EXPECT_TRUE(in.good()) << (dir / "manifest.json");
+    return json::parse(in, nullptr, /*allow_exceptions=*/false);
+}
+
+// A map whose 2x2 blocks hold normals tilted by +theta and -theta about z in the x direction,
+// in a checkerboard, so every block averages to (0, 0, cos theta).
+Image checkerTiltNormals(int width, int height, float theta) {
+    Image normals(width, height, 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            float sign = (x + y) % 2 == 0 ? 1.f : -1.f;
+            setNormal(normals, x, y, sign * std::sin(theta), 0.f, std::cos(theta));
+        }
+    return normals;
+}
+
+Image flatNormals(int width, int height) {
+    Image normals(width, height, 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) setNormal(normals, x, y, 0.f, 0.f, 1.f);
+    return normals;
+}
+
+// Smoothly varying bumps with both x and y components.
+Image bumpyNormals(int width, int height) {
+    Image normals(width, height, 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            float nx = 0.5f * std::sin(0.9f * float(x) + 0.3f * float(y));
+            float ny = 0.4f * std::cos(0.7f * float(y) - 0.5f * float(x));
+            setNormal(normals, x, y, nx, ny, 1.f);
+        }
+    return normals;
+}
+
+// Runs inspect and parses its JSON; fails the test when it does not succeed.
+json inspect(const fs::path& dir, int level, const std::string& texel,
+             const std::string& extra = "") {
+    CliRun r = cli("inspect " + shellQuoted(dir.string()) + " --level " + std::to_string(level) +
+                   " --texel " + texel + " " + extra);
+    EXPECT_EQ(r.status, 0) << r.output;
+    json out = json::parse(r.output, nullptr, /*allow_exceptions=*/false);
+    EXPECT_FALSE(out.is_discarded()) << "inspect printed no JSON: " << r.output;
+    return out;
+}
+
+float vecLength(const json& v) {
+    float x = v.at(0).get<float>(), y = v.at(1).get<float>(), z = v.at(2).get<float>();
+    return std::sqrt(x * x + y * y + z * z);
+}
+
+size_t lineCount(const std::string& text) {
+    return size_t(std::count(text.begin(), text.end(), '\n'));
+}
+
+// A clean refusal: a non-zero exit that is not a crash, and exactly one line of output that
+// names each of `mentions` (the file or option, and the problem).
+void expectCleanFailure(const CliRun& r, std::initializer_list<std::string> mentions) {
+    EXPECT_NE(r.status, 0) << r.output;
+    EXPECT_GT(r.status, 0) << "could not run the CLI";
+    EXPECT_LT(r.status, 128) << "killed by a signal: " << r.output;
+    EXPECT_EQ(lineCount(r.output), 1u) << "expected one error line, got:\n" << r.output;
+    EXPECT_TRUE(!r.output.empty() && r.output.back() == '\n') << r.output;
+    for (const std::string& m : mentions)
+        EXPECT_NE(r.output.find(m), std::string::npos) << "'" << m << "' not in: " << r.output;
+}
+
+// No staging folders, temporary files or set-aside old bakes anywhere below `root`.
+void expectNoLeftovers(const fs::path& root) {
+    for (const auto& entry : fs::recursive_directory_iterator(root)) {
+        std::string name = entry.path().filename().string();
+        EXPECT_EQ(name.find(".partial-"), std::string::npos) << "left behind: " << entry.path();
+        EXPECT_EQ(name.find(".tmp-"), std::string::npos) << "left behind: " << entry.path();
+        EXPECT_EQ(name.find(".old-"), std::string::npos) << "left behind: " << entry.path();
+    }
+}
+
+// Nothing written by a failed command: no output at `out` and no leftovers below `root`.
+void expectNothingWritten(const fs::path& root, const fs::path& out) {
+    EXPECT_FALSE(fs::exists(out)) << out << " was created";
+    expectNoLeftovers(root);
+}
+
+std::set<std::string> listNames(const fs::path& dir) {
+    std::set<std::string> names;
+    for (const auto& entry : fs::recursive_directory_iterator(dir))
+        names.insert(fs::relative(entry.path(), dir).string());
+    return names;
+}
+
+constexpr float kTheta = 0.5f;    // tilt of the checkerboard map, radians
+constexpr float kTol16 = 1.5e-4f; // 16-bit quantisation of the stored normals
+
+// ---- bake + inspect -------------------------------------------------------------------------
+
+TEST(Cli, BakeToksvigWritesManifestAndInspectReadsItBack) {
+    TempDir tmp("cli_bake");
+    const std::string map = tmp.file("map.png");
+    writePng16(map, encodeNormals(checkerTiltNormals(6, 4, kTheta)));
+    const fs::path dir = tmp.path / "bake";
+
+    CliRun bake =
+        cli("bake " + shellQuoted(map) + " --method toksvig -o " + shellQuoted(dir.string()));
+    ASSERT_EQ(bake.status, 0) << bake.output;
+
+    json m = readManifest(dir);
+    ASSERT_FALSE(m.is_discarded());
+    EXPECT_EQ(m.at("method"), "toksvig");
+    const std::string sha = m.at("source").at("sha256");
+    EXPECT_EQ(sha.size(), 64u);
+    EXPECT_TRUE(std::all_of(sha.begin(), sha.end(), [](char c) {
+        return std::isxdigit(static_cast<unsigned char>(c));
+    })) << sha;
+    Result<std::string> expectedSha = sha256File(map);
+    ASSERT_TRUE(expectedSha.ok());
+    EXPECT_EQ(sha, expectedSha.value());
+    EXPECT_EQ(m.at("source").at("width"), 6);
+    EXPECT_EQ(m.at("source").at("height"), 4);
+
+    // 6x4 -> 3x2 -> 1x1.
+    const std::vector<std::pair<int, int>> sizes = {{6, 4}, {3, 2}, {1, 1}};
+    const json& levels = m.at("levels");
+    ASSERT_EQ(levels.size(), sizes.size());
+    for (size_t k = 0; k < sizes.size(); ++k) {
+        EXPECT_EQ(levels[k].at("level"), k);
+        EXPECT_EQ(levels[k].at("width"), sizes[k].first) << "level " << k;
+        EXPECT_EQ(levels[k].at("height"), sizes[k].second) << "level " << k;
+        for (auto& [plane, file] : levels[k].at("files").items()) {
+            EXPECT_TRUE(fs::is_regular_file(dir / file.get<std::string>())) << file;
+            Result<SourceImage> image = loadImage((dir / file.get<std::string>()).string());
+            ASSERT_TRUE(image.ok()) << image.error().message;
+            EXPECT_EQ(image->image.width, sizes[k].first) << plane;
+            EXPECT_EQ(image->image.height, sizes[k].second) << plane;
+        }
+    }
+
+    std::map<std::string, std::vector<std::string>> channels;
+    for (const json& p : m.at("planes"))
+        channels[p.at("name")] = p.at("channels").get<std::vector<std::string>>();
+    ASSERT_EQ(channels.size(), 3u);
+    EXPECT_EQ(channels["mean"], (std::vector<std::string>{"Na.x", "Na.y", "Na.z"}));
+    EXPECT_EQ(channels["roughness_beckmann"], std::vector<std::string>{"alpha"});
+    EXPECT_EQ(channels["roughness_ggx"], std::vector<std::string>{"alpha"});
+
+    // Level 1: every texel averages one 2x2 block, Na = (0, 0, cos theta).
+    const float cosTheta = std::cos(kTheta);
+    const float s = 32.f;
+    for (const char* texel : {"0,0", "2,1"}) {
+        SCOPED_TRACE(texel);
+        json t = inspect(dir, 1, texel, "--exponent 32");
+        for (const char* key : {"mean_normal", "length", "sigma2", "toksvig_factor"})
+            ASSERT_TRUE(t.contains(key)) << key << " missing from " << t.dump();
+        EXPECT_EQ(t.at("method"), "toksvig");
+        float length = t.at("length");
+        EXPECT_NEAR(length, cosTheta, kTol16);
+        EXPECT_NEAR(vecLength(t.at("mean_normal")), length, 1e-6f);
+        EXPECT_NEAR(t.at("mean_normal").at(0).get<float>(), 0.f, kTol16);
+        EXPECT_NEAR(t.at("mean_normal").at(1).get<float>(), 0.f, kTol16);
+        EXPECT_NEAR(t.at("mean_normal").at(2).get<float>(), cosTheta, kTol16);
+        EXPECT_NEAR(t.at("sigma2").get<float>(), (1.f - cosTheta) / cosTheta, 3 * kTol16);
+        const float factor = cosTheta / (cosTheta + s * (1.f - cosTheta));
+        EXPECT_NEAR(t.at("toksvig_factor").get<float>(), factor, 10 * kTol16);
+        // and from the printed length itself, to float precision
+        EXPECT_NEAR(t.at("toksvig_factor").get<float>(), length / (length + s * (1.f - length)),
+                    1e-6f);
+    }
+
+    // Level 0 holds the map's own unit normals.
+    json t0 = inspect(dir, 0, "0,0", "--exponent 32");
+    EXPECT_NEAR(t0.at("length").get<float>(), 1.f, 1e-5f);
+    EXPECT_NEAR(t0.at("mean_normal").at(0).get<float>(), std::sin(kTheta), kTol16);
+    EXPECT_NEAR(t0.at("toksvig_factor").get<float>(), 1.f, 1e-3f);
+    // Without --exponent there is no factor to report.
+    EXPECT_FALSE(inspect(dir, 1, "0,0").contains("toksvig_factor"));
+}
+
+TEST(Cli, BakeNaiveStoresUnitNormals) {
+    TempDir tmp("cli_naive");
+    const std::string map = tmp.file("map.png");
+    writePng16(map, encodeNormals(checkerTiltNormals(4, 4, kTheta)));
+    const fs::path dir = tmp.path / "bake";
+    CliRun bake =
+        cli("bake " + shellQuoted(map) + " --method naive -o " + shellQuoted(dir.string()));
+    ASSERT_EQ(bake.status, 0) << bake.output;
+    EXPECT_EQ(readManifest(dir).at("method"), "naive");
+
+    for (int level : {0, 1, 2}) {
+        SCOPED_TRACE(level);
+        json t = inspect(dir, level, "0,0");
+        EXPECT_EQ(t.at("method"), "naive");
+        ASSERT_TRUE(t.contains("normal")) << t.dump();
+        EXPECT_FALSE(t.contains("length"));
+        EXPECT_NEAR(vecLength(t.at("normal")), 1.f, 1e-5f);
+    }
+    // The averaged (shortened) mean is renormalised to straight up.
+    EXPECT_NEAR(inspect(dir, 1, "1,1").at("normal").at(2).get<float>(), 1.f, 1e-5f);
+}
+
+TEST(Cli, TexelAddressingIsColumnThenRowFromTheTop) {
+    TempDir tmp("cli_texel");
+    Image normals = flatNormals(4, 4);
+    setNormal(normals, 0, 0, 0.6f, 0.f, 0.8f);  // top-left texel of the file
+    setNormal(normals, 1, 0, 0.f, 0.6f, 0.8f);  // its right neighbour
+    setNormal(normals, 0, 1, -0.6f, 0.f, 0.8f); // the texel below it
+    const std::string map = tmp.file("map.png");
+    writePng16(map, encodeNormals(normals));
+    const fs::path dir = tmp.path / "bake";
+    ASSERT_EQ(cli("bake " + shellQuoted(map) + " -q -o " + shellQuoted(dir.string())).status, 0);
+
+    auto mean = [&](const std::string& texel) { return inspect(dir, 0, texel).at("mean_normal"); };
+    json topLeft = mean("0,0"), right = mean("1,0"), below = mean("0,1"), other = mean("3,3");
+    EXPECT_NEAR(topLeft.at(0).get<float>(), 0.6f, kTol16);
+    EXPECT_NEAR(topLeft.at(1).get<float>(), 0.f, kTol16);
+    EXPECT_NEAR(right.at(0).get<float>(), 0.f, kTol16);
+    EXPECT_NEAR(right.at(1).get<float>(), 0.6f, kTol16);
+    EXPECT_NEAR(below.at(0).get<float>(), -0.6f, kTol16);
+    EXPECT_NEAR(below.at(1).get<float>(), 0.f, kTol16);
+    EXPECT_NEAR(other.at(2).get<float>(), 1.f, kTol16);
+
+    // Level 1 texel (1,0) covers columns 2-3 of the top two rows.
+    json t = inspect(dir, 1, "1,0");
+    EXPECT_EQ(t.at("texel"), json({1, 0}));
+    const json& f = t.at("footprint");
+    EXPECT_EQ(f.at("x0"), 2);
+    EXPECT_EQ(f.at("x1"), 4);
+    EXPECT_EQ(f.at("y0"), 0);
+    EXPECT_EQ(f.at("y1"), 2);
+    EXPECT_EQ(f.at("count"), 4);
+    // Level 1 texel (0,0) averages the three tilted texels with one flat one.
+    json tl = inspect(dir, 1, "0,0").at("mean_normal");
+    EXPECT_NEAR(tl.at(0).get<float>(), 0.f, kTol16);
+    EXPECT_NEAR(tl.at(1).get<float>(), 0.6f / 4.f, kTol16);
+    EXPECT_NEAR(tl.at(2).get<float>(), (3 * 0.8f + 1.f) / 4.f, kTol16);
+}
+
+TEST(Cli, OddSizedMapFollowsThePyramidRule) {
+    TempDir tmp("cli_odd");
+    Image normals = flatNormals(5, 3);
+    setNormal(normals, 4, 0, 0.6f, 0.f, 0.8f); // last column: folded into level-1 texel 1
+    const std::string map = tmp.file("map.png");
+    writePng16(map, encodeNormals(normals));
+    const fs::path dir = tmp.path / "bake";
+    ASSERT_EQ(cli("bake " + shellQuoted(map) + " -q -o " + shellQuoted(dir.string())).status, 0);
+
+    json m = readManifest(dir);
+    const std::vector<std::pair<int, int>> sizes = {{5, 3}, {2, 1}, {1, 1}};
+    ASSERT_EQ(m.at("levels").size(), sizes.size());
+    for (size_t k = 0; k < sizes.size(); ++k) {
+        EXPECT_EQ(m.at("levels")[k].at("width"), sizes[k].first);
+        EXPECT_EQ(m.at("levels")[k].at("height"), sizes[k].second);
+    }
+    // Level-1 texel 1 takes columns 2, 3 and 4, and all three rows.
+    json t = inspect(dir, 1, "1,0");
+    const json& f = t.at("footprint");
+    EXPECT_EQ(f.at("x0"), 2);
+    EXPECT_EQ(f.at("x1"), 5);
+    EXPECT_EQ(f.at("y0"), 0);
+    EXPECT_EQ(f.at("y1"), 3);
+    EXPECT_EQ(f.at("count"), 9);
+    EXPECT_NEAR(t.at("mean_normal").at(0).get<float>(), 0.6f / 9.f, kTol16);
+    EXPECT_NEAR(inspect(dir, 1, "0,0").at("length").get<float>(), 1.f, kTol16);
+}
+
+// ---- conventions and exports ----------------------------------------------------------------
+
+TEST(Cli, GreenDownNegatesY) {
+    TempDir tmp("cli_green");
+    const std::string map = tmp.file("map.png");
+    writePng16(map, encodeNormals(bumpyNormals(8, 8)));
+    const fs::path up = tmp.path / "up", down = tmp.path / "down";
+    ASSERT_EQ(cli("bake " + shellQuoted(map) + " -q -o " + shellQuoted(up.string())).status, 0);
+    CliRun r =
+        cli("bake " + shellQuoted(map) + " -q --green-down -o " + shellQuoted(down.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(readManifest(up).at("conventions").at("green_down"), false);
+    EXPECT_EQ(readManifest(down).at("conventions").at("green_down"), true);
+
+    for (auto [level, texel] :
+         std::vector<std::pair<int, std::string>>{{0, "0,0"}, {0, "3,1"}, {0, "5,6"}, {1, "2,1"}}) {
+        SCOPED_TRACE(std::to_string(level) + " " + texel);
+        json a = inspect(up, level, texel).at("mean_normal");
+        json b = inspect(down, level, texel).at("mean_normal");
+        EXPECT_GT(std::abs(a.at(1).get<float>()), 1e-2f) << "pick a texel with y != 0";
+        EXPECT_FLOAT_EQ(b.at(0).get<float>(), a.at(0).get<float>());
+        EXPECT_FLOAT_EQ(b.at(1).get<float>(), -a.at(1).get<float>());
+        EXPECT_FLOAT_EQ(b.at(2).get<float>(), a.at(2).get<float>());
+    }
+}
+
+TEST(Cli, GreenDownExportKeepsTheSourceConvention) {
+    TempDir tmp("cli_green_png16");
+    const std::string map = tmp.file("map.png");
+    Image stored = encodeNormals(bumpyNormals(4, 4)); // read as DirectX-style below
+    writePng16(map, stored);
+    const fs::path dir = tmp.path / "bake";
+    CliRun r = cli("bake " + shellQuoted(map) + " -q --green-down --export png16 -o " +
+                   shellQuoted(dir.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    Result<SourceImage> n0 = loadImage((dir / "png16/normal_L0.png").string());
+    ASSERT_TRUE(n0.ok()) << n0.error().message;
+    ASSERT_EQ(n0->image.pixels.size(), stored.pixels.size());
+    for (size_t i = 0; i < stored.pixels.size(); ++i)
+        EXPECT_NEAR(n0->image.pixels[i], stored.pixels[i], 2e-4f) << "sample " << i;
+}
+
+TEST(Cli, ExportPng16WritesNormalAndRoughnessMips) {
+    TempDir tmp("cli_png16");
+    const std::string map = tmp.file("map.png");
+    Image normals = bumpyNormals(8, 4);
+    writePng16(map, encodeNormals(normals));
+    const fs::path dir = tmp.path / "bake";
+    CliRun r =
+        cli("bake " + shellQuoted(map) + " -q --export png16 -o " + shellQuoted(dir.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+
+    json m = readManifest(dir);
+    ASSERT_TRUE(m.contains("exports")) << m.dump(2);
+    std::vector<std::string> listed = m.at("exports").at("png16");
+    const std::vector<std::pair<int, int>> sizes = {{8, 4}, {4, 2}, {2, 1}, {1, 1}};
+    ASSERT_EQ(m.at("levels").size(), sizes.size());
+    for (size_t k = 0; k < sizes.size(); ++k) {
+        for (const char* stem : {"normal", "roughness"}) {
+            std::string name = "png16/" + std::string(stem) + "_L" + std::to_string(k) + ".png";
+            SCOPED_TRACE(name);
+            EXPECT_NE(std::find(listed.begin(), listed.end(), name), listed.end());
+            Result<SourceImage> image = loadImage((dir / name).string());
+            ASSERT_TRUE(image.ok()) << image.error().message;
+            EXPECT_EQ(image->format, "png");
+            EXPECT_EQ(image->bitsPerChannel, 16);
+            EXPECT_EQ(image->image.width, sizes[k].first);
+            EXPECT_EQ(image->image.height, sizes[k].second);
+            EXPECT_EQ(image->image.channels, std::string(stem) == "normal" ? 3 : 1);
+        }
+    }
+    EXPECT_EQ(listed.size(), 2 * sizes.size());
+
+    // Level 0 of the export is the map itself, encoded the same way.
+    Result<SourceImage> n0 = loadImage((dir / "png16/normal_L0.png").string());
+    ASSERT_TRUE(n0.ok());
+    Image expected = encodeNormals(normals);
+    for (size_t i = 0; i < expected.pixels.size(); ++i)
+        EXPECT_NEAR(n0->image.pixels[i], expected.pixels[i], 2e-4f) << "sample " << i;
+    // Unit normals at level 0: no roughness there.
+    Result<SourceImage> r0 = loadImage((dir / "png16/roughness_L0.png").string());
+    ASSERT_TRUE(r0.ok());
+    for (float v : r0->image.pixels) EXPECT_LT(v, 0.02f);
+}
+
+// ---- bad input --------------------------------------------------------------------------------
+
+class CliBadInput : public ::testing::Test {
+  protected:
+    TempDir tmp{"cli_bad"};
+    fs::path out = tmp.path / "out";
+    std::string good; // a valid normal map
+
+    void SetUp() override {
+        good = tmp.file("good.png");
+        writePng16(good, encodeNormals(bumpyNormals(8, 8)));
+    }
+
+    // Runs `bake FILE ARGS -o out` and checks it failed cleanly, naming `mentions`.
+    void expectBakeRefused(const std::string& file, const std::string& args,
+                           std::initializer_list<std::string> mentions) {
+        std::string command =
+            "bake " + shellQuoted(file) + " " + args + " -o " + shellQuoted(out.string());
+        SCOPED_TRACE(command);
+        expectCleanFailure(cli(command), mentions);
+        expectNothingWritten(tmp.path, out);
+    }
+};
+
+TEST_F(CliBadInput, MissingFile) {
+    std::string missing = tmp.file("missing.png");
+    expectBakeRefused(missing, "", {missing, "No such file"});
+}
+
+TEST_F(CliBadInput, TruncatedPng) {
+    std::mt19937 random(7);
+    Image noise(32, 32, 3);
+    for (float& v : noise.pixels) v = float(random() % 65536) / 65535.f;
+    std::string full = tmp.file("full.png");
+    writePng16(full, noise);
+    std::string bytes = readFile(full);
+    std::string cut = tmp.file("cut.png");
+    writeFile(cut, bytes.substr(0, bytes.size() / 2));
+    expectBakeRefused(cut, "", {cut, "truncated"});
+}
+
+TEST_F(CliBadInput, CorruptFile) {
+    std::mt19937 random(11);
+    std::string bytes(4096, '\0');
+    for (char& c : bytes) c = char(random() & 0xFF);
+    std::string file = tmp.file("noise.png");
+    writeFile(file, bytes);
+    CliRun r = cli("bake " + shellQuoted(file) + " -o " + shellQuoted(out.string()));
+    expectCleanFailure(r, {file});
+    expectNothingWritten(tmp.path, out);
+}
+
+TEST_F(CliBadInput, EmptyFile) {
+    std::string file = tmp.file("empty.png");
+    writeFile(file, "");
+    expectBakeRefused(file, "", {file, "empty"});
+}
+
+TEST_F(CliBadInput, GreyscaleWithoutHeight) {
+    std::string file = tmp.file("grey.png");
+    Image grey(8, 8, 1);
+    std::fill(grey.pixels.begin(), grey.pixels.end(), 0.5f);
+    writePng16(file, grey);
+    expectBakeRefused(file, "", {file, "channel"});
+    // ... which --height accepts.
+    CliRun r = cli("bake " + shellQuoted(file) + " -q --height 2 -o " + shellQuoted(out.string()));
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(readManifest(out).at("conventions").at("height"), true);
+}
+
+TEST_F(CliBadInput, GreyAlphaWithoutTwoChannel) {
+    std::string file = tmp.file("grey_alpha.png");
+    Image ga(8, 8, 2);
+    std::fill(ga.pixels.begin(), ga.pixels.end(), 0.5f);
+    writePng16(file, ga);
+    expectBakeRefused(file, "", {file, "channel"});
+    // ... which --two-channel accepts, rebuilding z from x and y.
+    Image rg(8, 8, 2);
+    for (size_t i = 0; i < rg.texelCount(); ++i) {
+        rg.pixels[2 * i] = 0.5f * (0.6f + 1.f);
+        rg.pixels[2 * i + 1] = 0.5f;
+    }
+    writePng16(file, rg);
+    CliRun r =
+        cli("bake " + shellQuoted(file) + " -q --two-channel -o " + shellQuoted(out.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    json n = inspect(out, 0, "2,3").at("mean_normal");
+    EXPECT_NEAR(n.at(0).get<float>(), 0.6f, kTol16);
+    EXPECT_NEAR(n.at(1).get<float>(), 0.f, kTol16);
+    EXPECT_NEAR(n.at(2).get<float>(), 0.8f, kTol16);
+}
+
+TEST_F(CliBadInput, ExrWithNaN) {
+    std::string file = tmp.file("nan.exr");
+    Image image = encodeNormals(flatNormals(4, 4));
+    image.at(2, 1)[1] = std::numeric_limits<float>::quiet_NaN();
+    writeExr(file, image);
+    expectBakeRefused(file, "", {file, "NaN", "(2, 1)"});
+}
+
+TEST_F(CliBadInput, AllZeroNormals) {
+    std::string file = tmp.file("zero.exr");
+    Image image(4, 4, 3);
+    std::fill(image.pixels.begin(), image.pixels.end(), 0.5f); // n = 2c - 1 = 0 exactly
+    writeExr(file, image);
+    expectBakeRefused(file, "", {file, "zero-length"});
+}
+
+TEST_F(CliBadInput, AbsurdBakeParameters) {
+    expectBakeRefused(good, "--height -1", {"--height"});
+    expectBakeRefused(good, "--base-roughness 5", {"--base-roughness"});
+    expectBakeRefused(good, "--method foo", {"method", "foo"});
+    expectBakeRefused(good, "--export jpeg", {"--export"});
+    expectBakeRefused(good, "--max-exponent 0", {"--max-exponent"});
+    expectBakeRefused(good, "--gloss " + shellQuoted(good), {"--gloss", "--max-exponent"});
+}
+
+TEST_F(CliBadInput, GlossMapOfAnotherSize) {
+    std::string gloss = tmp.file("gloss.png");
+    Image g(4, 8, 1);
+    std::fill(g.pixels.begin(), g.pixels.end(), 0.5f);
+    writePng16(gloss, g);
+    expectBakeRefused(good, "--gloss " + shellQuoted(gloss) + " --max-exponent 64",
+                      {gloss, "4x8", "8x8"});
+}
+
+TEST_F(CliBadInput, MissingGlossMap) {
+    std::string gloss = tmp.file("no_gloss.png");
+    expectBakeRefused(good, "--gloss " + shellQuoted(gloss) + " --max-exponent 64", {gloss});
+}
+
+TEST_F(CliBadInput, AbsurdLutParameters) {
+    const fs::path lut = tmp.path / "lut.exr";
+    for (const std::string args : {"--exponent 32 --size 0", "--exponent -3", "--exponent 0",
+                                   "--exponent 32 --bits 1", "--exponent 32 --threshold -1"}) {
+        SCOPED_TRACE(args);
+        CliRun r = cli("lut " + args + " -o " + shellQuoted(lut.string()));
+        std::string option = args.substr(args.rfind("--"));
+        expectCleanFailure(r, {option.substr(0, option.find(' '))});
+        expectNothingWritten(tmp.path, lut);
+    }
+}
+
+TEST_F(CliBadInput, AbsurdInspectParameters) {
+    const fs::path dir = tmp.path / "bake";
+    ASSERT_EQ(cli("bake " + shellQuoted(good) + " -q -o " + shellQuoted(dir.string())).status, 0);
+    const std::set<std::string> before = listNames(tmp.path);
+    const std::string d = shellQuoted(dir.string());
+
+    expectCleanFailure(cli("inspect " + d + " --level 99 --texel 0,0"), {"level 99"});
+    expectCleanFailure(cli("inspect " + d + " --level -1 --texel 0,0"), {"level -1"});
+    expectCleanFailure(cli("inspect " + d + " --texel 5"), {"--texel", "'5'"});
+    expectCleanFailure(cli("inspect " + d + " --texel 1,2,3"), {"--texel", "1,2,3"});
+    expectCleanFailure(cli("inspect " + d + " --texel 9999,0"), {"9999,0", "outside"});
+    expectCleanFailure(cli("inspect " + d + " --texel 0,-1"), {"0,-1", "outside"});
+    expectCleanFailure(cli("inspect " + d + " --level 1 --texel 4,0"), {"4,0", "outside"});
+    expectCleanFailure(cli("inspect " + d + " --texel 0,0 --exponent -2"), {"--exponent"});
+    std::string notBake = tmp.path.string();
+    expectCleanFailure(cli("inspect " + shellQuoted(notBake) + " --texel 0,0"), {"manifest.json"});
+    EXPECT_EQ(listNames(tmp.path), before);
+}
+
+TEST_F(CliBadInput, OutputUnderMissingFolder) {
+    const std::string target = "/nonexistent_dir/sub/out";
+    CliRun r = cli("bake " + shellQuoted(good) + " -o " + target);
+    expectCleanFailure(r, {target, "does not exist"});
+    EXPECT_FALSE(fs::exists("/nonexistent_dir"));
+    expectNothingWritten(tmp.path, out);
+
+    CliRun lut = cli("lut --exponent 8 -o " + target + ".exr");
+    expectCleanFailure(lut, {target + ".exr"});
+    EXPECT_FALSE(fs::exists("/nonexistent_dir"));
+}
+
+TEST_F(CliBadInput, UnwritableOutput) {
+    // /proc refuses new entries even to root.
+    if (fs::is_directory("/proc/self")) {
+        const std::string proc = "/proc/ndfmip_cli_test_out";
+        expectCleanFailure(cli("bake " + shellQuoted(good) + " -o " + proc),
+                           {proc, "cannot write"});
+        expectCleanFailure(cli("lut --exponent 8 -o " + proc + ".exr"),
+                           {proc + ".exr", "cannot write"});
+        EXPECT_FALSE(fs::exists(proc));
+    }
+
+    // A regular file where a parent folder should be.
+    writeFile(tmp.path / "file.txt", "text\n");
+    const std::string under = (tmp.path / "file.txt" / "out").string();
+    expectCleanFailure(cli("bake " + shellQuoted(good) + " -o " + shellQuoted(under)),
+                       {under, "not a folder"});
+    EXPECT_EQ(readFile(tmp.path / "file.txt"), "text\n");
+
+    // A lookup table onto an existing folder.
+    fs::create_directory(out);
+    expectCleanFailure(cli("lut --exponent 8 -o " + shellQuoted(out.string())), {out.string()});
+    EXPECT_TRUE(fs::is_directory(out));
+    EXPECT_TRUE(fs::is_empty(out));
+    expectNoLeftovers(tmp.path);
+}
+
+TEST_F(CliBadInput, InspectOfADamagedBake) {
+    ASSERT_EQ(cli("bake " + shellQuoted(good) + " -q -o " + shellQuoted(out.string())).status, 0);
+    const std::string d = shellQuoted(out.string());
+    fs::remove(out / "mean_L1.exr");
+    expectCleanFailure(cli("inspect " + d + " --level 1 --texel 0,0"), {"mean_L1.exr"});
+    EXPECT_EQ(cli("inspect " + d + " --level 0 --texel 0,0").status, 0); // other levels still read
+
+    std::string manifest = readFile(out / "manifest.json");
+    writeFile(out / "manifest.json", manifest.substr(0, manifest.size() / 2));
+    expectCleanFailure(cli("inspect " + d + " --texel 0,0"), {"manifest.json", "malformed"});
+    writeFile(out / "manifest.json", "{\"method\": \"median\"}");
+    expectCleanFailure(cli("inspect " + d + " --texel 0,0"), {"manifest.json", "median"});
+}
+
+TEST_F(CliBadInput, OutputIsAnExistingFile) {
+    writeFile(out, "not a folder\n");
+    CliRun r = cli("bake " + shellQuoted(good) + " -o " + shellQuoted(out.string()));
+    expectCleanFailure(r, {out.string(), "not a directory"});
+    EXPECT_TRUE(fs::is_regular_file(out));
+    EXPECT_EQ(readFile(out), "not a folder\n");
+    expectNoLeftovers(tmp.path);
+}
+
+TEST_F(CliBadInput, OutputFolderWithUserFilesIsLeftAlone) {
+    fs::create_directories(out / "sub");
+    writeFile(out / "notes.txt", "keep me\n");
+    writeFile(out / "sub" / "data.bin", "precious");
+    const std::set<std::string> before = listNames(out);
+
+    CliRun r = cli("bake " + shellQuoted(good) + " -o " + shellQuoted(out.string()));
+    expectCleanFailure(r, {out.string(), "not an ndfmip bake"});
+    EXPECT_EQ(listNames(out), before);
+    EXPECT_EQ(readFile(out / "notes.txt"), "keep me\n");
+    EXPECT_EQ(readFile(out / "sub" / "data.bin"), "precious");
+    expectNoLeftovers(tmp.path);
+}
+
+TEST_F(CliBadInput, FailedBakeKeepsAnEarlierBake) {
+    ASSERT_EQ(cli("bake " + shellQuoted(good) + " -q -o " + shellQuoted(out.string())).status, 0);
+    const std::string manifest = readFile(out / "manifest.json");
+    std::string missing = tmp.file("missing.png");
+    expectCleanFailure(cli("bake " + shellQuoted(missing) + " -o " + shellQuoted(out.string())),
+                       {missing});
+    EXPECT_EQ(readFile(out / "manifest.json"), manifest);
+}
+
+TEST(Cli, RebakeReplacesAnEarlierBake) {
+    TempDir tmp("cli_rebake");
+    const std::string map = tmp.file("map.png");
+    writePng16(map, encodeNormals(bumpyNormals(8, 8)));
+    const fs::path dir = tmp.path / "bake";
+    ASSERT_EQ(
+        cli("bake " + shellQuoted(map) + " -q --method toksvig -o " + shellQuoted(dir.string()))
+            .status,
+        0);
+    EXPECT_TRUE(fs::exists(dir / "mean_L0.exr"));
+
+    CliRun r =
+        cli("bake " + shellQuoted(map) + " -q --method naive -o " + shellQuoted(dir.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(readManifest(dir).at("method"), "naive");
+    EXPECT_TRUE(fs::exists(dir / "normal_L0.exr"));
+    EXPECT_FALSE(fs::exists(dir / "mean_L0.exr")) << "the earlier bake was merged, not replaced";
+    // Only the bake folder and the map remain beside it.
+    std::set<std::string> top;
+    for (const auto& entry : fs::directory_iterator(tmp.path))
+        top.insert(entry.path().filename().string());
+    EXPECT_EQ(top, (std::set<std::string>{"bake", "map.png"}));
+
+    // An empty existing folder is taken too, and a trailing slash names the same folder.
+    const fs::path empty = tmp.path / "empty";
+    fs::create_directory(empty);
+    r = cli("bake " + shellQuoted(map) + " -q -o " + shellQuoted(empty.string() + "/"));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(readManifest(empty).at("method"), "toksvig");
+}
+
+// ---- lut ----------------------------------------------------------------------------------------
+
+// Toksvig eq. (9) written out: ((1 + ft s)/(1 + s)) (x / sqrt(y))^(ft s),
+// ft = sqrt(y) / (sqrt(y) + s (1 - sqrt(y))), x = Na.H clamped to [0, |Na|], y = Na.Na.
+double toksvigFormula(double x, double y, double s) {
+    double length = std::sqrt(y);
+    double ft = length / (length + s * (1.0 - length));
+    double cosine = std::min(x, length) / length;
+    return (1.0 + ft * s) / (1.0 + s) * std::pow(cosine, ft * s);
+}
+
+TEST(Cli, LutMatchesToksvigsFormula) {
+    TempDir tmp("cli_lut");
+    const std::string file = tmp.file("lut.exr");
+    const int n = 64;
+    const float s = 32.f;
+    CliRun r = cli("lut --exponent 32 --size 64 -o " + shellQuoted(file));
+    ASSERT_EQ(r.status, 0) << r.output;
+
+    Result<SourceImage> loaded = loadImage(file);
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    const Image& lut = loaded->image;
+    ASSERT_EQ(lut.width, n);
+    ASSERT_EQ(lut.height, n);
+    ASSERT_EQ(lut.channels, 1);
+    EXPECT_TRUE(loaded->isFloat);
+
+    for (int j = 0; j < n; ++j) {
+        const float y = (float(j) + 0.5f) / float(n); // row j samples Na.Na, row 0 on top
+        for (int i = 0; i < n; ++i) {
+            const float x = (float(i) + 0.5f) / float(n); // column i samples Na.H
+            const float v = lut.at(i, j)[0];
+            EXPECT_FLOAT_EQ(v, toksvigLutValue(x, y, s)) << "at (" << i << ", " << j << ")";
+            const double expected = toksvigFormula(x, y, s);
+            EXPECT_NEAR(v, expected, 1e-5 + 1e-4 * expected) << "at (" << i << ", " << j << ")";
+        }
+    }
+    // The last row is nearly unfiltered (|Na| close to 1): its right end is the highlight peak,
+    // far above the same column on the top row, where the lobe is nearly flat.
+    EXPECT_GT(lut.at(n - 1, n - 1)[0], 0.5f);
+    EXPECT_LT(lut.at(n - 1, 0)[0], 0.1f);
+
+    // A PNG table holds the same values to 16 bits.
+    const std::string png = tmp.file("lut.png");
+    ASSERT_EQ(cli("lut --exponent 32 --size 64 -o " + shellQuoted(png)).status, 0);
+    Result<SourceImage> p = loadImage(png);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_EQ(p->bitsPerChannel, 16);
+    for (size_t k = 0; k < lut.pixels.size(); ++k)
+        EXPECT_NEAR(p->image.pixels[k], std::clamp(lut.pixels[k], 0.f, 1.f), 1e-5f);
+}
+
+// ---- demo ---------------------------------------------------------------------------------------
+
+TEST(Cli, DemoWritesComparisonAndTable) {
+    TempDir tmp("cli_demo");
+    const std::string map = tmp.file("map.png");
+    const int w = 16, h = 16;
+    writePng16(map, encodeNormals(bumpyNormals(w, h)));
+    const fs::path dir = tmp.path / "demo";
+    CliRun r = cli("demo " + shellQuoted(map) + " -o " + shellQuoted(dir.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("toksvig"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("naive"), std::string::npos) << r.output;
+    // One table row per level below the map: 16x16 has levels 1 to 4.
+    std::istringstream lines(r.output);
+    std::string line;
+    std::vector<int> rows;
+    while (std::getline(lines, line))
+        if (!line.empty() && std::isdigit(static_cast<unsigned char>(line[0])))
+            rows.push_back(std::stoi(line));
+    EXPECT_EQ(rows, (std::vector<int>{1, 2, 3, 4})) << r.output;
+
+    Result<SourceImage> picture = loadImage((dir / "comparison.png").string());
+    ASSERT_TRUE(picture.ok()) << picture.error().message;
+    EXPECT_EQ(picture->image.width, 3 * w + 2 * 4); // truth, naive, toksvig, 4-texel gaps
+    EXPECT_EQ(picture->image.height, h);
+}
+
+TEST(Cli, DemoRefusesABadMap) {
+    TempDir tmp("cli_demo_bad");
+    std::string missing = tmp.file("missing.png");
+    const fs::path dir = tmp.path / "demo";
+    CliRun r = cli("demo " + shellQuoted(missing) + " -o " + shellQuoted(dir.string()));
+    expectCleanFailure(r, {missing});
+    EXPECT_FALSE(fs::exists(dir)) << "a failed demo left its output folder";
+}
+
+// ---- gloss maps (eq. 12) ------------------------------------------------------------------------
+
+TEST(Cli, GlossMapRoundTripsThroughToksvigFactor) {
+    TempDir tmp("cli_gloss");
+    const std::string map = tmp.file("flat.exr");
+    writeExr(map, encodeNormals(flatNormals(8, 8))); // c = (0.5, 0.5, 1): n = (0, 0, 1) exactly
+    const std::string glossFile = tmp.file("gloss.exr");
+    const float g = 0.2f, s0 = 64.f;
+    Image gloss(8, 8, 1);
+    std::fill(gloss.pixels.begin(), gloss.pixels.end(), g);
+    writeExr(glossFile, gloss);
+
+    const fs::path dir = tmp.path / "bake";
+    CliRun r = cli("bake " + shellQuoted(map) + " -q --gloss " + shellQuoted(glossFile) +
+                   " --max-exponent 64 -o " + shellQuoted(dir.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    json m = readManifest(dir);
+    EXPECT_EQ(m.at("parameters").at("max_exponent"), 64.0);
+    EXPECT_EQ(m.at("source").at("gloss"), glossFile);
+
+    const float s = g * s0;
+    const float expectedLength = s * s0 / (s * s0 + s0 - s);
+    for (int level : {0, 1, 3}) {
+        SCOPED_TRACE(level);
+        json t = inspect(dir, level, "0,0", "--exponent 64");
+        EXPECT_NEAR(t.at("length").get<float>(), expectedLength, 1e-5f);
+        EXPECT_NEAR(t.at("toksvig_factor").get<float>(), g, 1e-5f);
+    }
+
+    // A gloss of 1 leaves the normals at unit length.
+    std::fill(gloss.pixels.begin(), gloss.pixels.end(), 1.f);
+    writeExr(glossFile, gloss);
+    r = cli("bake " + shellQuoted(map) + " -q --gloss " + shellQuoted(glossFile) +
+            " --max-exponent 64 -o " + shellQuoted(dir.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NEAR(inspect(dir, 0, "3,3", "--exponent 64").at("toksvig_factor").get<float>(), 1.f,
+                1e-6f);
+}
+
+TEST(Cli, GlossMapWithNaNIsRefused) {
+    TempDir tmp("cli_gloss_nan");
+    const std::string map = tmp.file("flat.exr");
+    writeExr(map, encodeNormals(flatNormals(4, 4)));
+    const std::string glossFile = tmp.file("gloss.exr");
+    Image gloss(4, 4, 1);
+    std::fill(gloss.pixels.begin(), gloss.pixels.end(), 0.5f);
+    gloss.at(1, 2)[0] = std::numeric_limits<float>::quiet_NaN();
+    writeExr(glossFile, gloss);
+    const fs::path dir = tmp.path / "bake";
+    CliRun r = cli("bake " + shellQuoted(map) + " --gloss " + shellQuoted(glossFile) +
+                   " --max-exponent 64 -o " + shellQuoted(dir.string()));
+    expectCleanFailure(r, {glossFile, "NaN", "(1, 2)"});
+    expectNothingWritten(tmp.path, dir);
+}
+
+// ---- general ----------------------------------------------------------------------------------
+
+TEST(Cli, UnknownSubcommandAndMissingArgumentsFailInOneLine) {
+    expectCleanFailure(cli("frobnicate"), {"subcommand"});
+    expectCleanFailure(cli("bake missing.png -o out --no-such-flag"), {"--no-such-flag"});
+    expectCleanFailure(cli("bake"), {"input"});
+    expectCleanFailure(cli(""), {"subcommand"});
+    CliRun version = cli("--version");
+    EXPECT_EQ(version.status, 0);
+    EXPECT_NE(version.output.find("ndfmip"), std::string::npos);
+}
+
+} // namespace
+} // namespace ndfmip::test
