@@ -32,6 +32,8 @@
 #include <ImfIO.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfThreading.h>
+#include <thread>
 
 namespace ndfmip {
 namespace {
@@ -379,8 +381,15 @@ Status checkExrNames(const std::string& path, const Image& image,
 }
 
 void encodeExr(const Image& image, const std::vector<std::string>& names, std::string& bytes) {
+    // ZIP-compressing float data dominates a bake's time: let OpenEXR use every core.
+    static const bool threaded = [] {
+        Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency())));
+        return true;
+    }();
+    (void)threaded;
     Imf::Header header(image.width, image.height);
     header.compression() = Imf::ZIP_COMPRESSION;
+    header.zipCompressionLevel() = 1; // float noise barely compresses harder; level 1 is ~3x faster
     Imf::FrameBuffer frame;
     size_t xStride = sizeof(float) * size_t(image.channels);
     char* base = reinterpret_cast<char*>(const_cast<float*>(image.pixels.data()));
@@ -459,6 +468,7 @@ bool encodePng(PngWriteJob& job) {
     png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), job.bits,
                  colourTypes[image.channels - 1], PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_compression_level(png, 3); // level 6 (default) is 2-3x slower for ~5% smaller files
     png_write_info(png, info);
     size_t rowBytes = size_t(image.width) * size_t(image.channels) * size_t(job.bits / 8);
     for (int y = 0; y < image.height; ++y)
