@@ -42,7 +42,8 @@ void runBake(const BakeArgs& a) {
     DecodeOptions decode = a.input_options.resolved();
 
     long long start = nowNanoseconds();
-    Image normals = loadNormalsOrFail(a.input, decode, a.quiet);
+    DecodeReport report;
+    Image normals = loadNormalsOrFail(a.input, decode, a.quiet, &report);
     if (!a.gloss.empty()) applyGlossOrFail(normals, a);
     double decodeMs = millisecondsSince(start);
 
@@ -67,9 +68,10 @@ void runBake(const BakeArgs& a) {
     double writeMs = millisecondsSince(start);
 
     if (!a.quiet)
-        std::printf("%-8s: %dx%d, %zu levels -> %s (decode %.1f ms, bake %.1f ms, write %.1f ms)\n",
-                    methodName(*method), width, height, bake.levels.size(),
-                    a.output.c_str(), decodeMs, bakeMs, writeMs);
+        std::printf("%-8s: %dx%d, %zu levels -> %s (decode %.1f ms, bake %.1f ms, write %.1f ms; "
+                    "%zu normals more than 10%% off unit length)\n",
+                    methodName(*method), width, height, bake.levels.size(), a.output.c_str(),
+                    decodeMs, bakeMs, writeMs, report.offUnitLength);
 }
 
 } // namespace

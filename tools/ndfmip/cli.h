@@ -30,8 +30,9 @@ struct InputOptions {
 };
 void addInputOptions(CLI::App* command, InputOptions& options);
 
-// Loads and decodes a normal map, prints its decode report to stderr, throws on error.
-Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bool quiet);
+// Loads and decodes a normal map, warns on stderr about suspicious normals, throws on error.
+Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bool quiet,
+                        DecodeReport* report = nullptr);
 
 // A short "\r<label> k/n" progress line on stderr when it is a terminal.
 void showProgress(const char* label, int done, int total);

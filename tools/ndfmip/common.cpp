@@ -27,12 +27,14 @@ void addInputOptions(CLI::App* command, InputOptions& o) {
     command->add_flag("--clamp", o.clamp, "the map does not tile (default: wrap)");
 }
 
-Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bool quiet) {
+Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bool quiet,
+                        DecodeReport* reportOut) {
     DecodeReport report;
     Result<Image> normals = loadNormalMap(path, decode, &report);
     if (!normals) throw Failure(normals.error().message);
     if (!quiet) {
         auto percent = [&](size_t n) { return 100.0 * double(n) / double(report.texels); };
+
         if (report.offUnitLength * 20 > report.texels)
             std::fprintf(stderr,
                          "ndfmip: warning: %s: %.1f%% of the normals are far from unit length "
@@ -45,6 +47,7 @@ Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bo
             std::fprintf(stderr, "ndfmip: warning: %s: %zu normals face away from the surface (z < 0)\n",
                          path.c_str(), report.facingDown);
     }
+    if (reportOut) *reportOut = report;
     return std::move(normals.value());
 }
 
