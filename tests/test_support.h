@@ -26,7 +26,7 @@ std::filesystem::path sharedNormalMaps();
 // fills `output` with stdout and stderr together.
 int runCli(const std::string& args, std::string* output);
 
-// Unit normal from spherical angles about +z.
+// Stores (nx, ny, nz) normalised to unit length at texel (x, y).
 void setNormal(Image& map, int x, int y, float nx, float ny, float nz);
 
 } // namespace ndfmip::test

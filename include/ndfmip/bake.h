@@ -35,6 +35,9 @@ struct PlaneInfo {
     bool linear = true;
 };
 
+// Index of the plane called `name`, or -1.
+int findPlane(const std::vector<PlaneInfo>& planes, const std::string& name);
+
 struct BakeOptions {
     float baseRoughness = 0.f; // alpha of the material before filtering (roughness planes)
     // Called after each level is done: (levels done, levels in all).

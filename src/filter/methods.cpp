@@ -19,6 +19,12 @@ const char* methodName(Method method) {
 
 std::vector<Method> allMethods() { return {Method::Naive, Method::Toksvig}; }
 
+int findPlane(const std::vector<PlaneInfo>& planes, const std::string& name) {
+    for (size_t p = 0; p < planes.size(); ++p)
+        if (planes[p].name == name) return int(p);
+    return -1;
+}
+
 Bake bakeMethod(Method method, const Pyramid& pyramid, const BakeOptions& options) {
     switch (method) {
     case Method::Naive: return bakeNaive(pyramid, options);

@@ -27,16 +27,10 @@ std::string planeFile(const PlaneInfo& plane, int level) {
     return plane.name + "_L" + std::to_string(level) + ".exr";
 }
 
-// The plane holding a direction per texel (mean or renormalised normal) and the GGX plane.
-int planeIndex(const Bake& bake, const std::string& name) {
-    for (size_t p = 0; p < bake.planes.size(); ++p)
-        if (bake.planes[p].name == name) return int(p);
-    return -1;
-}
-
+// The plane holding a direction per texel: the renormalised or the mean normal.
 int directionPlane(const Bake& bake) {
-    int p = planeIndex(bake, "normal");
-    return p >= 0 ? p : planeIndex(bake, "mean");
+    int p = findPlane(bake.planes, "normal");
+    return p >= 0 ? p : findPlane(bake.planes, "mean");
 }
 
 Image encodeNormals(const Image& directions, bool greenDown) {
@@ -65,7 +59,7 @@ Result<std::vector<std::string>> writePng16(const fs::path& folder, const Bake& 
     std::error_code ec;
     fs::create_directory(folder / "png16", ec);
     std::vector<std::string> names;
-    int dirPlane = directionPlane(bake), ggx = planeIndex(bake, "roughness_ggx");
+    int dirPlane = directionPlane(bake), ggx = findPlane(bake.planes, "roughness_ggx");
     for (size_t k = 0; k < bake.levels.size(); ++k) {
         std::vector<std::pair<std::string, Image>> files;
         if (dirPlane >= 0)

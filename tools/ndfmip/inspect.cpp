@@ -30,9 +30,9 @@ std::pair<int, int> parseTexel(const std::string& text) {
 nlohmann::json vec3(const float* v) { return {v[0], v[1], v[2]}; }
 
 int planeIndex(const LoadedBake& bake, const std::string& name) {
-    for (size_t p = 0; p < bake.planes.size(); ++p)
-        if (bake.planes[p].name == name) return int(p);
-    throw Failure("bake has no plane '" + name + "'");
+    int p = findPlane(bake.planes, name);
+    if (p < 0) throw Failure("bake has no plane '" + name + "'");
+    return p;
 }
 
 void addToksvigKeys(nlohmann::json& out, const LoadedBake& bake, int x, int y,
