@@ -2,6 +2,7 @@
 // interleaved. Every stage of ndfmip works on these; file formats live in io.h.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -23,6 +24,16 @@ struct Image {
     float* at(int x, int y) { return pixels.data() + index(x, y); }
     const float* at(int x, int y) const { return pixels.data() + index(x, y); }
 };
+
+// Length of the 3-vector stored at p (a texel of a normal or mean-normal image).
+inline float length3(const float* p) { return std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]); }
+
+// p / |p|, or (0, 0, 1) where p is zero: normals that cancel out exactly leave no direction,
+// so take the flat one.
+inline void normalizeOrFlat(const float* p, float* out) {
+    float length = length3(p);
+    for (int c = 0; c < 3; ++c) out[c] = length > 0.f ? p[c] / length : (c == 2 ? 1.f : 0.f);
+}
 
 // Images handed between stages without copies (a pyramid's means are a Toksvig bake's plane).
 using SharedImage = std::shared_ptr<const Image>;

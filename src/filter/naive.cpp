@@ -1,5 +1,4 @@
 // The standard mipmap: every level stores the mean normal, renormalised.
-#include <cmath>
 
 #include "ndfmip/bake.h"
 
@@ -17,14 +16,7 @@ Bake bakeNaive(const Pyramid& pyramid, const BakeOptions& options) {
         const size_t n = mean.texelCount();
 #pragma omp parallel for schedule(static)
         for (size_t i = 0; i < n; ++i) {
-            const float* m = &mean.pixels[3 * i];
-            float length = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-            float* out = &normal.pixels[3 * i];
-            if (length > 0.f) {
-                for (int c = 0; c < 3; ++c) out[c] = m[c] / length;
-            } else {
-                out[2] = 1.f; // normals that cancel out exactly: no direction left, take flat
-            }
+            normalizeOrFlat(&mean.pixels[3 * i], &normal.pixels[3 * i]);
         }
         bake.levels[k].push_back(std::make_shared<Image>(std::move(normal)));
         if (options.progress) options.progress(k + 1, count);

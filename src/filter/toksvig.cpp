@@ -1,6 +1,5 @@
 // Toksvig bake: the unnormalised mean normal Na per texel (linear, so it may be trilinearly
 // filtered before shading) and, for engines, Beckmann/GGX roughness from its length.
-#include <cmath>
 
 #include "ndfmip/bake.h"
 #include "ndfmip/roughness.h"
@@ -26,9 +25,7 @@ Bake bakeToksvig(const Pyramid& pyramid, const BakeOptions& options) {
         const size_t n = mean.texelCount();
 #pragma omp parallel for schedule(static)
         for (size_t i = 0; i < n; ++i) {
-            const float* m = &mean.pixels[3 * i];
-            float length = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-            beckmann.pixels[i] = varianceRoughness(length, options.baseRoughness);
+            beckmann.pixels[i] = varianceRoughness(length3(&mean.pixels[3 * i]), options.baseRoughness);
         }
         // The mean plane is the pyramid's own image; GGX shares Beckmann's (same mapping).
         auto roughness = std::make_shared<const Image>(std::move(beckmann));

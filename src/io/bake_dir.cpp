@@ -36,11 +36,8 @@ int directionPlane(const Bake& bake) {
 Image encodeNormals(const Image& directions, bool greenDown) {
     Image out(directions.width, directions.height, 3);
     for (size_t i = 0; i < directions.texelCount(); ++i) {
-        const float* d = &directions.pixels[i * directions.channels];
-        float length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        float n[3] = {0.f, 0.f, 1.f};
-        if (length > 0.f)
-            for (int c = 0; c < 3; ++c) n[c] = d[c] / length;
+        float n[3];
+        normalizeOrFlat(&directions.pixels[i * directions.channels], n);
         if (greenDown) n[1] = -n[1];
         for (int c = 0; c < 3; ++c) out.pixels[3 * i + c] = 0.5f * (n[c] + 1.f);
     }

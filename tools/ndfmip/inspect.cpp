@@ -38,7 +38,7 @@ int planeIndex(const LoadedBake& bake, const std::string& name) {
 void addToksvigKeys(nlohmann::json& out, const LoadedBake& bake, int x, int y,
                     std::optional<float> exponent) {
     const float* na = bake.level[planeIndex(bake, "mean")].at(x, y);
-    float length = std::sqrt(na[0] * na[0] + na[1] * na[1] + na[2] * na[2]);
+    float length = length3(na);
     out["mean_normal"] = vec3(na);
     out["length"] = length;
     out["sigma2"] = toksvigSigma2(length);
