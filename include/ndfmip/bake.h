@@ -89,4 +89,7 @@ struct LoadedBake {
 
 Result<LoadedBake> readBake(const std::string& dir, int level);
 
+// Every level of a bake, back in memory (checked against the manifest).
+Result<Bake> loadBake(const std::string& dir);
+
 } // namespace ndfmip

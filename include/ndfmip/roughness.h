@@ -22,4 +22,36 @@ inline float varianceRoughness(float length, float baseAlpha) {
 // Unity, Filament).
 inline float perceptualRoughness(float alpha) { return glm::sqrt(glm::max(alpha, 0.f)); }
 
+// ---- The mappings shipped engines use, for the calibration against ground truth -----------
+// r = |Na|. kappa = (3r - r^3)/(1 - r^2) is the von Mises-Fisher concentration whose mean
+// length is r (Banerjee et al. 2005); 1/kappa plays the part of sigma^2 for a vMF lobe.
+
+enum class RoughnessMapping {
+    Ours,     // alpha'^2 = alpha^2 + 2 (1 - r)/r           (Toksvig variance, Walter's s <-> alpha)
+    Hdrp,     // alpha'^2 = alpha^2 + 0.5 / kappa
+    Filament, // alpha'^2 = alpha^2 + 2 / kappa
+    Godot,    // p'^2 = p^2 + min(0.75 / kappa, 0.16) on perceptual roughness p = sqrt(alpha)
+    Unreal,   // alpha'^2 = alpha^2 + (1 - r)/r
+};
+
+inline float vmfKappaFromLength(float r) {
+    r = glm::clamp(r, 0.f, 0.999999f);
+    return (3.f * r - r * r * r) / (1.f - r * r);
+}
+
+inline float mappedRoughness(RoughnessMapping mapping, float r, float alpha) {
+    float a2 = alpha * alpha;
+    switch (mapping) {
+    case RoughnessMapping::Ours: return varianceRoughness(r, alpha);
+    case RoughnessMapping::Hdrp: a2 += 0.5f / glm::max(vmfKappaFromLength(r), 1e-6f); break;
+    case RoughnessMapping::Filament: a2 += 2.f / glm::max(vmfKappaFromLength(r), 1e-6f); break;
+    case RoughnessMapping::Godot: {
+        float p2 = alpha + glm::min(0.75f / glm::max(vmfKappaFromLength(r), 1e-6f), 0.16f);
+        return glm::min(p2, 1.f); // alpha' = p'^2
+    }
+    case RoughnessMapping::Unreal: a2 += toksvigSigma2(r); break;
+    }
+    return glm::min(glm::sqrt(a2), 1.f);
+}
+
 } // namespace ndfmip

@@ -217,4 +217,29 @@ Result<LoadedBake> readBake(const std::string& dirName, int level) {
     return bake;
 }
 
+Result<Bake> loadBake(const std::string& dir) {
+    Result<LoadedBake> first = readBake(dir, 0);
+    if (!first) return first.error();
+    Bake bake;
+    bake.method = first->method;
+    bake.planes = first->planes;
+    bake.parameters = first->parameters;
+    const int count = int(first->levelSizes.size());
+    for (int k = 0; k < count; ++k) {
+        Result<LoadedBake> level = k == 0 ? std::move(first) : readBake(dir, k);
+        if (!level) return level.error();
+        std::vector<SharedImage> planes;
+        for (size_t p = 0; p < level->level.size(); ++p) {
+            Image& image = level->level[p];
+            const auto [w, h] = level->levelSizes[k];
+            if (image.width != w || image.height != h || image.channels != int(bake.planes[p].channels.size()))
+                return Error{dir + ": level " + std::to_string(k) + " plane '" + bake.planes[p].name +
+                             "' does not match the manifest's size or channels"};
+            planes.push_back(std::make_shared<const Image>(std::move(image)));
+        }
+        bake.levels.push_back(std::move(planes));
+    }
+    return bake;
+}
+
 } // namespace ndfmip

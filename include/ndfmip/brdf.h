@@ -1,0 +1,55 @@
+// The reflectance model of the reference renderer, in the surface's tangent frame.
+//
+// Every specular BRDF here is a lobe D over half-vectors, a function of n.h only, as in
+// Han et al. (the radially symmetric case, eq. 5-6). Reflected radiance from a light of
+// irradiance E (at normal incidence) arriving from l, seen from v, with h = (l + v)/|l + v|:
+//     L = E max(n.l, 0) (albedo / pi + specular * D(n.h)).
+// Fresnel and masking-shadowing depend on l and v only under the Kelemen approximation, so they
+// are the same for every filtering method and are left out (they would scale every image alike).
+// Same GLSL-mappable subset as shading.h.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "ndfmip/scene.h"
+#include "ndfmip/shading.h"
+
+namespace ndfmip {
+
+// Beckmann distribution, normalised so that its projected area integrates to 1:
+// exp(-tan^2 t / a^2) / (pi a^2 cos^4 t).
+inline float beckmannD(float cosH, float alpha) {
+    if (cosH <= 0.f) return 0.f;
+    float c2 = cosH * cosH;
+    float a2 = alpha * alpha;
+    return glm::exp((c2 - 1.f) / (c2 * a2)) / (kPi * a2 * c2 * c2);
+}
+
+// GGX (Trowbridge-Reitz) distribution: a^2 / (pi (cos^2 t (a^2 - 1) + 1)^2).
+inline float ggxD(float cosH, float alpha) {
+    if (cosH <= 0.f) return 0.f;
+    float a2 = alpha * alpha;
+    float d = cosH * cosH * (a2 - 1.f) + 1.f;
+    return a2 / (kPi * d * d);
+}
+
+// The material's specular lobe at n.h with a given exponent (Blinn-Phong) or alpha.
+inline float specularLobe(Brdf brdf, float cosH, float exponent, float alpha) {
+    switch (brdf) {
+    case Brdf::BlinnPhong: return blinnPhong(cosH, exponent);
+    case Brdf::Beckmann: return beckmannD(cosH, alpha);
+    case Brdf::Ggx: return ggxD(cosH, alpha);
+    case Brdf::Lambert: return 0.f;
+    }
+    return 0.f;
+}
+
+// Reflected radiance per unit irradiance for one unit normal n: the ground truth's integrand.
+inline glm::vec3 shadeNormal(const Material& m, glm::vec3 n, glm::vec3 l, glm::vec3 h) {
+    float cosL = glm::max(glm::dot(n, l), 0.f);
+    if (cosL <= 0.f) return glm::vec3(0.f);
+    float lobe = specularLobe(m.brdf, glm::dot(n, h), m.exponent, m.roughness);
+    return cosL * (m.albedo * (1.f / kPi) + m.specular * lobe);
+}
+
+} // namespace ndfmip

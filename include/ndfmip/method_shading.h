@@ -1,0 +1,45 @@
+// Each method's shade function: what a pixel shader does with the method's parameters after
+// trilinear filtering, in the tangent frame (l, v unit, z = geometric normal). Returns the
+// reflected radiance per unit irradiance, like shadeNormal (brdf.h) does for one true normal,
+// so that a filtered pixel can be compared with the mean of shadeNormal over its normals.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "ndfmip/brdf.h"
+#include "ndfmip/roughness.h"
+#include "ndfmip/toksvig.h"
+
+namespace ndfmip {
+
+// Standard mipmap: the filtered normal renormalised, the material unchanged.
+inline glm::vec3 shadeNaive(const Material& m, glm::vec3 filtered, glm::vec3 l, glm::vec3 v) {
+    float length = glm::length(filtered);
+    glm::vec3 n = length > 0.f ? filtered / length : glm::vec3(0.f, 0.f, 1.f);
+    return shadeNormal(m, n, l, glm::normalize(l + v));
+}
+
+// Toksvig: Na is kept unnormalised. Its length widens the specular lobe (Blinn-Phong: the
+// exponent times the Toksvig factor, eq. 6; Beckmann/GGX: alpha from the roughness mapping),
+// and the cosine is Na.l, the exact mean of the covered normals' cosines where none of them
+// faces away from the light (Lambertian reflection is linear in n).
+inline glm::vec3 shadeToksvig(const Material& m, glm::vec3 na, glm::vec3 l, glm::vec3 v,
+                              RoughnessMapping mapping) {
+    float cosL = glm::max(glm::dot(na, l), 0.f);
+    if (cosL <= 0.f) return glm::vec3(0.f);
+    float length = glm::length(na);
+    glm::vec3 h = glm::normalize(l + v);
+    float cosH = length > 0.f ? glm::dot(na, h) / length : 0.f;
+    float lobe = 0.f;
+    switch (m.brdf) {
+    case Brdf::BlinnPhong:
+        lobe = blinnPhong(cosH, toksvigFactor(length, m.exponent) * m.exponent);
+        break;
+    case Brdf::Beckmann: lobe = beckmannD(cosH, mappedRoughness(mapping, length, m.roughness)); break;
+    case Brdf::Ggx: lobe = ggxD(cosH, mappedRoughness(mapping, length, m.roughness)); break;
+    case Brdf::Lambert: break;
+    }
+    return cosL * (m.albedo * (1.f / kPi) + m.specular * lobe);
+}
+
+} // namespace ndfmip

@@ -1,0 +1,84 @@
+// The reference CPU renderer. It draws a scene's normal-mapped object either as a GPU would
+// with a baked method (ray-differential footprint -> mip LOD -> trilinear filtering of the
+// method's linear planes -> the method's shade function), or as the ground truth (many
+// stratified samples per pixel, each shaded with the finest normal under it).
+// Shading happens in the surface's tangent frame with tangent-space normals.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "ndfmip/bake.h"
+#include "ndfmip/roughness.h"
+#include "ndfmip/scene.h"
+
+namespace ndfmip {
+
+constexpr const char* kGroundTruth = "groundtruth";
+
+struct RenderOptions {
+    int spp = 1;             // samples per pixel, stratified and jittered (box filter); 1 = pixel centre
+    uint64_t seed = 1;       // jitter seed: the same seed gives the same image on any thread count
+    bool nearest = false;    // ground truth: nearest level-0 texel instead of bilinear + renormalise
+    int anisotropy = 1;      // methods: up to this many trilinear probes along the footprint's major axis
+    glm::vec2 pixelShift{0.f}; // sub-pixel shift of the whole image (frames of a flicker test)
+    RoughnessMapping roughnessMapping = RoughnessMapping::Ours; // toksvig with Beckmann/GGX
+    std::function<void(int, int)> progress; // (rows done, rows in all), from one thread
+};
+
+// What the renderer samples: the level-0 unit normals (ground truth) and, for a method, its
+// bake (every level). `bake.levels` is empty when only the ground truth is rendered.
+struct RenderTextures {
+    SharedImage normals;
+    Bake bake;
+};
+
+// Renders `scene` with `method` (a method name or kGroundTruth); RGB radiance, 3 channels.
+// Errors: unknown method, a bake of another method or size.
+Result<Image> render(const Scene& scene, const RenderTextures& textures, const std::string& method,
+                     const RenderOptions& options);
+
+// ---- Pieces, exposed for tests and for the evaluation ---------------------------------------
+
+struct Ray {
+    glm::vec3 origin, direction;
+};
+
+// The ray through image position (px, py), in pixels from the top-left corner.
+Ray cameraRay(const Camera& camera, float px, float py);
+
+struct SurfaceHit {
+    bool hit = false;
+    float t = 0.f;
+    glm::vec3 position{0.f};
+    glm::vec2 uv{0.f};                 // texture coordinates (tiling applied): 1 = one map
+    glm::vec3 tangent{1.f, 0.f, 0.f};  // unit frame: +x of the normal map (towards +u)
+    glm::vec3 bitangent{0.f, 1.f, 0.f}; // +y of the normal map (towards the top row, -v)
+    glm::vec3 normal{0.f, 0.f, 1.f};
+    glm::vec3 dpdu{0.f}, dpdv{0.f};    // position derivatives along uv
+};
+
+SurfaceHit intersect(const Geometry& geometry, const Ray& ray);
+
+// Derivatives of uv with respect to the image x and y (ray differentials through the tangent
+// plane at the hit, PBRT-style).
+struct UvFootprint {
+    glm::vec2 dx{0.f}, dy{0.f};
+};
+UvFootprint uvFootprint(const Camera& camera, const SurfaceHit& hit, float px, float py);
+
+// GPU LOD: log2 of the longer footprint axis measured in level-0 texels.
+float mipLod(const UvFootprint& footprint, int width, int height);
+
+// Mean over pixels of (temporal standard deviation / temporal mean) of the luminance, over
+// pixels whose temporal mean exceeds `floor` times the frames' overall mean luminance.
+double temporalFlicker(const std::vector<Image>& frames, double floor = 1e-3);
+
+// `count` sub-pixel shifts in [-0.5, 0.5)^2 for flicker frames (a fixed low-discrepancy set).
+std::vector<glm::vec2> flickerShifts(int count);
+
+} // namespace ndfmip

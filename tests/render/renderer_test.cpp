@@ -1,0 +1,271 @@
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include "ndfmip/bake.h"
+#include "ndfmip/brdf.h"
+#include "ndfmip/method_shading.h"
+#include "ndfmip/render.h"
+#include "test_support.h"
+
+namespace ndfmip {
+namespace {
+
+// Random unit normals within `maxTilt` radians of +z.
+Image randomNormals(int w, int h, float maxTilt, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    Image map(w, h, 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float t = maxTilt * std::sqrt(u(rng)), p = 2.f * kPi * u(rng);
+            test::setNormal(map, x, y, std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+        }
+    return map;
+}
+
+Image flatNormals(int w, int h) {
+    Image map(w, h, 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) test::setNormal(map, x, y, 0.f, 0.f, 1.f);
+    return map;
+}
+
+RenderTextures texturesFor(const Image& normals, Method method) {
+    RenderTextures t;
+    t.normals = std::make_shared<const Image>(normals);
+    t.bake = bakeMethod(method, buildPyramid(t.normals), {});
+    return t;
+}
+
+// A top-down orthographic view of a 1 x 1 plane carrying the map once, `pixels` pixels wide:
+// with a map of W texels each pixel covers a (W / pixels)^2 block exactly.
+Scene alignedScene(int pixels, Material material, glm::vec3 light) {
+    Scene s;
+    s.camera.type = CameraType::Orthographic;
+    s.camera.eye = {0.f, 0.f, 5.f};
+    s.camera.target = {0.f, 0.f, 0.f};
+    s.camera.up = {0.f, 1.f, 0.f};
+    s.camera.orthoHeight = 1.f;
+    s.camera.width = s.camera.height = pixels;
+    s.geometry.size = {1.f, 1.f};
+    s.lights = {Light{LightType::Directional, glm::normalize(light), {}, glm::vec3(1.f)}};
+    s.material = material;
+    return s;
+}
+
+// A plane seen at a grazing angle in perspective: one image spans many mip levels.
+Scene grazingScene(Material material) {
+    Scene s;
+    s.camera.eye = {0.f, -4.f, 0.6f};
+    s.camera.target = {0.f, 0.f, 0.f};
+    s.camera.width = 48;
+    s.camera.height = 32;
+    s.geometry.size = {8.f, 8.f};
+    s.geometry.tiling = {8.f, 8.f};
+    s.lights = {Light{LightType::Directional, glm::normalize(glm::vec3(0.2f, 0.5f, 0.6f)), {}, glm::vec3(1.f)},
+                Light{LightType::Point, {}, {0.5f, -1.f, 1.f}, glm::vec3(0.5f, 0.3f, 0.2f)}};
+    s.material = material;
+    return s;
+}
+
+std::vector<Material> allMaterials() {
+    Material lambert{Brdf::Lambert, 32.f, 0.2f, glm::vec3(0.7f), glm::vec3(0.f)};
+    Material phong{Brdf::BlinnPhong, 64.f, 0.2f, glm::vec3(0.1f), glm::vec3(1.f)};
+    Material beckmann{Brdf::Beckmann, 32.f, 0.15f, glm::vec3(0.f), glm::vec3(1.f)};
+    Material ggx{Brdf::Ggx, 32.f, 0.3f, glm::vec3(0.2f), glm::vec3(0.9f, 0.8f, 0.7f)};
+    return {lambert, phong, beckmann, ggx};
+}
+
+void expectImagesNear(const Image& a, const Image& b, float tolerance) {
+    ASSERT_EQ(a.pixels.size(), b.pixels.size());
+    float worst = 0.f;
+    for (size_t i = 0; i < a.pixels.size(); ++i)
+        worst = std::max(worst, std::abs(a.pixels[i] - b.pixels[i]) / std::max(1.f, std::abs(b.pixels[i])));
+    EXPECT_LE(worst, tolerance);
+}
+
+TEST(Renderer, FlatMapEveryMethodEqualsGroundTruth) {
+    const Image flat = flatNormals(32, 32);
+    for (const Material& m : allMaterials()) {
+        for (const Scene& scene : {grazingScene(m), alignedScene(8, m, {0.3f, 0.2f, 1.f})}) {
+            RenderOptions truthOptions;
+            truthOptions.spp = 4;
+            Result<Image> truth = render(scene, texturesFor(flat, Method::Naive), kGroundTruth, truthOptions);
+            ASSERT_TRUE(truth.ok()) << truth.error().message;
+            // A flat map shades the same at every position of a pixel, so the pixel centre of
+            // the method matches the mean of the truth's samples up to the lights' variation.
+            for (Method method : allMethods()) {
+                RenderOptions o;
+                o.spp = 4;
+                Result<Image> image = render(scene, texturesFor(flat, method), methodName(method), o);
+                ASSERT_TRUE(image.ok()) << image.error().message;
+                expectImagesNear(image.value(), truth.value(), 1e-4f);
+            }
+        }
+    }
+}
+
+TEST(Renderer, AlignedOrthographicTruthIsTheBlockMean) {
+    const int size = 16, level = 2, block = 1 << level, pixels = size / block;
+    const Image normals = randomNormals(size, size, 0.9f, 7);
+    const glm::vec3 light = glm::normalize(glm::vec3(0.4f, -0.3f, 1.f));
+    const glm::vec3 view(0.f, 0.f, 1.f);
+    for (const Material& m : allMaterials()) {
+        Scene scene = alignedScene(pixels, m, light);
+        RenderOptions o;
+        o.nearest = true;
+        o.spp = block * block; // one stratum per texel
+        Result<Image> truth = render(scene, texturesFor(normals, Method::Toksvig), kGroundTruth, o);
+        ASSERT_TRUE(truth.ok());
+        RenderTextures toksvig = texturesFor(normals, Method::Toksvig);
+        Result<Image> filtered = render(scene, toksvig, "toksvig", {});
+        ASSERT_TRUE(filtered.ok());
+        const Image& mean = *toksvig.bake.levels[level][0];
+        const glm::vec3 h = glm::normalize(light + view);
+        for (int py = 0; py < pixels; ++py)
+            for (int px = 0; px < pixels; ++px) {
+                glm::vec3 sum(0.f);
+                bool allLit = true;
+                for (int y = py * block; y < (py + 1) * block; ++y)
+                    for (int x = px * block; x < (px + 1) * block; ++x) {
+                        const float* n = normals.at(x, y);
+                        glm::vec3 normal(n[0], n[1], n[2]);
+                        sum += shadeNormal(m, normal, light, h);
+                        allLit = allLit && glm::dot(normal, light) > 0.f;
+                    }
+                const glm::vec3 expected = sum / float(block * block);
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_NEAR(truth->at(px, py)[c], expected[c], 1e-5f * std::max(1.f, expected[c]));
+                // The method at level L sees exactly the block's texel.
+                const float* na = mean.at(px, py);
+                glm::vec3 own = shadeToksvig(m, {na[0], na[1], na[2]}, light, view, RoughnessMapping::Ours);
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_NEAR(filtered->at(px, py)[c], own[c], 1e-5f * std::max(1.f, own[c]));
+                // Lambertian reflection is linear in n: the unnormalised mean is exact.
+                if (m.brdf == Brdf::Lambert && allLit) {
+                    for (int c = 0; c < 3; ++c) EXPECT_NEAR(filtered->at(px, py)[c], expected[c], 1e-5f);
+                }
+            }
+    }
+}
+
+TEST(Renderer, RayDifferentialLodMatchesTheAnalyticFootprint) {
+    // Orthographic camera tilted by theta from the plane's normal: a pixel spans h/H world
+    // units across and (h/H)/cos(theta) along the tilt; the map of W texels covers `size` units.
+    const float theta = glm::radians(60.f);
+    Camera camera;
+    camera.type = CameraType::Orthographic;
+    camera.eye = {0.f, -5.f * std::sin(theta), 5.f * std::cos(theta)};
+    camera.target = {0.f, 0.f, 0.f};
+    camera.up = {0.f, 0.f, 1.f};
+    camera.orthoHeight = 2.f;
+    camera.width = camera.height = 64;
+    Geometry plane;
+    plane.size = {4.f, 4.f};
+    plane.tiling = {2.f, 2.f};
+    const int mapSize = 256;
+    const Ray ray = cameraRay(camera, 32.f, 32.f);
+    const SurfaceHit hit = intersect(plane, ray);
+    ASSERT_TRUE(hit.hit);
+    const UvFootprint f = uvFootprint(camera, hit, 32.f, 32.f);
+    const float pixelWorld = camera.orthoHeight / float(camera.height);
+    const float texelsPerUnit = float(mapSize) * plane.tiling.x / plane.size.x;
+    EXPECT_NEAR(glm::length(f.dx) * mapSize, pixelWorld * texelsPerUnit, 1e-3f);
+    EXPECT_NEAR(glm::length(f.dy) * mapSize, pixelWorld / std::cos(theta) * texelsPerUnit, 1e-3f);
+    EXPECT_NEAR(mipLod(f, mapSize, mapSize), std::log2(pixelWorld / std::cos(theta) * texelsPerUnit), 1e-4f);
+
+    // Perspective, looking straight down from height d: a pixel at the centre spans
+    // 2 d tan(fov/2) / H world units.
+    camera.type = CameraType::Perspective;
+    camera.eye = {0.f, 0.f, 3.f};
+    camera.up = {0.f, 1.f, 0.f};
+    camera.fovY = 30.f;
+    const Ray down = cameraRay(camera, 32.f, 32.f);
+    const SurfaceHit centre = intersect(plane, down);
+    ASSERT_TRUE(centre.hit);
+    const UvFootprint g = uvFootprint(camera, centre, 32.f, 32.f);
+    const float expected = 2.f * 3.f * std::tan(glm::radians(15.f)) / 64.f * texelsPerUnit;
+    EXPECT_NEAR(glm::length(g.dx) * mapSize, expected, expected * 1e-3f);
+    EXPECT_NEAR(glm::length(g.dy) * mapSize, expected, expected * 1e-3f);
+}
+
+TEST(Renderer, SphereFrameIsOrthonormalAndFollowsUv) {
+    Geometry sphere;
+    sphere.type = GeometryType::Sphere;
+    sphere.radius = 2.f;
+    sphere.tiling = {4.f, 2.f};
+    const Ray ray{{5.f, 1.f, 0.7f}, glm::normalize(glm::vec3(-1.f, -0.1f, -0.05f))};
+    const SurfaceHit h = intersect(sphere, ray);
+    ASSERT_TRUE(h.hit);
+    EXPECT_NEAR(glm::length(h.position - sphere.center), sphere.radius, 1e-5f);
+    EXPECT_NEAR(glm::dot(h.tangent, h.normal), 0.f, 1e-6f);
+    EXPECT_NEAR(glm::dot(h.bitangent, h.normal), 0.f, 1e-6f);
+    EXPECT_NEAR(glm::length(glm::cross(h.tangent, h.bitangent) - h.normal), 0.f, 1e-5f);
+    // dp/du points along +x of the map, dp/dv against +y (v grows towards the bottom row).
+    EXPECT_GT(glm::dot(h.dpdu, h.tangent), 0.f);
+    EXPECT_LT(glm::dot(h.dpdv, h.bitangent), 0.f);
+    // A small step along dp/du moves u by the step.
+    const float eps = 1e-3f;
+    glm::vec3 moved = h.position + eps * h.dpdu;
+    const SurfaceHit h2 = intersect(sphere, {moved + 3.f * h.normal, -h.normal});
+    ASSERT_TRUE(h2.hit);
+    EXPECT_NEAR(h2.uv.x - h.uv.x, eps, 2e-5f);
+}
+
+TEST(Renderer, ImageDoesNotDependOnTheThreadCount) {
+    const Image normals = randomNormals(32, 32, 0.8f, 3);
+    Scene scene = grazingScene(allMaterials()[1]);
+    RenderOptions o;
+    o.spp = 9;
+    o.seed = 42;
+    RenderTextures t = texturesFor(normals, Method::Toksvig);
+    const int threads = omp_get_max_threads();
+    omp_set_num_threads(1);
+    Result<Image> one = render(scene, t, kGroundTruth, o);
+    omp_set_num_threads(std::max(2, threads));
+    Result<Image> many = render(scene, t, kGroundTruth, o);
+    omp_set_num_threads(threads);
+    ASSERT_TRUE(one.ok() && many.ok());
+    EXPECT_EQ(one->pixels, many->pixels);
+    o.seed = 43;
+    Result<Image> other = render(scene, t, kGroundTruth, o);
+    EXPECT_NE(one->pixels, other->pixels);
+}
+
+TEST(Renderer, RejectsWrongMethodsAndBakes) {
+    const Image normals = flatNormals(8, 8);
+    Scene scene = grazingScene(allMaterials()[1]);
+    RenderTextures t = texturesFor(normals, Method::Naive);
+    Result<Image> r = render(scene, t, "bogus", {});
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("unknown method 'bogus'"), std::string::npos);
+    r = render(scene, t, "toksvig", {});
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("no bake of method 'toksvig'"), std::string::npos);
+    RenderOptions o;
+    o.spp = 0;
+    EXPECT_FALSE(render(scene, t, kGroundTruth, o).ok());
+}
+
+TEST(Flicker, ConstantFramesDoNotFlickerAndAlternatingOnesDo) {
+    Image a(4, 4, 3), b(4, 4, 3);
+    for (float& v : a.pixels) v = 1.f;
+    for (float& v : b.pixels) v = 3.f;
+    EXPECT_DOUBLE_EQ(temporalFlicker({a, a, a}), 0.0);
+    // Frames 1 and 3: mean 2, population std 1 -> 0.5 at every pixel.
+    EXPECT_NEAR(temporalFlicker({a, b, a, b}), 0.5, 1e-12);
+    const auto shifts = flickerShifts(16);
+    ASSERT_EQ(shifts.size(), 16u);
+    for (glm::vec2 s : shifts) {
+        EXPECT_GE(s.x, -0.5f);
+        EXPECT_LT(s.x, 0.5f);
+        EXPECT_GE(s.y, -0.5f);
+        EXPECT_LT(s.y, 0.5f);
+    }
+}
+
+} // namespace
+} // namespace ndfmip
