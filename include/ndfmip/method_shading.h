@@ -24,7 +24,7 @@ inline glm::vec3 shadeNaive(const Material& m, glm::vec3 filtered, glm::vec3 l, 
 // and the cosine is Na.l, the exact mean of the covered normals' cosines where none of them
 // faces away from the light (Lambertian reflection is linear in n).
 inline glm::vec3 shadeToksvig(const Material& m, glm::vec3 na, glm::vec3 l, glm::vec3 v,
-                              RoughnessMapping mapping) {
+                              RoughnessMapping mapping, float varianceScale = kVarianceScale) {
     float cosL = glm::max(glm::dot(na, l), 0.f);
     if (cosL <= 0.f) return glm::vec3(0.f);
     float length = glm::length(na);
@@ -35,8 +35,8 @@ inline glm::vec3 shadeToksvig(const Material& m, glm::vec3 na, glm::vec3 l, glm:
     case Brdf::BlinnPhong:
         lobe = blinnPhong(cosH, toksvigFactor(length, m.exponent) * m.exponent);
         break;
-    case Brdf::Beckmann: lobe = beckmannD(cosH, mappedRoughness(mapping, length, m.roughness)); break;
-    case Brdf::Ggx: lobe = ggxD(cosH, mappedRoughness(mapping, length, m.roughness)); break;
+    case Brdf::Beckmann: lobe = beckmannD(cosH, mappedRoughness(mapping, length, m.roughness, varianceScale)); break;
+    case Brdf::Ggx: lobe = ggxD(cosH, mappedRoughness(mapping, length, m.roughness, varianceScale)); break;
     case Brdf::Lambert: break;
     }
     return cosL * (m.albedo * (1.f / kPi) + m.specular * lobe);

@@ -27,6 +27,7 @@ struct RenderOptions {
     int anisotropy = 1;      // methods: up to this many trilinear probes along the footprint's major axis
     glm::vec2 pixelShift{0.f}; // sub-pixel shift of the whole image (frames of a flicker test)
     RoughnessMapping roughnessMapping = RoughnessMapping::Ours; // toksvig with Beckmann/GGX
+    float varianceScale = kVarianceScale; // c of the Ours mapping
     std::function<void(int, int)> progress; // (rows done, rows in all), from one thread
 };
 
@@ -48,8 +49,18 @@ struct Ray {
     glm::vec3 origin, direction;
 };
 
+// A camera's basis and projection constants, computed once per image.
+struct CameraFrame {
+    CameraType type = CameraType::Perspective;
+    glm::vec3 eye{0.f}, forward{0.f, 0.f, -1.f}, right{1.f, 0.f, 0.f}, up{0.f, 1.f, 0.f};
+    float halfWidth = 1.f, halfHeight = 1.f; // of the image plane: at distance 1 (perspective) or in world units
+    float width = 1.f, height = 1.f;         // pixels
+};
+CameraFrame cameraFrame(const Camera& camera);
+
 // The ray through image position (px, py), in pixels from the top-left corner.
-Ray cameraRay(const Camera& camera, float px, float py);
+Ray cameraRay(const CameraFrame& frame, float px, float py);
+inline Ray cameraRay(const Camera& camera, float px, float py) { return cameraRay(cameraFrame(camera), px, py); }
 
 struct SurfaceHit {
     bool hit = false;
@@ -69,7 +80,10 @@ SurfaceHit intersect(const Geometry& geometry, const Ray& ray);
 struct UvFootprint {
     glm::vec2 dx{0.f}, dy{0.f};
 };
-UvFootprint uvFootprint(const Camera& camera, const SurfaceHit& hit, float px, float py);
+UvFootprint uvFootprint(const CameraFrame& frame, const SurfaceHit& hit, float px, float py);
+inline UvFootprint uvFootprint(const Camera& camera, const SurfaceHit& hit, float px, float py) {
+    return uvFootprint(cameraFrame(camera), hit, px, py);
+}
 
 // GPU LOD: log2 of the longer footprint axis measured in level-0 texels.
 float mipLod(const UvFootprint& footprint, int width, int height);

@@ -13,8 +13,11 @@
 
 namespace ndfmip {
 
-inline float varianceRoughness(float length, float baseAlpha) {
-    float alpha2 = baseAlpha * baseAlpha + 2.f * toksvigSigma2(length);
+// The constant c of alpha'^2 = alpha0^2 + c sigma^2.
+constexpr float kVarianceScale = 2.f;
+
+inline float varianceRoughness(float length, float baseAlpha, float scale = kVarianceScale) {
+    float alpha2 = baseAlpha * baseAlpha + scale * toksvigSigma2(length);
     return glm::min(glm::sqrt(alpha2), 1.f);
 }
 
@@ -27,7 +30,7 @@ inline float perceptualRoughness(float alpha) { return glm::sqrt(glm::max(alpha,
 // length is r (Banerjee et al. 2005); 1/kappa plays the part of sigma^2 for a vMF lobe.
 
 enum class RoughnessMapping {
-    Ours,     // alpha'^2 = alpha^2 + 2 (1 - r)/r           (Toksvig variance, Walter's s <-> alpha)
+    Ours,     // alpha'^2 = alpha^2 + c (1 - r)/r, c = kVarianceScale unless given
     Hdrp,     // alpha'^2 = alpha^2 + 0.5 / kappa
     Filament, // alpha'^2 = alpha^2 + 2 / kappa
     Godot,    // p'^2 = p^2 + min(0.75 / kappa, 0.16) on perceptual roughness p = sqrt(alpha)
@@ -39,10 +42,11 @@ inline float vmfKappaFromLength(float r) {
     return (3.f * r - r * r * r) / (1.f - r * r);
 }
 
-inline float mappedRoughness(RoughnessMapping mapping, float r, float alpha) {
+inline float mappedRoughness(RoughnessMapping mapping, float r, float alpha,
+                             float scale = kVarianceScale) {
     float a2 = alpha * alpha;
     switch (mapping) {
-    case RoughnessMapping::Ours: return varianceRoughness(r, alpha);
+    case RoughnessMapping::Ours: return varianceRoughness(r, alpha, scale);
     case RoughnessMapping::Hdrp: a2 += 0.5f / glm::max(vmfKappaFromLength(r), 1e-6f); break;
     case RoughnessMapping::Filament: a2 += 2.f / glm::max(vmfKappaFromLength(r), 1e-6f); break;
     case RoughnessMapping::Godot: {

@@ -5,36 +5,29 @@
 
 namespace ndfmip {
 
-namespace {
-
-struct CameraBasis {
-    glm::vec3 forward, right, up;
-};
-
-CameraBasis basis(const Camera& c) {
-    CameraBasis b;
-    b.forward = glm::normalize(c.target - c.eye);
-    b.right = glm::normalize(glm::cross(b.forward, c.up));
-    b.up = glm::cross(b.right, b.forward);
-    return b;
+CameraFrame cameraFrame(const Camera& c) {
+    CameraFrame f;
+    f.type = c.type;
+    f.eye = c.eye;
+    f.forward = glm::normalize(c.target - c.eye);
+    f.right = glm::normalize(glm::cross(f.forward, c.up));
+    f.up = glm::cross(f.right, f.forward);
+    const float aspect = float(c.width) / float(c.height);
+    f.halfHeight = c.type == CameraType::Orthographic ? 0.5f * c.orthoHeight
+                                                      : std::tan(glm::radians(c.fovY) * 0.5f);
+    f.halfWidth = f.halfHeight * aspect;
+    f.width = float(c.width);
+    f.height = float(c.height);
+    return f;
 }
 
-} // namespace
-
-Ray cameraRay(const Camera& camera, float px, float py) {
-    const CameraBasis b = basis(camera);
-    const float aspect = float(camera.width) / float(camera.height);
+Ray cameraRay(const CameraFrame& f, float px, float py) {
     // Image-plane coordinates in [-1, 1], y up.
-    const float sx = 2.f * px / float(camera.width) - 1.f;
-    const float sy = 1.f - 2.f * py / float(camera.height);
-    if (camera.type == CameraType::Orthographic) {
-        const float halfHeight = 0.5f * camera.orthoHeight;
-        glm::vec3 origin = camera.eye + b.right * (sx * halfHeight * aspect) + b.up * (sy * halfHeight);
-        return {origin, b.forward};
-    }
-    const float tanHalf = std::tan(glm::radians(camera.fovY) * 0.5f);
-    glm::vec3 d = b.forward + b.right * (sx * tanHalf * aspect) + b.up * (sy * tanHalf);
-    return {camera.eye, glm::normalize(d)};
+    const float sx = 2.f * px / f.width - 1.f;
+    const float sy = 1.f - 2.f * py / f.height;
+    const glm::vec3 across = f.right * (sx * f.halfWidth) + f.up * (sy * f.halfHeight);
+    if (f.type == CameraType::Orthographic) return {f.eye + across, f.forward};
+    return {f.eye, glm::normalize(f.forward + across)};
 }
 
 SurfaceHit intersect(const Geometry& g, const Ray& ray) {
@@ -90,7 +83,7 @@ SurfaceHit intersect(const Geometry& g, const Ray& ray) {
     return h;
 }
 
-UvFootprint uvFootprint(const Camera& camera, const SurfaceHit& hit, float px, float py) {
+UvFootprint uvFootprint(const CameraFrame& camera, const SurfaceHit& hit, float px, float py) {
     // Where the neighbouring pixels' rays meet the tangent plane at the hit, as uv offsets:
     // solve dp = du dpdu + dv dpdv in the least-squares sense (2x2 normal equations).
     auto offset = [&](float qx, float qy) {

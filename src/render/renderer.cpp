@@ -71,6 +71,7 @@ glm::vec3 toTangent(const SurfaceHit& hit, glm::vec3 w) {
 
 struct Context {
     const Scene* scene;
+    CameraFrame camera;
     const RenderTextures* textures;
     const RenderOptions* options;
     std::optional<Method> method; // empty: ground truth
@@ -79,7 +80,7 @@ struct Context {
 
 glm::vec3 shadeSample(const Context& ctx, float px, float py) {
     const Scene& scene = *ctx.scene;
-    const Ray ray = cameraRay(scene.camera, px, py);
+    const Ray ray = cameraRay(ctx.camera, px, py);
     const SurfaceHit hit = intersect(scene.geometry, ray);
     if (!hit.hit) return scene.background;
     const glm::vec3 view = toTangent(hit, -ray.direction);
@@ -90,7 +91,7 @@ glm::vec3 shadeSample(const Context& ctx, float px, float py) {
     if (!ctx.method) {
         normal = sampleNormal(*ctx.textures->normals, hit.uv, ctx.options->nearest);
     } else {
-        const UvFootprint footprint = uvFootprint(scene.camera, hit, px, py);
+        const UvFootprint footprint = uvFootprint(ctx.camera, hit, px, py);
         int offset = 0;
         for (const MipChain& chain : ctx.planes.chains) {
             sampleFiltered(chain, hit.uv, footprint, ctx.options->anisotropy, params + offset);
@@ -111,7 +112,8 @@ glm::vec3 shadeSample(const Context& ctx, float px, float py) {
             switch (*ctx.method) {
             case Method::Naive: r = shadeNaive(scene.material, p, l, view); break;
             case Method::Toksvig:
-                r = shadeToksvig(scene.material, p, l, view, ctx.options->roughnessMapping);
+                r = shadeToksvig(scene.material, p, l, view, ctx.options->roughnessMapping,
+                                 ctx.options->varianceScale);
                 break;
             }
         }
@@ -133,7 +135,7 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
     if (scene.camera.width < 1 || scene.camera.height < 1)
         return Error{"render: the camera's image is empty"};
 
-    Context ctx{&scene, &textures, &options, std::nullopt, {}};
+    Context ctx{&scene, cameraFrame(scene.camera), &textures, &options, std::nullopt, {}};
     if (methodName != kGroundTruth) {
         ctx.method = methodFromString(methodName);
         if (!ctx.method) {

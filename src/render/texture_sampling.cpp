@@ -9,6 +9,7 @@ namespace ndfmip {
 namespace {
 
 int wrap(int i, int n) {
+    if (i >= 0 && i < n) return i;
     int r = i % n;
     return r < 0 ? r + n : r;
 }

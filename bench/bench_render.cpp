@@ -1,0 +1,61 @@
+// The reference renderer: ground truth (many samples per pixel) and a filtered method
+// (one trilinear lookup per pixel) on a plane seen at a grazing angle, which spans every
+// mip level of the map in one image.
+#include <benchmark/benchmark.h>
+
+#include "bench_support.h"
+#include "ndfmip/bake.h"
+#include "ndfmip/render.h"
+
+namespace {
+
+ndfmip::Scene grazingPlane(int pixels) {
+    ndfmip::Scene s;
+    s.camera.eye = {0.f, -4.f, 0.8f};
+    s.camera.target = {0.f, 0.f, 0.f};
+    s.camera.width = s.camera.height = pixels;
+    s.geometry.size = {16.f, 16.f};
+    s.geometry.tiling = {8.f, 8.f};
+    ndfmip::Light light;
+    light.direction = glm::normalize(glm::vec3(0.f, 0.6f, 0.8f));
+    s.lights = {light};
+    s.material.brdf = ndfmip::Brdf::BlinnPhong;
+    s.material.exponent = 64.f;
+    return s;
+}
+
+ndfmip::RenderTextures texturesFor(ndfmip::Method method) {
+    ndfmip::RenderTextures t;
+    t.normals = ndfmip::bench::syntheticMap(1024);
+    t.bake = ndfmip::bakeMethod(method, ndfmip::buildPyramid(t.normals), {});
+    return t;
+}
+
+void BM_RenderGroundTruth(benchmark::State& state) {
+    const ndfmip::Scene scene = grazingPlane(int(state.range(0)));
+    ndfmip::RenderTextures t;
+    t.normals = ndfmip::bench::syntheticMap(1024);
+    ndfmip::RenderOptions o;
+    o.spp = int(state.range(1));
+    for (auto _ : state) {
+        auto image = ndfmip::render(scene, t, ndfmip::kGroundTruth, o);
+        benchmark::DoNotOptimize(image.value().pixels.data());
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * state.range(0) * state.range(0) * state.range(1));
+}
+
+void BM_RenderMethod(benchmark::State& state, ndfmip::Method method) {
+    const ndfmip::Scene scene = grazingPlane(int(state.range(0)));
+    const ndfmip::RenderTextures t = texturesFor(method);
+    for (auto _ : state) {
+        auto image = ndfmip::render(scene, t, ndfmip::methodName(method), {});
+        benchmark::DoNotOptimize(image.value().pixels.data());
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * state.range(0) * state.range(0));
+}
+
+} // namespace
+
+BENCHMARK(BM_RenderGroundTruth)->Args({512, 256})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_RenderMethod, naive, ndfmip::Method::Naive)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_RenderMethod, toksvig, ndfmip::Method::Toksvig)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
