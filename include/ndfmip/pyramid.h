@@ -49,6 +49,11 @@ inline const Image& levelMean(const Pyramid& pyramid, int level) {
     return *pyramid.levels[level].mean;
 }
 
+// Any linear per-texel quantity (`finer`: one image of level - 1, any channel count) averaged
+// down to `level` with the pyramid's footprints: each texel gets the exact mean over the
+// level-0 texels it covers, as Na does.
+Image averageToLevel(const Pyramid& pyramid, const Image& finer, int level);
+
 // Level-0 texels covered by texel (x, y) of `level`.
 Footprint footprint(const Pyramid& pyramid, int level, int x, int y);
 

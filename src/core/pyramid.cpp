@@ -27,30 +27,31 @@ std::vector<int> coarserEdges(const std::vector<int>& fineEdges, int coarse) {
     return edges;
 }
 
-// Mean of the children of each coarse texel, each child weighted by its level-0 area.
-Image averageChildren(const PyramidLevel& fine, const PyramidLevel& coarse) {
-    const int cw = coarse.width, ch = coarse.height;
-    const Image& fineMean = *fine.mean;
-    Image mean(cw, ch, 3);
+// Mean of the children of each coarse texel, each child weighted by its level-0 area: the
+// exact mean over the coarse texel's level-0 footprint of whatever linear quantity `fineImage`
+// holds (any channel count).
+Image averageChildren(const Image& fineImage, const PyramidLevel& fine, const PyramidLevel& coarse) {
+    const int cw = coarse.width, ch = coarse.height, channels = fineImage.channels;
+    Image mean(cw, ch, channels);
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < ch; ++y) {
+        std::vector<double> sum(channels);
         ChildRange rows = children(y, ch, fine.height);
         for (int x = 0; x < cw; ++x) {
             ChildRange cols = children(x, cw, fine.width);
-            double sum[3] = {0, 0, 0}, area = 0;
+            std::fill(sum.begin(), sum.end(), 0.0);
+            double area = 0;
             for (int fy = rows.begin; fy < rows.end; ++fy) {
                 double rowArea = fine.rowEdges[fy + 1] - fine.rowEdges[fy];
                 for (int fx = cols.begin; fx < cols.end; ++fx) {
                     double a = rowArea * (fine.columnEdges[fx + 1] - fine.columnEdges[fx]);
-                    const float* m = fineMean.at(fx, fy);
-                    sum[0] += a * m[0];
-                    sum[1] += a * m[1];
-                    sum[2] += a * m[2];
+                    const float* m = fineImage.at(fx, fy);
+                    for (int c = 0; c < channels; ++c) sum[c] += a * m[c];
                     area += a;
                 }
             }
             float* out = mean.at(x, y);
-            for (int c = 0; c < 3; ++c) out[c] = float(sum[c] / area);
+            for (int c = 0; c < channels; ++c) out[c] = float(sum[c] / area);
         }
     }
     return mean;
@@ -124,9 +125,16 @@ Pyramid buildPyramid(SharedImage base) {
         coarse.rowEdges = coarserEdges(fine.rowEdges, coarse.height);
         bool evenBlocks = k == 1 && fine.width % 2 == 0 && fine.height % 2 == 0;
         coarse.mean = std::make_shared<Image>(evenBlocks ? averageEvenBlocks(normals, coarse)
-                                                         : averageChildren(fine, coarse));
+                                                         : averageChildren(*fine.mean, fine, coarse));
     }
     return pyramid;
+}
+
+Image averageToLevel(const Pyramid& pyramid, const Image& finer, int level) {
+    assert(level >= 1 && level < int(pyramid.levels.size()));
+    const PyramidLevel& fine = pyramid.levels[level - 1];
+    assert(finer.width == fine.width && finer.height == fine.height);
+    return averageChildren(finer, fine, pyramid.levels[level]);
 }
 
 Footprint footprint(const Pyramid& pyramid, int level, int x, int y) {
