@@ -20,6 +20,7 @@ namespace ndfmip {
 enum class Method {
     Naive,   // standard mipmap: mean normal, renormalised
     Toksvig, // mean normal kept unnormalised; |Na| widens the lobe
+    Sh,      // spherical-harmonic coefficients of the NDF (Han et al. Sec. 5)
 };
 
 std::optional<Method> methodFromString(std::string_view name);
@@ -40,6 +41,7 @@ int findPlane(const std::vector<PlaneInfo>& planes, const std::string& name);
 
 struct BakeOptions {
     float baseRoughness = 0.f; // alpha of the material before filtering (roughness planes)
+    int shOrder = 7;           // sh: highest band l* ((l*+1)^2 coefficients), 1 .. kMaxShOrder
     // Called after each level is done: (levels done, levels in all).
     std::function<void(int, int)> progress;
 };
@@ -53,7 +55,14 @@ struct Bake {
 
 Bake bakeNaive(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeToksvig(const Pyramid& pyramid, const BakeOptions& options);
+Bake bakeSh(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeMethod(Method method, const Pyramid& pyramid, const BakeOptions& options);
+
+// Planes of an sh bake of order l*: four coefficients each, ceil((l*+1)^2 / 4).
+int shPlaneCount(int order);
+
+// The order l* of an sh bake (its "order" parameter), 0 for other methods.
+int bakeShOrder(const Bake& bake);
 
 // Where a bake came from, recorded in its manifest.
 struct BakeSource {

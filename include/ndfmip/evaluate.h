@@ -9,11 +9,8 @@
 
 namespace ndfmip {
 
-// Specular lobe value (normalised Blinn-Phong, exponent ctx.exponent) of one texel's stored
-// parameters under `method`; `params` points at the texel in the method's first plane.
-float shadeSpecular(Method method, const float* params, const ShadeContext& ctx);
-
-// That value for every texel of `level` (one channel).
+// The specular lobe (normalised Blinn-Phong, exponent ctx.exponent, no cosine) that the bake's
+// method gives every texel of `level` from its stored parameters (one channel).
 Image shadeLevel(const Bake& bake, int level, const ShadeContext& ctx);
 
 // The truth for every texel of `level`: the mean over its footprint of the lobe at each

@@ -4,9 +4,12 @@
 // so that a filtered pixel can be compared with the mean of shadeNormal over its normals.
 #pragma once
 
+#include <vector>
+
 #include <glm/glm.hpp>
 
 #include "ndfmip/brdf.h"
+#include "ndfmip/result.h"
 #include "ndfmip/roughness.h"
 #include "ndfmip/toksvig.h"
 
@@ -41,5 +44,21 @@ inline glm::vec3 shadeToksvig(const Material& m, glm::vec3 na, glm::vec3 l, glm:
     }
     return cosL * (m.albedo * (1.f / kPi) + m.specular * lobe);
 }
+
+// Spherical harmonics (Han et al. eq. 17): the BRDF's A_l, fixed per material and order.
+struct ShShading {
+    int order = 0;
+    std::vector<double> specular; // A_l of the material's lobe, over the half vector
+    std::vector<double> diffuse;   // A_l of the clamped cosine / pi, over the light direction
+};
+
+// A_l for l <= order (sh_brdf.h); errors for parameters out of range.
+Result<ShShading> shShadingFor(const Material& m, int order);
+
+// r_eff(w) = Sum A_l g_lm Y_lm(w) with w = h for the lobe and w = l for the diffuse term, which
+// thereby carries its own cosine; the lobe's cosine comes from the mipmapped normal
+// Na = (g_11, g_1-1, g_10) / sqrt(3 / 4 pi) (footnote 5), as max(Na.l, 0). Truncation can
+// ring below zero; each term is clamped at 0. `g` holds shCount(order) coefficients.
+glm::vec3 shadeSh(const Material& m, const float* g, const ShShading& a, glm::vec3 l, glm::vec3 v);
 
 } // namespace ndfmip

@@ -13,11 +13,12 @@ const char* methodName(Method method) {
     switch (method) {
     case Method::Naive: return "naive";
     case Method::Toksvig: return "toksvig";
+    case Method::Sh: return "sh";
     }
     return "?";
 }
 
-std::vector<Method> allMethods() { return {Method::Naive, Method::Toksvig}; }
+std::vector<Method> allMethods() { return {Method::Naive, Method::Toksvig, Method::Sh}; }
 
 int findPlane(const std::vector<PlaneInfo>& planes, const std::string& name) {
     for (size_t p = 0; p < planes.size(); ++p)
@@ -25,10 +26,16 @@ int findPlane(const std::vector<PlaneInfo>& planes, const std::string& name) {
     return -1;
 }
 
+int bakeShOrder(const Bake& bake) {
+    auto it = bake.parameters.find("order");
+    return bake.method == Method::Sh && it != bake.parameters.end() ? int(it->second) : 0;
+}
+
 Bake bakeMethod(Method method, const Pyramid& pyramid, const BakeOptions& options) {
     switch (method) {
     case Method::Naive: return bakeNaive(pyramid, options);
     case Method::Toksvig: return bakeToksvig(pyramid, options);
+    case Method::Sh: return bakeSh(pyramid, options);
     }
     return {};
 }

@@ -1,28 +1,52 @@
 // Aligned-footprint ground truth and error statistics (see evaluate.h).
 #include <cassert>
+#include <algorithm>
 #include <cmath>
 
 #include "ndfmip/evaluate.h"
+#include "ndfmip/sh_brdf.h"
+#include "ndfmip/spherical_harmonics.h"
 #include "ndfmip/toksvig.h"
 
 namespace ndfmip {
 
-float shadeSpecular(Method method, const float* p, const ShadeContext& ctx) {
-    glm::vec3 v(p[0], p[1], p[2]);
-    switch (method) {
-    case Method::Naive: return naiveSpecular(v, halfVector(ctx), ctx.exponent);
-    case Method::Toksvig: return toksvigSpecular(v, halfVector(ctx), ctx.exponent);
-    }
-    return 0.f;
+namespace {
+
+// The SH lobe alone (no cosine), as the truth below has none: Sum A_l g_lm Y_lm(h).
+float shSpecular(const float* g, const std::vector<double>& A, int order, glm::vec3 h) {
+    std::vector<double> y = evaluateSh(glm::dvec3(h), order);
+    double sum = 0.0;
+    for (int l = 0; l <= order; ++l)
+        for (int m = -l; m <= l; ++m) sum += A[l] * g[shIndex(l, m)] * y[shIndex(l, m)];
+    return float(std::max(0.0, sum));
 }
 
+} // namespace
+
 Image shadeLevel(const Bake& bake, int level, const ShadeContext& ctx) {
-    const Image& params = *bake.levels[level].front();
-    Image out(params.width, params.height, 1);
-    const size_t n = params.texelCount();
+    const std::vector<SharedImage>& planes = bake.levels[level];
+    const Image& first = *planes.front();
+    Image out(first.width, first.height, 1);
+    const size_t n = first.texelCount();
+    const glm::vec3 h = halfVector(ctx);
+    if (bake.method == Method::Sh) {
+        const int order = bakeShOrder(bake);
+        const std::vector<double> A = blinnPhongCoefficients(ctx.exponent, order);
 #pragma omp parallel for schedule(static)
-    for (size_t i = 0; i < n; ++i)
-        out.pixels[i] = shadeSpecular(bake.method, &params.pixels[i * params.channels], ctx);
+        for (size_t i = 0; i < n; ++i) {
+            std::vector<float> g;
+            for (const SharedImage& p : planes) g.insert(g.end(), &p->pixels[4 * i], &p->pixels[4 * i + 4]);
+            out.pixels[i] = shSpecular(g.data(), A, order, h);
+        }
+        return out;
+    }
+#pragma omp parallel for schedule(static)
+    for (size_t i = 0; i < n; ++i) {
+        const float* p = &first.pixels[i * first.channels];
+        const glm::vec3 v(p[0], p[1], p[2]);
+        out.pixels[i] = bake.method == Method::Naive ? naiveSpecular(v, h, ctx.exponent)
+                                                     : toksvigSpecular(v, h, ctx.exponent);
+    }
     return out;
 }
 

@@ -76,6 +76,7 @@ struct Context {
     const RenderOptions* options;
     std::optional<Method> method; // empty: ground truth
     FilteredPlanes planes;
+    ShShading sh; // sh: the material's A_l
 };
 
 glm::vec3 shadeSample(const Context& ctx, float px, float py) {
@@ -115,6 +116,7 @@ glm::vec3 shadeSample(const Context& ctx, float px, float py) {
                 r = shadeToksvig(scene.material, p, l, view, ctx.options->roughnessMapping,
                                  ctx.options->varianceScale);
                 break;
+            case Method::Sh: r = shadeSh(scene.material, params, ctx.sh, l, view); break;
             }
         }
         radiance += ls.irradiance * r;
@@ -135,7 +137,7 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
     if (scene.camera.width < 1 || scene.camera.height < 1)
         return Error{"render: the camera's image is empty"};
 
-    Context ctx{&scene, cameraFrame(scene.camera), &textures, &options, std::nullopt, {}};
+    Context ctx{&scene, cameraFrame(scene.camera), &textures, &options, std::nullopt, {}, {}};
     if (methodName != kGroundTruth) {
         ctx.method = methodFromString(methodName);
         if (!ctx.method) {
@@ -153,6 +155,11 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
                          std::to_string(textures.normals->width) + "x" +
                          std::to_string(textures.normals->height)};
         ctx.planes = linearPlanes(bake);
+        if (*ctx.method == Method::Sh) {
+            Result<ShShading> sh = shShadingFor(scene.material, bakeShOrder(bake));
+            if (!sh) return sh.error();
+            ctx.sh = std::move(sh.value());
+        }
         if (ctx.planes.channels < 3 || ctx.planes.channels > kMaxFilteredChannels)
             return Error{"render: method '" + methodName + "' has no filterable planes"};
     }

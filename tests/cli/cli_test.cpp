@@ -842,6 +842,124 @@ TEST(Cli, GlossMapWithNaNIsRefused) {
     expectNothingWritten(tmp.path, dir);
 }
 
+// ---- render and eval ----------------------------------------------------------------------------
+
+// A scene file over `map`: an orthographic top-down view, each pixel covering `block`^2 texels.
+std::string alignedSceneJson(const std::string& map, int pixels, const std::string& method) {
+    json scene = {
+        {"camera", {{"type", "orthographic"}, {"eye", {0, 0, 5}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}},
+                    {"ortho_height", 1}, {"width", pixels}, {"height", pixels}}},
+        {"object", {{"type", "plane"}, {"size", {1, 1}}}},
+        {"lights", {{{"type", "directional"}, {"direction", {0.3, 0.2, 1.0}}}}},
+        {"material", {{"brdf", "ggx"}, {"roughness", 0.2}, {"albedo", 0.1}, {"specular", 1}}},
+        {"normal_map", map},
+        {"method", method}};
+    return scene.dump(2);
+}
+
+TEST(Cli, RenderWritesExrAndPngAndGroundTruthMatchesMethodsOnAFlatMap) {
+    TempDir tmp("render");
+    const std::string map = tmp.file("flat.png");
+    writePng16(map, encodeNormals(flatNormals(32, 32)));
+    writeFile(tmp.path / "scene.json", alignedSceneJson("flat.png", 8, "toksvig"));
+    const std::string scene = shellQuoted(tmp.file("scene.json"));
+    CliRun r = cli("render " + scene + " -q -o " + shellQuoted(tmp.file("toksvig.exr")));
+    ASSERT_EQ(r.status, 0) << r.output;
+    r = cli("render " + scene + " -q --method groundtruth --spp 16 -o " + shellQuoted(tmp.file("truth.exr")));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(fs::exists(tmp.path / "truth.png"));
+    Result<SourceImage> a = loadImage(tmp.file("toksvig.exr"));
+    Result<SourceImage> b = loadImage(tmp.file("truth.exr"));
+    ASSERT_TRUE(a.ok() && b.ok());
+    ASSERT_EQ(a->image.width, 8);
+    ASSERT_EQ(a->image.channels, 3);
+    float peak = 0.f;
+    for (size_t i = 0; i < a->image.pixels.size(); ++i) {
+        EXPECT_NEAR(a->image.pixels[i], b->image.pixels[i], 1e-4f * std::max(1.f, b->image.pixels[i]));
+        peak = std::max(peak, b->image.pixels[i]);
+    }
+    EXPECT_GT(peak, 0.1f); // the highlight is in view
+    Result<SourceImage> png = loadImage(tmp.file("truth.png"));
+    ASSERT_TRUE(png.ok());
+    EXPECT_EQ(png->image.width, 8);
+}
+
+TEST(Cli, RenderReportsBadScenesInOneLine) {
+    TempDir tmp("render-bad");
+    writeFile(tmp.path / "bad.json", R"({"camera": {"width": "abc"}})");
+    CliRun r = cli("render " + shellQuoted(tmp.file("bad.json")) + " -o " + shellQuoted(tmp.file("out.exr")));
+    expectCleanFailure(r, {"bad.json", "camera"});
+    json scene = json::parse(alignedSceneJson("missing.png", 8, "toksvig"));
+    scene["material"]["brdf"] = "velvet";
+    writeFile(tmp.path / "brdf.json", scene.dump());
+    expectCleanFailure(cli("render " + shellQuoted(tmp.file("brdf.json")) + " -o " + shellQuoted(tmp.file("o.exr"))),
+                       {"brdf.json", "material.brdf", "velvet"});
+    writeFile(tmp.path / "nomap.json", alignedSceneJson("missing.png", 8, "toksvig"));
+    expectCleanFailure(cli("render " + shellQuoted(tmp.file("nomap.json")) + " -o " + shellQuoted(tmp.file("o.exr"))),
+                       {"missing.png"});
+    writeFile(tmp.path / "method.json", alignedSceneJson("missing.png", 8, "sparkle"));
+    expectCleanFailure(cli("render " + shellQuoted(tmp.file("method.json")) + " -o " + shellQuoted(tmp.file("o.exr"))),
+                       {"sparkle"});
+    EXPECT_FALSE(fs::exists(tmp.path / "o.exr"));
+    EXPECT_FALSE(fs::exists(tmp.path / "out.exr"));
+}
+
+TEST(Cli, RenderExampleScenesShipWithTheRepository) {
+    TempDir tmp("render-examples");
+    for (const char* name : {"aligned_ortho", "sphere"}) {
+        const std::string scene = std::string(NDFMIP_SOURCE_DIR) + "/scenes/" + name + ".json";
+        CliRun r = cli("render " + shellQuoted(scene) + " -q --frames 2 -o " + shellQuoted(tmp.file(std::string(name) + ".exr")));
+        ASSERT_EQ(r.status, 0) << r.output;
+        EXPECT_NE(r.output.find("flicker"), std::string::npos) << r.output;
+    }
+}
+
+TEST(Cli, EvalWritesReportWhoseFlatMapCasesAreExact) {
+    TempDir tmp("eval");
+    writePng16(tmp.file("flat.png"), encodeNormals(flatNormals(32, 32)));
+    writePng16(tmp.file("bumpy.png"), encodeNormals(bumpyNormals(32, 32)));
+    const fs::path out = tmp.path / "report";
+    CliRun r = cli("eval " + shellQuoted(tmp.file("flat.png")) + " " + shellQuoted(tmp.file("bumpy.png")) +
+                   " -q --footprints 1,4 --exponents 16 --roughness 0.2 --frames 2 --pixels 16 -o " +
+                   shellQuoted(out.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    ASSERT_TRUE(fs::exists(out / "report.html"));
+    json report = json::parse(readFile(out / "report.json"), nullptr, false);
+    ASSERT_FALSE(report.is_discarded());
+    const json& cases = report.at("cases");
+    // 2 maps x 2 footprints x 2 settings x (truth + 2 methods).
+    ASSERT_EQ(cases.size(), 24u);
+    std::set<std::string> methods;
+    for (const json& c : cases) {
+        for (const char* key : {"map", "footprint", "method", "brdf", "exponent", "rel_rmse", "energy_ratio", "flicker"})
+            EXPECT_TRUE(c.contains(key)) << key;
+        methods.insert(c.at("method").get<std::string>());
+        if (c.at("map") == "flat.png" && c.at("method") != "groundtruth") {
+            EXPECT_LT(c.at("rel_rmse").get<double>(), 1e-4) << c.dump();
+            EXPECT_NEAR(c.at("energy_ratio").get<double>(), 1.0, 1e-4) << c.dump();
+            EXPECT_LT(c.at("flicker").get<double>(), 1e-4) << c.dump();
+        }
+        if (c.at("map") == "bumpy.png" && c.at("method") != "groundtruth" && c.at("footprint") == 4) {
+            EXPECT_GT(c.at("rel_rmse").get<double>(), 1e-3) << "filtering a bumpy map is not exact: " << c.dump();
+        }
+    }
+    EXPECT_EQ(methods, (std::set<std::string>{"groundtruth", "naive", "toksvig"}));
+    const std::string html = readFile(out / "report.html");
+    EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
+}
+
+TEST(Cli, EvalRejectsBadOptions) {
+    TempDir tmp("eval-bad");
+    writePng16(tmp.file("flat.png"), encodeNormals(flatNormals(8, 8)));
+    const std::string map = shellQuoted(tmp.file("flat.png"));
+    const std::string out = " -o " + shellQuoted(tmp.file("r"));
+    expectCleanFailure(cli("eval " + map + " --methods naive,magic" + out), {"magic"});
+    expectCleanFailure(cli("eval " + map + " --brdfs velvet" + out), {"velvet"});
+    expectCleanFailure(cli("eval " + map + " --footprints 0" + out), {"footprints"});
+    expectCleanFailure(cli("eval " + shellQuoted(tmp.file("none.png")) + out), {"none.png"});
+    EXPECT_FALSE(fs::exists(tmp.path / "r"));
+}
+
 // ---- general ----------------------------------------------------------------------------------
 
 TEST(Cli, UnknownSubcommandAndMissingArgumentsFailInOneLine) {

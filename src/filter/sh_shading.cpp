@@ -1,0 +1,57 @@
+// Shading from spherical-harmonic NDF coefficients (Han et al. eq. 17; see method_shading.h).
+#include <cmath>
+
+#include "ndfmip/method_shading.h"
+#include "ndfmip/sh_brdf.h"
+#include "ndfmip/spherical_harmonics.h"
+
+namespace ndfmip {
+
+Result<ShShading> shShadingFor(const Material& m, int order) {
+    if (order < 1 || order > kMaxShOrder)
+        return Error{"sh: order " + std::to_string(order) + " is not in 1 .. " + std::to_string(kMaxShOrder)};
+    ShShading a;
+    a.order = order;
+    a.diffuse = lambertCoefficients(order);
+    if (m.brdf == Brdf::Lambert) {
+        a.specular.assign(order + 1, 0.0);
+        return a;
+    }
+    Result<std::vector<double>> lobe = brdfCoefficients(m.brdf, m.exponent, m.roughness, order);
+    if (!lobe) return lobe.error();
+    a.specular = std::move(lobe.value());
+    return a;
+}
+
+namespace {
+
+// Sum over l <= order of A_l Sum_m g_lm Y_lm(w).
+double convolve(const float* g, const std::vector<double>& A, int order, glm::vec3 w) {
+    double y[shCount(kMaxShOrder)];
+    evaluateSh(glm::dvec3(glm::normalize(w)), order, y);
+    double sum = 0.0;
+    for (int l = 0; l <= order; ++l) {
+        double band = 0.0;
+        for (int i = shIndex(l, -l); i <= shIndex(l, l); ++i) band += double(g[i]) * y[i];
+        sum += A[l] * band;
+    }
+    return sum;
+}
+
+} // namespace
+
+glm::vec3 shadeSh(const Material& m, const float* g, const ShShading& a, glm::vec3 l, glm::vec3 v) {
+    glm::vec3 out(0.f);
+    if (m.albedo != glm::vec3(0.f))
+        out += m.albedo * float(std::max(0.0, convolve(g, a.diffuse, a.order, l)));
+    if (m.brdf != Brdf::Lambert && m.specular != glm::vec3(0.f)) {
+        const float c = std::sqrt(3.f / (4.f * kPi));
+        const glm::vec3 na = glm::vec3(g[shIndex(1, 1)], g[shIndex(1, -1)], g[shIndex(1, 0)]) / c;
+        const float cosL = std::max(0.f, glm::dot(na, l));
+        if (cosL > 0.f)
+            out += m.specular * (cosL * float(std::max(0.0, convolve(g, a.specular, a.order, l + v))));
+    }
+    return out;
+}
+
+} // namespace ndfmip
