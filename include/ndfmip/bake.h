@@ -78,6 +78,9 @@ struct BakeWriteOptions {
     // c = (n+1)/2 in the source's green convention) and, where the method has roughness,
     // roughness_L<k>.png (perceptual GGX roughness, sqrt(alpha)).
     bool png16 = false;
+    // Planes stored as 16-bit half floats instead of 32-bit floats (half the disk; ~3 decimal
+    // digits, enough for SH coefficients and mean normals).
+    bool half = false;
 };
 
 // Writes DIR/manifest.json and DIR/<plane>_L<k>.exr (float). The whole folder is staged beside

@@ -23,11 +23,12 @@ struct SourceImage {
 // Grey+alpha is returned with 2 channels, RGBA with 4; alpha is never dropped here.
 Result<SourceImage> loadImage(const std::string& path);
 
-// Writes a float OpenEXR file (FLOAT pixels, ZIP compression). channelNames, when given,
-// has one name per channel; the default is R,G,B,A (Y for one channel). Written to a
-// temporary file beside `path` and renamed, so a failure leaves no partial file.
+// Writes a float OpenEXR file (FLOAT pixels, or HALF with `half`; ZIP compression).
+// channelNames, when given, has one name per channel; the default is R,G,B,A (Y for one
+// channel). Written to a temporary file beside `path` and renamed, so a failure leaves no
+// partial file.
 Status saveExr(const std::string& path, const Image& image,
-               const std::vector<std::string>& channelNames = {});
+               const std::vector<std::string>& channelNames = {}, bool half = false);
 
 // Writes an 8- or 16-bit PNG (1 to 4 channels) of values clamped to [0,1]; atomic as above.
 Status savePng(const std::string& path, const Image& image, int bitsPerChannel);

@@ -156,11 +156,12 @@ Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource&
     for (size_t k = 0; k < bake.levels.size(); ++k) {
         for (size_t p = 0; p < bake.planes.size(); ++p) {
             Status s = saveExr((staging / planeFile(bake.planes[p], int(k))).string(),
-                               *bake.levels[k][p]);
+                               *bake.levels[k][p], {}, options.half);
             if (!s) return fail(s.error);
         }
     }
     json manifest = manifestJson(bake, source);
+    manifest["storage"] = options.half ? "half" : "float";
     if (options.png16) {
         auto names = writePng16(staging, bake, source.decode.greenDown);
         if (!names) return fail(dirName + ": " + names.error().message);

@@ -26,6 +26,7 @@
 #include <png.h>
 #include <stb_image.h> // implementation lives in Debian's libstb.so
 
+#include <half.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -380,7 +381,7 @@ Status checkExrNames(const std::string& path, const Image& image,
     return Status::success();
 }
 
-void encodeExr(const Image& image, const std::vector<std::string>& names, std::string& bytes) {
+void encodeExr(const Image& image, const std::vector<std::string>& names, bool half, std::string& bytes) {
     // ZIP-compressing float data dominates a bake's time: let OpenEXR use every core.
     static const bool threaded = [] {
         Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency())));
@@ -391,11 +392,17 @@ void encodeExr(const Image& image, const std::vector<std::string>& names, std::s
     header.compression() = Imf::ZIP_COMPRESSION;
     header.zipCompressionLevel() = 1; // float noise barely compresses harder; level 1 is ~3x faster
     Imf::FrameBuffer frame;
-    size_t xStride = sizeof(float) * size_t(image.channels);
-    char* base = reinterpret_cast<char*>(const_cast<float*>(image.pixels.data()));
+    // Half pixels are converted up front; OpenEXR reads either layout through its slices.
+    std::vector<Imath::half> halves;
+    if (half) halves.assign(image.pixels.begin(), image.pixels.end());
+    const Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;
+    const size_t valueSize = half ? sizeof(Imath::half) : sizeof(float);
+    const size_t xStride = valueSize * size_t(image.channels);
+    char* base = half ? reinterpret_cast<char*>(halves.data())
+                      : reinterpret_cast<char*>(const_cast<float*>(image.pixels.data()));
     for (int c = 0; c < image.channels; ++c) {
-        header.channels().insert(names[size_t(c)], Imf::Channel(Imf::FLOAT));
-        frame.insert(names[size_t(c)], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xStride,
+        header.channels().insert(names[size_t(c)], Imf::Channel(type));
+        frame.insert(names[size_t(c)], Imf::Slice(type, base + c * valueSize, xStride,
                                                   xStride * size_t(image.width)));
     }
     MemoryOStream stream(bytes);
@@ -491,13 +498,13 @@ Result<SourceImage> loadImage(const std::string& path) {
 }
 
 Status saveExr(const std::string& path, const Image& image,
-               const std::vector<std::string>& channelNames) {
+               const std::vector<std::string>& channelNames, bool half) {
     if (!validImage(image)) return cannotWrite(path, "empty or inconsistent image");
     std::vector<std::string> names = exrChannelNames(image, channelNames);
     if (Status status = checkExrNames(path, image, names); !status) return status;
     std::string bytes;
     try {
-        encodeExr(image, names, bytes);
+        encodeExr(image, names, half, bytes);
     } catch (const std::exception& e) {
         return cannotWrite(path, e.what());
     }

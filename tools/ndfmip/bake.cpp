@@ -6,6 +6,7 @@
 #include "cli.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/io.h"
+#include "ndfmip/spherical_harmonics.h"
 #include "ndfmip/toksvig.h"
 
 namespace ndfmip::cli {
@@ -16,6 +17,8 @@ struct BakeArgs {
     InputOptions input_options;
     float maxExponent = 0.f;
     float baseRoughness = 0.f;
+    int order = 0; // sh: 0 = the default l* = 7
+    bool half = false;
     bool quiet = false;
 };
 
@@ -36,7 +39,10 @@ void applyGlossOrFail(Image& normals, const BakeArgs& a) {
 
 void runBake(const BakeArgs& a) {
     auto method = methodFromString(a.method);
-    if (!method) throw Failure("unknown method '" + a.method + "' (naive, toksvig)");
+    if (!method) throw Failure("unknown method '" + a.method + "' (naive, toksvig, sh)");
+    if (a.order != 0 && *method != Method::Sh) throw Failure("--order applies to --method sh only");
+    if (a.exportFormat == "png16" && *method == Method::Sh)
+        throw Failure("--export png16 needs a method that stores a normal (naive, toksvig)");
     if (!a.gloss.empty() && a.maxExponent <= 0.f)
         throw Failure("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");
     DecodeOptions decode = a.input_options.resolved();
@@ -52,6 +58,7 @@ void runBake(const BakeArgs& a) {
     Pyramid pyramid = buildPyramid(std::make_shared<const Image>(std::move(normals)));
     BakeOptions options;
     options.baseRoughness = a.baseRoughness;
+    if (a.order != 0) options.shOrder = a.order;
     if (!a.quiet) options.progress = [](int done, int total) { showProgress("bake: level", done, total); };
     Bake bake = bakeMethod(*method, pyramid, options);
     if (!a.gloss.empty()) bake.parameters["max_exponent"] = a.maxExponent;
@@ -63,15 +70,25 @@ void runBake(const BakeArgs& a) {
     BakeSource source{a.input, hash.value(), width, height, decode, a.gloss};
     BakeWriteOptions write;
     write.png16 = a.exportFormat == "png16";
+    write.half = a.half;
     Status status = writeBake(a.output, bake, source, write);
     if (!status) throw Failure(status.error);
     double writeMs = millisecondsSince(start);
 
-    if (!a.quiet)
+    if (!a.quiet) {
         std::printf("%-8s: %dx%d, %zu levels -> %s (decode %.1f ms, bake %.1f ms, write %.1f ms; "
                     "%zu normals more than 10%% off unit length)\n",
                     methodName(*method), width, height, bake.levels.size(), a.output.c_str(),
                     decodeMs, bakeMs, writeMs, report.offUnitLength);
+        if (*method == Method::Sh) {
+            const int order = bakeShOrder(bake);
+            const int planes = shPlaneCount(order);
+            std::printf("sh      : l* = %d, %d coefficients in %d planes: %d bytes per texel of level 0 "
+                        "(%.1f with every level) in memory, %d on disk before compression\n",
+                        order, shCount(order), planes, planes * 16, planes * 16 * 4.0 / 3.0,
+                        planes * (a.half ? 8 : 16));
+        }
+    }
 }
 
 } // namespace
@@ -81,7 +98,10 @@ void addBakeCommand(CLI::App& app) {
     CLI::App* c = app.add_subcommand("bake", "filter a normal map into a per-level bake directory");
     c->add_option("input", args->input, "normal map (PNG 8/16-bit, JPEG, TGA, OpenEXR)")->required();
     c->add_option("-o,--output", args->output, "output directory")->required();
-    c->add_option("--method", args->method, "naive or toksvig")->capture_default_str();
+    c->add_option("--method", args->method, "naive, toksvig or sh")->capture_default_str();
+    c->add_option("--order", args->order, "sh: highest band l* ((l*+1)^2 coefficients; default 7)")
+        ->check(CLI::Range(1, kMaxShOrder));
+    c->add_flag("--half", args->half, "store the planes as 16-bit half floats");
     addInputOptions(c, args->input_options);
     c->add_option("--gloss", args->gloss, "gloss map in [0,1]: s = gloss * S0 (Toksvig eq. 12)");
     c->add_option("--max-exponent", args->maxExponent, "S0, the exponent of gloss 1.0")

@@ -1,5 +1,7 @@
 // ndfmip inspect DIR --level L --texel X,Y: one texel's stored parameters as JSON.
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -8,13 +10,16 @@
 
 #include "cli.h"
 #include "ndfmip/bake.h"
+#include "ndfmip/io.h"
+#include "ndfmip/shading.h"
+#include "ndfmip/spherical_harmonics.h"
 #include "ndfmip/toksvig.h"
 
 namespace ndfmip::cli {
 namespace {
 
 struct InspectArgs {
-    std::string dir, texel;
+    std::string dir, texel, ndf;
     int level = 0;
     std::optional<float> exponent;
 };
@@ -47,7 +52,91 @@ void addToksvigKeys(nlohmann::json& out, const LoadedBake& bake, int x, int y,
     out["roughness_ggx"] = bake.level[planeIndex(bake, "roughness_ggx")].at(x, y)[0];
 }
 
+// The coefficients band by band (l = 0 .. l*, m = -l .. l), and the mean normal they hold in
+// band 1 (Y_1,-1 Y_1,0 Y_1,1 = sqrt(3 / 4 pi) (y, z, x)).
+void addShKeys(nlohmann::json& out, const LoadedBake& bake, int x, int y) {
+    const int order = int(bake.parameters.at("order"));
+    std::vector<float> g;
+    for (const Image& plane : bake.level) g.insert(g.end(), plane.at(x, y), plane.at(x, y) + 4);
+    g.resize(size_t(shCount(order)));
+    out["order"] = order;
+    out["sh"] = g;
+    const float c = std::sqrt(3.f / (4.f * kPi));
+    const float na[3] = {g[3] / c, g[1] / c, g[2] / c};
+    out["mean_normal"] = vec3(na);
+    out["length"] = length3(na);
+}
+
+// Level-0 unit normal at (x, y) of a bake read at level 0, whatever its method.
+glm::vec3 levelZeroNormal(const LoadedBake& level0, int x, int y) {
+    const float* p = level0.level.front().at(x, y);
+    glm::vec3 n = level0.method == Method::Sh
+                      ? glm::vec3(p[3], p[1], p[2]) // band 1: sqrt(3 / 4 pi) (y, z, x)
+                      : glm::vec3(p[0], p[1], p[2]);
+    float length = glm::length(n);
+    return length > 0.f ? n / length : glm::vec3(0.f, 0.f, 1.f);
+}
+
+// Direction at the centre of lat-long pixel (i, j): theta from +z down the rows, phi across.
+glm::dvec3 latLongDirection(int i, int j, int width, int height) {
+    double theta = M_PI * (j + 0.5) / height, phi = 2.0 * M_PI * (i + 0.5) / width;
+    return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+}
+
+// The texel's NDF as densities over the sphere (integrating to 1), side by side: left the
+// reconstruction from its stored SH, Sum g_lm Y_lm(w) (sh bakes), right the histogram of the
+// level-0 normals it covers. One scale for both; written as PNG (and EXR beside it).
+void writeNdfImage(const InspectArgs& a, const LoadedBake& bake, int x, int y, const Footprint& f) {
+    Result<LoadedBake> level0 = readBake(a.dir, 0);
+    if (!level0) throw Failure(level0.error().message);
+    const int width = 256, height = 128;
+    Image reconstructed(width, height, 1), histogram(width, height, 1);
+    for (int by = f.y0; by < f.y1; ++by)
+        for (int bx = f.x0; bx < f.x1; ++bx) {
+            glm::vec3 n = levelZeroNormal(level0.value(), bx, by);
+            double theta = std::acos(std::clamp(double(n.z), -1.0, 1.0));
+            double phi = std::atan2(double(n.y), double(n.x));
+            if (phi < 0) phi += 2.0 * M_PI;
+            int i = std::min(width - 1, int(phi / (2.0 * M_PI) * width));
+            int j = std::min(height - 1, int(theta / M_PI * height));
+            histogram.at(i, j)[0] += 1.f;
+        }
+    for (int j = 0; j < height; ++j) {
+        // Solid angle of a pixel of row j.
+        double omega = (2.0 * M_PI / width) * (std::cos(M_PI * j / height) - std::cos(M_PI * (j + 1) / height));
+        for (int i = 0; i < width; ++i) histogram.at(i, j)[0] /= float(double(f.count()) * omega);
+    }
+    if (bake.method == Method::Sh) {
+        const int order = int(bake.parameters.at("order"));
+        std::vector<float> g;
+        for (const Image& plane : bake.level) g.insert(g.end(), plane.at(x, y), plane.at(x, y) + 4);
+        for (int j = 0; j < height; ++j)
+            for (int i = 0; i < width; ++i) {
+                std::vector<double> basis = evaluateSh(latLongDirection(i, j, width, height), order);
+                double sum = 0;
+                for (int k = 0; k < shCount(order); ++k) sum += g[k] * basis[k];
+                reconstructed.at(i, j)[0] = float(sum);
+            }
+    }
+    Image both(2 * width + 2, height, 1);
+    float peak = 0.f;
+    for (int j = 0; j < height; ++j)
+        for (int i = 0; i < width; ++i) {
+            both.at(i, j)[0] = reconstructed.at(i, j)[0];
+            both.at(width + 2 + i, j)[0] = histogram.at(i, j)[0];
+            peak = std::max({peak, reconstructed.at(i, j)[0], histogram.at(i, j)[0]});
+        }
+    Status s = saveExr(std::filesystem::path(a.ndf).replace_extension(".exr").string(), both);
+    if (!s) throw Failure(s.error);
+    Image display = both;
+    for (float& v : display.pixels) v = peak > 0.f ? std::sqrt(std::max(v, 0.f) / peak) : 0.f;
+    s = savePng(a.ndf, display, 8);
+    if (!s) throw Failure(s.error);
+}
+
 void runInspect(const InspectArgs& a) {
+    if (!a.ndf.empty() && std::filesystem::path(a.ndf).extension() != ".png")
+        throw Failure(a.ndf + ": --ndf writes a .png (and an .exr beside it)");
     auto [x, y] = parseTexel(a.texel);
     Result<LoadedBake> loaded = readBake(a.dir, a.level);
     if (!loaded) throw Failure(loaded.error().message);
@@ -66,6 +155,11 @@ void runInspect(const InspectArgs& a) {
     switch (bake.method) {
     case Method::Naive: out["normal"] = vec3(bake.level[planeIndex(bake, "normal")].at(x, y)); break;
     case Method::Toksvig: addToksvigKeys(out, bake, x, y, a.exponent); break;
+    case Method::Sh: addShKeys(out, bake, x, y); break;
+    }
+    if (!a.ndf.empty()) {
+        writeNdfImage(a, bake, x, y, f);
+        out["ndf_image"] = a.ndf;
     }
     std::printf("%s\n", out.dump(2).c_str());
 }
@@ -80,6 +174,8 @@ void addInspectCommand(CLI::App& app) {
     c->add_option("--texel", args->texel, "X,Y: column, and row from the top row")->required();
     c->add_option("--exponent", args->exponent, "Blinn-Phong exponent s, for toksvig_factor")
         ->check(CLI::Range(1e-3f, 1e6f));
+    c->add_option("--ndf", args->ndf,
+                  "write the texel's NDF as lat-long PNG: SH reconstruction | histogram of its normals");
     c->callback([args] { runInspect(*args); });
 }
 
