@@ -52,9 +52,23 @@ void BM_ToksvigBake(benchmark::State& state) {
     setBytes(state, map);
 }
 
+// Spherical-harmonic bake (Han et al. Sec. 5): (l*+1)^2 coefficients per texel at every level.
+void BM_ShBake(benchmark::State& state) {
+    const ndfmip::SharedImage& shared = syntheticMap(int(state.range(0)));
+    ndfmip::BakeOptions options;
+    options.shOrder = int(state.range(1));
+    for (auto _ : state) {
+        ndfmip::Pyramid p = ndfmip::buildPyramid(shared);
+        ndfmip::Bake bake = ndfmip::bakeSh(p, options);
+        benchmark::DoNotOptimize(bake.levels.back().front()->pixels.data());
+    }
+    state.counters["bytes_per_texel_level0"] = double(ndfmip::shPlaneCount(options.shOrder) * 4 * sizeof(float));
+}
+
 BENCHMARK(BM_Memcpy)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Pyramid)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ToksvigBake)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ShBake)->Args({2048, 7})->Args({1024, 10})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 } // namespace
 

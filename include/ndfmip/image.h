@@ -9,11 +9,31 @@
 
 namespace ndfmip {
 
+// Pixel storage. Large blocks are aligned to 2 MiB and offered to the kernel as transparent
+// huge pages: first touching a big image (its page faults) is then several times cheaper,
+// which matters for bakes that write hundreds of megabytes (spherical harmonics).
+void* allocatePixels(size_t bytes);
+void freePixels(void* pointer) noexcept;
+
+template <class T>
+struct PixelAllocator {
+    using value_type = T;
+    PixelAllocator() = default;
+    template <class U>
+    PixelAllocator(const PixelAllocator<U>&) noexcept {}
+    T* allocate(size_t n) { return static_cast<T*>(allocatePixels(n * sizeof(T))); }
+    void deallocate(T* p, size_t) noexcept { freePixels(p); }
+    template <class U>
+    bool operator==(const PixelAllocator<U>&) const noexcept { return true; }
+};
+
+using PixelVector = std::vector<float, PixelAllocator<float>>;
+
 struct Image {
     int width = 0;
     int height = 0;
     int channels = 0;
-    std::vector<float> pixels; // width * height * channels values
+    PixelVector pixels; // width * height * channels values
 
     Image() = default;
     Image(int w, int h, int c) : width(w), height(h), channels(c), pixels(size_t(w) * h * c, 0.f) {}

@@ -22,10 +22,26 @@ double normalisation(int l, int m) {
     return std::sqrt((2.0 * l + 1.0) / (4.0 * M_PI) * ratio);
 }
 
+// K_lm for every l, m <= kMaxShOrder (sqrt(2) folded in for m > 0), computed once: bakes
+// evaluate the basis for every texel.
+struct NormalisationTable {
+    double k[kMaxShOrder + 1][kMaxShOrder + 1];
+    NormalisationTable() {
+        for (int l = 0; l <= kMaxShOrder; ++l)
+            for (int m = 0; m <= l; ++m) k[l][m] = (m > 0 ? M_SQRT2 : 1.0) * normalisation(l, m);
+    }
+};
+
+const NormalisationTable& normalisations() {
+    static const NormalisationTable table;
+    return table;
+}
+
 } // namespace
 
 void evaluateSh(glm::dvec3 d, int order, double* out) {
     assert(order >= 0 && order <= kMaxShOrder);
+    const NormalisationTable& table = normalisations();
     double re = 1.0, im = 0.0; // (x + i y)^m
     double pmm = 1.0;          // P~_m^m
     for (int m = 0; m <= order; ++m) {
@@ -44,12 +60,12 @@ void evaluateSh(glm::dvec3 d, int order, double* out) {
                 previous = current;
                 current = next;
             }
-            double k = normalisation(l, m);
+            const double k = table.k[l][m] * current;
             if (m == 0) {
-                out[shIndex(l, 0)] = k * current;
+                out[shIndex(l, 0)] = k;
             } else {
-                out[shIndex(l, m)] = M_SQRT2 * k * current * re;
-                out[shIndex(l, -m)] = M_SQRT2 * k * current * im;
+                out[shIndex(l, m)] = k * re;
+                out[shIndex(l, -m)] = k * im;
             }
         }
     }

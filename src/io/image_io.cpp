@@ -163,7 +163,7 @@ Result<SourceImage> loadPng(const std::string& path, const std::string& bytes) {
     out.format = "png";
     out.bitsPerChannel = job.bits;
     out.image = Image(int(job.width), int(job.height), job.channels);
-    std::vector<float>& pixels = out.image.pixels;
+    auto& pixels = out.image.pixels;
     if (job.bits == 8) {
         for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = job.samples[i] / 255.f;
     } else {
@@ -442,7 +442,7 @@ void pngWriteError(png_structp png, png_const_charp message) {
 
 // Quantises to 8 or 16 bits, clamping to [0,1] (NaN -> 0) and rounding to nearest.
 void quantisePng(PngWriteJob& job) {
-    const std::vector<float>& pixels = job.image->pixels;
+    const auto& pixels = job.image->pixels;
     int bytesPer = job.bits / 8;
     float top = job.bits == 8 ? 255.f : 65535.f;
     job.samples.resize(pixels.size() * size_t(bytesPer));

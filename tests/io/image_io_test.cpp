@@ -152,7 +152,7 @@ TEST(ImageIo, PngClampsAndRoundsToNearest) {
     ASSERT_TRUE(ndfmip::savePng(dir.file("c.png"), image, 8));
     auto loaded = ndfmip::loadImage(dir.file("c.png"));
     ASSERT_TRUE(loaded) << loaded.error().message;
-    std::vector<float> expected = {0.f, 1.f, 0.f, 10 / 255.f, 11 / 255.f, 128 / 255.f};
+    ndfmip::PixelVector expected = {0.f, 1.f, 0.f, 10 / 255.f, 11 / 255.f, 128 / 255.f};
     EXPECT_EQ(loaded->image.pixels, expected);
 }
 
@@ -199,7 +199,7 @@ TEST(ImageIo, ExrChannelNames) {
     ASSERT_TRUE(ndfmip::saveExr(dir.file("bgr.exr"), rgb, {"B", "G", "R"}));
     loaded = ndfmip::loadImage(dir.file("bgr.exr"));
     ASSERT_TRUE(loaded) << loaded.error().message;
-    EXPECT_EQ(loaded->image.pixels, (std::vector<float>{0.3f, 0.2f, 0.1f}));
+    EXPECT_EQ(loaded->image.pixels, (ndfmip::PixelVector{0.3f, 0.2f, 0.1f}));
 
     auto wrongCount = ndfmip::saveExr(dir.file("bad.exr"), rgb, {"R", "G"});
     EXPECT_FALSE(wrongCount);
@@ -218,7 +218,7 @@ TEST(ImageIo, ExrHalfIsReadAsHalf) {
     EXPECT_TRUE(loaded->isFloat);
     ASSERT_EQ(loaded->image.channels, 3);
     ASSERT_EQ(loaded->image.width, 2);
-    EXPECT_EQ(loaded->image.pixels, (std::vector<float>{1.f, 0.25f, 0.f, -0.5f, 2.f, -1.f}));
+    EXPECT_EQ(loaded->image.pixels, (ndfmip::PixelVector{1.f, 0.25f, 0.f, -0.5f, 2.f, -1.f}));
 }
 
 TEST(ImageIo, TgaLoadsExactly) {
