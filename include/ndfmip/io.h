@@ -30,7 +30,10 @@ Result<SourceImage> loadImage(const std::string& path);
 Status saveExr(const std::string& path, const Image& image,
                const std::vector<std::string>& channelNames = {}, bool half = false);
 
-// Writes an 8- or 16-bit PNG (1 to 4 channels) of values clamped to [0,1]; atomic as above.
+// Encodes an 8- or 16-bit PNG (1 to 4 channels, values clamped to [0,1]) in memory.
+Result<std::string> encodePng(const Image& image, int bitsPerChannel);
+
+// Writes encodePng's bytes to `path`; atomic as above.
 Status savePng(const std::string& path, const Image& image, int bitsPerChannel);
 
 // Writes bytes to `path` through a temporary file and a rename.

@@ -459,7 +459,7 @@ void quantisePng(PngWriteJob& job) {
 }
 
 // Same longjmp rules as decodePngSamples.
-bool encodePng(PngWriteJob& job) {
+bool writePngStream(PngWriteJob& job) {
     png_structp png =
         png_create_write_struct(PNG_LIBPNG_VER_STRING, &job, pngWriteError, pngWarning);
     if (!png) return false;
@@ -511,11 +511,12 @@ Status saveExr(const std::string& path, const Image& image,
     return writeFileAtomic(path, bytes);
 }
 
-Status savePng(const std::string& path, const Image& image, int bitsPerChannel) {
-    if (!validImage(image)) return cannotWrite(path, "empty or inconsistent image");
-    if (image.channels > 4) return cannotWrite(path, "PNG holds 1 to 4 channels");
+Result<std::string> encodePng(const Image& image, int bitsPerChannel) {
+    if (!validImage(image)) return Error{"cannot encode an empty or inconsistent image as PNG"};
+    if (image.channels > 4)
+        return Error{"PNG holds 1 to 4 channels, not " + std::to_string(image.channels)};
     if (bitsPerChannel != 8 && bitsPerChannel != 16)
-        return cannotWrite(path, "PNG bit depth must be 8 or 16");
+        return Error{"PNG bit depth must be 8 or 16, not " + std::to_string(bitsPerChannel)};
     std::string bytes;
     PngWriteJob job;
     job.image = &image;
@@ -524,10 +525,16 @@ Status savePng(const std::string& path, const Image& image, int bitsPerChannel) 
     try {
         quantisePng(job);
     } catch (const std::exception& e) {
-        return cannotWrite(path, e.what());
+        return Error{std::string("PNG encoder: ") + oneLine(e.what())};
     }
-    if (!encodePng(job)) return cannotWrite(path, job.message);
-    return writeFileAtomic(path, bytes);
+    if (!writePngStream(job)) return Error{std::string("PNG encoder: ") + oneLine(job.message)};
+    return bytes;
+}
+
+Status savePng(const std::string& path, const Image& image, int bitsPerChannel) {
+    auto bytes = encodePng(image, bitsPerChannel);
+    if (!bytes) return cannotWrite(path, bytes.error().message);
+    return writeFileAtomic(path, bytes.value());
 }
 
 Status writeFileAtomic(const std::string& path, const std::string& bytes) {

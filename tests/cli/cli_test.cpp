@@ -774,7 +774,8 @@ TEST(Cli, DemoWritesComparisonAndTable) {
 
     Result<SourceImage> picture = loadImage((dir / "comparison.png").string());
     ASSERT_TRUE(picture.ok()) << picture.error().message;
-    EXPECT_EQ(picture->image.width, 3 * w + 2 * 4); // truth, naive, toksvig, 4-texel gaps
+    EXPECT_NE(r.output.find("sh"), std::string::npos) << r.output;
+    EXPECT_EQ(picture->image.width, 4 * w + 3 * 4); // truth, naive, toksvig, sh, 4-texel gaps
     EXPECT_EQ(picture->image.height, h);
 }
 
@@ -920,7 +921,7 @@ TEST(Cli, EvalWritesReportWhoseFlatMapCasesAreExact) {
     writePng16(tmp.file("bumpy.png"), encodeNormals(bumpyNormals(32, 32)));
     const fs::path out = tmp.path / "report";
     CliRun r = cli("eval " + shellQuoted(tmp.file("flat.png")) + " " + shellQuoted(tmp.file("bumpy.png")) +
-                   " -q --footprints 1,4 --exponents 16 --roughness 0.2 --frames 2 --pixels 16 -o " +
+                   " -q --methods naive,toksvig --footprints 1,4 --exponents 16 --roughness 0.2 --frames 2 --pixels 16 -o " +
                    shellQuoted(out.string()));
     ASSERT_EQ(r.status, 0) << r.output;
     ASSERT_TRUE(fs::exists(out / "report.html"));
@@ -954,6 +955,8 @@ TEST(Cli, EvalRejectsBadOptions) {
     const std::string map = shellQuoted(tmp.file("flat.png"));
     const std::string out = " -o " + shellQuoted(tmp.file("r"));
     expectCleanFailure(cli("eval " + map + " --methods naive,magic" + out), {"magic"});
+    expectCleanFailure(cli("eval " + map + " --methods sh:99" + out), {"sh:99"});
+    expectCleanFailure(cli("eval " + map + " --methods toksvig:3" + out), {"toksvig:3"});
     expectCleanFailure(cli("eval " + map + " --brdfs velvet" + out), {"velvet"});
     expectCleanFailure(cli("eval " + map + " --footprints 0" + out), {"footprints"});
     expectCleanFailure(cli("eval " + shellQuoted(tmp.file("none.png")) + out), {"none.png"});

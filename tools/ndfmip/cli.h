@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "ndfmip/normal_map.h"
+#include "ndfmip/roughness.h"
 
 namespace ndfmip::cli {
 
@@ -20,6 +21,9 @@ void addBakeCommand(CLI::App& app);
 void addInspectCommand(CLI::App& app);
 void addLutCommand(CLI::App& app);
 void addDemoCommand(CLI::App& app);
+void addCompareCommand(CLI::App& app);
+void addRenderCommand(CLI::App& app);
+void addEvalCommand(CLI::App& app);
 
 // The options that say how a file's pixels become normals (bake, demo).
 struct InputOptions {
@@ -33,6 +37,10 @@ void addInputOptions(CLI::App* command, InputOptions& options);
 // Loads and decodes a normal map, warns on stderr about suspicious normals, throws on error.
 Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bool quiet,
                         DecodeReport* report = nullptr);
+
+// ours, hdrp, filament, godot or unreal (roughness.h); throws on anything else.
+RoughnessMapping roughnessMappingOrFail(const std::string& name);
+const char* roughnessMappingName(RoughnessMapping mapping);
 
 // A short "\r<label> k/n" progress line on stderr when it is a terminal.
 void showProgress(const char* label, int done, int total);

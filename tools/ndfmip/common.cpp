@@ -58,6 +58,26 @@ void showProgress(const char* label, int done, int total) {
     std::fflush(stderr);
 }
 
+namespace {
+const std::pair<const char*, RoughnessMapping> kMappings[] = {
+    {"ours", RoughnessMapping::Ours},         {"hdrp", RoughnessMapping::Hdrp},
+    {"filament", RoughnessMapping::Filament}, {"godot", RoughnessMapping::Godot},
+    {"unreal", RoughnessMapping::Unreal},
+};
+} // namespace
+
+RoughnessMapping roughnessMappingOrFail(const std::string& name) {
+    for (const auto& [n, m] : kMappings)
+        if (name == n) return m;
+    throw Failure("unknown roughness mapping '" + name + "' (expected ours, hdrp, filament, godot, unreal)");
+}
+
+const char* roughnessMappingName(RoughnessMapping mapping) {
+    for (const auto& [n, m] : kMappings)
+        if (m == mapping) return n;
+    return "?";
+}
+
 long long nowNanoseconds() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(
                std::chrono::steady_clock::now().time_since_epoch())

@@ -63,8 +63,9 @@ void writePicture(const DemoArgs& a, const Pyramid& pyramid, const std::vector<B
     std::string file = a.output + "/comparison.png";
     Status s = savePng(file, canvas, 8);
     if (!s) throw Failure(s.error);
-    std::printf("picture: %s (level %d, s = 128: truth, then %s)\n", file.c_str(), k,
-                bakes.size() == 2 ? "naive, toksvig" : "each method");
+    std::string names;
+    for (const Bake& bake : bakes) names += std::string(names.empty() ? "" : ", ") + methodName(bake.method);
+    std::printf("picture: %s (level %d, s = 128: truth, then %s)\n", file.c_str(), k, names.c_str());
 }
 
 void runDemo(DemoArgs a) {

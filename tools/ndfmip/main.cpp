@@ -15,6 +15,9 @@ int main(int argc, char** argv) {
     ndfmip::cli::addInspectCommand(app);
     ndfmip::cli::addLutCommand(app);
     ndfmip::cli::addDemoCommand(app);
+    ndfmip::cli::addCompareCommand(app);
+    ndfmip::cli::addRenderCommand(app);
+    ndfmip::cli::addEvalCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,0 +1,399 @@
+// ndfmip eval MAP... -o DIR: renders every map at several view distances with every method
+// and with the supersampled ground truth, and writes DIR/report.json (every number) and
+// DIR/report.html (tables, plots, images; one self-contained file).
+//
+// Each case is a top-down orthographic view of the map tiled over a plane, so that one pixel
+// covers `footprint` x `footprint` texels; the pixel grid is offset from the texel grid by a
+// fraction of a pixel so that filtering falls between texels and levels as it does in a real
+// view. One directional light, 25 degrees off the normal.
+#include <algorithm>
+#include <cstdlib>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "cli.h"
+#include "ndfmip/compare.h"
+#include "ndfmip/html_report.h"
+#include "ndfmip/io.h"
+#include "ndfmip/render.h"
+#include "ndfmip/spherical_harmonics.h"
+#include "ndfmip/tonemap.h"
+
+namespace ndfmip::cli {
+namespace {
+
+using json = nlohmann::json;
+
+struct EvalArgs {
+    std::vector<std::string> maps;
+    InputOptions input;
+    std::string output;
+    std::vector<int> footprints{1, 4, 16, 64};
+    std::vector<std::string> methods{"naive", "toksvig", "sh:2", "sh:4", "sh:7", "sh:10"};
+    std::vector<std::string> brdfs{"blinnphong", "ggx"};
+    std::vector<float> exponents{8.f, 32.f, 128.f, 512.f};
+    std::vector<float> roughness{0.1f, 0.3f};
+    int maxPixels = 128;
+    int spp = 0; // 0: max(64, footprint^2), at most 1024
+    int frames = 8;
+    uint64_t seed = 1;
+    bool calibrate = false;
+    std::vector<float> calibrationRoughness{0.05f, 0.1f, 0.2f, 0.3f, 0.5f};
+    std::vector<float> calibrationScales{0.25f, 0.5f, 0.75f, 1.f, 1.5f, 2.f, 3.f, 4.f};
+    bool allImages = false;
+    bool quiet = false;
+};
+
+// One material setting of the matrix.
+struct Setting {
+    Material material;
+    std::string brdf;
+    float exponent = 0.f, roughness = 0.f;
+    std::string label() const {
+        char text[64];
+        if (material.brdf == Brdf::BlinnPhong) std::snprintf(text, sizeof text, "%s s=%g", brdf.c_str(), exponent);
+        else if (material.brdf == Brdf::Lambert) std::snprintf(text, sizeof text, "%s", brdf.c_str());
+        else std::snprintf(text, sizeof text, "%s alpha=%g", brdf.c_str(), roughness);
+        return text;
+    }
+};
+
+Setting makeSetting(Brdf brdf, float exponent, float roughness) {
+    Setting s;
+    s.brdf = brdfName(brdf);
+    s.material.brdf = brdf;
+    if (brdf == Brdf::Lambert) {
+        s.material.albedo = glm::vec3(1.f);
+        s.material.specular = glm::vec3(0.f);
+    } else {
+        s.material.albedo = glm::vec3(0.f);
+        s.material.specular = glm::vec3(1.f);
+    }
+    if (brdf == Brdf::BlinnPhong) s.material.exponent = s.exponent = exponent;
+    if (brdf == Brdf::Beckmann || brdf == Brdf::Ggx) s.material.roughness = s.roughness = roughness;
+    return s;
+}
+
+std::vector<Setting> settingsOf(const EvalArgs& a) {
+    std::vector<Setting> out;
+    for (const std::string& name : a.brdfs) {
+        Brdf brdf;
+        if (!brdfFromString(name, brdf))
+            throw Failure("--brdfs: unknown BRDF '" + name + "' (expected lambert, blinnphong, beckmann, ggx)");
+        if (brdf == Brdf::Lambert) out.push_back(makeSetting(brdf, 0.f, 0.f));
+        if (brdf == Brdf::BlinnPhong)
+            for (float s : a.exponents) out.push_back(makeSetting(brdf, s, 0.f));
+        if (brdf == Brdf::Beckmann || brdf == Brdf::Ggx)
+            for (float r : a.roughness) out.push_back(makeSetting(brdf, 0.f, r));
+    }
+    return out;
+}
+
+// The view of one footprint: world units are maps (1 unit = the map's width in texels, on
+// both axes), the camera looks straight down, `pixels` pixels square.
+Scene evalScene(int mapWidth, int mapHeight, int footprint, int pixels) {
+    Scene s;
+    const float pixelWorld = float(footprint) / float(mapWidth);
+    const float viewWorld = pixelWorld * float(pixels);
+    // A fraction of a pixel off the texel grid, the same for every footprint.
+    const glm::vec3 offset(0.31f * pixelWorld, 0.17f * pixelWorld, 0.f);
+    s.camera.type = CameraType::Orthographic;
+    s.camera.eye = glm::vec3(0.f, 0.f, 10.f) + offset;
+    s.camera.target = offset;
+    s.camera.up = {0.f, 1.f, 0.f};
+    s.camera.orthoHeight = viewWorld;
+    s.camera.width = s.camera.height = pixels;
+    const float size = 2.f * std::ceil(0.5f * viewWorld + 1.f);
+    s.geometry.size = {size, size};
+    s.geometry.tiling = {size, size * float(mapWidth) / float(mapHeight)};
+    const float polar = glm::radians(25.f), azimuth = glm::radians(30.f);
+    Light light;
+    light.direction = {std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar)};
+    s.lights = {light};
+    return s;
+}
+
+Image renderOrFail(const Scene& scene, const RenderTextures& t, const std::string& method,
+                   const RenderOptions& o) {
+    Result<Image> image = render(scene, t, method, o);
+    if (!image) throw Failure(image.error().message);
+    return std::move(image.value());
+}
+
+double percentileLuminance(const Image& image, double q) {
+    std::vector<float> values(image.texelCount());
+    for (size_t i = 0; i < values.size(); ++i) {
+        const float* p = &image.pixels[i * image.channels];
+        values[i] = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
+    }
+    if (values.empty()) return 0.0;
+    size_t k = std::min(values.size() - 1, size_t(q * double(values.size())));
+    std::nth_element(values.begin(), values.begin() + long(k), values.end());
+    return values[k];
+}
+
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+json caseJson(const ReportCase& c) {
+    return {{"map", c.map},       {"footprint", c.footprint}, {"method", c.method},
+            {"brdf", c.brdf},     {"exponent", c.exponent},   {"roughness", c.roughness},
+            {"rel_rmse", number(c.relRmse)}, {"rmse", number(c.rmse)}, {"psnr", number(c.psnr)},
+            {"energy_ratio", number(c.energyRatio)}, {"flicker", number(c.flicker)}};
+}
+
+// Frames of one view shifted by sub-pixel amounts; their flicker.
+double flickerOf(const Scene& scene, const RenderTextures& t, const std::string& method, RenderOptions o,
+                 int frames) {
+    if (frames < 2) return std::nan("");
+    std::vector<Image> images;
+    for (glm::vec2 shift : flickerShifts(frames)) {
+        o.pixelShift = shift;
+        images.push_back(renderOrFail(scene, t, method, o));
+    }
+    return temporalFlicker(images);
+}
+
+// A method as the matrix names it: "sh:L" is sh baked at order L ("sh" alone: 7).
+struct MethodSpec {
+    std::string label; // as in the report
+    Method method;
+    BakeOptions options;
+};
+
+MethodSpec methodSpec(const std::string& label) {
+    MethodSpec spec{label, Method::Naive, {}};
+    std::string name = label, order;
+    if (size_t colon = label.find(':'); colon != std::string::npos) {
+        name = label.substr(0, colon);
+        order = label.substr(colon + 1);
+    }
+    auto method = methodFromString(name);
+    if (!method) throw Failure("--methods: unknown method '" + label + "' (expected naive, toksvig, sh or sh:ORDER)");
+    spec.method = *method;
+    if (!order.empty()) {
+        char* end = nullptr;
+        long l = std::strtol(order.c_str(), &end, 10);
+        if (*method != Method::Sh || *end != '\0' || l < 1 || l > kMaxShOrder)
+            throw Failure("--methods: '" + label + "': only sh takes an order, 1 .. " + std::to_string(kMaxShOrder));
+        spec.options.shOrder = int(l);
+    }
+    return spec;
+}
+
+struct MapData {
+    std::string name;
+    SharedImage normals;
+    Pyramid pyramid;
+    std::map<std::string, Bake> bakes; // by label
+};
+
+void runEval(const EvalArgs& a) {
+    const std::vector<Setting> settings = settingsOf(a);
+    std::vector<MethodSpec> specs;
+    for (const std::string& m : a.methods) specs.push_back(methodSpec(m));
+    for (int f : a.footprints)
+        if (f < 1 || f > 4096) throw Failure("--footprints: " + std::to_string(f) + " is not in 1 .. 4096");
+    const DecodeOptions decode = a.input.resolved();
+
+    EvalReport report;
+    report.title = "ndfmip evaluation";
+    json cases = json::array();
+    json calibration = json::array();
+    // Mean relative RMSE per calibration candidate, over every calibration case.
+    std::map<std::string, std::pair<double, int>> candidateError;
+    const long long start = nowNanoseconds();
+
+    for (size_t mapIndex = 0; mapIndex < a.maps.size(); ++mapIndex) {
+        MapData map;
+        map.name = std::filesystem::path(a.maps[mapIndex]).filename().string();
+        map.normals = std::make_shared<const Image>(loadNormalsOrFail(a.maps[mapIndex], decode, a.quiet));
+        map.pyramid = buildPyramid(map.normals);
+        for (const MethodSpec& spec : specs) map.bakes[spec.label] = bakeMethod(spec.method, map.pyramid, spec.options);
+        if (a.calibrate && map.bakes.count("toksvig") == 0)
+            map.bakes["toksvig"] = bakeMethod(Method::Toksvig, map.pyramid, {});
+        if (!a.quiet)
+            std::fprintf(stderr, "eval: %s (%zu/%zu), %dx%d\n", map.name.c_str(), mapIndex + 1, a.maps.size(),
+                         map.normals->width, map.normals->height);
+        auto textures = [&](const std::string& label) {
+            RenderTextures t;
+            t.normals = map.normals;
+            if (label != kGroundTruth) t.bake = map.bakes.at(label);
+            return t;
+        };
+        auto renderName = [&](const std::string& label) {
+            return label == kGroundTruth ? label : std::string(methodName(map.bakes.at(label).method));
+        };
+
+        for (int footprint : a.footprints) {
+            const int pixels = std::clamp((std::max(map.normals->width, map.normals->height) + footprint - 1) / footprint,
+                                          32, std::max(32, a.maxPixels));
+            Scene scene = evalScene(map.normals->width, map.normals->height, footprint, pixels);
+            RenderOptions truthOptions;
+            truthOptions.seed = a.seed;
+            truthOptions.spp = a.spp > 0 ? a.spp : std::clamp(footprint * footprint, 64, 1024);
+            RenderOptions methodOptions;
+            methodOptions.seed = a.seed;
+
+            for (const Setting& setting : settings) {
+                scene.material = setting.material;
+                const Image truth = renderOrFail(scene, textures(kGroundTruth), kGroundTruth, truthOptions);
+                ReportCase truthCase{map.name, kGroundTruth, setting.brdf, footprint, setting.exponent,
+                                     setting.roughness, 0, 0, std::numeric_limits<double>::infinity(), 1,
+                                     flickerOf(scene, textures(kGroundTruth), kGroundTruth, truthOptions, a.frames)};
+                report.cases.push_back(truthCase);
+                cases.push_back(caseJson(truthCase));
+
+                const bool showcase = a.allImages || setting.label() == settings.front().label() ||
+                                      (setting.brdf == "blinnphong" && setting.exponent == 32.f) ||
+                                      (setting.brdf == "ggx" && setting.roughness == a.roughness.front());
+                ReportGroup group;
+                const float stops = autoExposure(truth);
+                const float errorScale = float(0.5 * percentileLuminance(truth, 0.99));
+                if (showcase) {
+                    char title[256];
+                    std::snprintf(title, sizeof title, "%s, footprint %d, %s", map.name.c_str(), footprint,
+                                  setting.label().c_str());
+                    group.title = title;
+                    group.images.push_back({"ground truth", toneMap(truth, stops)});
+                }
+                for (const std::string& method : a.methods) {
+                    const Image image = renderOrFail(scene, textures(method), renderName(method), methodOptions);
+                    Result<ImageComparison> cmp = compareImages(image, truth);
+                    if (!cmp) throw Failure(cmp.error().message);
+                    ReportCase c{map.name, method, setting.brdf, footprint, setting.exponent, setting.roughness,
+                                 cmp->relativeRmse, cmp->rmse, cmp->psnr, cmp->energyRatio,
+                                 flickerOf(scene, textures(method), renderName(method), methodOptions, a.frames)};
+                    report.cases.push_back(c);
+                    cases.push_back(caseJson(c));
+                    if (showcase) {
+                        group.images.push_back({method, toneMap(image, stops)});
+                        group.images.push_back({method + " error", errorImage(image, truth, errorScale > 0 ? errorScale : 0.f)});
+                    }
+                }
+                if (showcase) report.groups.push_back(std::move(group));
+            }
+
+            if (!a.calibrate) continue;
+            // GGX with each shipped roughness mapping, and ours with every candidate constant.
+            for (float alpha : a.calibrationRoughness) {
+                scene.material = makeSetting(Brdf::Ggx, 0.f, alpha).material;
+                const Image truth = renderOrFail(scene, textures(kGroundTruth), kGroundTruth, truthOptions);
+                auto record = [&](const std::string& name, RoughnessMapping mapping, float scale) {
+                    RenderOptions o = methodOptions;
+                    o.roughnessMapping = mapping;
+                    o.varianceScale = scale;
+                    const Image image = renderOrFail(scene, textures("toksvig"), "toksvig", o);
+                    Result<ImageComparison> cmp = compareImages(image, truth);
+                    if (!cmp) throw Failure(cmp.error().message);
+                    calibration.push_back({{"map", map.name}, {"footprint", footprint}, {"roughness", alpha},
+                                           {"mapping", name}, {"rel_rmse", number(cmp->relativeRmse)},
+                                           {"energy_ratio", number(cmp->energyRatio)}});
+                    auto& [sum, count] = candidateError[name];
+                    sum += cmp->relativeRmse;
+                    ++count;
+                };
+                for (RoughnessMapping m : {RoughnessMapping::Ours, RoughnessMapping::Hdrp, RoughnessMapping::Filament,
+                                           RoughnessMapping::Godot, RoughnessMapping::Unreal})
+                    record(roughnessMappingName(m), m, kVarianceScale);
+                for (float c : a.calibrationScales) {
+                    char name[32];
+                    std::snprintf(name, sizeof name, "c=%g", c);
+                    record(name, RoughnessMapping::Ours, c);
+                }
+            }
+        }
+    }
+
+    json root;
+    root["version"] = NDFMIP_VERSION;
+    root["maps"] = a.maps;
+    root["setup"] = {{"view", "orthographic, straight down"}, {"light", "directional, 25 deg off the normal"},
+                     {"footprints", a.footprints}, {"methods", a.methods}, {"frames", a.frames},
+                     {"truth_spp", a.spp > 0 ? json(a.spp) : json("max(64, footprint^2), at most 1024")},
+                     {"seed", a.seed}};
+    root["cases"] = cases;
+    if (a.calibrate) {
+        json summary = json::object();
+        std::string best;
+        double bestError = std::numeric_limits<double>::infinity();
+        for (const auto& [name, value] : candidateError) {
+            double mean = value.first / std::max(1, value.second);
+            summary[name] = mean;
+            if (mean < bestError) bestError = mean, best = name;
+        }
+        root["calibration"] = {{"cases", calibration}, {"mean_rel_rmse", summary}, {"best", best}};
+        report.notes.push_back("Roughness calibration (GGX, mean relative RMSE over maps, footprints and base "
+                               "roughness): best is " + best + ".");
+    }
+
+    std::error_code ec;
+    std::filesystem::create_directories(a.output, ec);
+    if (ec) throw Failure(a.output + ": cannot create (" + ec.message() + ")");
+    report.notes.insert(report.notes.begin(),
+        "Each case: a top-down orthographic view of the map tiled on a plane, one pixel covering footprint x "
+        "footprint texels, offset from the texel grid by a fraction of a pixel; one directional light 25 degrees "
+        "off the normal. Ground truth: stratified supersampling of the finest normals (bilinear, renormalised), "
+        "max(64, footprint^2) samples per pixel up to 1024. Methods: one sample at the pixel centre, trilinear "
+        "filtering. Flicker: mean over pixels of temporal std / mean over " + std::to_string(a.frames) +
+        " sub-pixel-shifted frames.");
+    Status s = writeFileAtomic(a.output + "/report.json", root.dump(2) + "\n");
+    if (!s) throw Failure(s.error);
+    s = writeFileAtomic(a.output + "/report.html", renderReportHtml(report));
+    if (!s) throw Failure(s.error);
+
+    // Summary on stdout: mean relative RMSE per method and footprint.
+    std::printf("%-12s", "footprint");
+    for (int f : a.footprints) std::printf(" %9d", f);
+    std::printf("   (mean rel. RMSE over maps and settings)\n");
+    for (const std::string& method : a.methods) {
+        std::printf("%-12s", method.c_str());
+        for (int f : a.footprints) {
+            double sum = 0;
+            int n = 0;
+            for (const ReportCase& c : report.cases)
+                if (c.method == method && c.footprint == f) sum += c.relRmse, ++n;
+            std::printf(" %9.4f", n ? sum / n : 0.0);
+        }
+        std::printf("\n");
+    }
+    if (a.calibrate) std::printf("calibration best: %s\n", root["calibration"]["best"].get<std::string>().c_str());
+    std::printf("eval: %zu cases in %.1f s -> %s/report.html, %s/report.json\n", report.cases.size(),
+                millisecondsSince(start) * 1e-3, a.output.c_str(), a.output.c_str());
+}
+
+} // namespace
+
+void addEvalCommand(CLI::App& app) {
+    auto a = std::make_shared<EvalArgs>();
+    CLI::App* c = app.add_subcommand("eval", "judge every method against the supersampled ground truth; HTML + JSON report");
+    c->add_option("maps", a->maps, "normal maps")->required()->check(CLI::ExistingFile);
+    addInputOptions(c, a->input);
+    c->add_option("-o,--output", a->output, "report folder (report.html, report.json)")->required();
+    c->add_option("--footprints", a->footprints, "texels per pixel side")->delimiter(',')->capture_default_str();
+    c->add_option("--methods", a->methods, "methods to judge")->delimiter(',')->capture_default_str();
+    c->add_option("--brdfs", a->brdfs, "lambert, blinnphong, beckmann, ggx")->delimiter(',')->capture_default_str();
+    c->add_option("--exponents", a->exponents, "Blinn-Phong exponents")->delimiter(',')
+        ->check(CLI::Range(1e-3f, 1e5f))->capture_default_str();
+    c->add_option("--roughness", a->roughness, "Beckmann/GGX alphas")->delimiter(',')
+        ->check(CLI::Range(1e-3f, 1.f))->capture_default_str();
+    c->add_option("--pixels", a->maxPixels, "largest image side; smaller when the map is covered sooner")
+        ->check(CLI::Range(8, 2048))->capture_default_str();
+    c->add_option("--spp", a->spp, "ground-truth samples per pixel (default: max(64, footprint^2), at most 1024)")
+        ->check(CLI::Range(1, 1 << 16));
+    c->add_option("--frames", a->frames, "frames for the flicker measure (0: none)")
+        ->check(CLI::Range(0, 256))->capture_default_str();
+    c->add_option("--seed", a->seed, "jitter seed")->capture_default_str();
+    c->add_flag("--calibrate", a->calibrate, "also compare engines' roughness mappings on GGX");
+    c->add_option("--calibration-roughness", a->calibrationRoughness, "base alphas of the calibration")
+        ->delimiter(',')->check(CLI::Range(1e-3f, 1.f))->capture_default_str();
+    c->add_flag("--all-images", a->allImages, "images of every setting (default: s=32 and the first GGX alpha)");
+    c->add_flag("-q,--quiet", a->quiet, "no progress or warnings");
+    c->callback([a] { runEval(*a); });
+}
+
+} // namespace ndfmip::cli

@@ -1,0 +1,148 @@
+// ndfmip render SCENE.json: draws a scene with a baked method or as the supersampled ground
+// truth; writes a float EXR and a tone-mapped PNG beside it.
+#include <cmath>
+#include <cstdio>
+#include <algorithm>
+#include <limits>
+#include <filesystem>
+#include <memory>
+
+#include "cli.h"
+#include "ndfmip/io.h"
+#include "ndfmip/render.h"
+#include "ndfmip/sh_brdf.h"
+#include "ndfmip/tonemap.h"
+
+namespace ndfmip::cli {
+namespace {
+
+struct RenderArgs {
+    std::string scene;
+    std::string method;
+    std::string bake;
+    std::string output;
+    std::string mapping = "ours";
+    int spp = 0; // 0: 1 for a method, 64 for the ground truth
+    int anisotropy = 1;
+    int frames = 0;
+    int order = 7; // sh baked on the fly
+    uint64_t seed = 1;
+    bool nearest = false;
+    bool noPng = false;
+    float exposure = std::numeric_limits<float>::quiet_NaN();
+    bool quiet = false;
+};
+
+// Eq. 17 keeps bands l <= l*: say so when the material's lobe holds more than 1% of its energy
+// above the bake's order.
+void warnAboutShTruncation(const Material& m, int order) {
+    if (m.brdf == Brdf::Lambert) return;
+    Result<int> needed = brdfOrderNeeded(m.brdf, m.exponent, m.roughness, 0.01);
+    if (!needed || needed.value() <= order) return;
+    Result<std::vector<double>> A = brdfCoefficients(m.brdf, m.exponent, m.roughness, std::max(4 * needed.value(), 64));
+    if (!A) return;
+    std::fprintf(stderr, "ndfmip: warning: the %s lobe needs l* = %d to keep 99%% of its energy; the bake has "
+                 "l* = %d and drops %.1f%% of it (bake with --order %d)\n",
+                 brdfName(m.brdf), needed.value(), order, 100.0 * truncationEnergyLoss(A.value(), order),
+                 needed.value());
+}
+
+void runRender(const RenderArgs& a) {
+    if (std::filesystem::path(a.output).extension() != ".exr")
+        throw Failure(a.output + ": the output must be an .exr file (the PNG is written beside it)");
+    Result<Scene> scene = loadScene(a.scene);
+    if (!scene) throw Failure(scene.error().message);
+    const std::string method = a.method.empty() ? scene->method : a.method;
+    if (method != kGroundTruth && !methodFromString(method))
+        throw Failure("unknown method '" + method + "' (expected groundtruth, naive, toksvig, sh)");
+    RenderOptions options;
+    options.spp = a.spp > 0 ? a.spp : (method == kGroundTruth ? 64 : 1);
+    options.seed = a.seed;
+    options.nearest = a.nearest;
+    options.anisotropy = a.anisotropy;
+    options.roughnessMapping = roughnessMappingOrFail(a.mapping);
+    if (!a.quiet) options.progress = [](int done, int total) { showProgress("render", done, total); };
+
+    const long long start = nowNanoseconds();
+    RenderTextures textures;
+    textures.normals = std::make_shared<const Image>(
+        loadNormalsOrFail(scene->normalMap.path, scene->normalMap.decode, a.quiet));
+    const std::string bakeDir = a.bake.empty() ? scene->bakeDir : a.bake;
+    if (method != kGroundTruth) {
+        if (!bakeDir.empty()) {
+            Result<Bake> bake = loadBake(bakeDir);
+            if (!bake) throw Failure(bake.error().message);
+            textures.bake = std::move(bake.value());
+        } else {
+            BakeOptions bakeOptions;
+            bakeOptions.shOrder = a.order;
+            textures.bake = bakeMethod(*methodFromString(method), buildPyramid(textures.normals), bakeOptions);
+        }
+    }
+    if (!a.quiet && textures.bake.method == Method::Sh && method == "sh")
+        warnAboutShTruncation(scene->material, bakeShOrder(textures.bake));
+    const double loadMs = millisecondsSince(start);
+
+    const long long renderStart = nowNanoseconds();
+    Result<Image> image = render(scene.value(), textures, method, options);
+    if (!image) throw Failure(a.scene + ": " + image.error().message);
+    const double renderMs = millisecondsSince(renderStart);
+
+    double flicker = -1.0;
+    if (a.frames > 1) {
+        std::vector<Image> frames;
+        RenderOptions quiet = options;
+        quiet.progress = nullptr;
+        for (glm::vec2 shift : flickerShifts(a.frames)) {
+            quiet.pixelShift = shift;
+            Result<Image> frame = render(scene.value(), textures, method, quiet);
+            if (!frame) throw Failure(frame.error().message);
+            frames.push_back(std::move(frame.value()));
+        }
+        flicker = temporalFlicker(frames);
+    }
+
+    Status s = saveExr(a.output, image.value());
+    if (!s) throw Failure(s.error);
+    std::string png;
+    if (!a.noPng) {
+        png = std::filesystem::path(a.output).replace_extension(".png").string();
+        const float stops = std::isnan(a.exposure) ? autoExposure(image.value()) : a.exposure;
+        s = savePng(png, toneMap(image.value(), stops), 8);
+        if (!s) throw Failure(s.error);
+    }
+    std::printf("render: %s, %dx%d, %d spp: load %.0f ms, render %.0f ms -> %s%s%s\n", method.c_str(),
+                image->width, image->height, options.spp, loadMs, renderMs, a.output.c_str(),
+                png.empty() ? "" : ", ", png.c_str());
+    if (flicker >= 0.0) std::printf("flicker (%d frames): %.5f\n", a.frames, flicker);
+}
+
+} // namespace
+
+void addRenderCommand(CLI::App& app) {
+    auto a = std::make_shared<RenderArgs>();
+    CLI::App* c = app.add_subcommand("render", "render a scene (docs/SCENES.md) with a method or the ground truth");
+    c->add_option("scene", a->scene, "scene file (JSON)")->required();
+    c->add_option("--method", a->method, "groundtruth, naive or toksvig (default: the scene's)");
+    c->add_option("--spp", a->spp, "samples per pixel, stratified (default 1; ground truth 64)")
+        ->check(CLI::Range(1, 1 << 20));
+    c->add_option("--seed", a->seed, "jitter seed")->capture_default_str();
+    c->add_flag("--nearest", a->nearest, "ground truth: nearest texel instead of bilinear + renormalise");
+    c->add_option("--aniso", a->anisotropy, "methods: anisotropic probes along the footprint (1 = trilinear)")
+        ->check(CLI::Range(1, 64))->capture_default_str();
+    c->add_option("--order", a->order, "sh baked on the fly: highest band l*")
+        ->check(CLI::Range(1, kMaxShOrder))->capture_default_str();
+    c->add_option("--bake", a->bake, "use this bake directory instead of baking the scene's map");
+    c->add_option("--roughness-mapping", a->mapping,
+                  "toksvig with beckmann/ggx: ours, hdrp, filament, godot or unreal")
+        ->capture_default_str();
+    c->add_option("--frames", a->frames, "also render F sub-pixel-shifted frames and print the flicker")
+        ->check(CLI::Range(0, 1024));
+    c->add_option("--exposure", a->exposure, "PNG exposure in stops (default: automatic)");
+    c->add_flag("--no-png", a->noPng, "write the EXR only");
+    c->add_flag("-q,--quiet", a->quiet, "no progress or warnings");
+    c->add_option("-o,--output", a->output, "output .exr (float RGB); the PNG goes beside it")->required();
+    c->callback([a] { runRender(*a); });
+}
+
+} // namespace ndfmip::cli
