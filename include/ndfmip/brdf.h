@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "ndfmip/scene.h"
+#include "ndfmip/sh_brdf.h"
 #include "ndfmip/shading.h"
 
 namespace ndfmip {
@@ -39,16 +40,29 @@ inline float specularLobe(Brdf brdf, float cosH, float exponent, float alpha) {
     case Brdf::BlinnPhong: return blinnPhong(cosH, exponent);
     case Brdf::Beckmann: return beckmannD(cosH, alpha);
     case Brdf::Ggx: return ggxD(cosH, alpha);
-    case Brdf::Lambert: return 0.f;
+    case Brdf::Lambert:
+    case Brdf::Tabulated: return 0.f; // needs the material's table: materialLobe
     }
     return 0.f;
+}
+
+// The material's lobe at n.h (tabulated lobes read their table).
+inline float materialLobe(const Material& m, float cosH, float exponent, float alpha) {
+    if (m.brdf == Brdf::Tabulated) return m.table ? float(evaluate(*m.table, cosH)) : 0.f;
+    return specularLobe(m.brdf, cosH, exponent, alpha);
+}
+
+// The unfiltered g(theta_d) of a factored BRDF (1 without one), theta_d = angle(l, h).
+inline float specularFactor(const Material& m, glm::vec3 l, glm::vec3 h) {
+    if (!m.factor) return 1.f;
+    return float(tabulatedFactor(*m.factor, glm::acos(glm::clamp(glm::dot(l, h), -1.f, 1.f))));
 }
 
 // Reflected radiance per unit irradiance for one unit normal n: the ground truth's integrand.
 inline glm::vec3 shadeNormal(const Material& m, glm::vec3 n, glm::vec3 l, glm::vec3 h) {
     float cosL = glm::max(glm::dot(n, l), 0.f);
     if (cosL <= 0.f) return glm::vec3(0.f);
-    float lobe = specularLobe(m.brdf, glm::dot(n, h), m.exponent, m.roughness);
+    float lobe = materialLobe(m, glm::dot(n, h), m.exponent, m.roughness) * specularFactor(m, l, h);
     return cosL * (m.albedo * (1.f / kPi) + m.specular * lobe);
 }
 

@@ -40,8 +40,10 @@ inline glm::vec3 shadeToksvig(const Material& m, glm::vec3 na, glm::vec3 l, glm:
         break;
     case Brdf::Beckmann: lobe = beckmannD(cosH, mappedRoughness(mapping, length, m.roughness, varianceScale)); break;
     case Brdf::Ggx: lobe = ggxD(cosH, mappedRoughness(mapping, length, m.roughness, varianceScale)); break;
+    case Brdf::Tabulated: lobe = materialLobe(m, cosH, 0.f, 0.f); break; // no widening rule
     case Brdf::Lambert: break;
     }
+    lobe *= specularFactor(m, l, h);
     return cosL * (m.albedo * (1.f / kPi) + m.specular * lobe);
 }
 

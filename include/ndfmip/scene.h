@@ -3,6 +3,7 @@
 // that may be left out has the default written here.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,11 +14,14 @@
 
 namespace ndfmip {
 
-// The specular lobe of the material (Lambert: diffuse only).
-enum class Brdf { Lambert, BlinnPhong, Beckmann, Ggx };
+// The specular lobe of the material (Lambert: diffuse only; Tabulated: a measured f(theta_h)
+// read from a file, sh_brdf.h).
+enum class Brdf { Lambert, BlinnPhong, Beckmann, Ggx, Tabulated };
 
-const char* brdfName(Brdf brdf); // "lambert", "blinnphong", "beckmann", "ggx"
+const char* brdfName(Brdf brdf); // "lambert", "blinnphong", "beckmann", "ggx", "tabulated"
 bool brdfFromString(const std::string& name, Brdf& out);
+
+struct TabulatedTransfer; // sh_brdf.h
 
 struct Material {
     Brdf brdf = Brdf::BlinnPhong;
@@ -25,6 +29,10 @@ struct Material {
     float roughness = 0.2f;         // Beckmann / GGX alpha (not perceptual)
     glm::vec3 albedo{0.f};          // diffuse reflectance (Lambertian term, always on)
     glm::vec3 specular{1.f};        // specular colour (scales the lobe)
+    // Tabulated: the lobe f(theta_h), and optionally the factor g(theta_d) of a factored
+    // measured BRDF f g (Han et al. eq. 6), which multiplies the specular term unfiltered.
+    std::shared_ptr<const TabulatedTransfer> table;
+    std::shared_ptr<const TabulatedTransfer> factor;
 };
 
 enum class CameraType { Perspective, Orthographic };

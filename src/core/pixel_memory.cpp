@@ -19,7 +19,8 @@ void* allocatePixels(size_t bytes) {
     if (bytes >= kLarge) {
         const size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
         p = std::aligned_alloc(kHugePage, rounded);
-        if (p) madvise(p, rounded, MADV_HUGEPAGE); // advice only: failure changes nothing
+        static const bool huge = std::getenv("NDFMIP_NO_HUGE_PAGES") == nullptr;
+        if (p && huge) madvise(p, rounded, MADV_HUGEPAGE); // advice only: failure changes nothing
     } else {
         p = std::malloc(bytes);
     }

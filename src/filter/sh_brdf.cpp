@@ -185,6 +185,8 @@ Result<std::vector<double>> brdfCoefficients(Brdf brdf, float exponent, float al
             return projectTransfer([a](double t) { return beckmannTransfer(t, a); }, order);
         return projectTransfer([a](double t) { return ggxTransfer(t, a); }, order);
     }
+    case Brdf::Tabulated:
+        return Error{"a tabulated BRDF's coefficients come from its table (tabulatedCoefficients)"};
     }
     return Error{"unknown BRDF"};
 }

@@ -1,6 +1,7 @@
 // Shading from spherical-harmonic NDF coefficients (Han et al. eq. 17; see method_shading.h).
 #include <cmath>
 
+#include "ndfmip/brdf.h"
 #include "ndfmip/method_shading.h"
 #include "ndfmip/sh_brdf.h"
 #include "ndfmip/spherical_harmonics.h"
@@ -17,7 +18,10 @@ Result<ShShading> shShadingFor(const Material& m, int order) {
         a.specular.assign(order + 1, 0.0);
         return a;
     }
-    Result<std::vector<double>> lobe = brdfCoefficients(m.brdf, m.exponent, m.roughness, order);
+    Result<std::vector<double>> lobe =
+        m.brdf == Brdf::Tabulated ? (m.table ? tabulatedCoefficients(*m.table, order)
+                                             : Result<std::vector<double>>(Error{"sh: tabulated BRDF without a table"}))
+                                  : brdfCoefficients(m.brdf, m.exponent, m.roughness, order);
     if (!lobe) return lobe.error();
     a.specular = std::move(lobe.value());
     return a;
@@ -49,7 +53,8 @@ glm::vec3 shadeSh(const Material& m, const float* g, const ShShading& a, glm::ve
         const glm::vec3 na = glm::vec3(g[shIndex(1, 1)], g[shIndex(1, -1)], g[shIndex(1, 0)]) / c;
         const float cosL = std::max(0.f, glm::dot(na, l));
         if (cosL > 0.f)
-            out += m.specular * (cosL * float(std::max(0.0, convolve(g, a.specular, a.order, l + v))));
+            out += m.specular * (cosL * specularFactor(m, l, glm::normalize(l + v)) *
+                                 float(std::max(0.0, convolve(g, a.specular, a.order, l + v))));
     }
     return out;
 }

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ndfmip/scene.h"
+#include "ndfmip/sh_brdf.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -31,12 +32,14 @@ const char* brdfName(Brdf brdf) {
         return "beckmann";
     case Brdf::Ggx:
         return "ggx";
+    case Brdf::Tabulated:
+        return "tabulated";
     }
     return "?";
 }
 
 bool brdfFromString(const std::string& name, Brdf& out) {
-    for (Brdf brdf : {Brdf::Lambert, Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx}) {
+    for (Brdf brdf : {Brdf::Lambert, Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx, Brdf::Tabulated}) {
         if (name == brdfName(brdf)) {
             out = brdf;
             return true;
@@ -339,16 +342,34 @@ std::vector<Light> readLights(const json& value, const std::string& path) {
     return lights;
 }
 
-Material readMaterial(const json& value, const std::string& path) {
+// A BRDF table named by `key`, read and checked; its angle must be `angle`.
+std::shared_ptr<const TabulatedTransfer> readTable(const json& value, const std::string& path,
+                                                   const std::string& baseDir, const char* angle) {
+    const std::string file = resolvePath(nonEmptyText(value, path), baseDir);
+    Result<TabulatedTransfer> table = loadTabulatedTransfer(file);
+    if (!table) fail(path, table.error().message);
+    if (table->angle != angle)
+        fail(path, file + ": a " + table->angle + " table where a " + angle + " table belongs");
+    return std::make_shared<const TabulatedTransfer>(std::move(table.value()));
+}
+
+Material readMaterial(const json& value, const std::string& path, const std::string& baseDir) {
     const json& o = object(value, path);
-    checkKeys(o, path, {"brdf", "exponent", "roughness", "albedo", "specular"}, "material");
+    checkKeys(o, path, {"brdf", "exponent", "roughness", "albedo", "specular", "table", "g_table"},
+              "material");
     Material m;
     if (const json* v = find(o, "brdf")) {
         std::string name = text(*v, at(path, "brdf"));
         if (!brdfFromString(name, m.brdf))
             fail(at(path, "brdf"),
-                 "unknown BRDF '" + name + "' (expected lambert, blinnphong, beckmann, ggx)");
+                 "unknown BRDF '" + name + "' (expected lambert, blinnphong, beckmann, ggx, tabulated)");
     }
+    if (const json* v = find(o, "table")) m.table = readTable(*v, at(path, "table"), baseDir, "theta_h");
+    if (const json* v = find(o, "g_table")) m.factor = readTable(*v, at(path, "g_table"), baseDir, "theta_d");
+    if (m.brdf == Brdf::Tabulated && !m.table)
+        fail(at(path, "table"), "missing (brdf \"tabulated\" needs a theta_h table file)");
+    if (m.brdf != Brdf::Tabulated && (m.table || m.factor))
+        fail(at(path, m.table ? "table" : "g_table"), "only brdf \"tabulated\" takes tables");
     if (const json* v = find(o, "exponent"))
         m.exponent = inInterval(*v, at(path, "exponent"), 1e6f, true, "(0, 1e6]");
     if (const json* v = find(o, "roughness"))
@@ -394,7 +415,7 @@ Scene readScene(const json& root, const std::string& baseDir) {
     scene.camera = readCamera(required(root, "", "camera"), "camera");
     scene.geometry = readObject(required(root, "", "object"), "object");
     scene.lights = readLights(required(root, "", "lights"), "lights");
-    if (const json* v = find(root, "material")) scene.material = readMaterial(*v, "material");
+    if (const json* v = find(root, "material")) scene.material = readMaterial(*v, "material", baseDir);
     scene.normalMap = readNormalMap(required(root, "", "normal_map"), "normal_map", baseDir);
     if (const json* v = find(root, "method")) scene.method = nonEmptyText(*v, "method");
     if (const json* v = find(root, "bake"))

@@ -8,6 +8,7 @@
 #include "ndfmip/brdf.h"
 #include "ndfmip/method_shading.h"
 #include "ndfmip/render.h"
+#include "ndfmip/sh_brdf.h"
 #include "ndfmip/spherical_harmonics.h"
 #include "test_support.h"
 
@@ -72,12 +73,34 @@ Scene grazingScene(Material material) {
     return s;
 }
 
+Material material(Brdf brdf, float exponent, float roughness, glm::vec3 albedo, glm::vec3 specular) {
+    Material m;
+    m.brdf = brdf;
+    m.exponent = exponent;
+    m.roughness = roughness;
+    m.albedo = albedo;
+    m.specular = specular;
+    return m;
+}
+
+// The example tables shipped in data/brdf (a two-lobe f(theta_h) and a Fresnel-like g(theta_d)).
+Material tabulatedMaterial() {
+    Material m = material(Brdf::Tabulated, 0.f, 0.f, glm::vec3(0.05f), glm::vec3(1.f));
+    const std::string dir = NDFMIP_SOURCE_DIR;
+    Result<TabulatedTransfer> f = loadTabulatedTransfer(dir + "/data/brdf/example_f_theta_h.txt");
+    Result<TabulatedTransfer> g = loadTabulatedTransfer(dir + "/data/brdf/example_g_theta_d.txt");
+    EXPECT_TRUE(f.ok() && g.ok());
+    if (f.ok()) m.table = std::make_shared<const TabulatedTransfer>(f.value());
+    if (g.ok()) m.factor = std::make_shared<const TabulatedTransfer>(g.value());
+    return m;
+}
+
 std::vector<Material> allMaterials() {
-    Material lambert{Brdf::Lambert, 32.f, 0.2f, glm::vec3(0.7f), glm::vec3(0.f)};
-    Material phong{Brdf::BlinnPhong, 64.f, 0.2f, glm::vec3(0.1f), glm::vec3(1.f)};
-    Material beckmann{Brdf::Beckmann, 32.f, 0.15f, glm::vec3(0.f), glm::vec3(1.f)};
-    Material ggx{Brdf::Ggx, 32.f, 0.3f, glm::vec3(0.2f), glm::vec3(0.9f, 0.8f, 0.7f)};
-    return {lambert, phong, beckmann, ggx};
+    return {material(Brdf::Lambert, 32.f, 0.2f, glm::vec3(0.7f), glm::vec3(0.f)),
+            material(Brdf::BlinnPhong, 64.f, 0.2f, glm::vec3(0.1f), glm::vec3(1.f)),
+            material(Brdf::Beckmann, 32.f, 0.15f, glm::vec3(0.f), glm::vec3(1.f)),
+            material(Brdf::Ggx, 32.f, 0.3f, glm::vec3(0.2f), glm::vec3(0.9f, 0.8f, 0.7f)),
+            tabulatedMaterial()};
 }
 
 void expectImagesNear(const Image& a, const Image& b, float tolerance) {
@@ -139,7 +162,7 @@ TEST(Renderer, ShOnAFlatMapIsTheTruncatedLegendreSeries) {
             ASSERT_TRUE(a.ok());
             const glm::vec3 h = glm::normalize(light + view);
             const double diffuse = std::max(0.0, legendreSeries(a->diffuse, light.z));
-            const double lobe = std::max(0.0, legendreSeries(a->specular, h.z));
+            const double lobe = std::max(0.0, legendreSeries(a->specular, h.z)) * specularFactor(m, light, h);
             for (int c = 0; c < 3; ++c) {
                 const double expected = m.albedo[c] * diffuse + (m.brdf == Brdf::Lambert ? 0.0 : m.specular[c] * light.z * lobe);
                 EXPECT_NEAR(image->at(1, 2)[c], expected, 1e-5 * std::max(1.0, expected)) << brdfName(m.brdf) << " order " << order;

@@ -439,7 +439,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "scene.json: material.exponnet: unknown key (did you mean 'exponent'?)"},
         BadScene{R"({"material": {"shininess": 64}})",
                  "scene.json: material.shininess: unknown key (material takes brdf, exponent, "
-                 "roughness, albedo, specular)"},
+                 "roughness, albedo, specular, table, g_table)"},
         BadScene{R"({"object": {"radius": 2}})", "scene.json: object.radius: unknown key (..."},
         BadScene{R"({"lights": [{"type": "point", "direction": [0, 0, 1]}]})",
                  "scene.json: lights[0].direction: unknown key (..."},
@@ -448,7 +448,13 @@ INSTANTIATE_TEST_SUITE_P(
         // names of things
         BadScene{R"({"material": {"brdf": "foo"}})",
                  "scene.json: material.brdf: unknown BRDF 'foo' (expected lambert, blinnphong, "
-                 "beckmann, ggx)"},
+                 "beckmann, ggx, tabulated)"},
+        BadScene{R"({"material": {"brdf": "tabulated"}})",
+                 "scene.json: material.table: missing (brdf \"tabulated\" needs a theta_h table file)"},
+        BadScene{R"({"material": {"brdf": "tabulated", "table": "no_such_table.txt"}})",
+                 "scene.json: material.table: ..."},
+        BadScene{R"({"material": {"brdf": "ggx", "g_table": "x.txt"}})",
+                 "scene.json: material.g_table: ..."},
         BadScene{R"({"camera": {"type": "fisheye"}})",
                  "scene.json: camera.type: unknown camera type 'fisheye' (expected perspective, "
                  "orthographic)"},

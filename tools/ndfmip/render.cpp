@@ -41,10 +41,13 @@ void warnAboutShTruncation(const Material& m, int order) {
     if (!needed || needed.value() <= order) return;
     Result<std::vector<double>> A = brdfCoefficients(m.brdf, m.exponent, m.roughness, std::max(4 * needed.value(), 64));
     if (!A) return;
+    const std::string advice = needed.value() <= kMaxShOrder
+                                   ? "bake with --order " + std::to_string(needed.value())
+                                   : "beyond the largest order, " + std::to_string(kMaxShOrder) + "; a vMF method suits it";
     std::fprintf(stderr, "ndfmip: warning: the %s lobe needs l* = %d to keep 99%% of its energy; the bake has "
-                 "l* = %d and drops %.1f%% of it (bake with --order %d)\n",
+                 "l* = %d and drops %.1f%% of it (%s)\n",
                  brdfName(m.brdf), needed.value(), order, 100.0 * truncationEnergyLoss(A.value(), order),
-                 needed.value());
+                 advice.c_str());
 }
 
 void runRender(const RenderArgs& a) {
