@@ -14,7 +14,7 @@ Bake bakeToksvig(const Pyramid& pyramid, const BakeOptions& options) {
         {"mean", {"Na.x", "Na.y", "Na.z"}, "unnormalised mean normal Na (first moment of the NDF)",
          true},
         {"roughness_beckmann", {"alpha"},
-         "Beckmann alpha: sqrt(alpha0^2 + 2 sigma^2), sigma^2 = (1-|Na|)/|Na|", false},
+         "Beckmann alpha: sqrt(alpha0^2 + sigma^2), sigma^2 = (1-|Na|)/|Na| (calibrated on GGX truth)", false},
         {"roughness_ggx", {"alpha"}, "GGX alpha, same mapping as Beckmann", false},
     };
     const int count = int(pyramid.levels.size());

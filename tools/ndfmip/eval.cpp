@@ -204,7 +204,7 @@ void runEval(const EvalArgs& a) {
     report.title = "ndfmip evaluation";
     json cases = json::array();
     json calibration = json::array();
-    // Mean relative RMSE per calibration candidate, over every calibration case.
+    // Sum of log relative RMSE and count per calibration candidate, over every calibration case.
     std::map<std::string, std::pair<double, int>> candidateError;
     const long long start = nowNanoseconds();
 
@@ -293,9 +293,12 @@ void runEval(const EvalArgs& a) {
                     calibration.push_back({{"map", map.name}, {"footprint", footprint}, {"roughness", alpha},
                                            {"mapping", name}, {"rel_rmse", number(cmp->relativeRmse)},
                                            {"energy_ratio", number(cmp->energyRatio)}});
-                    auto& [sum, count] = candidateError[name];
-                    sum += cmp->relativeRmse;
-                    ++count;
+                    // Geometric mean: errors differ by orders of magnitude between alphas.
+                    auto& [logSum, count] = candidateError[name];
+                    if (cmp->relativeRmse > 0 && std::isfinite(cmp->relativeRmse)) {
+                        logSum += std::log(cmp->relativeRmse);
+                        ++count;
+                    }
                 };
                 for (RoughnessMapping m : {RoughnessMapping::Ours, RoughnessMapping::Hdrp, RoughnessMapping::Filament,
                                            RoughnessMapping::Godot, RoughnessMapping::Unreal})
@@ -322,13 +325,13 @@ void runEval(const EvalArgs& a) {
         std::string best;
         double bestError = std::numeric_limits<double>::infinity();
         for (const auto& [name, value] : candidateError) {
-            double mean = value.first / std::max(1, value.second);
+            double mean = std::exp(value.first / std::max(1, value.second));
             summary[name] = mean;
             if (mean < bestError) bestError = mean, best = name;
         }
         root["calibration"] = {{"cases", calibration}, {"mean_rel_rmse", summary}, {"best", best}};
-        report.notes.push_back("Roughness calibration (GGX, mean relative RMSE over maps, footprints and base "
-                               "roughness): best is " + best + ".");
+        report.notes.push_back("Roughness calibration (GGX, geometric mean of the relative RMSE over maps, "
+                               "footprints and base roughness): best is " + best + ".");
     }
 
     std::error_code ec;
