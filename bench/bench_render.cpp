@@ -59,3 +59,4 @@ void BM_RenderMethod(benchmark::State& state, ndfmip::Method method) {
 BENCHMARK(BM_RenderGroundTruth)->Args({512, 256})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_RenderMethod, naive, ndfmip::Method::Naive)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_RenderMethod, toksvig, ndfmip::Method::Toksvig)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_RenderMethod, sh7, ndfmip::Method::Sh)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -19,7 +19,10 @@ void* allocatePixels(size_t bytes) {
     if (bytes >= kLarge) {
         const size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
         p = std::aligned_alloc(kHugePage, rounded);
-        static const bool huge = std::getenv("NDFMIP_NO_HUGE_PAGES") == nullptr;
+        static const bool huge = [] {
+            const char* v = std::getenv("NDFMIP_HUGE_PAGES");
+            return v != nullptr && v[0] == '1';
+        }();
         if (p && huge) madvise(p, rounded, MADV_HUGEPAGE); // advice only: failure changes nothing
     } else {
         p = std::malloc(bytes);

@@ -32,7 +32,7 @@ std::vector<int> coarserEdges(const std::vector<int>& fineEdges, int coarse) {
 // holds (any channel count).
 Image averageChildren(const Image& fineImage, const PyramidLevel& fine, const PyramidLevel& coarse) {
     const int cw = coarse.width, ch = coarse.height, channels = fineImage.channels;
-    Image mean(cw, ch, channels);
+    Image mean(cw, ch, channels, Image::Uninitialized{});
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < ch; ++y) {
         std::vector<double> sum(channels);

@@ -39,7 +39,8 @@ Bake bakeSh(const Pyramid& pyramid, const BakeOptions& options) {
     bake.levels.resize(levelCount);
     const Image& normals = *pyramid.base;
     std::vector<Image> level0;
-    for (int p = 0; p < planeCount; ++p) level0.emplace_back(normals.width, normals.height, 4);
+    for (int p = 0; p < planeCount; ++p)
+        level0.emplace_back(normals.width, normals.height, 4, Image::Uninitialized{});
     const size_t n = normals.texelCount();
 #pragma omp parallel
     {
