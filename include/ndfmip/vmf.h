@@ -1,0 +1,196 @@
+// Mixtures of von Mises-Fisher lobes as NDFs: Han, Sun, Ramamoorthi, Grinspun, "Frequency
+// Domain Normal Map Filtering" (SIGGRAPH 2007), Sec. 7 and the appendix. Each texel's NDF is
+//     g(n) = Sum_j alpha_j gamma(n; mu_j, kappa_j),  gamma = kappa / (4 pi sinh kappa) exp(kappa
+//     mu.n)
+// (eqs. 21-22), fitted by spherical EM (Algorithm 1) to every level-0 normal the texel covers,
+// initialised from the finer level's lobes by farthest-point clustering (Sec. 7.1).
+// Equation numbers refer to that paper.
+//
+// kappa and the mean resultant length r (the length of E[n] under one lobe) are tied by one map
+// throughout, Banerjee et al.'s closed form kappa = (3r - r^3)/(1 - r^2) (Algorithm 1, line 12),
+// and its exact inverse: the fit computes kappa from r with it, packLobe stores the r it came
+// from, and a shader recovers kappa from an interpolated r with the same formula. The true mean
+// length of a vMF is Langevin's A(kappa) = coth kappa - 1/kappa (eq. 23); Banerjee's kappa is
+// within 0.5 of A^-1(r) (exact as r -> 0, +0.5 as r -> 1). VmfFitOptions::exactKappa fits with
+// A^-1 instead.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "ndfmip/pyramid.h"
+
+namespace ndfmip {
+
+// Lobes one fit handles at most (the paper uses 4 to 6).
+constexpr int kMaxVmfLobes = 16;
+
+// Default cap on kappa. A lobe's mean length is stored in float (packLobe): at kappa = 1e5 the
+// distance 1 - r = 1e-5 keeps about 7 bits, enough for kappa to 1%. Sharper lobes (angular
+// width 1/sqrt(kappa) < 3 mrad) shade like this one under any BRDF narrower than s ~ 1e5.
+constexpr float kDefaultKappaMax = 1e5f;
+
+struct VmfLobe {
+    float alpha = 0.f;     // amplitude; a texel's alphas sum to 1
+    glm::vec3 mu{0, 0, 1}; // central direction, unit length
+    float kappa = 0.f;     // concentration (inverse width), 0 = uniform over the sphere
+    glm::vec3 color{0.f};  // per-lobe feature (eq. 31); the fit leaves it 0
+};
+
+// ---- one lobe ------------------------------------------------------------------------------
+
+// log(kappa / (4 pi sinh kappa)), the log of the vMF normaliser, for any kappa >= 0: -log(4 pi)
+// at 0, log(kappa) - kappa - log(2 pi) - log1p(-exp(-2 kappa)) in general (no sinh, so no
+// overflow).
+double vmfLogNormalizer(double kappa);
+
+// log gamma(n; mu, kappa) (unit mass over the sphere); n and mu unit length.
+double vmfLogDensity(glm::vec3 n, glm::vec3 mu, double kappa);
+
+// log Sum_j alpha_j gamma(n; mu_j, kappa_j) over the first kMaxVmfLobes lobes with alpha > 0, by
+// log-sum-exp: finite wherever one alpha > 0 (-infinity where none is).
+double vmfMixtureLogDensity(glm::vec3 n, std::span<const VmfLobe> lobes);
+
+// Langevin's A(kappa) = coth kappa - 1/kappa (eq. 23): the mean resultant length of a vMF,
+// by series below kappa = 0.1 and 1 - 1/kappa above 20 (coth = 1 to double precision).
+double langevin(double kappa);
+
+// A^-1(r) for 0 <= r < 1 (Newton from Banerjee's estimate; 1/(1 - r) where that is exact).
+double inverseLangevin(double r);
+
+// Banerjee et al.'s kappa = (3r - r^3)/(1 - r^2) (Algorithm 1, line 12), clamped to
+// [0, kappaMax]: r <= 0 gives 0, r >= 1 gives kappaMax.
+double kappaFromMeanLength(double r, double kappaMax = kDefaultKappaMax);
+
+// The exact inverse of kappaFromMeanLength (unclamped): the r in [0, 1) whose Banerjee kappa is
+// `kappa`. kappa/3 for small kappa, 1 - 1/(kappa - 1/2) for large.
+double meanLengthFromKappa(double kappa);
+
+// kappa of the lobe that level-0 texels of a b-bit unorm normal map stand for. Storing a
+// component c = (n + 1)/2 in b bits rounds n to steps of delta = 2/(2^b - 1): an error uniform
+// in +-delta/2, variance delta^2/12, in each component. Two of them lie across n, so the stored
+// direction deviates by an angle with variance delta^2/12 per tangent axis. A sharp vMF is a 2D
+// Gaussian with variance 1/kappa per tangent axis (kappa mu.n ~ kappa - kappa theta^2 / 2), so
+//     kappa = 12 / delta^2 = 3 (2^b - 1)^2:   8 bits 1.95e5, 10 bits 3.1e6, 16 bits 1.3e10.
+// Every b of practice exceeds kDefaultKappaMax; the fit caps it there.
+float quantisationKappa(int bits);
+
+// ---- storage for linear filtering (eq. 33) ------------------------------------------------
+// A lobe is stored as (alpha, alpha r mu), r = meanLengthFromKappa(kappa): both are means over
+// the texel's normals (alpha r mu = Sum_i z_ij n_i / N), so trilinear filtering of the four
+// channels averages them as the pyramid does, and unpacking the filtered value gives the lobe of
+// the merged footprint: alpha~ = T(alpha), r~ = T(alpha r mu) / T(alpha).
+
+glm::vec4 packLobe(const VmfLobe& lobe);
+
+// alpha = p.x; mu = p.yzw / |p.yzw| ((0,0,1) where zero), kappa = kappaFromMeanLength(|p.yzw| /
+// alpha) (Algorithm 1, lines 12-13). alpha <= 0 gives an empty lobe (alpha 0, kappa 0).
+// unpackLobe(packLobe(l)) returns l up to float rounding of r (relative kappa error about
+// 6e-8 kappa for large kappa).
+VmfLobe unpackLobe(glm::vec4 packed, float kappaMax = kDefaultKappaMax);
+
+// ---- fitting -------------------------------------------------------------------------------
+
+struct VmfFitOptions {
+    int maxIterations = 50; // EM iterations (M-steps) at most
+    // Stop once an iteration raises the log-likelihood by no more than
+    // tolerance * max(|log-likelihood|, total weight): relative, but never finer than
+    // `tolerance` nats per unit of weight, since a log-likelihood can be near 0.
+    double tolerance = 1e-5;
+    float kappaMax = kDefaultKappaMax;
+    // Lobes whose alpha falls below this after an M-step are dropped and the others'
+    // alphas renormalised (dropping, not reseeding: a texel that needs fewer lobes keeps fewer,
+    // and the fit stays deterministic). Dropping can lower the log-likelihood.
+    float minAlpha = 1e-3f;
+    // fitVmfPyramid: kappa of the single lobe of each level-0 texel, capped at kappaMax. The
+    // principled value is quantisationKappa(bits) of the source map (1.95e5 for 8 bits, so the
+    // cap for every common map).
+    float levelZeroKappa = kDefaultKappaMax;
+    // M-step kappa: false = Banerjee's closed form (the paper; near convergence the log-likelihood
+    // can then dip by ~1e-7 relative, which ends the fit); true = the exact maximum-likelihood
+    // A^-1(r), which makes each iteration an exact EM step (the log-likelihood never decreases).
+    bool exactKappa = false;
+};
+
+struct VmfFitResult {
+    std::vector<VmfLobe> lobes; // by decreasing alpha; alphas sum to 1; at most kMaxVmfLobes
+    int iterations = 0;         // M-steps applied
+    bool converged = false;     // stopped by the tolerance or at a fixed point, not maxIterations
+    // Sum_i w_i log g(n_i) of `lobes`, their alphas scaled to sum 1 and mu to unit length in
+    // double (float rounding leaves both ~1e-7 off, which kappa would magnify).
+    double logLikelihood = 0;
+    // Log-likelihood of the lobes entering each iteration and of the result:
+    // iterations + 1 values, the last one logLikelihood.
+    std::vector<double> logLikelihoodTrace;
+};
+
+// Spherical EM (Algorithm 1) for a mixture of vMF lobes over `count` unit normals with optional
+// non-negative weights (null: all 1); `normals` may be null when count is 0. E-step in log
+// space: z_ij = alpha_j gamma_j(n_i) / Sum_k alpha_k gamma_k(n_i) by log-sum-exp (the paper's
+// line 5 leaves out alpha_j; with it the iteration is the EM of Banerjee et al.). M-step: alpha_j =
+// Sum_i w_i z_ij / Sum_i w_i, r_j = Sum_i w_i z_ij n_i / Sum_i w_i z_ij, mu_j = r_j / |r_j|,
+// kappa_j from |r_j|, capped at options.kappaMax.
+//
+// `initial` seeds the fit (e.g. farthestPointLobes); its alphas need not sum to 1. Lobes with
+// alpha <= 0 are ignored, and so are all but the kMaxVmfLobes heaviest; with none left the fit
+// starts from one lobe at the data's mean. Degenerate data gives finite lobes with alphas
+// summing to 1: lobes that become indistinguishable (directions within 1e-3 of their width
+// 1/sqrt(kappa), kappas within 0.1%) are merged by adding their means; a lobe whose normals
+// cancel (r_j = 0) keeps its direction with kappa = 0; identical normals give kappa = kappaMax.
+// No data (count 0 or zero total weight) returns the sanitised `initial` (or, if that is empty,
+// the uniform lobe: alpha 1, kappa 0), log-likelihood 0.
+//
+// Cost: (iterations + 1) passes over the normals, each J exps per normal, vectorised (AVX2 where
+// the CPU has it); large inputs are split across OpenMP threads. Deterministic: the same input
+// gives the same bits whatever the thread count.
+VmfFitResult fitVmfMixture(const glm::vec3* normals, const float* weights, size_t count,
+                           std::vector<VmfLobe> initial, const VmfFitOptions& options = {});
+
+// Hochbaum-Shmoys farthest-point clustering of candidate lobes' directions (Sec. 7.1): the
+// heaviest candidate first, then repeatedly the one whose smallest angle to those chosen is
+// largest (ties: the lower index), until J are chosen or every candidate left points within
+// 1.4e-6 rad (a float's precision) of a chosen one. Each chosen lobe keeps its direction, kappa
+// and colour; its alpha becomes the total alpha of the candidates nearest to it, normalised to
+// sum 1. Candidates with alpha <= 0 are ignored; none left gives an empty result.
+// 1 <= J <= kMaxVmfLobes (clamped).
+std::vector<VmfLobe> farthestPointLobes(const std::vector<VmfLobe>& candidates, int J);
+
+// ---- the whole pyramid ---------------------------------------------------------------------
+
+// The lobes of every texel of one level, packed: texel (x, y), index t = y * width + x, owns
+// lobes[offsets[t] .. offsets[t + 1]), by decreasing alpha; texels have between 1 and J lobes.
+struct VmfLevel {
+    int width = 0, height = 0;
+    std::vector<uint32_t> offsets; // width * height + 1
+    std::vector<VmfLobe> lobes;
+
+    std::span<const VmfLobe> texel(int x, int y) const {
+        size_t t = size_t(y) * size_t(width) + size_t(x);
+        return {lobes.data() + offsets[t], lobes.data() + offsets[t + 1]};
+    }
+};
+
+struct VmfFitStats {
+    uint64_t texels = 0;       // texels fitted by EM (levels >= 1)
+    uint64_t iterations = 0;   // EM iterations over all of them
+    double meanIterations = 0; // iterations / texels
+    int maxIterations = 0;     // most iterations one texel took
+    uint64_t notConverged = 0; // texels stopped by options.maxIterations
+    uint64_t lobes = 0;        // lobes of levels >= 1
+};
+
+// vMF lobes for every level of `pyramid`, J lobes at most per texel (1 <= J <= kMaxVmfLobes).
+// Level 0: one lobe per texel, alpha 1, mu = the normal, kappa = min(levelZeroKappa, kappaMax).
+// Level k >= 1: each texel starts from farthestPointLobes of its children's lobes (alphas
+// weighted by the children's footprints) and runs fitVmfMixture over all the level-0 normals of
+// its footprint. Every level costs about the same, (normals) x J x (iterations + 1) exps.
+// Parallel over texels (OpenMP), or within a texel's fit for the few large texels of the top
+// levels; deterministic. `stats` may be null.
+std::vector<VmfLevel> fitVmfPyramid(const Pyramid& pyramid, int J, const VmfFitOptions& options,
+                                    VmfFitStats* stats);
+
+} // namespace ndfmip
