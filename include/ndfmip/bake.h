@@ -21,6 +21,7 @@ enum class Method {
     Naive,   // standard mipmap: mean normal, renormalised
     Toksvig, // mean normal kept unnormalised; |Na| widens the lobe
     Sh,      // spherical-harmonic coefficients of the NDF (Han et al. Sec. 5)
+    Vmf,     // mixtures of von Mises-Fisher lobes fitted by spherical EM (Han et al. Sec. 7)
 };
 
 std::optional<Method> methodFromString(std::string_view name);
@@ -42,6 +43,11 @@ int findPlane(const std::vector<PlaneInfo>& planes, const std::string& name);
 struct BakeOptions {
     float baseRoughness = 0.f; // alpha of the material before filtering (roughness planes)
     int shOrder = 7;           // sh: highest band l* ((l*+1)^2 coefficients), 1 .. kMaxShOrder
+    int vmfLobes = 4;          // vmf: lobes per texel J, 1 .. 8
+    int vmfMaxIterations = 50; // vmf: EM iterations per texel at most
+    double vmfTolerance = 1e-5; // vmf: relative log-likelihood gain that ends EM
+    float vmfCoherence = 0.f;  // vmf: C of the alignment term (eq. 32); 0 = lobes not aligned
+    SharedImage albedo;        // vmf: colour per lobe (eq. 31) from this map, level-0 sized
     // Called after each level is done: (levels done, levels in all).
     std::function<void(int, int)> progress;
 };
@@ -56,6 +62,7 @@ struct Bake {
 Bake bakeNaive(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeToksvig(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeSh(const Pyramid& pyramid, const BakeOptions& options);
+Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeMethod(Method method, const Pyramid& pyramid, const BakeOptions& options);
 
 // Planes of an sh bake of order l*: four coefficients each, ceil((l*+1)^2 / 4).
@@ -63,6 +70,9 @@ int shPlaneCount(int order);
 
 // The order l* of an sh bake (its "order" parameter), 0 for other methods.
 int bakeShOrder(const Bake& bake);
+
+// The lobe count J of a vmf bake (its "lobes" parameter), 0 for other methods.
+int bakeVmfLobes(const Bake& bake);
 
 // Where a bake came from, recorded in its manifest.
 struct BakeSource {

@@ -63,4 +63,18 @@ Result<ShShading> shShadingFor(const Material& m, int order);
 // ring below zero; each term is clamped at 0. `g` holds shCount(order) coefficients.
 glm::vec3 shadeSh(const Material& m, const float* g, const ShShading& a, glm::vec3 l, glm::vec3 v);
 
+// vMF mixture (Han et al. Sec. 7.2): `lobes` holds J filtered (alpha, alpha r mu) quadruples
+// (eq. 33); each lobe's mu and kappa come back by Algorithm 1 lines 12-13. Per lobe, with the
+// cosine to the lobe's centre (footnote 5):
+//   Blinn-Phong    s' = kappa s / (kappa + s), (s' + 1)/(2 pi) (h.mu)^s'          (eq. 29)
+//   Beckmann       alpha'^2 = alpha^2 + 2/kappa: Torrance-Sparrow's sigma'^2 = sigma^2 + 1/(2 kappa)
+//                  (eq. 30) with sigma^2 = alpha^2/4 (the same per-axis spread)
+//   GGX            the same alpha' (an equivalent-roughness mapping; its error is measured)
+//   tabulated      the table about mu, unwidened
+//   diffuse        the Blinn-Phong rule with s = 1 and w = l, which carries the cosine (footnote 9)
+// summed with weights alpha_j. `colors`, when not null, holds J lobe colours that replace the
+// material's albedo (eq. 31).
+glm::vec3 shadeVmf(const Material& m, const float* lobes, int count, const glm::vec3* colors, glm::vec3 l,
+                   glm::vec3 v);
+
 } // namespace ndfmip

@@ -14,11 +14,12 @@ const char* methodName(Method method) {
     case Method::Naive: return "naive";
     case Method::Toksvig: return "toksvig";
     case Method::Sh: return "sh";
+    case Method::Vmf: return "vmf";
     }
     return "?";
 }
 
-std::vector<Method> allMethods() { return {Method::Naive, Method::Toksvig, Method::Sh}; }
+std::vector<Method> allMethods() { return {Method::Naive, Method::Toksvig, Method::Sh, Method::Vmf}; }
 
 int findPlane(const std::vector<PlaneInfo>& planes, const std::string& name) {
     for (size_t p = 0; p < planes.size(); ++p)
@@ -31,11 +32,17 @@ int bakeShOrder(const Bake& bake) {
     return bake.method == Method::Sh && it != bake.parameters.end() ? int(it->second) : 0;
 }
 
+int bakeVmfLobes(const Bake& bake) {
+    auto it = bake.parameters.find("lobes");
+    return bake.method == Method::Vmf && it != bake.parameters.end() ? int(it->second) : 0;
+}
+
 Bake bakeMethod(Method method, const Pyramid& pyramid, const BakeOptions& options) {
     switch (method) {
     case Method::Naive: return bakeNaive(pyramid, options);
     case Method::Toksvig: return bakeToksvig(pyramid, options);
     case Method::Sh: return bakeSh(pyramid, options);
+    case Method::Vmf: return bakeVmf(pyramid, options);
     }
     return {};
 }

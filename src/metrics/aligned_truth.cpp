@@ -7,6 +7,7 @@
 #include "ndfmip/sh_brdf.h"
 #include "ndfmip/spherical_harmonics.h"
 #include "ndfmip/toksvig.h"
+#include "ndfmip/vmf.h"
 
 namespace ndfmip {
 
@@ -37,6 +38,32 @@ Image shadeLevel(const Bake& bake, int level, const ShadeContext& ctx) {
             std::vector<float> g;
             for (const SharedImage& p : planes) g.insert(g.end(), &p->pixels[4 * i], &p->pixels[4 * i + 4]);
             out.pixels[i] = shSpecular(g.data(), A, order, h);
+        }
+        return out;
+    }
+    if (bake.method == Method::Vmf) {
+        // The lobe alone: shadeVmf's specular term without its cosine, eq. 29 per lobe.
+        Material m;
+        m.brdf = Brdf::BlinnPhong;
+        m.exponent = ctx.exponent;
+        m.albedo = glm::vec3(0.f);
+        m.specular = glm::vec3(1.f);
+        const int lobes = bakeVmfLobes(bake);
+#pragma omp parallel for schedule(static)
+        for (size_t i = 0; i < n; ++i) {
+            std::vector<float> p;
+            for (const SharedImage& plane : planes) p.insert(p.end(), &plane->pixels[4 * i], &plane->pixels[4 * i + 4]);
+            float sum = 0.f;
+            for (int j = 0; j < lobes; ++j) {
+                // One lobe at a time with the light on its centre: the cosine is then 1.
+                const float a = p[4 * j];
+                if (!(a > 0.f)) continue;
+                const glm::vec3 mu = glm::normalize(glm::vec3(p[4 * j + 1], p[4 * j + 2], p[4 * j + 3]));
+                const float kappa = float(kappaFromMeanLength(glm::length(glm::vec3(p[4 * j + 1], p[4 * j + 2], p[4 * j + 3])) / a));
+                const float s = kappa * ctx.exponent / (kappa + ctx.exponent);
+                sum += a * blinnPhong(glm::dot(mu, h), s);
+            }
+            out.pixels[i] = sum;
         }
         return out;
     }

@@ -76,7 +76,8 @@ struct Context {
     const RenderOptions* options;
     std::optional<Method> method; // empty: ground truth
     FilteredPlanes planes;
-    ShShading sh; // sh: the material's A_l
+    ShShading sh;     // sh: the material's A_l
+    int vmfLobes = 0; // vmf: J
 };
 
 glm::vec3 shadeSample(const Context& ctx, float px, float py) {
@@ -117,6 +118,7 @@ glm::vec3 shadeSample(const Context& ctx, float px, float py) {
                                  ctx.options->varianceScale);
                 break;
             case Method::Sh: r = shadeSh(scene.material, params, ctx.sh, l, view); break;
+            case Method::Vmf: r = shadeVmf(scene.material, params, ctx.vmfLobes, nullptr, l, view); break;
             }
         }
         radiance += ls.irradiance * r;
@@ -137,7 +139,7 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
     if (scene.camera.width < 1 || scene.camera.height < 1)
         return Error{"render: the camera's image is empty"};
 
-    Context ctx{&scene, cameraFrame(scene.camera), &textures, &options, std::nullopt, {}, {}};
+    Context ctx{&scene, cameraFrame(scene.camera), &textures, &options, std::nullopt, {}, {}, 0};
     if (methodName != kGroundTruth) {
         ctx.method = methodFromString(methodName);
         if (!ctx.method) {
@@ -155,6 +157,7 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
                          std::to_string(textures.normals->width) + "x" +
                          std::to_string(textures.normals->height)};
         ctx.planes = linearPlanes(bake);
+        ctx.vmfLobes = bakeVmfLobes(bake);
         if (*ctx.method == Method::Sh) {
             Result<ShShading> sh = shShadingFor(scene.material, bakeShOrder(bake));
             if (!sh) return sh.error();

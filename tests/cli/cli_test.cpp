@@ -775,7 +775,8 @@ TEST(Cli, DemoWritesComparisonAndTable) {
     Result<SourceImage> picture = loadImage((dir / "comparison.png").string());
     ASSERT_TRUE(picture.ok()) << picture.error().message;
     EXPECT_NE(r.output.find("sh"), std::string::npos) << r.output;
-    EXPECT_EQ(picture->image.width, 4 * w + 3 * 4); // truth, naive, toksvig, sh, 4-texel gaps
+    EXPECT_NE(r.output.find("vmf"), std::string::npos) << r.output;
+    EXPECT_EQ(picture->image.width, 5 * w + 4 * 4); // truth, naive, toksvig, sh, vmf, 4-texel gaps
     EXPECT_EQ(picture->image.height, h);
 }
 
@@ -957,6 +958,7 @@ TEST(Cli, EvalRejectsBadOptions) {
     expectCleanFailure(cli("eval " + map + " --methods naive,magic" + out), {"magic"});
     expectCleanFailure(cli("eval " + map + " --methods sh:99" + out), {"sh:99"});
     expectCleanFailure(cli("eval " + map + " --methods toksvig:3" + out), {"toksvig:3"});
+    expectCleanFailure(cli("eval " + map + " --methods vmf:9" + out), {"vmf:9"});
     expectCleanFailure(cli("eval " + map + " --brdfs velvet" + out), {"velvet"});
     expectCleanFailure(cli("eval " + map + " --footprints 0" + out), {"footprints"});
     expectCleanFailure(cli("eval " + shellQuoted(tmp.file("none.png")) + out), {"none.png"});

@@ -33,7 +33,9 @@ TEST(AlignedTruth, FlatMapEveryMethodEqualsTheTruth) {
         Bake bake = bakeMethod(m, p, options);
         for (int k = 0; k < int(p.levels.size()); ++k) {
             ErrorStats e = compareToTruth(shadeLevel(bake, k, context(s)), groundTruthLevel(p, k, context(s)));
-            EXPECT_LT(e.relativeRmse, 1e-5) << methodName(m) << " level " << k;
+            // vmf: identical normals give kappa = 1e5 (the cap), which eq. 29 turns into
+            // s' = s / (1 + s / kappa): 0.06% narrower at s = 64.
+            EXPECT_LT(e.relativeRmse, m == Method::Vmf ? 2e-3 : 1e-5) << methodName(m) << " level " << k;
         }
     }
 }

@@ -128,6 +128,14 @@ TEST(Renderer, FlatMapEveryMethodEqualsGroundTruth) {
                 ASSERT_TRUE(image.ok()) << image.error().message;
                 expectImagesNear(image.value(), truth.value(), 1e-4f);
             }
+            // vmf: a flat texel is one lobe at kappa's cap (1e5), a hair wider than a spike.
+            if (m.brdf != Brdf::Tabulated) {
+                RenderOptions o;
+                o.spp = 4;
+                Result<Image> vmf = render(scene, texturesFor(flat, Method::Vmf), "vmf", o);
+                ASSERT_TRUE(vmf.ok());
+                expectImagesNear(vmf.value(), truth.value(), 2e-3f);
+            }
         }
     }
 }
@@ -211,6 +219,52 @@ TEST(Renderer, ShMipsAreTheMeanOfTheirChildren) {
     EXPECT_NEAR(g[1], c1 * n[1], 1e-6f);
     EXPECT_NEAR(g[2], c1 * n[2], 1e-6f);
     EXPECT_NEAR(g[3], c1 * n[0], 1e-6f);
+}
+
+// Two groove directions in a checkerboard: at level 1 every texel's NDF is two sharp spikes,
+// which two vMF lobes represent exactly (each at kappa's cap) and one widened lobe cannot.
+TEST(Renderer, VmfLobesReproduceATwoSpikeNdf) {
+    const float theta = 0.5f;
+    Image map(8, 8, 3);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            const float sign = (x + y) % 2 == 0 ? 1.f : -1.f;
+            test::setNormal(map, x, y, sign * std::sin(theta), 0.f, std::cos(theta));
+        }
+    const glm::vec3 light = glm::normalize(glm::vec3(0.35f, 0.1f, 1.f));
+    for (const Material& m : {material(Brdf::BlinnPhong, 32.f, 0.f, glm::vec3(0.3f), glm::vec3(1.f)),
+                              material(Brdf::Beckmann, 0.f, 0.25f, glm::vec3(0.f), glm::vec3(1.f)),
+                              material(Brdf::Ggx, 0.f, 0.25f, glm::vec3(0.f), glm::vec3(1.f))}) {
+        const Scene scene = alignedScene(4, m, light); // 2x2 texels per pixel: level 1
+        RenderTextures t;
+        t.normals = std::make_shared<const Image>(map);
+        RenderOptions truthOptions;
+        truthOptions.nearest = true;
+        truthOptions.spp = 4;
+        Result<Image> truth = render(scene, t, kGroundTruth, truthOptions);
+        BakeOptions options;
+        options.vmfLobes = 2;
+        t.bake = bakeVmf(buildPyramid(t.normals), options);
+        Result<Image> vmf = render(scene, t, "vmf", {});
+        ASSERT_TRUE(truth.ok() && vmf.ok());
+        float peak = 0.f;
+        for (size_t i = 0; i < truth->pixels.size(); ++i) {
+            EXPECT_NEAR(vmf->pixels[i], truth->pixels[i], 2e-3f * std::max(1.f, truth->pixels[i])) << brdfName(m.brdf);
+            peak = std::max(peak, truth->pixels[i]);
+        }
+        EXPECT_GT(peak, 0.05f) << "the highlight is in view";
+        // One lobe must widen to cover both spikes and misses the truth.
+        options.vmfLobes = 1;
+        t.bake = bakeVmf(buildPyramid(t.normals), options);
+        Result<Image> single = render(scene, t, "vmf", {});
+        ASSERT_TRUE(single.ok());
+        double error = 0, norm = 0;
+        for (size_t i = 0; i < truth->pixels.size(); ++i) {
+            error += std::pow(single->pixels[i] - truth->pixels[i], 2.0);
+            norm += std::pow(truth->pixels[i], 2.0);
+        }
+        EXPECT_GT(std::sqrt(error / norm), 0.05) << brdfName(m.brdf);
+    }
 }
 
 TEST(Renderer, AlignedOrthographicTruthIsTheBlockMean) {

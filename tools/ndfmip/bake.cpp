@@ -18,6 +18,9 @@ struct BakeArgs {
     float maxExponent = 0.f;
     float baseRoughness = 0.f;
     int order = 0; // sh: 0 = the default l* = 7
+    int lobes = 0; // vmf: 0 = the default J = 4
+    int maxIterations = 50;
+    double tolerance = 1e-5;
     bool half = false;
     bool quiet = false;
 };
@@ -39,9 +42,10 @@ void applyGlossOrFail(Image& normals, const BakeArgs& a) {
 
 void runBake(const BakeArgs& a) {
     auto method = methodFromString(a.method);
-    if (!method) throw Failure("unknown method '" + a.method + "' (naive, toksvig, sh)");
+    if (!method) throw Failure("unknown method '" + a.method + "' (naive, toksvig, sh, vmf)");
     if (a.order != 0 && *method != Method::Sh) throw Failure("--order applies to --method sh only");
-    if (a.exportFormat == "png16" && *method == Method::Sh)
+    if (a.lobes != 0 && *method != Method::Vmf) throw Failure("--lobes applies to --method vmf only");
+    if (a.exportFormat == "png16" && (*method == Method::Sh || *method == Method::Vmf))
         throw Failure("--export png16 needs a method that stores a normal (naive, toksvig)");
     if (!a.gloss.empty() && a.maxExponent <= 0.f)
         throw Failure("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");
@@ -59,6 +63,9 @@ void runBake(const BakeArgs& a) {
     BakeOptions options;
     options.baseRoughness = a.baseRoughness;
     if (a.order != 0) options.shOrder = a.order;
+    if (a.lobes != 0) options.vmfLobes = a.lobes;
+    options.vmfMaxIterations = a.maxIterations;
+    options.vmfTolerance = a.tolerance;
     if (!a.quiet) options.progress = [](int done, int total) { showProgress("bake: level", done, total); };
     Bake bake = bakeMethod(*method, pyramid, options);
     if (!a.gloss.empty()) bake.parameters["max_exponent"] = a.maxExponent;
@@ -80,6 +87,11 @@ void runBake(const BakeArgs& a) {
                     "%zu normals more than 10%% off unit length)\n",
                     methodName(*method), width, height, bake.levels.size(), a.output.c_str(),
                     decodeMs, bakeMs, writeMs, report.offUnitLength);
+        if (*method == Method::Vmf)
+            std::printf("vmf     : J = %d lobes, EM iterations per texel %.2f on average, %g at most, %g texels "
+                        "stopped at --max-iterations\n",
+                        bakeVmfLobes(bake), bake.parameters.at("em_mean_iterations"),
+                        bake.parameters.at("em_most_iterations"), bake.parameters.at("em_not_converged"));
         if (*method == Method::Sh) {
             const int order = bakeShOrder(bake);
             const int planes = shPlaneCount(order);
@@ -98,10 +110,15 @@ void addBakeCommand(CLI::App& app) {
     CLI::App* c = app.add_subcommand("bake", "filter a normal map into a per-level bake directory");
     c->add_option("input", args->input, "normal map (PNG 8/16-bit, JPEG, TGA, OpenEXR)")->required();
     c->add_option("-o,--output", args->output, "output directory")->required();
-    c->add_option("--method", args->method, "naive, toksvig or sh")->capture_default_str();
+    c->add_option("--method", args->method, "naive, toksvig, sh or vmf")->capture_default_str();
     c->add_option("--order", args->order, "sh: highest band l* ((l*+1)^2 coefficients; default 7)")
         ->check(CLI::Range(1, kMaxShOrder));
     c->add_flag("--half", args->half, "store the planes as 16-bit half floats");
+    c->add_option("--lobes", args->lobes, "vmf: lobes per texel J (default 4)")->check(CLI::Range(1, 8));
+    c->add_option("--max-iterations", args->maxIterations, "vmf: EM iterations per texel at most")
+        ->check(CLI::Range(1, 10000))->capture_default_str();
+    c->add_option("--tolerance", args->tolerance, "vmf: relative log-likelihood gain that ends EM")
+        ->check(CLI::Range(0.0, 1.0))->capture_default_str();
     addInputOptions(c, args->input_options);
     c->add_option("--gloss", args->gloss, "gloss map in [0,1]: s = gloss * S0 (Toksvig eq. 12)");
     c->add_option("--max-exponent", args->maxExponent, "S0, the exponent of gloss 1.0")

@@ -34,7 +34,8 @@ struct EvalArgs {
     InputOptions input;
     std::string output;
     std::vector<int> footprints{1, 4, 16, 64};
-    std::vector<std::string> methods{"naive", "toksvig", "sh:2", "sh:4", "sh:7", "sh:10"};
+    std::vector<std::string> methods{"naive", "toksvig", "sh:2", "sh:4", "sh:7", "sh:10",
+                                     "vmf:1", "vmf:2", "vmf:4", "vmf:6", "vmf:8"};
     std::vector<std::string> brdfs{"blinnphong", "ggx"};
     std::vector<float> exponents{8.f, 32.f, 128.f, 512.f};
     std::vector<float> roughness{0.1f, 0.3f};
@@ -158,7 +159,8 @@ double flickerOf(const Scene& scene, const RenderTextures& t, const std::string&
     return temporalFlicker(images);
 }
 
-// A method as the matrix names it: "sh:L" is sh baked at order L ("sh" alone: 7).
+// A method as the matrix names it: "sh:L" is sh baked at order L ("sh" alone: 7), "vmf:J" is vmf
+// with J lobes ("vmf" alone: 4).
 struct MethodSpec {
     std::string label; // as in the report
     Method method;
@@ -173,14 +175,19 @@ MethodSpec methodSpec(const std::string& label) {
         order = label.substr(colon + 1);
     }
     auto method = methodFromString(name);
-    if (!method) throw Failure("--methods: unknown method '" + label + "' (expected naive, toksvig, sh or sh:ORDER)");
+    if (!method)
+        throw Failure("--methods: unknown method '" + label + "' (expected naive, toksvig, sh[:ORDER], vmf[:LOBES])");
     spec.method = *method;
     if (!order.empty()) {
         char* end = nullptr;
         long l = std::strtol(order.c_str(), &end, 10);
-        if (*method != Method::Sh || *end != '\0' || l < 1 || l > kMaxShOrder)
-            throw Failure("--methods: '" + label + "': only sh takes an order, 1 .. " + std::to_string(kMaxShOrder));
-        spec.options.shOrder = int(l);
+        const bool sh = *method == Method::Sh, vmf = *method == Method::Vmf;
+        const long most = sh ? kMaxShOrder : 8;
+        if ((!sh && !vmf) || *end != '\0' || l < 1 || l > most)
+            throw Failure("--methods: '" + label + "': sh takes an order 1 .. " + std::to_string(kMaxShOrder) +
+                          ", vmf a lobe count 1 .. 8, other methods nothing");
+        if (sh) spec.options.shOrder = int(l);
+        if (vmf) spec.options.vmfLobes = int(l);
     }
     return spec;
 }

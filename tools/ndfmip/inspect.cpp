@@ -14,6 +14,7 @@
 #include "ndfmip/shading.h"
 #include "ndfmip/spherical_harmonics.h"
 #include "ndfmip/toksvig.h"
+#include "ndfmip/vmf.h"
 
 namespace ndfmip::cli {
 namespace {
@@ -83,9 +84,29 @@ glm::dvec3 latLongDirection(int i, int j, int width, int height) {
     return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
 }
 
+// The texel's lobes as the shader sees them, unpacked from (alpha, alpha r mu).
+std::vector<VmfLobe> texelLobes(const LoadedBake& bake, int x, int y) {
+    std::vector<VmfLobe> lobes;
+    for (size_t p = 0; p < bake.planes.size(); ++p) {
+        if (bake.planes[p].name.rfind("lobe", 0) != 0) continue;
+        const float* v = bake.level[p].at(x, y);
+        lobes.push_back(unpackLobe(glm::vec4(v[0], v[1], v[2], v[3])));
+    }
+    return lobes;
+}
+
+void addVmfKeys(nlohmann::json& out, const LoadedBake& bake, int x, int y) {
+    nlohmann::json lobes = nlohmann::json::array();
+    for (const VmfLobe& l : texelLobes(bake, x, y)) {
+        if (!(l.alpha > 0.f)) continue;
+        lobes.push_back({{"alpha", l.alpha}, {"mu", {l.mu.x, l.mu.y, l.mu.z}}, {"kappa", l.kappa}});
+    }
+    out["lobes"] = lobes;
+}
+
 // The texel's NDF as densities over the sphere (integrating to 1), side by side: left the
-// reconstruction from its stored SH, Sum g_lm Y_lm(w) (sh bakes), right the histogram of the
-// level-0 normals it covers. One scale for both; written as PNG (and EXR beside it).
+// reconstruction from its stored SH, Sum g_lm Y_lm(w) (sh bakes), or its fitted vMF mixture
+// (vmf bakes); right the histogram of the level-0 normals it covers. One scale for both; written as PNG (and EXR beside it).
 void writeNdfImage(const InspectArgs& a, const LoadedBake& bake, int x, int y, const Footprint& f) {
     Result<LoadedBake> level0 = readBake(a.dir, 0);
     if (!level0) throw Failure(level0.error().message);
@@ -105,6 +126,13 @@ void writeNdfImage(const InspectArgs& a, const LoadedBake& bake, int x, int y, c
         // Solid angle of a pixel of row j.
         double omega = (2.0 * M_PI / width) * (std::cos(M_PI * j / height) - std::cos(M_PI * (j + 1) / height));
         for (int i = 0; i < width; ++i) histogram.at(i, j)[0] /= float(double(f.count()) * omega);
+    }
+    if (bake.method == Method::Vmf) {
+        const std::vector<VmfLobe> lobes = texelLobes(bake, x, y);
+        for (int j = 0; j < height; ++j)
+            for (int i = 0; i < width; ++i)
+                reconstructed.at(i, j)[0] =
+                    float(std::exp(vmfMixtureLogDensity(glm::vec3(latLongDirection(i, j, width, height)), lobes)));
     }
     if (bake.method == Method::Sh) {
         const int order = int(bake.parameters.at("order"));
@@ -156,6 +184,7 @@ void runInspect(const InspectArgs& a) {
     case Method::Naive: out["normal"] = vec3(bake.level[planeIndex(bake, "normal")].at(x, y)); break;
     case Method::Toksvig: addToksvigKeys(out, bake, x, y, a.exponent); break;
     case Method::Sh: addShKeys(out, bake, x, y); break;
+    case Method::Vmf: addVmfKeys(out, bake, x, y); break;
     }
     if (!a.ndf.empty()) {
         writeNdfImage(a, bake, x, y, f);
@@ -175,7 +204,7 @@ void addInspectCommand(CLI::App& app) {
     c->add_option("--exponent", args->exponent, "Blinn-Phong exponent s, for toksvig_factor")
         ->check(CLI::Range(1e-3f, 1e6f));
     c->add_option("--ndf", args->ndf,
-                  "write the texel's NDF as lat-long PNG: SH reconstruction | histogram of its normals");
+                  "write the texel's NDF as lat-long PNG: SH or vMF reconstruction | histogram of its normals");
     c->callback([args] { runInspect(*args); });
 }
 

@@ -1,0 +1,59 @@
+// vMF bake (Han et al. Sec. 7): the lobes fitted at every level, stored as one plane per lobe
+// slot with (alpha, alpha r mu) (eq. 33), which filters linearly; the shader recovers mu and
+// kappa from the filtered values (Algorithm 1, lines 12-13).
+#include <string>
+
+#include "ndfmip/bake.h"
+#include "ndfmip/vmf.h"
+
+namespace ndfmip {
+
+Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
+    const int lobes = options.vmfLobes;
+    VmfFitOptions fit;
+    fit.maxIterations = options.vmfMaxIterations;
+    fit.tolerance = options.vmfTolerance;
+    VmfFitStats stats;
+    const std::vector<VmfLevel> levels = fitVmfPyramid(pyramid, lobes, fit, &stats);
+
+    Bake bake;
+    bake.method = Method::Vmf;
+    bake.parameters["lobes"] = lobes;
+    bake.parameters["kappa_max"] = fit.kappaMax;
+    bake.parameters["level0_kappa"] = fit.levelZeroKappa;
+    bake.parameters["em_max_iterations"] = fit.maxIterations;
+    bake.parameters["em_tolerance"] = fit.tolerance;
+    bake.parameters["em_mean_iterations"] = stats.meanIterations;
+    bake.parameters["em_most_iterations"] = stats.maxIterations;
+    bake.parameters["em_not_converged"] = double(stats.notConverged);
+    for (int j = 0; j < lobes; ++j)
+        bake.planes.push_back({"lobe" + std::to_string(j),
+                               {"alpha", "alpha r mu.x", "alpha r mu.y", "alpha r mu.z"},
+                               "vMF lobe " + std::to_string(j) +
+                                   " (slot by decreasing alpha): amplitude and amplitude times mean "
+                                   "resultant vector (eq. 33)",
+                               true});
+
+    const int count = int(levels.size());
+    bake.levels.resize(count);
+    for (int k = 0; k < count; ++k) {
+        const VmfLevel& level = levels[k];
+        std::vector<Image> planes;
+        for (int j = 0; j < lobes; ++j) planes.emplace_back(level.width, level.height, 4);
+#pragma omp parallel for schedule(static)
+        for (int y = 0; y < level.height; ++y)
+            for (int x = 0; x < level.width; ++x) {
+                const auto texel = level.texel(x, y);
+                for (int j = 0; j < lobes && j < int(texel.size()); ++j) {
+                    const glm::vec4 p = packLobe(texel[j]);
+                    float* out = planes[j].at(x, y);
+                    out[0] = p.x, out[1] = p.y, out[2] = p.z, out[3] = p.w;
+                }
+            }
+        for (Image& plane : planes) bake.levels[k].push_back(std::make_shared<const Image>(std::move(plane)));
+        if (options.progress) options.progress(k + 1, count);
+    }
+    return bake;
+}
+
+} // namespace ndfmip

@@ -1,0 +1,50 @@
+// Shading from filtered vMF lobes (see method_shading.h).
+#include <cmath>
+
+#include "ndfmip/brdf.h"
+#include "ndfmip/method_shading.h"
+#include "ndfmip/vmf.h"
+
+namespace ndfmip {
+
+glm::vec3 shadeVmf(const Material& m, const float* lobes, int count, const glm::vec3* colors, glm::vec3 l,
+                   glm::vec3 v) {
+    const glm::vec3 h = glm::normalize(l + v);
+    const float factor = specularFactor(m, l, h);
+    glm::vec3 out(0.f);
+    for (int j = 0; j < count; ++j) {
+        const float* p = lobes + 4 * j;
+        const float alpha = p[0];
+        if (!(alpha > 0.f)) continue;
+        const glm::vec3 r = glm::vec3(p[1], p[2], p[3]) / alpha;
+        const float length = glm::length(r);
+        const glm::vec3 mu = length > 0.f ? r / length : glm::vec3(0.f, 0.f, 1.f);
+        const float kappa = float(kappaFromMeanLength(length));
+        const float cosL = glm::dot(mu, l);
+        // Diffuse: eq. 29 with s = 1 over the light direction.
+        const float sd = kappa / (kappa + 1.f);
+        const float diffuse = (sd + 1.f) / (2.f * kPi) * std::pow(glm::max(cosL, 0.f), sd);
+        const glm::vec3 albedo = colors ? colors[j] * m.albedo : m.albedo;
+        float lobe = 0.f;
+        const float cosH = glm::dot(mu, h);
+        switch (m.brdf) {
+        case Brdf::BlinnPhong: {
+            const float s = kappa * m.exponent / (kappa + m.exponent);
+            lobe = blinnPhong(cosH, s);
+            break;
+        }
+        case Brdf::Beckmann:
+            lobe = beckmannD(cosH, std::sqrt(m.roughness * m.roughness + 2.f / glm::max(kappa, 1e-6f)));
+            break;
+        case Brdf::Ggx:
+            lobe = ggxD(cosH, std::sqrt(m.roughness * m.roughness + 2.f / glm::max(kappa, 1e-6f)));
+            break;
+        case Brdf::Tabulated: lobe = materialLobe(m, cosH, 0.f, 0.f); break;
+        case Brdf::Lambert: break;
+        }
+        out += alpha * (albedo * diffuse + m.specular * (lobe * factor * glm::max(cosL, 0.f)));
+    }
+    return out;
+}
+
+} // namespace ndfmip
