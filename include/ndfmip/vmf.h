@@ -194,3 +194,43 @@ std::vector<VmfLevel> fitVmfPyramid(const Pyramid& pyramid, int J, const VmfFitO
                                     VmfFitStats* stats);
 
 } // namespace ndfmip
+
+// ---- colour per lobe (Sec. 7.3, eq. 31) ----------------------------------------------------
+// A texel whose normals come from differently coloured surfaces keeps one colour per lobe: the
+// mean colour of the normals each lobe explains, y_j = Sum_i z_ij y_i / Sum_i z_ij. A colour
+// does not change which lobe explains a normal, so this runs after the fit, on its final lobes.
+
+#include <string>
+
+#include "ndfmip/result.h"
+
+namespace ndfmip {
+
+// Sets `color` of every lobe of every level of `levels` (fitVmfPyramid of `pyramid`) to eq. 31
+// over all level-0 texels i of the texel's footprint, with y_i the RGB of `albedo` (level 0's
+// size, 3 or 4 channels, linear; a fourth channel is ignored) and z_ij the E-step
+// responsibilities of the texel's lobes, alpha_j gamma_j(n_i) / Sum_k alpha_k gamma_k(n_i), in
+// log space (any kappa up to kDefaultKappaMax and beyond). Level 0: each texel's own colour. A
+// lobe no normal falls to (zero total responsibility, alpha <= 0, or past the first
+// kMaxVmfLobes) gets the footprint's mean colour. At an EM fixed point alpha_j = Sum_i z_ij / N,
+// so Sum_j alpha_j y_j is the footprint's mean colour. Each texel sums its footprint row by row
+// in double and adds the rows in order; parallel over texels, or over the rows of the few
+// large texels of the top levels (OpenMP): the same bits for any thread count. Cost: one pass
+// of J exps per normal per level. Inputs that do not match (checkAlbedoSize, levels not of
+// this pyramid) leave `levels` unchanged.
+void fitLobeColors(const Pyramid& pyramid, const Image& albedo, std::vector<VmfLevel>& levels);
+
+// Storage for linear filtering: alpha * colour, 3 channels. alpha c_j = Sum_i z_ij y_i / N (at
+// a fixed point) is a mean over the texel's normals like the lobe plane (packLobe), so it
+// filters the same way; the lobe plane's x channel already holds alpha, filtered alike, so the
+// colour needs no alpha channel of its own: unpack with the lobe's filtered alpha.
+glm::vec3 packLobeColor(const VmfLobe& lobe);
+
+// packed / alpha; 0 where alpha <= 0 (an empty lobe).
+glm::vec3 unpackLobeColor(glm::vec3 packed, float alpha);
+
+// Whether `albedo` can colour the lobes of a width x height normal map: the same size, 3 or 4
+// channels. The error names `name` (the albedo's file) and the mismatch.
+Status checkAlbedoSize(const Image& albedo, int width, int height, const std::string& name);
+
+} // namespace ndfmip
