@@ -59,11 +59,16 @@ inline float specularFactor(const Material& m, glm::vec3 l, glm::vec3 h) {
 }
 
 // Reflected radiance per unit irradiance for one unit normal n: the ground truth's integrand.
-inline glm::vec3 shadeNormal(const Material& m, glm::vec3 n, glm::vec3 l, glm::vec3 h) {
+// `albedo` replaces the material's (an albedo map's texel times it).
+inline glm::vec3 shadeNormal(const Material& m, glm::vec3 albedo, glm::vec3 n, glm::vec3 l, glm::vec3 h) {
     float cosL = glm::max(glm::dot(n, l), 0.f);
     if (cosL <= 0.f) return glm::vec3(0.f);
     float lobe = materialLobe(m, glm::dot(n, h), m.exponent, m.roughness) * specularFactor(m, l, h);
-    return cosL * (m.albedo * (1.f / kPi) + m.specular * lobe);
+    return cosL * (albedo * (1.f / kPi) + m.specular * lobe);
+}
+
+inline glm::vec3 shadeNormal(const Material& m, glm::vec3 n, glm::vec3 l, glm::vec3 h) {
+    return shadeNormal(m, m.albedo, n, l, h);
 }
 
 } // namespace ndfmip

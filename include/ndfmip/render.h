@@ -36,7 +36,14 @@ struct RenderOptions {
 struct RenderTextures {
     SharedImage normals;
     Bake bake;
+    // Optional albedo map (linear RGB, level-0 size) and its mip chain (albedoMips), which
+    // multiply the material's albedo: the truth samples level 0 per sample, methods filter the
+    // chain trilinearly, and vmf bakes with colour planes use their lobes' colours instead.
+    std::vector<SharedImage> albedo;
 };
+
+// The albedo's mips, averaged with the normal map's pyramid footprints (linear, like Na).
+std::vector<SharedImage> albedoMips(const Pyramid& pyramid, SharedImage albedo);
 
 // Renders `scene` with `method` (a method name or kGroundTruth); RGB radiance, 3 channels.
 // Errors: unknown method, a bake of another method or size.

@@ -86,6 +86,7 @@ struct Scene {
     NormalMapRef normalMap;
     std::string method = "toksvig"; // a method name, or "groundtruth"
     std::string bakeDir;            // optional: a bake directory to use instead of baking
+    std::string albedoMap;          // optional: diffuse colour map (sRGB-encoded unless EXR)
     glm::vec3 background{0.f};
 };
 

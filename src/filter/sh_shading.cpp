@@ -44,10 +44,11 @@ double convolve(const float* g, const std::vector<double>& A, int order, glm::ve
 
 } // namespace
 
-glm::vec3 shadeSh(const Material& m, const float* g, const ShShading& a, glm::vec3 l, glm::vec3 v) {
+glm::vec3 shadeSh(const Material& m, glm::vec3 albedo, const float* g, const ShShading& a, glm::vec3 l,
+                  glm::vec3 v) {
     glm::vec3 out(0.f);
-    if (m.albedo != glm::vec3(0.f))
-        out += m.albedo * float(std::max(0.0, convolve(g, a.diffuse, a.order, l)));
+    if (albedo != glm::vec3(0.f))
+        out += albedo * float(std::max(0.0, convolve(g, a.diffuse, a.order, l)));
     if (m.brdf != Brdf::Lambert && m.specular != glm::vec3(0.f)) {
         const float c = std::sqrt(3.f / (4.f * kPi));
         const glm::vec3 na = glm::vec3(g[shIndex(1, 1)], g[shIndex(1, -1)], g[shIndex(1, 0)]) / c;

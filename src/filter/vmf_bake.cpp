@@ -14,7 +14,9 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
     fit.maxIterations = options.vmfMaxIterations;
     fit.tolerance = options.vmfTolerance;
     VmfFitStats stats;
-    const std::vector<VmfLevel> levels = fitVmfPyramid(pyramid, lobes, fit, &stats);
+    std::vector<VmfLevel> levels = fitVmfPyramid(pyramid, lobes, fit, &stats);
+    const bool colors = options.albedo != nullptr;
+    if (colors) fitLobeColors(pyramid, *options.albedo, levels);
 
     Bake bake;
     bake.method = Method::Vmf;
@@ -33,6 +35,13 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
                                    " (slot by decreasing alpha): amplitude and amplitude times mean "
                                    "resultant vector (eq. 33)",
                                true});
+    if (colors)
+        for (int j = 0; j < lobes; ++j)
+            bake.planes.push_back({"color" + std::to_string(j), {"alpha c.r", "alpha c.g", "alpha c.b"},
+                                   "vMF lobe " + std::to_string(j) +
+                                       ": amplitude times the lobe's mean albedo (eq. 31); divide by "
+                                       "the filtered alpha of lobe plane " + std::to_string(j),
+                                   true});
 
     const int count = int(levels.size());
     bake.levels.resize(count);
@@ -40,6 +49,7 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
         const VmfLevel& level = levels[k];
         std::vector<Image> planes;
         for (int j = 0; j < lobes; ++j) planes.emplace_back(level.width, level.height, 4);
+        for (int j = 0; colors && j < lobes; ++j) planes.emplace_back(level.width, level.height, 3);
 #pragma omp parallel for schedule(static)
         for (int y = 0; y < level.height; ++y)
             for (int x = 0; x < level.width; ++x) {
@@ -48,6 +58,11 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
                     const glm::vec4 p = packLobe(texel[j]);
                     float* out = planes[j].at(x, y);
                     out[0] = p.x, out[1] = p.y, out[2] = p.z, out[3] = p.w;
+                    if (colors) {
+                        const glm::vec3 c = packLobeColor(texel[j]);
+                        float* o = planes[lobes + j].at(x, y);
+                        o[0] = c.x, o[1] = c.y, o[2] = c.z;
+                    }
                 }
             }
         for (Image& plane : planes) bake.levels[k].push_back(std::make_shared<const Image>(std::move(plane)));

@@ -7,8 +7,8 @@
 
 namespace ndfmip {
 
-glm::vec3 shadeVmf(const Material& m, const float* lobes, int count, const glm::vec3* colors, glm::vec3 l,
-                   glm::vec3 v) {
+glm::vec3 shadeVmf(const Material& m, glm::vec3 baseAlbedo, const float* lobes, int count, const glm::vec3* colors,
+                   glm::vec3 l, glm::vec3 v) {
     const glm::vec3 h = glm::normalize(l + v);
     const float factor = specularFactor(m, l, h);
     glm::vec3 out(0.f);
@@ -24,7 +24,7 @@ glm::vec3 shadeVmf(const Material& m, const float* lobes, int count, const glm::
         // Diffuse: eq. 29 with s = 1 over the light direction.
         const float sd = kappa / (kappa + 1.f);
         const float diffuse = (sd + 1.f) / (2.f * kPi) * std::pow(glm::max(cosL, 0.f), sd);
-        const glm::vec3 albedo = colors ? colors[j] * m.albedo : m.albedo;
+        const glm::vec3 albedo = colors ? colors[j] * m.albedo : baseAlbedo;
         float lobe = 0.f;
         const float cosH = glm::dot(mu, h);
         switch (m.brdf) {

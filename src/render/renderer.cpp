@@ -6,6 +6,7 @@
 
 #include "ndfmip/method_shading.h"
 #include "ndfmip/render.h"
+#include "ndfmip/vmf.h"
 #include "texture_sampling.h"
 
 namespace ndfmip {
@@ -76,8 +77,10 @@ struct Context {
     const RenderOptions* options;
     std::optional<Method> method; // empty: ground truth
     FilteredPlanes planes;
-    ShShading sh;     // sh: the material's A_l
-    int vmfLobes = 0; // vmf: J
+    ShShading sh;            // sh: the material's A_l
+    int vmfLobes = 0;        // vmf: J
+    bool vmfColors = false;  // vmf: colour planes follow the lobe planes
+    MipChain albedo;         // empty without an albedo map
 };
 
 glm::vec3 shadeSample(const Context& ctx, float px, float py) {
@@ -90,14 +93,35 @@ glm::vec3 shadeSample(const Context& ctx, float px, float py) {
 
     glm::vec3 normal(0.f, 0.f, 1.f);
     float params[kMaxFilteredChannels];
+    glm::vec3 albedo = scene.material.albedo;
+    glm::vec3 colors[8];
     if (!ctx.method) {
         normal = sampleNormal(*ctx.textures->normals, hit.uv, ctx.options->nearest);
+        if (!ctx.albedo.levels.empty()) {
+            float a[4] = {0.f, 0.f, 0.f, 0.f};
+            if (ctx.options->nearest) {
+                const float* t = nearestTexel(*ctx.albedo.levels.front(), hit.uv);
+                a[0] = t[0], a[1] = t[1], a[2] = t[2];
+            } else {
+                accumulateBilinear(*ctx.albedo.levels.front(), hit.uv, 1.f, a);
+            }
+            albedo *= glm::vec3(a[0], a[1], a[2]);
+        }
     } else {
         const UvFootprint footprint = uvFootprint(ctx.camera, hit, px, py);
         int offset = 0;
         for (const MipChain& chain : ctx.planes.chains) {
             sampleFiltered(chain, hit.uv, footprint, ctx.options->anisotropy, params + offset);
             offset += chain.channels;
+        }
+        if (!ctx.albedo.levels.empty()) {
+            float a[4];
+            sampleFiltered(ctx.albedo, hit.uv, footprint, ctx.options->anisotropy, a);
+            albedo *= glm::vec3(a[0], a[1], a[2]);
+        }
+        for (int j = 0; ctx.vmfColors && j < ctx.vmfLobes; ++j) {
+            const float* c = params + 4 * ctx.vmfLobes + 3 * j;
+            colors[j] = unpackLobeColor(glm::vec3(c[0], c[1], c[2]), params[4 * j]);
         }
     }
 
@@ -108,17 +132,19 @@ glm::vec3 shadeSample(const Context& ctx, float px, float py) {
         if (l.z <= 0.f) continue; // below the geometric surface
         glm::vec3 r(0.f);
         if (!ctx.method) {
-            r = shadeNormal(scene.material, normal, l, glm::normalize(l + view));
+            r = shadeNormal(scene.material, albedo, normal, l, glm::normalize(l + view));
         } else {
             const glm::vec3 p(params[0], params[1], params[2]);
             switch (*ctx.method) {
-            case Method::Naive: r = shadeNaive(scene.material, p, l, view); break;
+            case Method::Naive: r = shadeNaive(scene.material, albedo, p, l, view); break;
             case Method::Toksvig:
-                r = shadeToksvig(scene.material, p, l, view, ctx.options->roughnessMapping,
+                r = shadeToksvig(scene.material, albedo, p, l, view, ctx.options->roughnessMapping,
                                  ctx.options->varianceScale);
                 break;
-            case Method::Sh: r = shadeSh(scene.material, params, ctx.sh, l, view); break;
-            case Method::Vmf: r = shadeVmf(scene.material, params, ctx.vmfLobes, nullptr, l, view); break;
+            case Method::Sh: r = shadeSh(scene.material, albedo, params, ctx.sh, l, view); break;
+            case Method::Vmf:
+                r = shadeVmf(scene.material, albedo, params, ctx.vmfLobes, ctx.vmfColors ? colors : nullptr, l, view);
+                break;
             }
         }
         radiance += ls.irradiance * r;
@@ -139,7 +165,14 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
     if (scene.camera.width < 1 || scene.camera.height < 1)
         return Error{"render: the camera's image is empty"};
 
-    Context ctx{&scene, cameraFrame(scene.camera), &textures, &options, std::nullopt, {}, {}, 0};
+    Context ctx{&scene, cameraFrame(scene.camera), &textures, &options, std::nullopt, {}, {}, 0, false, {}};
+    if (!textures.albedo.empty()) {
+        const Image& a = *textures.albedo.front();
+        if (a.width != textures.normals->width || a.height != textures.normals->height || a.channels < 3)
+            return Error{"render: the albedo map must be RGB and the normal map's size"};
+        for (const SharedImage& level : textures.albedo) ctx.albedo.levels.push_back(level.get());
+        ctx.albedo.channels = a.channels;
+    }
     if (methodName != kGroundTruth) {
         ctx.method = methodFromString(methodName);
         if (!ctx.method) {
@@ -158,6 +191,8 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
                          std::to_string(textures.normals->height)};
         ctx.planes = linearPlanes(bake);
         ctx.vmfLobes = bakeVmfLobes(bake);
+        ctx.vmfColors = findPlane(bake.planes, "color0") >= 0;
+        if (ctx.vmfLobes > 8) return Error{"render: vmf bakes have at most 8 lobes"};
         if (*ctx.method == Method::Sh) {
             Result<ShShading> sh = shShadingFor(scene.material, bakeShOrder(bake));
             if (!sh) return sh.error();

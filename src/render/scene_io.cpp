@@ -409,7 +409,8 @@ Scene readScene(const json& root, const std::string& baseDir) {
     if (!root.is_object()) fail("", "expected a JSON object at the top level, got " + shown(root));
     checkKeys(
         root, "",
-        {"camera", "object", "lights", "material", "normal_map", "method", "bake", "background"},
+        {"camera", "object", "lights", "material", "normal_map", "method", "bake", "background",
+         "albedo_map"},
         "a scene");
     Scene scene;
     scene.camera = readCamera(required(root, "", "camera"), "camera");
@@ -421,6 +422,8 @@ Scene readScene(const json& root, const std::string& baseDir) {
     if (const json* v = find(root, "bake"))
         scene.bakeDir = resolvePath(nonEmptyText(*v, "bake"), baseDir);
     if (const json* v = find(root, "background")) scene.background = colour(*v, "background");
+    if (const json* v = find(root, "albedo_map"))
+        scene.albedoMap = resolvePath(nonEmptyText(*v, "albedo_map"), baseDir);
     return scene;
 }
 

@@ -66,11 +66,15 @@ void sampleFiltered(const MipChain& chain, glm::vec2 uv, const UvFootprint& foot
     }
 }
 
+const float* nearestTexel(const Image& image, glm::vec2 uv) {
+    int x = wrap(int(std::floor(uv.x * float(image.width))), image.width);
+    int y = wrap(int(std::floor(uv.y * float(image.height))), image.height);
+    return image.at(x, y);
+}
+
 glm::vec3 sampleNormal(const Image& normals, glm::vec2 uv, bool nearest) {
     if (nearest) {
-        int x = wrap(int(std::floor(uv.x * float(normals.width))), normals.width);
-        int y = wrap(int(std::floor(uv.y * float(normals.height))), normals.height);
-        const float* n = normals.at(x, y);
+        const float* n = nearestTexel(normals, uv);
         return {n[0], n[1], n[2]};
     }
     float sum[3] = {0.f, 0.f, 0.f};
@@ -78,6 +82,17 @@ glm::vec3 sampleNormal(const Image& normals, glm::vec2 uv, bool nearest) {
     float n[3];
     normalizeOrFlat(sum, n);
     return {n[0], n[1], n[2]};
+}
+
+} // namespace ndfmip
+
+namespace ndfmip {
+
+std::vector<SharedImage> albedoMips(const Pyramid& pyramid, SharedImage albedo) {
+    std::vector<SharedImage> levels{albedo};
+    for (int k = 1; k < int(pyramid.levels.size()); ++k)
+        levels.push_back(std::make_shared<const Image>(averageToLevel(pyramid, *levels.back(), k)));
+    return levels;
 }
 
 } // namespace ndfmip

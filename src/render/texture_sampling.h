@@ -31,6 +31,9 @@ void sampleTrilinear(const MipChain& chain, glm::vec2 uv, float lod, float* out)
 void sampleFiltered(const MipChain& chain, glm::vec2 uv, const UvFootprint& footprint, int maxProbes,
                     float* out);
 
+// The texel of `image` that contains uv (wrapped addressing).
+const float* nearestTexel(const Image& image, glm::vec2 uv);
+
 // Level-0 unit normal at uv: bilinear then renormalised, or the nearest texel.
 glm::vec3 sampleNormal(const Image& normals, glm::vec2 uv, bool nearest);
 

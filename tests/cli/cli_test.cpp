@@ -916,6 +916,42 @@ TEST(Cli, RenderExampleScenesShipWithTheRepository) {
     }
 }
 
+TEST(Cli, VmfBakeWithAlbedoPrintsLobesWithColours) {
+    TempDir tmp("vmf");
+    const std::string map = tmp.file("map.png");
+    writePng16(map, encodeNormals(checkerTiltNormals(8, 8, kTheta)));
+    Image albedo(8, 8, 3);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) albedo.at(x, y)[(x + y) % 2 == 0 ? 0 : 2] = 1.f;
+    writePng16(tmp.file("albedo.png"), albedo);
+    writePng16(tmp.file("small.png"), Image(4, 4, 3));
+    const fs::path dir = tmp.path / "bake";
+    CliRun r = cli("bake " + shellQuoted(map) + " --method vmf --lobes 2 --albedo " + shellQuoted(tmp.file("albedo.png")) +
+                   " -q -o " + shellQuoted(dir.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    json texel = inspect(dir, 1, "0,0");
+    ASSERT_EQ(texel.at("lobes").size(), 2u);
+    for (const json& lobe : texel.at("lobes")) {
+        // Each lobe sits on one of the two tilts and carries that tilt's colour.
+        const float mx = lobe.at("mu").at(0).get<float>();
+        EXPECT_NEAR(std::abs(mx), std::sin(kTheta), 1e-3f) << lobe.dump();
+        EXPECT_NEAR(lobe.at("alpha").get<float>(), 0.5f, 1e-3f);
+        const json& c = lobe.at("color");
+        EXPECT_NEAR(c.at(mx > 0 ? 0 : 2).get<float>(), 1.f, 1e-3f) << lobe.dump();
+        EXPECT_NEAR(c.at(mx > 0 ? 2 : 0).get<float>(), 0.f, 1e-3f) << lobe.dump();
+    }
+    expectCleanFailure(cli("bake " + shellQuoted(map) + " --method vmf --albedo " + shellQuoted(tmp.file("small.png")) +
+                           " -o " + shellQuoted((tmp.path / "b2").string())),
+                       {"small.png", "4x4", "8x8"});
+    expectCleanFailure(cli("bake " + shellQuoted(map) + " --method vmf --lobes 9 -o " + shellQuoted((tmp.path / "b3").string())),
+                       {"--lobes"});
+    expectCleanFailure(cli("bake " + shellQuoted(map) + " --method vmf --lobes 0 -o " + shellQuoted((tmp.path / "b4").string())),
+                       {"--lobes"});
+    expectCleanFailure(cli("bake " + shellQuoted(map) + " --method toksvig --lobes 2 -o " + shellQuoted((tmp.path / "b5").string())),
+                       {"--lobes"});
+    EXPECT_FALSE(fs::exists(tmp.path / "b2"));
+}
+
 TEST(Cli, EvalWritesReportWhoseFlatMapCasesAreExact) {
     TempDir tmp("eval");
     writePng16(tmp.file("flat.png"), encodeNormals(flatNormals(32, 32)));

@@ -267,6 +267,50 @@ TEST(Renderer, VmfLobesReproduceATwoSpikeNdf) {
     }
 }
 
+// Eq. 31: the same two-spike texels, the +theta normals red and the -theta normals blue. Two
+// coloured lobes reproduce the truth (which reads the albedo map per sample); the naive mipmap
+// with the mipmapped albedo (purple everywhere) cannot where the two spikes are lit unequally.
+TEST(Renderer, VmfLobeColoursFollowTheirNormals) {
+    const float theta = 0.5f;
+    Image map(8, 8, 3);
+    auto albedo = std::make_shared<Image>(8, 8, 3);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            const float sign = (x + y) % 2 == 0 ? 1.f : -1.f;
+            test::setNormal(map, x, y, sign * std::sin(theta), 0.f, std::cos(theta));
+            float* c = albedo->at(x, y);
+            c[0] = sign > 0 ? 0.9f : 0.1f;
+            c[2] = sign > 0 ? 0.1f : 0.9f;
+        }
+    const Material m = material(Brdf::Lambert, 1.f, 0.f, glm::vec3(1.f), glm::vec3(0.f));
+    const Scene scene = alignedScene(4, m, glm::normalize(glm::vec3(0.6f, 0.f, 1.f)));
+    RenderTextures t;
+    t.normals = std::make_shared<const Image>(map);
+    const Pyramid pyramid = buildPyramid(t.normals);
+    t.albedo = albedoMips(pyramid, albedo);
+    RenderOptions truthOptions;
+    truthOptions.nearest = true;
+    truthOptions.spp = 4;
+    Result<Image> truth = render(scene, t, kGroundTruth, truthOptions);
+    BakeOptions options;
+    options.vmfLobes = 2;
+    options.albedo = albedo;
+    t.bake = bakeVmf(pyramid, options);
+    ASSERT_GE(findPlane(t.bake.planes, "color1"), 0);
+    Result<Image> vmf = render(scene, t, "vmf", {});
+    t.bake = bakeNaive(pyramid, {});
+    Result<Image> naive = render(scene, t, "naive", {});
+    ASSERT_TRUE(truth.ok() && vmf.ok() && naive.ok());
+    double naiveError = 0;
+    for (size_t i = 0; i < truth->pixels.size(); ++i) {
+        EXPECT_NEAR(vmf->pixels[i], truth->pixels[i], 2e-3f * std::max(1.f, truth->pixels[i]));
+        naiveError = std::max(naiveError, double(std::abs(naive->pixels[i] - truth->pixels[i])));
+    }
+    // The light leans towards +x: the red (+theta) normals face it, so the truth is red-heavy.
+    EXPECT_GT(truth->at(1, 1)[0], 1.5f * truth->at(1, 1)[2]);
+    EXPECT_GT(naiveError, 0.02);
+}
+
 TEST(Renderer, AlignedOrthographicTruthIsTheBlockMean) {
     const int size = 16, level = 2, block = 1 << level, pixels = size / block;
     const Image normals = randomNormals(size, size, 0.9f, 7);

@@ -19,6 +19,7 @@ struct BakeArgs {
     float baseRoughness = 0.f;
     int order = 0; // sh: 0 = the default l* = 7
     int lobes = 0; // vmf: 0 = the default J = 4
+    std::string albedo; // vmf: colour per lobe
     int maxIterations = 50;
     double tolerance = 1e-5;
     bool half = false;
@@ -45,6 +46,7 @@ void runBake(const BakeArgs& a) {
     if (!method) throw Failure("unknown method '" + a.method + "' (naive, toksvig, sh, vmf)");
     if (a.order != 0 && *method != Method::Sh) throw Failure("--order applies to --method sh only");
     if (a.lobes != 0 && *method != Method::Vmf) throw Failure("--lobes applies to --method vmf only");
+    if (!a.albedo.empty() && *method != Method::Vmf) throw Failure("--albedo applies to --method vmf only");
     if (a.exportFormat == "png16" && (*method == Method::Sh || *method == Method::Vmf))
         throw Failure("--export png16 needs a method that stores a normal (naive, toksvig)");
     if (!a.gloss.empty() && a.maxExponent <= 0.f)
@@ -66,6 +68,7 @@ void runBake(const BakeArgs& a) {
     if (a.lobes != 0) options.vmfLobes = a.lobes;
     options.vmfMaxIterations = a.maxIterations;
     options.vmfTolerance = a.tolerance;
+    if (!a.albedo.empty()) options.albedo = loadAlbedoOrFail(a.albedo, width, height);
     if (!a.quiet) options.progress = [](int done, int total) { showProgress("bake: level", done, total); };
     Bake bake = bakeMethod(*method, pyramid, options);
     if (!a.gloss.empty()) bake.parameters["max_exponent"] = a.maxExponent;
@@ -115,6 +118,7 @@ void addBakeCommand(CLI::App& app) {
         ->check(CLI::Range(1, kMaxShOrder));
     c->add_flag("--half", args->half, "store the planes as 16-bit half floats");
     c->add_option("--lobes", args->lobes, "vmf: lobes per texel J (default 4)")->check(CLI::Range(1, 8));
+    c->add_option("--albedo", args->albedo, "vmf: colour map (sRGB PNG/JPEG or linear EXR): a colour per lobe");
     c->add_option("--max-iterations", args->maxIterations, "vmf: EM iterations per texel at most")
         ->check(CLI::Range(1, 10000))->capture_default_str();
     c->add_option("--tolerance", args->tolerance, "vmf: relative log-likelihood gain that ends EM")

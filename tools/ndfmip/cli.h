@@ -38,6 +38,10 @@ void addInputOptions(CLI::App* command, InputOptions& options);
 Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bool quiet,
                         DecodeReport* report = nullptr);
 
+// An albedo (colour) map as linear RGB, 3 channels: 8/16-bit files are sRGB-decoded, EXR is taken
+// as linear. Throws unless it has `width` x `height` texels and 3 or 4 channels.
+SharedImage loadAlbedoOrFail(const std::string& path, int width, int height);
+
 // ours, hdrp, filament, godot or unreal (roughness.h); throws on anything else.
 RoughnessMapping roughnessMappingOrFail(const std::string& name);
 const char* roughnessMappingName(RoughnessMapping mapping);

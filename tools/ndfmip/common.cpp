@@ -4,6 +4,12 @@
 
 #include "cli.h"
 
+#include <algorithm>
+#include <cmath>
+
+#include "ndfmip/io.h"
+#include "ndfmip/vmf.h"
+
 namespace ndfmip::cli {
 
 DecodeOptions InputOptions::resolved() const {
@@ -65,6 +71,24 @@ const std::pair<const char*, RoughnessMapping> kMappings[] = {
     {"unreal", RoughnessMapping::Unreal},
 };
 } // namespace
+
+SharedImage loadAlbedoOrFail(const std::string& path, int width, int height) {
+    Result<SourceImage> source = loadImage(path);
+    if (!source) throw Failure(source.error().message);
+    const Image& image = source->image;
+    Status size = checkAlbedoSize(image, width, height, path);
+    if (!size) throw Failure(size.error);
+    Image rgb(image.width, image.height, 3);
+    for (size_t i = 0; i < image.texelCount(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            float v = image.pixels[i * image.channels + c];
+            if (!std::isfinite(v)) throw Failure(path + ": NaN or infinite albedo value");
+            // The sRGB transfer function (IEC 61966-2-1) for integer files.
+            if (!source->isFloat) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+            rgb.pixels[3 * i + c] = std::max(v, 0.f);
+        }
+    return std::make_shared<const Image>(std::move(rgb));
+}
 
 RoughnessMapping roughnessMappingOrFail(const std::string& name) {
     for (const auto& [n, m] : kMappings)

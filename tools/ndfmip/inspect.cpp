@@ -97,9 +97,18 @@ std::vector<VmfLobe> texelLobes(const LoadedBake& bake, int x, int y) {
 
 void addVmfKeys(nlohmann::json& out, const LoadedBake& bake, int x, int y) {
     nlohmann::json lobes = nlohmann::json::array();
-    for (const VmfLobe& l : texelLobes(bake, x, y)) {
+    const std::vector<VmfLobe> all = texelLobes(bake, x, y);
+    for (size_t j = 0; j < all.size(); ++j) {
+        const VmfLobe& l = all[j];
         if (!(l.alpha > 0.f)) continue;
-        lobes.push_back({{"alpha", l.alpha}, {"mu", {l.mu.x, l.mu.y, l.mu.z}}, {"kappa", l.kappa}});
+        nlohmann::json lobe = {{"alpha", l.alpha}, {"mu", {l.mu.x, l.mu.y, l.mu.z}}, {"kappa", l.kappa}};
+        const int color = findPlane(bake.planes, "color" + std::to_string(j));
+        if (color >= 0) {
+            const float* c = bake.level[color].at(x, y);
+            const glm::vec3 rgb = unpackLobeColor(glm::vec3(c[0], c[1], c[2]), l.alpha);
+            lobe["color"] = {rgb.x, rgb.y, rgb.z};
+        }
+        lobes.push_back(lobe);
     }
     out["lobes"] = lobes;
 }

@@ -71,6 +71,9 @@ void runRender(const RenderArgs& a) {
     textures.normals = std::make_shared<const Image>(
         loadNormalsOrFail(scene->normalMap.path, scene->normalMap.decode, a.quiet));
     const std::string bakeDir = a.bake.empty() ? scene->bakeDir : a.bake;
+    SharedImage albedo;
+    if (!scene->albedoMap.empty())
+        albedo = loadAlbedoOrFail(scene->albedoMap, textures.normals->width, textures.normals->height);
     if (method != kGroundTruth) {
         if (!bakeDir.empty()) {
             Result<Bake> bake = loadBake(bakeDir);
@@ -79,9 +82,11 @@ void runRender(const RenderArgs& a) {
         } else {
             BakeOptions bakeOptions;
             bakeOptions.shOrder = a.order;
+            bakeOptions.albedo = albedo;
             textures.bake = bakeMethod(*methodFromString(method), buildPyramid(textures.normals), bakeOptions);
         }
     }
+    if (albedo) textures.albedo = albedoMips(buildPyramid(textures.normals), albedo);
     if (!a.quiet && textures.bake.method == Method::Sh && method == "sh")
         warnAboutShTruncation(scene->material, bakeShOrder(textures.bake));
     const double loadMs = millisecondsSince(start);
