@@ -916,6 +916,34 @@ TEST(Cli, RenderExampleScenesShipWithTheRepository) {
     }
 }
 
+TEST(Cli, ShBakeStoresYlmAndInspectPrintsThemBandByBand) {
+    TempDir tmp("sh");
+    const std::string map = tmp.file("map.png");
+    writePng16(map, encodeNormals(checkerTiltNormals(8, 8, kTheta)));
+    const fs::path dir = tmp.path / "bake";
+    CliRun r = cli("bake " + shellQuoted(map) + " --method sh --order 3 --half -q -o " + shellQuoted(dir.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    json manifest = readManifest(dir);
+    EXPECT_EQ(manifest.at("storage"), "half");
+    EXPECT_EQ(manifest.at("planes").size(), 4u); // 16 coefficients, 4 per plane
+    // Level 1: the block's two normals (+-theta in x) average Y_lm; band 1 is sqrt(3/4pi) (y, z, x).
+    json texel = inspect(dir, 1, "0,0", "--ndf " + shellQuoted(tmp.file("ndf.png")));
+    ASSERT_EQ(texel.at("sh").size(), 16u);
+    const float c1 = std::sqrt(3.f / (4.f * 3.14159265f));
+    EXPECT_NEAR(texel.at("sh").at(0).get<float>(), 1.f / std::sqrt(4.f * 3.14159265f), 1e-3f);
+    EXPECT_NEAR(texel.at("sh").at(2).get<float>(), c1 * std::cos(kTheta), 2e-3f);
+    EXPECT_NEAR(texel.at("sh").at(3).get<float>(), 0.f, 1e-3f);
+    EXPECT_NEAR(texel.at("length").get<float>(), std::cos(kTheta), 2e-3f);
+    Result<SourceImage> ndf = loadImage(tmp.file("ndf.png"));
+    ASSERT_TRUE(ndf.ok());
+    EXPECT_EQ(ndf->image.width, 2 * 256 + 2);
+    expectCleanFailure(cli("bake " + shellQuoted(map) + " --method sh --order 31 -o " + shellQuoted((tmp.path / "b2").string())),
+                       {"--order"});
+    expectCleanFailure(cli("bake " + shellQuoted(map) + " --method naive --order 3 -o " + shellQuoted((tmp.path / "b3").string())),
+                       {"--order"});
+    EXPECT_FALSE(fs::exists(tmp.path / "b2"));
+}
+
 TEST(Cli, VmfBakeWithAlbedoPrintsLobesWithColours) {
     TempDir tmp("vmf");
     const std::string map = tmp.file("map.png");
