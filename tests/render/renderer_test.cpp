@@ -221,6 +221,14 @@ TEST(Renderer, ShMipsAreTheMeanOfTheirChildren) {
     EXPECT_NEAR(g[3], c1 * n[0], 1e-6f);
 }
 
+// The aligned-view truth with nearest texels and one stratum per texel: the block mean.
+Result<Image> blockTruth(const Scene& scene, const RenderTextures& t, int spp) {
+    RenderOptions o;
+    o.nearest = true;
+    o.spp = spp;
+    return render(scene, t, kGroundTruth, o);
+}
+
 // Two groove directions in a checkerboard: at level 1 every texel's NDF is two sharp spikes,
 // which two vMF lobes represent exactly (each at kappa's cap) and one widened lobe cannot.
 TEST(Renderer, VmfLobesReproduceATwoSpikeNdf) {
@@ -238,10 +246,7 @@ TEST(Renderer, VmfLobesReproduceATwoSpikeNdf) {
         const Scene scene = alignedScene(4, m, light); // 2x2 texels per pixel: level 1
         RenderTextures t;
         t.normals = std::make_shared<const Image>(map);
-        RenderOptions truthOptions;
-        truthOptions.nearest = true;
-        truthOptions.spp = 4;
-        Result<Image> truth = render(scene, t, kGroundTruth, truthOptions);
+        Result<Image> truth = blockTruth(scene, t, 4);
         BakeOptions options;
         options.vmfLobes = 2;
         t.bake = bakeVmf(buildPyramid(t.normals), options);
@@ -288,10 +293,7 @@ TEST(Renderer, VmfLobeColoursFollowTheirNormals) {
     t.normals = std::make_shared<const Image>(map);
     const Pyramid pyramid = buildPyramid(t.normals);
     t.albedo = albedoMips(pyramid, albedo);
-    RenderOptions truthOptions;
-    truthOptions.nearest = true;
-    truthOptions.spp = 4;
-    Result<Image> truth = render(scene, t, kGroundTruth, truthOptions);
+    Result<Image> truth = blockTruth(scene, t, 4);
     BakeOptions options;
     options.vmfLobes = 2;
     options.albedo = albedo;
