@@ -1,6 +1,7 @@
 // vMF lobes for a whole pyramid (Han et al. 2007, Sec. 7): farthest-point initialisation and
-// spherical EM over every level-0 normal of every texel. Each level costs about the same,
-// (normals) x J x (iterations + 1) exps, so the counters report the EM iterations.
+// spherical EM over every level-0 normal of every texel, plain or coherent (Sec. 7.3). Each level
+// costs about the same, (normals) x J x (iterations + 1) exps, so the counters report the EM
+// iterations.
 #include <benchmark/benchmark.h>
 
 #include "bench_support.h"
@@ -32,6 +33,24 @@ void BM_VmfPyramid(benchmark::State& state) {
     setCounters(state, stats, map->texelCount());
 }
 
+// Coherent lobes (Sec. 7.3), C = 1: top-down, each level's texels in anti-diagonal wavefronts.
+// Args: map size, J, alignedKappa. lobe_mismatch: lobeMismatch of the result, degrees.
+void BM_VmfPyramidCoherent(benchmark::State& state) {
+    const ndfmip::SharedImage& map = syntheticMap(int(state.range(0)));
+    ndfmip::Pyramid pyramid = ndfmip::buildPyramid(map);
+    ndfmip::VmfFitOptions options;
+    options.coherence = 1;
+    options.alignedKappa = state.range(2) != 0;
+    ndfmip::VmfFitStats stats;
+    std::vector<ndfmip::VmfLevel> levels;
+    for (auto _ : state) {
+        levels = ndfmip::fitVmfPyramidCoherent(pyramid, int(state.range(1)), options, &stats);
+        benchmark::DoNotOptimize(levels.back().lobes.data());
+    }
+    setCounters(state, stats, map->texelCount());
+    state.counters["lobe_mismatch"] = ndfmip::lobeMismatch(levels);
+}
+
 // One large texel: the E-step's throughput, in normal-lobe evaluations per second.
 void BM_VmfFitOneTexel(benchmark::State& state) {
     const ndfmip::SharedImage& map = syntheticMap(int(state.range(0)));
@@ -58,8 +77,14 @@ void BM_VmfFitOneTexel(benchmark::State& state) {
 }
 
 BENCHMARK(BM_VmfPyramid)
+    ->Args({512, 4})
     ->Args({512, 6})
     ->Args({2048, 4})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_VmfPyramidCoherent)
+    ->Args({512, 4, 0})
+    ->Args({512, 4, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_VmfFitOneTexel)

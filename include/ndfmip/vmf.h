@@ -114,6 +114,18 @@ struct VmfFitOptions {
     // can then dip by ~1e-7 relative, which ends the fit); true = the exact maximum-likelihood
     // A^-1(r), which makes each iteration an exact EM step (the log-likelihood never decreases).
     bool exactKappa = false;
+    // Coherent lobes (Sec. 7.3): C of eq. 32, the strength of the pull of each lobe's direction
+    // toward the same lobe of its neighbours; 0 = none. Used by fitVmfMixture with an
+    // `alignment` and by fitVmfPyramidCoherent; fitVmfPyramid hands the pyramid to the latter
+    // when it is > 0.
+    float coherence = 0.f;
+    // Coherent fits: kappa_j from |r_j| (false: the pull turns a lobe without widening it) or
+    // from r_j . mu_j, the length of the lobe's mean along its pulled direction (true: the
+    // maximum-likelihood kappa for that mu, which makes each iteration an exact M-step of the
+    // appendix's likelihood-times-prior; a turned lobe widens to keep covering its normals, and
+    // its packed vector alpha_j (r_j . mu_j) mu_j is the point of its axis nearest alpha_j r_j).
+    // The same as false where nothing pulls.
+    bool alignedKappa = false;
 };
 
 struct VmfFitResult {
@@ -147,8 +159,32 @@ struct VmfFitResult {
 // Cost: (iterations + 1) passes over the normals, each J exps per normal, vectorised (AVX2 where
 // the CPU has it); large inputs are split across OpenMP threads. Deterministic: the same input
 // gives the same bits whatever the thread count.
+//
+// Coherent fit (Sec. 7.3): `alignment` non-null holds one vector per initial lobe (slot),
+// align_j = Sum_k alpha_jk mu_jk over the lobes j of already fitted neighbouring texels, and
+// line 13 of the M-step becomes mu_j = normalize(r_j + C align_j), C = options.coherence
+// (eq. 32). r_j is, as in the paper's line 11, the mean resultant vector of the lobe's normals,
+// Sum_i w_i z_ij n_i / Sum_i w_i z_ij (length <= 1; A(kappa) mu for a vMF), so C weighs align_j
+// against a vector no longer than 1, whatever the texel's size. kappa_j still comes from
+// |r_j| (or r_j . mu_j: alignedKappa). (The appendix's prior Sum_k C' alpha_jk mu_j . mu_jk gives
+// mu_j ~ kappa_j Sum_i z_ij n_i + C' align_j: eq. 32 with C = C' / (kappa_j Sum_i z_ij); read
+// with r_j the sum Sum_i z_ij n_i, as the paper's C = C' / kappa_j suggests, the pull would
+// weaken with the number of normals instead.) C <= 0 pulls nothing. A coherent fit keeps the
+// lobes in their slots: result.lobes has the first kMaxVmfLobes entries of `initial`, in that
+// order, not sorted; a slot that starts with alpha <= 0, drops below minAlpha or merges into an
+// indistinguishable lobe (the heavier keeps its slot, ties the lower) holds VmfLobe{} (alpha 0)
+// and takes no part in the E-step; alphas of the others sum to 1. The pull
+// makes the iteration an EM for the likelihood times the appendix's prior, not for the
+// likelihood, so the log-likelihood may fall: with C > 0 the fit stops once an iteration
+// changes it by no more than the tolerance either way. C = 0 fits the same lobes as the plain
+// fit, slot for slot, where `initial` is sorted by alpha and no lobe is dropped or merged.
+// With C > 0 the packed lobes no longer add up to the mean normal exactly: lobe j stores
+// alpha_j |r_j| mu_j instead of alpha_j r_j, off by at most 2 C alpha_j |align_j| (with
+// alignedKappa alpha_j (r_j . mu_j) mu_j, off by the part of alpha_j r_j across mu_j, at most
+// C alpha_j |align_j|).
 VmfFitResult fitVmfMixture(const glm::vec3* normals, const float* weights, size_t count,
-                           std::vector<VmfLobe> initial, const VmfFitOptions& options = {});
+                           std::vector<VmfLobe> initial, const VmfFitOptions& options = {},
+                           const glm::vec3* alignment = nullptr);
 
 // Hochbaum-Shmoys farthest-point clustering of candidate lobes' directions (Sec. 7.1): the
 // heaviest candidate first, then repeatedly the one whose smallest angle to those chosen is
@@ -162,7 +198,8 @@ std::vector<VmfLobe> farthestPointLobes(const std::vector<VmfLobe>& candidates, 
 // ---- the whole pyramid ---------------------------------------------------------------------
 
 // The lobes of every texel of one level, packed: texel (x, y), index t = y * width + x, owns
-// lobes[offsets[t] .. offsets[t + 1]), by decreasing alpha; texels have between 1 and J lobes.
+// lobes[offsets[t] .. offsets[t + 1]). fitVmfPyramid: by decreasing alpha, between 1 and J
+// lobes. fitVmfPyramidCoherent: exactly J slots, empty ones alpha 0.
 struct VmfLevel {
     int width = 0, height = 0;
     std::vector<uint32_t> offsets; // width * height + 1
@@ -189,9 +226,54 @@ struct VmfFitStats {
 // weighted by the children's footprints) and runs fitVmfMixture over all the level-0 normals of
 // its footprint. Every level costs about the same, (normals) x J x (iterations + 1) exps.
 // Parallel over texels (OpenMP), or within a texel's fit for the few large texels of the top
-// levels; deterministic. `stats` may be null.
+// levels; deterministic. `stats` may be null. options.coherence > 0: returns
+// fitVmfPyramidCoherent(pyramid, J, options, stats) instead.
 std::vector<VmfLevel> fitVmfPyramid(const Pyramid& pyramid, int J, const VmfFitOptions& options,
                                     VmfFitStats* stats);
+
+// Coherent lobes for hardware interpolation (Sec. 7.3): slot j holds corresponding lobes in
+// every texel of every level, so that filtering the packed slots (eq. 33) across texels and
+// levels blends lobes that belong together. Built top-down as the paper does:
+// - the top (1x1) texel: farthest-point seeds over all its level-0 normals (there is no finer
+//   fit to start from): the normal nearest the mean direction first, then repeatedly the normal
+//   farthest from those chosen, ties the lower index, at most J; each seed alpha = the share of
+//   normals nearest to it, kappa = levelZeroKappa. EM in slots, no pull.
+// - every level below it, texels in scanline order: slot j starts as slot j of the parent, and
+//   coherent EM over all level-0 normals of the footprint pulls mu_j toward
+//   align_j = Sum_k alpha_jk mu_jk over the texels fitted before it: the parent and the left,
+//   upper-left, upper and upper-right texels of its level (eq. 32, C = options.coherence;
+//   C = 0 gives the slot-coherent start alone, and then the packed lobes add up to Na as in
+//   fitVmfPyramid).
+// - level 0: one lobe, alpha 1, mu = n, kappa = min(levelZeroKappa, kappaMax), in the slot
+//   whose parent lobe is most responsible for n (largest alpha_j gamma_j(n), ties the lower
+//   slot), so that levels 0 and 1 interpolate slot by slot.
+// Every texel has exactly J slots (offsets step by J); alphas sum to 1; an empty slot is
+// VmfLobe{} (alpha 0). Slots are never reseeded: one empty in a texel stays empty in the
+// texels below it. The neighbours above and to the left only make a level's texels depend on
+// those of earlier anti-diagonals x + 2y, which are fitted in parallel, one after the other,
+// with the same results as a scanline pass; the few large texels of the top levels split
+// their E-steps across threads instead. Deterministic whatever the thread count. The EM work
+// is that of fitVmfPyramid; level 0 takes J slots per texel (J x the memory). `stats` may be
+// null.
+//
+// The pull trades likelihood for agreement between neighbours, most where footprints are small:
+// a lobe of a few normals is sharp, and turning it by a fraction of a degree loses them
+// (alignedKappa widens it instead). On a 64 x 64 map of two drifting groove patterns, J = 4
+// (tests/filter/vmf_coherent_test.cpp), lobeMismatch falls from 25.6 degrees (fitVmfPyramid) to
+// 4.7 (C = 0) and 2.8 (C = 1; 2.2 with alignedKappa); against fitVmfPyramid, C = 1 loses 37
+// nats of log-likelihood per normal at level 1 (alignedKappa: 5), up to 0.9 at levels 2-3
+// (0.45), none from level 4 (256 normals a texel) up.
+std::vector<VmfLevel> fitVmfPyramidCoherent(const Pyramid& pyramid, int J,
+                                            const VmfFitOptions& options, VmfFitStats* stats);
+
+// How far corresponding lobes of adjacent texels point apart, in degrees: over the levels
+// >= firstLevel, every pair of horizontally or vertically adjacent texels and every slot j that
+// both hold with alpha > 0, the angle between their mu_j, weighted by min(alpha_j, alpha'_j);
+// returns the weighted mean (0 where no pair counts). Slot j is the texel's j-th lobe whatever
+// fitted it (for fitVmfPyramid, the j-th heaviest): hardware interpolation of the packed slots
+// blends exactly these pairs, and a large angle blends two different lobes into one misplaced
+// one.
+double lobeMismatch(const std::vector<VmfLevel>& levels, int firstLevel = 1);
 
 } // namespace ndfmip
 

@@ -317,6 +317,108 @@ void sortByAlpha(LobeSet& set) {
                      [](const VmfLobe& a, const VmfLobe& b) { return a.alpha > b.alpha; });
 }
 
+// ---- coherent fits: lobes in fixed slots, empty ones alpha 0 ----------------------------------
+
+int liveSlots(const LobeSet& set) {
+    int live = 0;
+    for (int j = 0; j < set.count; ++j) live += set.lobe[j].alpha > 0 ? 1 : 0;
+    return live;
+}
+
+// normaliseAlphas over the live slots: the same sums, in the same order, when no slot is empty.
+void normaliseSlotAlphas(LobeSet& set) {
+    double sum = 0;
+    for (int j = 0; j < set.count; ++j)
+        if (set.lobe[j].alpha > 0) sum += set.lobe[j].alpha;
+    const int live = liveSlots(set);
+    for (int j = 0; j < set.count; ++j)
+        if (set.lobe[j].alpha > 0)
+            set.lobe[j].alpha = sum > 0 ? float(set.lobe[j].alpha / sum) : 1.f / float(live);
+}
+
+// mergeIndistinguishable in place: the merged lobe takes the heavier slot (ties: the lower one),
+// the other slot empties.
+void mergeIndistinguishableSlots(LobeSet& set, const VmfFitOptions& options) {
+    for (int j = 0; j < set.count; ++j) {
+        for (int k = j + 1; k < set.count && set.lobe[j].alpha > 0; ++k) {
+            if (!(set.lobe[k].alpha > 0) || !indistinguishable(set.lobe[j], set.lobe[k])) continue;
+            const VmfLobe &a = set.lobe[j], &b = set.lobe[k];
+            double alpha = double(a.alpha) + double(b.alpha);
+            glm::dvec3 mean =
+                (double(a.alpha) * meanLengthOf(a.kappa, options) * glm::dvec3(a.mu) +
+                 double(b.alpha) * meanLengthOf(b.kappa, options) * glm::dvec3(b.mu)) /
+                alpha;
+            double length = glm::length(mean);
+            const int keep = b.alpha > a.alpha ? k : j;
+            VmfLobe merged = set.lobe[keep];
+            merged.alpha = float(alpha);
+            if (length > 0) merged.mu = glm::vec3(mean / length);
+            merged.kappa = float(kappaOf(length, options));
+            set.lobe[j] = set.lobe[k] = VmfLobe{}; // alpha 0
+            set.lobe[keep] = merged;
+        }
+    }
+}
+
+void sanitiseSlots(LobeSet& set, const VmfFitOptions& options) {
+    const float kappaMax = std::max(options.kappaMax, 0.f);
+    for (int j = 0; j < set.count; ++j) {
+        VmfLobe& lobe = set.lobe[j];
+        if (!(lobe.alpha > 0) || !std::isfinite(lobe.alpha)) {
+            lobe = VmfLobe{}; // alpha 0
+            continue;
+        }
+        lobe.mu = glm::vec3(unitOrFlat(glm::dvec3(lobe.mu)));
+        lobe.kappa = lobe.kappa >= 0 ? std::min(lobe.kappa, kappaMax) : 0.f; // NaN -> 0
+    }
+    normaliseSlotAlphas(set);
+    mergeIndistinguishableSlots(set, options);
+}
+
+// mStep for slots: `moments` holds the live slots in slot order (slotOf maps them back). Line 13
+// becomes eq. 32, mu_j = normalize(r_j + C align_j); kappa_j comes from |r_j| or, with
+// alignedKappa, from r_j . mu_j.
+LobeSet mStepSlots(const Moments& moments, const int* slotOf, int live, const LobeSet& current,
+                   const Alignment& alignment, double totalWeight, const VmfFitOptions& options) {
+    LobeSet next = current;
+    int heaviest = 0;
+    bool any = false;
+    for (int c = 0; c < live; ++c) {
+        const int j = slotOf[c];
+        if (moments.n[c] > moments.n[heaviest]) heaviest = c;
+        double alpha = moments.n[c] / totalWeight;
+        VmfLobe& lobe = next.lobe[j];
+        if (!(moments.n[c] > 0) || !(alpha >= options.minAlpha)) {
+            lobe = VmfLobe{}; // dropped: alpha 0
+            continue;
+        }
+        any = true;
+        glm::dvec3 mean = glm::dvec3(current.lobe[j].mu) +
+                          glm::dvec3(moments.rx[c], moments.ry[c], moments.rz[c]) / moments.n[c];
+        double length = glm::length(mean);
+        const bool pulled = alignment.pull[j] != glm::dvec3(0);
+        glm::dvec3 direction = pulled ? mean + alignment.pull[j] : mean;
+        double directionLength = glm::length(direction);
+        lobe.alpha = float(alpha);
+        // r_j + C align_j = 0: the lobe keeps its direction.
+        if (directionLength > 0 && std::isfinite(directionLength))
+            lobe.mu = glm::vec3(direction / directionLength);
+        double along = length;
+        if (pulled && options.alignedKappa)
+            along = directionLength > 0 && std::isfinite(directionLength)
+                        ? glm::dot(mean, direction / directionLength)
+                        : glm::dot(mean, glm::dvec3(lobe.mu));
+        lobe.kappa = float(kappaOf(along, options));
+    }
+    if (!any) { // minAlpha above every alpha: keep the heaviest lobe
+        const int j = slotOf[heaviest];
+        next.lobe[j] = current.lobe[j];
+    }
+    normaliseSlotAlphas(next);
+    mergeIndistinguishableSlots(next, options);
+    return next;
+}
+
 } // namespace
 
 void Moments::clear(int lobes) {
@@ -383,6 +485,64 @@ EmOutcome runEm(const Samples& samples, LobeSet& lobes, const VmfFitOptions& opt
     return outcome;
 }
 
+EmOutcome runSlotEm(const Samples& samples, LobeSet& lobes, const Alignment& alignment,
+                    const VmfFitOptions& options, bool parallel, std::vector<double>* trace) {
+    EmOutcome outcome;
+    sanitiseSlots(lobes, options);
+    double totalWeight = double(samples.count);
+    if (samples.w) {
+        totalWeight = 0;
+        for (size_t i = 0; i < samples.count; ++i) totalWeight += samples.w[i];
+    }
+    if (liveSlots(lobes) == 0) { // start from the uniform lobe in the first slot
+        lobes.count = std::max(lobes.count, 1);
+        lobes.lobe[0] = VmfLobe{1.f, {0, 0, 1}, 0.f, glm::vec3(0.f)};
+    }
+    if (samples.count == 0 || !(totalWeight > 0)) {
+        outcome.converged = true;
+        if (trace) trace->push_back(0);
+        return outcome;
+    }
+
+    // The pull moves mu_j off the maximum-likelihood direction, so the log-likelihood may fall
+    // while the fit settles: only a change within the tolerance either way ends it.
+    const bool pulled = options.coherence > 0;
+    Moments moments;
+    double previous = 0;
+    bool comparable = false;
+    for (;;) {
+        LobeSet live;
+        int slotOf[kMaxVmfLobes];
+        for (int j = 0; j < lobes.count; ++j)
+            if (lobes.lobe[j].alpha > 0) {
+                slotOf[live.count] = j;
+                live.lobe[live.count++] = lobes.lobe[j];
+            }
+        pass(samples, termsOf(live), parallel, moments);
+        const double logLikelihood = moments.logLikelihood;
+        outcome.logLikelihood = logLikelihood;
+        if (trace) trace->push_back(logLikelihood);
+        double scale = std::max(std::abs(logLikelihood), totalWeight);
+        double change = pulled ? std::abs(logLikelihood - previous) : logLikelihood - previous;
+        if (comparable && change <= options.tolerance * scale) {
+            outcome.converged = true;
+            break;
+        }
+        if (outcome.iterations >= options.maxIterations) break;
+        LobeSet next =
+            mStepSlots(moments, slotOf, live.count, lobes, alignment, totalWeight, options);
+        if (sameLobes(next, lobes)) {
+            outcome.converged = true;
+            break;
+        }
+        comparable = liveSlots(next) == live.count;
+        lobes = next;
+        previous = logLikelihood;
+        ++outcome.iterations;
+    }
+    return outcome;
+}
+
 void farthestPoint(const VmfLobe* candidates, size_t count, int J, LobeSet& out) {
     assert(J >= 1);
     J = std::clamp(J, 1, kMaxVmfLobes);
@@ -439,13 +599,21 @@ void farthestPoint(const VmfLobe* candidates, size_t count, int J, LobeSet& out)
 // ---- public entry points -------------------------------------------------------------------
 
 VmfFitResult fitVmfMixture(const glm::vec3* normals, const float* weights, size_t count,
-                           std::vector<VmfLobe> initial, const VmfFitOptions& options) {
-    // The kMaxVmfLobes heaviest initial lobes (stable: ties keep their order).
-    std::stable_sort(initial.begin(), initial.end(),
-                     [](const VmfLobe& a, const VmfLobe& b) { return a.alpha > b.alpha; });
+                           std::vector<VmfLobe> initial, const VmfFitOptions& options,
+                           const glm::vec3* alignment) {
+    // Plain: the kMaxVmfLobes heaviest initial lobes (stable: ties keep their order). Coherent:
+    // the first kMaxVmfLobes slots, in order.
+    if (!alignment)
+        std::stable_sort(initial.begin(), initial.end(),
+                         [](const VmfLobe& a, const VmfLobe& b) { return a.alpha > b.alpha; });
     vmf::LobeSet lobes;
     lobes.count = int(std::min(initial.size(), size_t(kMaxVmfLobes)));
     std::copy(initial.begin(), initial.begin() + lobes.count, lobes.lobe);
+    vmf::Alignment pull;
+    if (alignment)
+        for (int j = 0; j < lobes.count; ++j)
+            pull.pull[j] = (options.coherence > 0 ? double(options.coherence) : 0.0) *
+                           glm::dvec3(alignment[j]);
 
     std::vector<float> x(count), y(count), z(count);
     for (size_t i = 0; i < count; ++i) {
@@ -458,7 +626,9 @@ VmfFitResult fitVmfMixture(const glm::vec3* normals, const float* weights, size_
 
     VmfFitResult result;
     vmf::EmOutcome outcome =
-        vmf::runEm(samples, lobes, options, parallel, &result.logLikelihoodTrace);
+        alignment
+            ? vmf::runSlotEm(samples, lobes, pull, options, parallel, &result.logLikelihoodTrace)
+            : vmf::runEm(samples, lobes, options, parallel, &result.logLikelihoodTrace);
     result.lobes.assign(lobes.lobe, lobes.lobe + lobes.count);
     result.iterations = outcome.iterations;
     result.converged = outcome.converged;

@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "ndfmip/image.h"
+#include "ndfmip/pyramid.h"
 #include "ndfmip/vmf.h"
 
 namespace ndfmip::vmf {
@@ -101,7 +103,51 @@ struct EmOutcome {
 EmOutcome runEm(const Samples& samples, LobeSet& lobes, const VmfFitOptions& options, bool parallel,
                 std::vector<double>* trace);
 
+// What a coherent fit pulls each slot's direction toward (eq. 32): C align_j, already scaled by
+// C = options.coherence. Zero for slots with no neighbour lobe.
+struct Alignment {
+    glm::dvec3 pull[kMaxVmfLobes] = {};
+};
+
+// The EM loop of a coherent fit: lobes.lobe[0 .. count) are slots, kept in place (an empty slot
+// has alpha 0 and stays empty; a lobe that drops below minAlpha or merges into a heavier one
+// leaves VmfLobe{} behind), and the M-step sets mu_j = normalize(r_j + pull_j). With
+// options.coherence > 0 the fit stops once the log-likelihood changes by no more than the
+// tolerance either way. The E-step sees the live slots in slot order, so with zero pulls and
+// no lobe dropped or merged this is runEm's arithmetic, slot for slot.
+EmOutcome runSlotEm(const Samples& samples, LobeSet& lobes, const Alignment& alignment,
+                    const VmfFitOptions& options, bool parallel, std::vector<double>* trace);
+
 // farthestPointLobes into a LobeSet (candidates: any number).
 void farthestPoint(const VmfLobe* candidates, size_t count, int J, LobeSet& out);
+
+// ---- the pyramid's footprints (vmf_pyramid.cpp) --------------------------------------------
+
+// Texel (x, y) of level k >= 1 has the children columns[x] .. columns[x + 1] - 1 by
+// rows[y] .. rows[y + 1] - 1 in level k - 1 (width + 1 and height + 1 entries).
+struct ChildRanges {
+    std::vector<int> columns, rows;
+};
+
+// Level-0 texels covered by texel (x, y) of `level`.
+size_t texelArea(const PyramidLevel& level, int x, int y);
+
+// The level-0 normals of a pyramid, unit length, reordered so that every texel's footprint, at
+// every level, is one contiguous run of x[], y[], z[]: a texel's children come one after the
+// other, recursively, as in a Morton order but following the pyramid's own footprints (odd sizes
+// included). The EM then reads its normals without gathering them.
+struct FootprintOrder {
+    std::vector<ChildRanges> children;      // [k] for k >= 1 ([0] empty)
+    std::vector<std::vector<size_t>> start; // [k][y * width + x]: where the footprint starts
+                                            // ([0] left empty: the level-0 order is not needed)
+    PixelVector soa;                        // x[], then y[], then z[]
+
+    Samples all() const {
+        const size_t count = soa.size() / 3;
+        return {soa.data(), soa.data() + count, soa.data() + 2 * count, nullptr, count};
+    }
+};
+
+FootprintOrder footprintOrder(const Pyramid& pyramid);
 
 } // namespace ndfmip::vmf

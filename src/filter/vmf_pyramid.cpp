@@ -5,7 +5,8 @@
 // The level-0 normals are reordered once so that every texel's footprint, at every level, is one
 // contiguous run of three float arrays (x[], y[], z[]): a texel's children come one after the
 // other, recursively, as in a Morton order but following the pyramid's own footprints (odd sizes
-// included). The EM then reads its normals without gathering them.
+// included). The EM then reads its normals without gathering them. Coherent lobes (Sec. 7.3) are
+// fitted top-down instead, in vmf_coherent.cpp.
 #include <algorithm>
 #include <cassert>
 
@@ -14,6 +15,7 @@
 #include "filter/vmf_internal.h"
 
 namespace ndfmip {
+namespace vmf {
 namespace {
 
 // For each coarse texel along an axis, the first fine texel it covers: coarse edges are a subset
@@ -29,19 +31,9 @@ std::vector<int> firstChildren(const std::vector<int>& coarseEdges,
     return first;
 }
 
-struct ChildRanges {
-    std::vector<int> columns,
-        rows; // texel (x, y) of level k has children columns[x] .. columns[x+1] - 1
-};
-
 ChildRanges childRanges(const PyramidLevel& coarse, const PyramidLevel& fine) {
     return {firstChildren(coarse.columnEdges, fine.columnEdges),
             firstChildren(coarse.rowEdges, fine.rowEdges)};
-}
-
-size_t texelArea(const PyramidLevel& level, int x, int y) {
-    return size_t(level.columnEdges[x + 1] - level.columnEdges[x]) *
-           size_t(level.rowEdges[y + 1] - level.rowEdges[y]);
 }
 
 // Where each texel's footprint starts in the reordered normals, for every level.
@@ -69,6 +61,47 @@ std::vector<std::vector<size_t>> footprintStarts(const Pyramid& pyramid,
     }
     return start;
 }
+
+} // namespace
+
+size_t texelArea(const PyramidLevel& level, int x, int y) {
+    return size_t(level.columnEdges[x + 1] - level.columnEdges[x]) *
+           size_t(level.rowEdges[y + 1] - level.rowEdges[y]);
+}
+
+FootprintOrder footprintOrder(const Pyramid& pyramid) {
+    const int levelCount = int(pyramid.levels.size());
+    const Image& base = *pyramid.base;
+    const size_t normalCount = base.texelCount();
+    FootprintOrder order;
+    order.children.resize(levelCount);
+    for (int k = 1; k < levelCount; ++k)
+        order.children[k] = childRanges(pyramid.levels[k], pyramid.levels[k - 1]);
+    order.start = footprintStarts(pyramid, order.children);
+    order.soa.resize(3 * normalCount);
+    float* px = order.soa.data();
+    float* py = px + normalCount;
+    float* pz = py + normalCount;
+    const std::vector<size_t>& start0 = order.start[0];
+#pragma omp parallel for schedule(static)
+    for (size_t t = 0; t < normalCount; ++t) {
+        float n[3];
+        normalizeOrFlat(&base.pixels[3 * t], n);
+        size_t s = start0[t];
+        px[s] = n[0];
+        py[s] = n[1];
+        pz[s] = n[2];
+    }
+    std::vector<size_t>().swap(order.start[0]);
+    return order;
+}
+
+} // namespace vmf
+
+namespace {
+
+using vmf::ChildRanges;
+using vmf::texelArea;
 
 struct TexelFit {
     int lobes = 0;
@@ -126,22 +159,19 @@ VmfLevel packLevel(int width, int height, int J, const std::vector<VmfLobe>& slo
 
 std::vector<VmfLevel> fitVmfPyramid(const Pyramid& pyramid, int J, const VmfFitOptions& options,
                                     VmfFitStats* stats) {
+    if (options.coherence > 0) return fitVmfPyramidCoherent(pyramid, J, options, stats);
     assert(J >= 1 && J <= kMaxVmfLobes && !pyramid.levels.empty());
     J = std::clamp(J, 1, kMaxVmfLobes);
     const int levelCount = int(pyramid.levels.size());
     const Image& base = *pyramid.base;
     const size_t normalCount = base.texelCount();
 
-    std::vector<ChildRanges> children(levelCount);
-    for (int k = 1; k < levelCount; ++k)
-        children[k] = childRanges(pyramid.levels[k], pyramid.levels[k - 1]);
-    std::vector<std::vector<size_t>> start = footprintStarts(pyramid, children);
+    const vmf::FootprintOrder order = vmf::footprintOrder(pyramid);
+    const std::vector<ChildRanges>& children = order.children;
+    const std::vector<std::vector<size_t>>& start = order.start;
+    const vmf::Samples all = order.all();
 
-    // Level 0: the normals in footprint order, and one lobe each.
-    PixelVector soa(3 * normalCount);
-    float* px = soa.data();
-    float* py = px + normalCount;
-    float* pz = py + normalCount;
+    // Level 0: one lobe per normal.
     std::vector<VmfLevel> result(levelCount);
     VmfLevel& level0 = result[0];
     level0.width = base.width;
@@ -153,16 +183,10 @@ std::vector<VmfLevel> fitVmfPyramid(const Pyramid& pyramid, int J, const VmfFitO
     for (size_t t = 0; t < normalCount; ++t) {
         float n[3];
         normalizeOrFlat(&base.pixels[3 * t], n);
-        size_t s = start[0][t];
-        px[s] = n[0];
-        py[s] = n[1];
-        pz[s] = n[2];
         level0.offsets[t] = uint32_t(t);
         level0.lobes[t] = VmfLobe{1.f, {n[0], n[1], n[2]}, kappa0, glm::vec3(0.f)};
     }
     level0.offsets[normalCount] = uint32_t(normalCount);
-    std::vector<size_t>().swap(start[0]);
-    const vmf::Samples all{px, py, pz, nullptr, normalCount};
 
     VmfFitStats total;
     const int threads = omp_get_max_threads();

@@ -1,0 +1,247 @@
+// Coherent vMF lobes for a whole pyramid (Han et al. 2007, Sec. 7.3): fitted top-down, each
+// texel started from its parent's lobes slot by slot and its directions pulled toward the same
+// slot of the texels fitted before it (eq. 32), so that hardware filtering of the packed slots
+// (eq. 33) blends lobes that belong together.
+//
+// A texel depends on its parent and on its left, upper-left, upper and upper-right neighbours:
+// every texel of the anti-diagonal x + 2y = d depends only on earlier anti-diagonals, so each
+// one is fitted in parallel and the result is that of the paper's scanline order.
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <cstdint>
+
+#include <omp.h>
+
+#include "filter/vmf_internal.h"
+
+namespace ndfmip {
+namespace {
+
+using vmf::texelArea;
+
+// For each fine texel along an axis, the coarse texel that covers it (firstChild: the
+// ChildRanges entries of the coarse level, the last one the fine count).
+std::vector<int> parentsOf(const std::vector<int>& firstChild) {
+    std::vector<int> parent(size_t(firstChild.back()));
+    for (size_t c = 0; c + 1 < firstChild.size(); ++c)
+        for (int f = firstChild[c]; f < firstChild[c + 1]; ++f) parent[size_t(f)] = int(c);
+    return parent;
+}
+
+// The top texel's start: farthest-point seeds among its normals, the one nearest the mean
+// direction first. Each seed weighs the share of normals nearest to it. J slots; those left
+// over (fewer than J distinct directions) are empty.
+vmf::LobeSet topSeeds(const vmf::Samples& normals, glm::dvec3 meanNormal, int J, float kappa) {
+    vmf::LobeSet seeds;
+    seeds.count = J;
+    const size_t count = normals.count;
+    if (count == 0) return seeds;
+    auto normal = [&](size_t i) { return glm::dvec3(normals.x[i], normals.y[i], normals.z[i]); };
+    const double meanLength = glm::length(meanNormal);
+    const glm::dvec3 meanDirection = meanLength > 0 ? meanNormal / meanLength : glm::dvec3(0, 0, 1);
+    size_t first = 0;
+    double bestCos = -2;
+    for (size_t i = 0; i < count; ++i) {
+        double cosine = glm::dot(normal(i), meanDirection);
+        if (cosine > bestCos) bestCos = cosine, first = i;
+    }
+
+    std::vector<double> nearestCos(count, -2.0);
+    std::vector<uint8_t> nearest(count, 0);
+    size_t chosen[kMaxVmfLobes];
+    int seedCount = 0;
+    auto choose = [&](size_t c) {
+        const glm::dvec3 seed = normal(c);
+        const uint8_t slot = uint8_t(seedCount);
+        chosen[seedCount++] = c;
+#pragma omp parallel for schedule(static)
+        for (size_t i = 0; i < count; ++i) {
+            double cosine = glm::dot(normal(i), seed);
+            if (cosine > nearestCos[i]) nearestCos[i] = cosine, nearest[i] = slot;
+        }
+    };
+    choose(first);
+    while (seedCount < J) {
+        size_t farthest = 0;
+        for (size_t i = 1; i < count; ++i)
+            if (nearestCos[i] < nearestCos[farthest]) farthest = i;
+        // 1 - cos <= 1e-12: within 1.4e-6 rad of a seed, as farthestPointLobes.
+        if (1 - nearestCos[farthest] <= 1e-12) break;
+        choose(farthest);
+    }
+    size_t members[kMaxVmfLobes] = {};
+    for (size_t i = 0; i < count; ++i) ++members[nearest[i]];
+    for (int j = 0; j < seedCount; ++j) {
+        size_t c = chosen[j];
+        seeds.lobe[j] = VmfLobe{float(double(members[j]) / double(count)),
+                                {normals.x[c], normals.y[c], normals.z[c]},
+                                kappa,
+                                glm::vec3(0.f)};
+    }
+    return seeds;
+}
+
+struct TexelFit {
+    int lobes = 0;
+    int iterations = 0;
+    bool converged = true;
+};
+
+TexelFit fitSlots(const vmf::Samples& samples, vmf::LobeSet& lobes, const vmf::Alignment& alignment,
+                  const VmfFitOptions& options, bool parallel) {
+    vmf::EmOutcome outcome = vmf::runSlotEm(samples, lobes, alignment, options, parallel, nullptr);
+    int live = 0;
+    for (int j = 0; j < lobes.count; ++j) live += lobes.lobe[j].alpha > 0 ? 1 : 0;
+    return {live, outcome.iterations, outcome.converged};
+}
+
+VmfLevel slotLevel(int width, int height, int J) {
+    VmfLevel level;
+    level.width = width;
+    level.height = height;
+    const size_t texels = size_t(width) * size_t(height);
+    assert(texels * size_t(J) < (size_t(1) << 32));
+    level.offsets.resize(texels + 1);
+    for (size_t t = 0; t <= texels; ++t) level.offsets[t] = uint32_t(t * size_t(J));
+    level.lobes.resize(texels * size_t(J));
+    return level;
+}
+
+} // namespace
+
+std::vector<VmfLevel> fitVmfPyramidCoherent(const Pyramid& pyramid, int J,
+                                            const VmfFitOptions& options, VmfFitStats* stats) {
+    assert(J >= 1 && J <= kMaxVmfLobes && !pyramid.levels.empty());
+    J = std::clamp(J, 1, kMaxVmfLobes);
+    const int levelCount = int(pyramid.levels.size());
+    const int top = levelCount - 1;
+    const Image& base = *pyramid.base;
+    const float kappa0 = std::clamp(options.levelZeroKappa, 0.f, std::max(options.kappaMax, 0.f));
+    const double coherence = options.coherence > 0 ? double(options.coherence) : 0.0;
+
+    std::vector<VmfLevel> result(levelCount);
+    for (int k = 0; k < levelCount; ++k)
+        result[k] = slotLevel(pyramid.levels[k].width, pyramid.levels[k].height, J);
+    VmfFitStats total;
+    auto tally = [&total](const TexelFit& f) {
+        ++total.texels;
+        total.iterations += uint64_t(f.iterations);
+        total.maxIterations = std::max(total.maxIterations, f.iterations);
+        total.notConverged += f.converged ? 0 : 1;
+        total.lobes += uint64_t(f.lobes);
+    };
+
+    if (top == 0) { // a 1x1 map: its one normal, in slot 0
+        float n[3];
+        normalizeOrFlat(base.pixels.data(), n);
+        result[0].lobes[0] = VmfLobe{1.f, {n[0], n[1], n[2]}, kappa0, glm::vec3(0.f)};
+        if (stats) *stats = total;
+        return result;
+    }
+
+    const vmf::FootprintOrder order = vmf::footprintOrder(pyramid);
+    const vmf::Samples all = order.all();
+    const bool nested = omp_in_parallel();
+
+    // The top texel: no parent, no neighbour, no pull.
+    {
+        const float* na = levelMean(pyramid, top).at(0, 0);
+        vmf::LobeSet lobes = topSeeds(all, glm::dvec3(na[0], na[1], na[2]), J, kappa0);
+        tally(fitSlots(all, lobes, vmf::Alignment{}, options, !nested));
+        std::copy(lobes.lobe, lobes.lobe + J, result[top].lobes.begin());
+    }
+
+    for (int k = top - 1; k >= 1; --k) {
+        const PyramidLevel& level = pyramid.levels[k];
+        const int width = level.width, height = level.height;
+        const vmf::ChildRanges& up = order.children[k + 1];
+        const std::vector<int> parentColumn = parentsOf(up.columns);
+        const std::vector<int> parentRow = parentsOf(up.rows);
+        const VmfLevel& coarser = result[k + 1];
+        VmfLevel& out = result[k];
+        std::vector<TexelFit> fits(size_t(width) * height);
+
+        auto fit = [&](int x, int y, bool parallel) {
+            const size_t t = size_t(y) * width + x;
+            const VmfLobe* parent =
+                coarser.texel(parentColumn[size_t(x)], parentRow[size_t(y)]).data();
+            vmf::LobeSet lobes;
+            lobes.count = J;
+            std::copy(parent, parent + J, lobes.lobe);
+            // align_j = Sum_k alpha_jk mu_jk over the texels fitted before this one.
+            vmf::Alignment alignment;
+            auto add = [&](const VmfLobe* neighbour) {
+                for (int j = 0; j < J; ++j)
+                    if (neighbour[j].alpha > 0)
+                        alignment.pull[j] +=
+                            double(neighbour[j].alpha) * glm::dvec3(neighbour[j].mu);
+            };
+            add(parent);
+            if (x > 0) add(&out.lobes[out.offsets[t - 1]]);
+            if (y > 0) {
+                const size_t above = t - size_t(width);
+                if (x > 0) add(&out.lobes[out.offsets[above - 1]]);
+                add(&out.lobes[out.offsets[above]]);
+                if (x + 1 < width) add(&out.lobes[out.offsets[above + 1]]);
+            }
+            for (int j = 0; j < J; ++j) alignment.pull[j] *= coherence;
+            const vmf::Samples samples{all.x + order.start[k][t], all.y + order.start[k][t],
+                                       all.z + order.start[k][t], nullptr, texelArea(level, x, y)};
+            fits[t] = fitSlots(samples, lobes, alignment, options, parallel);
+            std::copy(lobes.lobe, lobes.lobe + J, out.lobes.begin() + out.offsets[t]);
+        };
+
+        // Texels this large split their passes across the threads (see fitVmfPyramid).
+        const bool large = texelArea(level, 0, 0) >= 8 * vmf::kChunk;
+        const int threads = omp_get_max_threads();
+        for (int d = 0; d <= (width - 1) + 2 * (height - 1); ++d) {
+            const int yLow = std::max(0, (d - (width - 1) + 1) / 2);
+            const int yHigh = std::min(height - 1, d / 2);
+            const int texels = yHigh - yLow + 1;
+            if (large || texels < 2 || nested) {
+                for (int y = yLow; y <= yHigh; ++y) fit(d - 2 * y, y, large && !nested);
+                continue;
+            }
+            const int chunk = std::max(1, texels / (threads * 4));
+#pragma omp parallel for schedule(dynamic, chunk)
+            for (int y = yLow; y <= yHigh; ++y) fit(d - 2 * y, y, false);
+        }
+        for (const TexelFit& f : fits) tally(f);
+    }
+
+    // Level 0: each normal in the slot of the parent lobe most responsible for it.
+    {
+        const vmf::ChildRanges& up = order.children[1];
+        const std::vector<int> parentColumn = parentsOf(up.columns);
+        const std::vector<int> parentRow = parentsOf(up.rows);
+        VmfLevel& out = result[0];
+        const int width = base.width;
+#pragma omp parallel for schedule(static)
+        for (int y = 0; y < base.height; ++y)
+            for (int x = 0; x < width; ++x) {
+                const size_t t = size_t(y) * width + x;
+                float n[3];
+                normalizeOrFlat(&base.pixels[3 * t], n);
+                const glm::vec3 normal(n[0], n[1], n[2]);
+                const VmfLobe* parent =
+                    result[1].texel(parentColumn[size_t(x)], parentRow[size_t(y)]).data();
+                int best = -1;
+                double bestLog = 0;
+                for (int j = 0; j < J; ++j) {
+                    if (!(parent[j].alpha > 0)) continue;
+                    double logTerm = std::log(double(parent[j].alpha)) +
+                                     vmfLogDensity(normal, parent[j].mu, parent[j].kappa);
+                    if (best < 0 || logTerm > bestLog) best = j, bestLog = logTerm;
+                }
+                out.lobes[out.offsets[t] + size_t(std::max(best, 0))] =
+                    VmfLobe{1.f, normal, kappa0, glm::vec3(0.f)};
+            }
+    }
+
+    total.meanIterations = total.texels ? double(total.iterations) / double(total.texels) : 0.0;
+    if (stats) *stats = total;
+    return result;
+}
+
+} // namespace ndfmip
