@@ -13,6 +13,11 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
     VmfFitOptions fit;
     fit.maxIterations = options.vmfMaxIterations;
     fit.tolerance = options.vmfTolerance;
+    // Coherent lobes (eq. 32) take kappa from r_j . mu_j, the exact M-step of the alignment
+    // objective: with kappa from |r_j| the pull costs the sharp lobes of the fine levels much
+    // of their likelihood.
+    fit.coherence = options.vmfCoherence;
+    fit.alignedKappa = options.vmfCoherence > 0.f;
     VmfFitStats stats;
     std::vector<VmfLevel> levels = fitVmfPyramid(pyramid, lobes, fit, &stats);
     const bool colors = options.albedo != nullptr;
@@ -28,12 +33,14 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
     bake.parameters["em_mean_iterations"] = stats.meanIterations;
     bake.parameters["em_most_iterations"] = stats.maxIterations;
     bake.parameters["em_not_converged"] = double(stats.notConverged);
+    bake.parameters["coherence"] = options.vmfCoherence;
+    bake.parameters["lobe_mismatch_degrees"] = lobeMismatch(levels);
+    const std::string slot = options.vmfCoherence > 0.f ? " (coherent slot, eq. 32)" : " (slot by decreasing alpha)";
     for (int j = 0; j < lobes; ++j)
         bake.planes.push_back({"lobe" + std::to_string(j),
                                {"alpha", "alpha r mu.x", "alpha r mu.y", "alpha r mu.z"},
-                               "vMF lobe " + std::to_string(j) +
-                                   " (slot by decreasing alpha): amplitude and amplitude times mean "
-                                   "resultant vector (eq. 33)",
+                               "vMF lobe " + std::to_string(j) + slot +
+                                   ": amplitude and amplitude times mean resultant vector (eq. 33)",
                                true});
     if (colors)
         for (int j = 0; j < lobes; ++j)

@@ -1,7 +1,7 @@
 // Coherent vMF lobes for a whole pyramid (Han et al. 2007, Sec. 7.3): fitted top-down, each
-// texel started from its parent's lobes slot by slot and its directions pulled toward the same
-// slot of the texels fitted before it (eq. 32), so that hardware filtering of the packed slots
-// (eq. 33) blends lobes that belong together.
+// texel started from its own plain fit's lobes put into its parent's slots, and its directions
+// pulled toward the same slot of the texels fitted before it (eq. 32), so that hardware
+// filtering of the packed slots (eq. 33) blends lobes that belong together.
 //
 // A texel depends on its parent and on its left, upper-left, upper and upper-right neighbours:
 // every texel of the anti-diagonal x + 2y = d depends only on earlier anti-diagonals, so each
@@ -10,6 +10,8 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <span>
+#include <vector>
 
 #include <omp.h>
 
@@ -29,59 +31,6 @@ std::vector<int> parentsOf(const std::vector<int>& firstChild) {
     return parent;
 }
 
-// The top texel's start: farthest-point seeds among its normals, the one nearest the mean
-// direction first. Each seed weighs the share of normals nearest to it. J slots; those left
-// over (fewer than J distinct directions) are empty.
-vmf::LobeSet topSeeds(const vmf::Samples& normals, glm::dvec3 meanNormal, int J, float kappa) {
-    vmf::LobeSet seeds;
-    seeds.count = J;
-    const size_t count = normals.count;
-    if (count == 0) return seeds;
-    auto normal = [&](size_t i) { return glm::dvec3(normals.x[i], normals.y[i], normals.z[i]); };
-    const double meanLength = glm::length(meanNormal);
-    const glm::dvec3 meanDirection = meanLength > 0 ? meanNormal / meanLength : glm::dvec3(0, 0, 1);
-    size_t first = 0;
-    double bestCos = -2;
-    for (size_t i = 0; i < count; ++i) {
-        double cosine = glm::dot(normal(i), meanDirection);
-        if (cosine > bestCos) bestCos = cosine, first = i;
-    }
-
-    std::vector<double> nearestCos(count, -2.0);
-    std::vector<uint8_t> nearest(count, 0);
-    size_t chosen[kMaxVmfLobes];
-    int seedCount = 0;
-    auto choose = [&](size_t c) {
-        const glm::dvec3 seed = normal(c);
-        const uint8_t slot = uint8_t(seedCount);
-        chosen[seedCount++] = c;
-#pragma omp parallel for schedule(static)
-        for (size_t i = 0; i < count; ++i) {
-            double cosine = glm::dot(normal(i), seed);
-            if (cosine > nearestCos[i]) nearestCos[i] = cosine, nearest[i] = slot;
-        }
-    };
-    choose(first);
-    while (seedCount < J) {
-        size_t farthest = 0;
-        for (size_t i = 1; i < count; ++i)
-            if (nearestCos[i] < nearestCos[farthest]) farthest = i;
-        // 1 - cos <= 1e-12: within 1.4e-6 rad of a seed, as farthestPointLobes.
-        if (1 - nearestCos[farthest] <= 1e-12) break;
-        choose(farthest);
-    }
-    size_t members[kMaxVmfLobes] = {};
-    for (size_t i = 0; i < count; ++i) ++members[nearest[i]];
-    for (int j = 0; j < seedCount; ++j) {
-        size_t c = chosen[j];
-        seeds.lobe[j] = VmfLobe{float(double(members[j]) / double(count)),
-                                {normals.x[c], normals.y[c], normals.z[c]},
-                                kappa,
-                                glm::vec3(0.f)};
-    }
-    return seeds;
-}
-
 struct TexelFit {
     int lobes = 0;
     int iterations = 0;
@@ -94,6 +43,41 @@ TexelFit fitSlots(const vmf::Samples& samples, vmf::LobeSet& lobes, const vmf::A
     int live = 0;
     for (int j = 0; j < lobes.count; ++j) live += lobes.lobe[j].alpha > 0 ? 1 : 0;
     return {live, outcome.iterations, outcome.converged};
+}
+
+// The plain fit's lobes of a texel put into the slots of `reference` (its parent): greedily the
+// pair of (reference slot, lobe) with the closest directions first; lobes left over take the
+// empty slots. The mixture is unchanged, only its slot order, so the fit's accuracy is kept and
+// eq. 32 starts from lobes that already match their neighbours.
+vmf::LobeSet matchSlots(std::span<const VmfLobe> lobes, const VmfLobe* reference, int J) {
+    vmf::LobeSet out;
+    out.count = J;
+    for (int j = 0; j < J; ++j) out.lobe[j] = VmfLobe{};
+    struct Pair {
+        float cosine;
+        int slot, lobe;
+    };
+    std::vector<Pair> pairs;
+    for (int j = 0; j < J; ++j)
+        if (reference[j].alpha > 0)
+            for (int i = 0; i < int(lobes.size()); ++i)
+                pairs.push_back({glm::dot(reference[j].mu, lobes[size_t(i)].mu), j, i});
+    std::stable_sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.cosine > b.cosine; });
+    std::vector<bool> slotUsed(size_t(J), false), lobeUsed(lobes.size(), false);
+    for (const Pair& p : pairs) {
+        if (slotUsed[size_t(p.slot)] || lobeUsed[size_t(p.lobe)]) continue;
+        out.lobe[p.slot] = lobes[size_t(p.lobe)];
+        slotUsed[size_t(p.slot)] = lobeUsed[size_t(p.lobe)] = true;
+    }
+    int free = 0;
+    for (size_t i = 0; i < lobes.size(); ++i) {
+        if (lobeUsed[i]) continue;
+        while (free < J && slotUsed[size_t(free)]) ++free;
+        if (free == J) break;
+        out.lobe[free] = lobes[i];
+        slotUsed[size_t(free)] = true;
+    }
+    return out;
 }
 
 VmfLevel slotLevel(int width, int height, int J) {
@@ -144,12 +128,18 @@ std::vector<VmfLevel> fitVmfPyramidCoherent(const Pyramid& pyramid, int J,
     const vmf::Samples all = order.all();
     const bool nested = omp_in_parallel();
 
+    // Each texel starts from the plain (bottom-up, farthest-point initialised) fit's lobes,
+    // permuted into its parent's slots: the top-down start alone settles in worse optima.
+    VmfFitOptions plainOptions = options;
+    plainOptions.coherence = 0.f;
+    plainOptions.alignedKappa = false;
+    const std::vector<VmfLevel> plain = fitVmfPyramid(pyramid, J, plainOptions, nullptr);
+
     // The top texel: no parent, no neighbour, no pull.
     {
-        const float* na = levelMean(pyramid, top).at(0, 0);
-        vmf::LobeSet lobes = topSeeds(all, glm::dvec3(na[0], na[1], na[2]), J, kappa0);
-        tally(fitSlots(all, lobes, vmf::Alignment{}, options, !nested));
-        std::copy(lobes.lobe, lobes.lobe + J, result[top].lobes.begin());
+        const auto lobes = plain[top].texel(0, 0);
+        std::copy(lobes.begin(), lobes.end(), result[top].lobes.begin());
+        tally({int(lobes.size()), 0, true});
     }
 
     for (int k = top - 1; k >= 1; --k) {
@@ -166,9 +156,7 @@ std::vector<VmfLevel> fitVmfPyramidCoherent(const Pyramid& pyramid, int J,
             const size_t t = size_t(y) * width + x;
             const VmfLobe* parent =
                 coarser.texel(parentColumn[size_t(x)], parentRow[size_t(y)]).data();
-            vmf::LobeSet lobes;
-            lobes.count = J;
-            std::copy(parent, parent + J, lobes.lobe);
+            vmf::LobeSet lobes = matchSlots(plain[k].texel(x, y), parent, J);
             // align_j = Sum_k alpha_jk mu_jk over the texels fitted before this one.
             vmf::Alignment alignment;
             auto add = [&](const VmfLobe* neighbour) {

@@ -980,6 +980,38 @@ TEST(Cli, VmfBakeWithAlbedoPrintsLobesWithColours) {
     EXPECT_FALSE(fs::exists(tmp.path / "b2"));
 }
 
+// Coherent lobes (eq. 32): slot j of neighbouring texels matches far better, and the rendered
+// error against the truth does not grow by more than 5% (geometric mean over the cases).
+TEST(Cli, CoherentLobesMatchAcrossTexelsAtNoCostInImageError) {
+    TempDir tmp("coherent");
+    const std::string map = std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png";
+    double mismatch[2], error[2];
+    for (int c = 0; c < 2; ++c) {
+        const std::string coherence = c ? " --coherent 1" : "";
+        const fs::path bake = tmp.path / ("bake" + std::to_string(c));
+        CliRun r = cli("bake " + shellQuoted(map) + " --green-down --method vmf -q" + coherence + " -o " +
+                       shellQuoted(bake.string()));
+        ASSERT_EQ(r.status, 0) << r.output;
+        mismatch[c] = readManifest(bake).at("parameters").at("lobe_mismatch_degrees").get<double>();
+        const fs::path report = tmp.path / ("report" + std::to_string(c));
+        r = cli("eval " + shellQuoted(map) + " --green-down --methods vmf:4 --footprints 4,16,64 --exponents 32,128 "
+                "--roughness 0.1 --frames 0 -q" + coherence + " -o " + shellQuoted(report.string()));
+        ASSERT_EQ(r.status, 0) << r.output;
+        json cases = json::parse(readFile(report / "report.json")).at("cases");
+        double logSum = 0;
+        int n = 0;
+        for (const json& k : cases)
+            if (k.at("method") == "vmf:4") logSum += std::log(k.at("rel_rmse").get<double>()), ++n;
+        ASSERT_EQ(n, 9);
+        error[c] = std::exp(logSum / n);
+    }
+    EXPECT_LT(mismatch[1], 0.5 * mismatch[0]) << mismatch[0] << " -> " << mismatch[1];
+    EXPECT_LT(error[1], 1.05 * error[0]) << error[0] << " -> " << error[1];
+    expectCleanFailure(cli("bake " + shellQuoted(map) + " --method vmf --coherent -1 -o " +
+                           shellQuoted((tmp.path / "bad").string())),
+                       {"--coherent"});
+}
+
 TEST(Cli, EvalWritesReportWhoseFlatMapCasesAreExact) {
     TempDir tmp("eval");
     writePng16(tmp.file("flat.png"), encodeNormals(flatNormals(32, 32)));

@@ -20,6 +20,7 @@ struct BakeArgs {
     int order = 0; // sh: 0 = the default l* = 7
     int lobes = 0; // vmf: 0 = the default J = 4
     std::string albedo; // vmf: colour per lobe
+    float coherence = 0.f;
     int maxIterations = 50;
     double tolerance = 1e-5;
     bool half = false;
@@ -47,6 +48,7 @@ void runBake(const BakeArgs& a) {
     if (a.order != 0 && *method != Method::Sh) throw Failure("--order applies to --method sh only");
     if (a.lobes != 0 && *method != Method::Vmf) throw Failure("--lobes applies to --method vmf only");
     if (!a.albedo.empty() && *method != Method::Vmf) throw Failure("--albedo applies to --method vmf only");
+    if (a.coherence != 0.f && *method != Method::Vmf) throw Failure("--coherent applies to --method vmf only");
     if (a.exportFormat == "png16" && (*method == Method::Sh || *method == Method::Vmf))
         throw Failure("--export png16 needs a method that stores a normal (naive, toksvig)");
     if (!a.gloss.empty() && a.maxExponent <= 0.f)
@@ -68,6 +70,7 @@ void runBake(const BakeArgs& a) {
     if (a.lobes != 0) options.vmfLobes = a.lobes;
     options.vmfMaxIterations = a.maxIterations;
     options.vmfTolerance = a.tolerance;
+    options.vmfCoherence = a.coherence;
     if (!a.albedo.empty()) options.albedo = loadAlbedoOrFail(a.albedo, width, height);
     if (!a.quiet) options.progress = [](int done, int total) { showProgress("bake: level", done, total); };
     Bake bake = bakeMethod(*method, pyramid, options);
@@ -92,9 +95,10 @@ void runBake(const BakeArgs& a) {
                     decodeMs, bakeMs, writeMs, report.offUnitLength);
         if (*method == Method::Vmf)
             std::printf("vmf     : J = %d lobes, EM iterations per texel %.2f on average, %g at most, %g texels "
-                        "stopped at --max-iterations\n",
+                        "stopped at --max-iterations; lobe mismatch %.2f degrees (coherence %g)\n",
                         bakeVmfLobes(bake), bake.parameters.at("em_mean_iterations"),
-                        bake.parameters.at("em_most_iterations"), bake.parameters.at("em_not_converged"));
+                        bake.parameters.at("em_most_iterations"), bake.parameters.at("em_not_converged"),
+                        bake.parameters.at("lobe_mismatch_degrees"), bake.parameters.at("coherence"));
         if (*method == Method::Sh) {
             const int order = bakeShOrder(bake);
             const int planes = shPlaneCount(order);
@@ -119,6 +123,9 @@ void addBakeCommand(CLI::App& app) {
     c->add_flag("--half", args->half, "store the planes as 16-bit half floats");
     c->add_option("--lobes", args->lobes, "vmf: lobes per texel J (default 4)")->check(CLI::Range(1, 8));
     c->add_option("--albedo", args->albedo, "vmf: colour map (sRGB PNG/JPEG or linear EXR): a colour per lobe");
+    c->add_option("--coherent", args->coherence,
+                  "vmf: C of the alignment term (eq. 32): lobes fitted top-down, slot j matched across texels")
+        ->check(CLI::Range(0.f, 1e6f));
     c->add_option("--max-iterations", args->maxIterations, "vmf: EM iterations per texel at most")
         ->check(CLI::Range(1, 10000))->capture_default_str();
     c->add_option("--tolerance", args->tolerance, "vmf: relative log-likelihood gain that ends EM")

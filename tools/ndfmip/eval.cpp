@@ -47,6 +47,7 @@ struct EvalArgs {
     std::vector<float> calibrationRoughness{0.05f, 0.1f, 0.2f, 0.3f, 0.5f};
     std::vector<float> calibrationScales{0.25f, 0.5f, 0.75f, 1.f, 1.5f, 2.f, 3.f, 4.f};
     bool allImages = false;
+    float coherence = 0.f; // vmf methods: C of eq. 32
     bool quiet = false;
 };
 
@@ -203,6 +204,7 @@ void runEval(const EvalArgs& a) {
     const std::vector<Setting> settings = settingsOf(a);
     std::vector<MethodSpec> specs;
     for (const std::string& m : a.methods) specs.push_back(methodSpec(m));
+    for (MethodSpec& spec : specs) spec.options.vmfCoherence = a.coherence;
     for (int f : a.footprints)
         if (f < 1 || f > 4096) throw Failure("--footprints: " + std::to_string(f) + " is not in 1 .. 4096");
     const DecodeOptions decode = a.input.resolved();
@@ -399,6 +401,8 @@ void addEvalCommand(CLI::App& app) {
         ->check(CLI::Range(0, 256))->capture_default_str();
     c->add_option("--seed", a->seed, "jitter seed")->capture_default_str();
     c->add_flag("--calibrate", a->calibrate, "also compare engines' roughness mappings on GGX");
+    c->add_option("--coherent", a->coherence, "vmf methods: coherent lobes with alignment strength C (eq. 32)")
+        ->check(CLI::Range(0.f, 1e6f));
     c->add_option("--calibration-roughness", a->calibrationRoughness, "base alphas of the calibration")
         ->delimiter(',')->check(CLI::Range(1e-3f, 1.f))->capture_default_str();
     c->add_flag("--all-images", a->allImages, "images of every setting (default: s=32 and the first GGX alpha)");
