@@ -185,6 +185,20 @@ bool indistinguishable(const VmfLobe& a, const VmfLobe& b) {
     return kappa * chord2 <= 1e-6;
 }
 
+// `into` with `other` added: alphas summed, the mean resultant vectors averaged by alpha, mu and
+// kappa from the sum (other fields, such as the colour, stay `into`'s).
+VmfLobe mergedLobe(VmfLobe into, const VmfLobe& other, const VmfFitOptions& options) {
+    double alpha = double(into.alpha) + double(other.alpha);
+    glm::dvec3 mean = (double(into.alpha) * meanLengthOf(into.kappa, options) * glm::dvec3(into.mu) +
+                       double(other.alpha) * meanLengthOf(other.kappa, options) * glm::dvec3(other.mu)) /
+                      alpha;
+    double length = glm::length(mean);
+    into.alpha = float(alpha);
+    if (length > 0) into.mu = glm::vec3(mean / length);
+    into.kappa = float(kappaOf(length, options));
+    return into;
+}
+
 void mergeIndistinguishable(LobeSet& set, const VmfFitOptions& options) {
     for (int j = 0; j < set.count; ++j) {
         for (int k = j + 1; k < set.count;) {
@@ -194,15 +208,7 @@ void mergeIndistinguishable(LobeSet& set, const VmfFitOptions& options) {
                 ++k;
                 continue;
             }
-            double alpha = double(a.alpha) + double(b.alpha);
-            glm::dvec3 mean =
-                (double(a.alpha) * meanLengthOf(a.kappa, options) * glm::dvec3(a.mu) +
-                 double(b.alpha) * meanLengthOf(b.kappa, options) * glm::dvec3(b.mu)) /
-                alpha;
-            double length = glm::length(mean);
-            a.alpha = float(alpha);
-            if (length > 0) a.mu = glm::vec3(mean / length);
-            a.kappa = float(kappaOf(length, options));
+            a = mergedLobe(a, b, options);
             removeLobe(set, k);
         }
     }
@@ -342,18 +348,8 @@ void mergeIndistinguishableSlots(LobeSet& set, const VmfFitOptions& options) {
     for (int j = 0; j < set.count; ++j) {
         for (int k = j + 1; k < set.count && set.lobe[j].alpha > 0; ++k) {
             if (!(set.lobe[k].alpha > 0) || !indistinguishable(set.lobe[j], set.lobe[k])) continue;
-            const VmfLobe &a = set.lobe[j], &b = set.lobe[k];
-            double alpha = double(a.alpha) + double(b.alpha);
-            glm::dvec3 mean =
-                (double(a.alpha) * meanLengthOf(a.kappa, options) * glm::dvec3(a.mu) +
-                 double(b.alpha) * meanLengthOf(b.kappa, options) * glm::dvec3(b.mu)) /
-                alpha;
-            double length = glm::length(mean);
-            const int keep = b.alpha > a.alpha ? k : j;
-            VmfLobe merged = set.lobe[keep];
-            merged.alpha = float(alpha);
-            if (length > 0) merged.mu = glm::vec3(mean / length);
-            merged.kappa = float(kappaOf(length, options));
+            const int keep = set.lobe[k].alpha > set.lobe[j].alpha ? k : j;
+            const VmfLobe merged = mergedLobe(set.lobe[keep], set.lobe[keep == j ? k : j], options);
             set.lobe[j] = set.lobe[k] = VmfLobe{}; // alpha 0
             set.lobe[keep] = merged;
         }

@@ -14,35 +14,33 @@ glm::vec3 shadeVmf(const Material& m, glm::vec3 baseAlbedo, const float* lobes, 
     glm::vec3 out(0.f);
     for (int j = 0; j < count; ++j) {
         const float* p = lobes + 4 * j;
-        const float alpha = p[0];
+        const VmfLobe lobe = unpackLobe(glm::vec4(p[0], p[1], p[2], p[3]));
+        const float alpha = lobe.alpha, kappa = lobe.kappa;
         if (!(alpha > 0.f)) continue;
-        const glm::vec3 r = glm::vec3(p[1], p[2], p[3]) / alpha;
-        const float length = glm::length(r);
-        const glm::vec3 mu = length > 0.f ? r / length : glm::vec3(0.f, 0.f, 1.f);
-        const float kappa = float(kappaFromMeanLength(length));
+        const glm::vec3 mu = lobe.mu;
         const float cosL = glm::dot(mu, l);
         // Diffuse: eq. 29 with s = 1 over the light direction.
         const float sd = kappa / (kappa + 1.f);
         const float diffuse = (sd + 1.f) / (2.f * kPi) * std::pow(glm::max(cosL, 0.f), sd);
         const glm::vec3 albedo = colors ? colors[j] * m.albedo : baseAlbedo;
-        float lobe = 0.f;
+        float specular = 0.f;
         const float cosH = glm::dot(mu, h);
         switch (m.brdf) {
         case Brdf::BlinnPhong: {
             const float s = kappa * m.exponent / (kappa + m.exponent);
-            lobe = blinnPhong(cosH, s);
+            specular = blinnPhong(cosH, s);
             break;
         }
         case Brdf::Beckmann:
-            lobe = beckmannD(cosH, std::sqrt(m.roughness * m.roughness + 2.f / glm::max(kappa, 1e-6f)));
+            specular = beckmannD(cosH, std::sqrt(m.roughness * m.roughness + 2.f / glm::max(kappa, 1e-6f)));
             break;
         case Brdf::Ggx:
-            lobe = ggxD(cosH, std::sqrt(m.roughness * m.roughness + 2.f / glm::max(kappa, 1e-6f)));
+            specular = ggxD(cosH, std::sqrt(m.roughness * m.roughness + 2.f / glm::max(kappa, 1e-6f)));
             break;
-        case Brdf::Tabulated: lobe = materialLobe(m, cosH, 0.f, 0.f); break;
+        case Brdf::Tabulated: specular = materialLobe(m, cosH, 0.f, 0.f); break;
         case Brdf::Lambert: break;
         }
-        out += alpha * (albedo * diffuse + m.specular * (lobe * factor * glm::max(cosL, 0.f)));
+        out += alpha * (albedo * diffuse + m.specular * (specular * factor * glm::max(cosL, 0.f)));
     }
     return out;
 }

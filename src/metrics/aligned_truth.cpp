@@ -55,13 +55,10 @@ Image shadeLevel(const Bake& bake, int level, const ShadeContext& ctx) {
             for (const SharedImage& plane : planes) p.insert(p.end(), &plane->pixels[4 * i], &plane->pixels[4 * i + 4]);
             float sum = 0.f;
             for (int j = 0; j < lobes; ++j) {
-                // One lobe at a time with the light on its centre: the cosine is then 1.
-                const float a = p[4 * j];
-                if (!(a > 0.f)) continue;
-                const glm::vec3 mu = glm::normalize(glm::vec3(p[4 * j + 1], p[4 * j + 2], p[4 * j + 3]));
-                const float kappa = float(kappaFromMeanLength(glm::length(glm::vec3(p[4 * j + 1], p[4 * j + 2], p[4 * j + 3])) / a));
-                const float s = kappa * ctx.exponent / (kappa + ctx.exponent);
-                sum += a * blinnPhong(glm::dot(mu, h), s);
+                const VmfLobe lobe = unpackLobe(glm::vec4(p[4 * j], p[4 * j + 1], p[4 * j + 2], p[4 * j + 3]));
+                if (!(lobe.alpha > 0.f)) continue;
+                const float s = lobe.kappa * ctx.exponent / (lobe.kappa + ctx.exponent);
+                sum += lobe.alpha * blinnPhong(glm::dot(lobe.mu, h), s);
             }
             out.pixels[i] = sum;
         }

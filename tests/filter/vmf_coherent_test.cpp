@@ -375,15 +375,7 @@ TEST(VmfCoherent, OneTexelMap) {
 TEST(VmfCoherent, WithoutPullAnOddPyramidKeepsTheMeanNormal) {
     // Odd sizes, C = 0: slot-coherent starts alone, so every texel's packed lobes add up to its Na
     // as in fitVmfPyramid (minAlpha = 0: nothing dropped).
-    const int width = 23, height = 13;
-    Image map(width, height, 3);
-    std::mt19937_64 rng(7);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            glm::vec3 n = sampleVmf(direction(20, (x / 3) * 70.0 + y * 5), 80, rng);
-            test::setNormal(map, x, y, n.x, n.y, n.z);
-        }
-    Pyramid pyramid = buildPyramid(map);
+    Pyramid pyramid = buildPyramid(oddClusteredMap(7));
     VmfFitOptions options;
     options.minAlpha = 0;
     std::vector<VmfLevel> levels = fitVmfPyramidCoherent(pyramid, 4, options, nullptr);

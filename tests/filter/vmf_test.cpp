@@ -694,15 +694,7 @@ TEST(Vmf, PyramidOfAnOddMapKeepsTheMeanNormal) {
     // Odd sizes (footprints of 2 and 3 texels), every level: the packed lobes of each texel add up
     // to its Na, as packLobe promises (no lobe dropped with minAlpha = 0; capped lobes of
     // single normals are off by 1 - meanLengthFromKappa(1e5) ~ 1e-5).
-    const int width = 23, height = 13;
-    Image map(width, height, 3);
-    std::mt19937_64 rng(17);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            glm::vec3 n = sampleVmf(direction(20, (x / 3) * 70.0 + y * 5), 80, rng);
-            test::setNormal(map, x, y, n.x, n.y, n.z);
-        }
-    Pyramid pyramid = buildPyramid(map);
+    Pyramid pyramid = buildPyramid(oddClusteredMap(17));
     VmfFitOptions options;
     options.minAlpha = 0;
     std::vector<VmfLevel> levels = fitVmfPyramid(pyramid, 4, options, nullptr);

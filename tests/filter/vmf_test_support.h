@@ -9,7 +9,9 @@
 
 #include <glm/glm.hpp>
 
+#include "ndfmip/image.h"
 #include "ndfmip/vmf.h"
+#include "test_support.h"
 
 namespace ndfmip::vmftest {
 
@@ -63,6 +65,19 @@ inline std::vector<glm::vec3> sampleMixture(const std::vector<VmfLobe>& lobes, s
 
 inline VmfLobe lobe(float alpha, glm::vec3 mu, float kappa) {
     return VmfLobe{alpha, mu, kappa, glm::vec3(0.f)};
+}
+
+// A 23 x 13 map (odd sizes: footprints of 2 and 3 texels) of normals drawn from vMF lobes whose
+// centres turn across the map.
+inline Image oddClusteredMap(uint64_t seed) {
+    Image map(23, 13, 3);
+    std::mt19937_64 rng(seed);
+    for (int y = 0; y < map.height; ++y)
+        for (int x = 0; x < map.width; ++x) {
+            glm::vec3 n = sampleVmf(direction(20, (x / 3) * 70.0 + y * 5), 80, rng);
+            test::setNormal(map, x, y, n.x, n.y, n.z);
+        }
+    return map;
 }
 
 } // namespace ndfmip::vmftest

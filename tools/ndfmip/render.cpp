@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <algorithm>
 #include <limits>
+#include <optional>
 #include <filesystem>
 #include <memory>
 
@@ -74,6 +75,9 @@ void runRender(const RenderArgs& a) {
     SharedImage albedo;
     if (!scene->albedoMap.empty())
         albedo = loadAlbedoOrFail(scene->albedoMap, textures.normals->width, textures.normals->height);
+    // Needed to bake on the fly and for the albedo's mips.
+    std::optional<Pyramid> pyramid;
+    if ((method != kGroundTruth && bakeDir.empty()) || albedo) pyramid = buildPyramid(textures.normals);
     if (method != kGroundTruth) {
         if (!bakeDir.empty()) {
             Result<Bake> bake = loadBake(bakeDir);
@@ -83,10 +87,10 @@ void runRender(const RenderArgs& a) {
             BakeOptions bakeOptions;
             bakeOptions.shOrder = a.order;
             bakeOptions.albedo = albedo;
-            textures.bake = bakeMethod(*methodFromString(method), buildPyramid(textures.normals), bakeOptions);
+            textures.bake = bakeMethod(*methodFromString(method), *pyramid, bakeOptions);
         }
     }
-    if (albedo) textures.albedo = albedoMips(buildPyramid(textures.normals), albedo);
+    if (albedo) textures.albedo = albedoMips(*pyramid, albedo);
     if (!a.quiet && textures.bake.method == Method::Sh && method == "sh")
         warnAboutShTruncation(scene->material, bakeShOrder(textures.bake));
     const double loadMs = millisecondsSince(start);
