@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "ndfmip/brdf.h"
+#include "ndfmip/image.h"
 #include "ndfmip/result.h"
 #include "ndfmip/roughness.h"
 #include "ndfmip/toksvig.h"
@@ -28,17 +29,53 @@ inline glm::vec3 shadeNaive(const Material& m, glm::vec3 filtered, glm::vec3 l, 
     return shadeNaive(m, m.albedo, filtered, l, v);
 }
 
+// The material's lobe as a function of n about h, read as a vMF concentration: Blinn-Phong
+// (n.h)^s ~ exp(s (n.h - 1)), so s; Beckmann and GGX through Walter et al.'s s = 2/alpha^2 - 2;
+// 0 where no width is known (tabulated lobes, Lambert).
+inline float lobeConcentration(const Material& m) {
+    switch (m.brdf) {
+    case Brdf::BlinnPhong: return m.exponent;
+    case Brdf::Beckmann:
+    case Brdf::Ggx: return glm::max(2.f / glm::max(m.roughness * m.roughness, 1e-8f) - 2.f, 0.f);
+    case Brdf::Tabulated:
+    case Brdf::Lambert: break;
+    }
+    return 0.f;
+}
+
+// The cosine of a filtered specular term. The truth averages lobe(n.h) (n.l) over the normals;
+// where the NDF is a lobe of concentration kappa about mu, the product NDF x lobe is (as vMFs)
+// a lobe about kappa mu + lobeKappa h, and the normals that reflect are there: the cosine is
+// max(l . normalize(kappa mu + lobeKappa h), 0). A sharp NDF gives mu.l, a sharp BRDF h.l.
+// kappa may be infinite (a single normal).
+inline float specularCosine(glm::vec3 mu, float kappa, float lobeKappa, glm::vec3 h, glm::vec3 l) {
+    const float a = kappa < 1e30f ? kappa / glm::max(kappa + lobeKappa, 1e-30f) : 1.f;
+    const glm::vec3 w = a * mu + (1.f - a) * h;
+    const float length = glm::length(w);
+    return length > 0.f ? glm::max(glm::dot(w, l) / length, 0.f) : 0.f;
+}
+
 // Toksvig: Na is kept unnormalised. Its length widens the specular lobe (Blinn-Phong: the
-// exponent times the Toksvig factor, eq. 6; Beckmann/GGX: alpha from the roughness mapping),
-// and the cosine is Na.l, the exact mean of the covered normals' cosines where none of them
-// faces away from the light (Lambertian reflection is linear in n).
+// exponent times the Toksvig factor, eq. 6; Beckmann/GGX: alpha from the roughness mapping).
+// The diffuse cosine is Na.l, the exact mean of the covered normals' cosines where none of them
+// faces away from the light (Lambertian reflection is linear in n); the specular cosine is
+// specularCosine with the NDF read as a vMF of kappa = 1/sigma^2 = |Na|/(1 - |Na|) (eq. 1).
+inline glm::vec3 shadeToksvigLobe(const Material& m, glm::vec3 albedo, glm::vec3 na, glm::vec3 l, glm::vec3 v,
+                                  float lobe) {
+    const float length = glm::length(na);
+    const glm::vec3 h = glm::normalize(l + v);
+    const glm::vec3 mu = length > 0.f ? na / length : glm::vec3(0.f, 0.f, 1.f);
+    const float kappa = length < 1.f ? length / (1.f - length) : 1e30f;
+    const float cosDiffuse = glm::max(glm::dot(na, l), 0.f);
+    const float cosSpecular = specularCosine(mu, kappa, lobeConcentration(m), h, l);
+    return cosDiffuse * albedo * (1.f / kPi) + cosSpecular * m.specular * lobe * specularFactor(m, l, h);
+}
+
 inline glm::vec3 shadeToksvig(const Material& m, glm::vec3 albedo, glm::vec3 na, glm::vec3 l, glm::vec3 v,
                               RoughnessMapping mapping, float varianceScale = kVarianceScale) {
-    float cosL = glm::max(glm::dot(na, l), 0.f);
-    if (cosL <= 0.f) return glm::vec3(0.f);
-    float length = glm::length(na);
-    glm::vec3 h = glm::normalize(l + v);
-    float cosH = length > 0.f ? glm::dot(na, h) / length : 0.f;
+    const float length = glm::length(na);
+    const glm::vec3 h = glm::normalize(l + v);
+    const float cosH = length > 0.f ? glm::dot(na, h) / length : 0.f;
     float lobe = 0.f;
     switch (m.brdf) {
     case Brdf::BlinnPhong:
@@ -49,14 +86,20 @@ inline glm::vec3 shadeToksvig(const Material& m, glm::vec3 albedo, glm::vec3 na,
     case Brdf::Tabulated: lobe = materialLobe(m, cosH, 0.f, 0.f); break; // no widening rule
     case Brdf::Lambert: break;
     }
-    lobe *= specularFactor(m, l, h);
-    return cosL * (albedo * (1.f / kPi) + m.specular * lobe);
+    return shadeToksvigLobe(m, albedo, na, l, v, lobe);
 }
 
 inline glm::vec3 shadeToksvig(const Material& m, glm::vec3 na, glm::vec3 l, glm::vec3 v, RoughnessMapping mapping,
                               float varianceScale = kVarianceScale) {
     return shadeToksvig(m, m.albedo, na, l, v, mapping, varianceScale);
 }
+
+// Toksvig through his lookup table (eq. 9; kToksvigLut in render.h): `lut` is toksvigLut(...)
+// of the material's exponent, read bilinearly at (Na.H, Na.Na) with clamped edges, and turned
+// from relative to absolute by the unfiltered lobe's peak (s + 1)/(2 pi). Cosines as
+// shadeToksvig. Blinn-Phong materials only.
+glm::vec3 shadeToksvigLut(const Material& m, glm::vec3 albedo, glm::vec3 na, const Image& lut, glm::vec3 l,
+                          glm::vec3 v);
 
 // Spherical harmonics (Han et al. eq. 17): the BRDF's A_l, fixed per material and order.
 struct ShShading {
@@ -70,21 +113,22 @@ Result<ShShading> shShadingFor(const Material& m, int order);
 
 // r_eff(w) = Sum A_l g_lm Y_lm(w) with w = h for the lobe and w = l for the diffuse term, which
 // thereby carries its own cosine; the lobe's cosine comes from the mipmapped normal
-// Na = (g_11, g_1-1, g_10) / sqrt(3 / 4 pi) (footnote 5), as max(Na.l, 0). Truncation can
-// ring below zero; each term is clamped at 0. `g` holds shCount(order) coefficients.
+// Na = (g_11, g_1-1, g_10) / sqrt(3 / 4 pi) (footnote 5), as specularCosine with the NDF read
+// as a vMF of Banerjee's kappa for |Na|. Truncation can ring below zero; each term is clamped
+// at 0. `g` holds shCount(order) coefficients.
 glm::vec3 shadeSh(const Material& m, glm::vec3 albedo, const float* g, const ShShading& a, glm::vec3 l,
                   glm::vec3 v);
 
 // vMF mixture (Han et al. Sec. 7.2): `lobes` holds J filtered (alpha, alpha r mu) quadruples
-// (eq. 33); each lobe's mu and kappa come back by Algorithm 1 lines 12-13. Per lobe, with the
-// cosine to the lobe's centre (footnote 5):
+// (eq. 33); each lobe's mu and kappa come back by Algorithm 1 lines 12-13. Per lobe:
 //   Blinn-Phong    s' = kappa s / (kappa + s), (s' + 1)/(2 pi) (h.mu)^s'          (eq. 29)
 //   Beckmann       alpha'^2 = alpha^2 + 2/kappa: Torrance-Sparrow's sigma'^2 = sigma^2 + 1/(2 kappa)
 //                  (eq. 30) with sigma^2 = alpha^2/4 (the same per-axis spread)
 //   GGX            the same alpha' (an equivalent-roughness mapping; its error is measured)
 //   tabulated      the table about mu, unwidened
 //   diffuse        the Blinn-Phong rule with s = 1 and w = l, which carries the cosine (footnote 9)
-// summed with weights alpha_j. `colors`, when not null, holds J lobe colours (eq. 31) that
+// summed with weights alpha_j; each lobe's specular cosine is specularCosine(mu_j, kappa_j, ...).
+// `colors`, when not null, holds J lobe colours (eq. 31) that
 // multiply the material's albedo in place of `albedo`.
 glm::vec3 shadeVmf(const Material& m, glm::vec3 albedo, const float* lobes, int count, const glm::vec3* colors,
                    glm::vec3 l, glm::vec3 v);

@@ -19,12 +19,52 @@
 namespace ndfmip {
 
 constexpr const char* kGroundTruth = "groundtruth";
+// The representation-perfect reference: every texel a lookup reads is shaded as the exact mean
+// of the BRDF over all the level-0 normals it covers, then the texels are blended with the
+// lookup's weights. What any method that stores an NDF per texel could at best reach through
+// the same filtering; needs constant light and view directions (an orthographic view of a
+// plane under directional lights), where that mean is a linear mip chain of shaded normals.
+constexpr const char* kExact = "exact";
+// Toksvig's own way to shade: the toksvig bake looked up through the 2D table of eq. 9,
+// indexed by (Na.H, Na.Na), with the 8-bit phase-out of eqs. 10-11. Blinn-Phong only.
+constexpr const char* kToksvigLut = "toksvig-lut";
+constexpr int kToksvigLutSize = 256; // table side, as the paper's
+constexpr int kToksvigLutBits = 8;   // bits of the normals whose |Na| the phase-out allows for
+
+// Every name render() takes, for messages: "groundtruth, exact, naive, toksvig, ...".
+std::string renderMethodNames();
+
+// The ground truth's finest normals. Box: each texel's normal over its whole square, the
+// surface the mip pyramid averages (so a level-k texel's NDF is exactly its footprint's
+// normals). Bilinear: the bilinearly interpolated, renormalised surface a magnified view shows.
+enum class TruthFilter { Box, Bilinear };
+const char* truthFilterName(TruthFilter filter); // "box", "bilinear"
+bool truthFilterFromString(const std::string& name, TruthFilter& out);
+
+// What a method does with the texels a lookup reads. Parameter: blends their parameters, then
+// shades once (what a GPU's texture sampler gives a shader). Texel: shades each texel's own
+// parameters and blends the results, which is exact for a mixture NDF (shading is linear in
+// the NDF) at the cost of one shade per texel read (8 for trilinear).
+enum class ShadeFilter { Parameter, Texel };
+const char* shadeFilterName(ShadeFilter filter); // "parameter", "texel"
+bool shadeFilterFromString(const std::string& name, ShadeFilter& out);
 
 struct RenderOptions {
     int spp = 1;             // samples per pixel, stratified and jittered (box filter); 1 = pixel centre
     uint64_t seed = 1;       // jitter seed: the same seed gives the same image on any thread count
-    bool nearest = false;    // ground truth: nearest level-0 texel instead of bilinear + renormalise
+    TruthFilter truth = TruthFilter::Box; // ground truth: which surface the finest normals form
+    // Ground truth with the box surface: where the view allows it (orthographic, looking straight
+    // down on a plane whose texel grid runs along the image axes, directional lights only),
+    // integrate each pixel exactly, texel by texel with its covered area, instead of sampling:
+    // no noise, and spp is then unused.
+    bool exact = true;
     int anisotropy = 1;      // methods: up to this many trilinear probes along the footprint's major axis
+    // Methods: the filtering rule. Each pixel sample becomes taps x taps sub-samples on a regular
+    // grid over the pixel, each looked up with a taps-times smaller footprint (so one level finer
+    // per doubling) plus lodBias levels, shaded, and averaged.
+    int taps = 1;
+    float lodBias = 0.f;
+    ShadeFilter shadeFilter = ShadeFilter::Parameter;
     glm::vec2 pixelShift{0.f}; // sub-pixel shift of the whole image (frames of a flicker test)
     RoughnessMapping roughnessMapping = RoughnessMapping::Ours; // toksvig with Beckmann/GGX
     float varianceScale = kVarianceScale; // c of the Ours mapping
@@ -45,8 +85,9 @@ struct RenderTextures {
 // The albedo's mips, averaged with the normal map's pyramid footprints (linear, like Na).
 std::vector<SharedImage> albedoMips(const Pyramid& pyramid, SharedImage albedo);
 
-// Renders `scene` with `method` (a method name or kGroundTruth); RGB radiance, 3 channels.
-// Errors: unknown method, a bake of another method or size.
+// Renders `scene` with `method` (a method name, kToksvigLut, kExact or kGroundTruth); RGB
+// radiance, 3 channels. Errors: unknown method, a bake of another method or size, a view that
+// kExact cannot handle.
 Result<Image> render(const Scene& scene, const RenderTextures& textures, const std::string& method,
                      const RenderOptions& options);
 
@@ -91,6 +132,9 @@ UvFootprint uvFootprint(const CameraFrame& frame, const SurfaceHit& hit, float p
 inline UvFootprint uvFootprint(const Camera& camera, const SurfaceHit& hit, float px, float py) {
     return uvFootprint(cameraFrame(camera), hit, px, py);
 }
+
+// Whether the view of `scene` lets a box-surface truth be integrated exactly (RenderOptions::exact).
+bool exactBoxView(const Scene& scene);
 
 // GPU LOD: log2 of the longer footprint axis measured in level-0 texels.
 float mipLod(const UvFootprint& footprint, int width, int height);

@@ -5,6 +5,7 @@
 #include "ndfmip/method_shading.h"
 #include "ndfmip/sh_brdf.h"
 #include "ndfmip/spherical_harmonics.h"
+#include "ndfmip/vmf.h"
 
 namespace ndfmip {
 
@@ -52,10 +53,14 @@ glm::vec3 shadeSh(const Material& m, glm::vec3 albedo, const float* g, const ShS
     if (m.brdf != Brdf::Lambert && m.specular != glm::vec3(0.f)) {
         const float c = std::sqrt(3.f / (4.f * kPi));
         const glm::vec3 na = glm::vec3(g[shIndex(1, 1)], g[shIndex(1, -1)], g[shIndex(1, 0)]) / c;
-        const float cosL = std::max(0.f, glm::dot(na, l));
+        const float length = glm::length(na);
+        const glm::vec3 h = glm::normalize(l + v);
+        const glm::vec3 mu = length > 0.f ? na / length : glm::vec3(0.f, 0.f, 1.f);
+        const float kappa = float(kappaFromMeanLength(length, 1e30));
+        const float cosL = specularCosine(mu, kappa, lobeConcentration(m), h, l);
         if (cosL > 0.f)
-            out += m.specular * (cosL * specularFactor(m, l, glm::normalize(l + v)) *
-                                 float(std::max(0.0, convolve(g, a.specular, a.order, l + v))));
+            out += m.specular * (cosL * specularFactor(m, l, h) *
+                                 float(std::max(0.0, convolve(g, a.specular, a.order, h))));
     }
     return out;
 }

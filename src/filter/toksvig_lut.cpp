@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ndfmip/method_shading.h"
 #include "ndfmip/toksvig.h"
 
 namespace ndfmip {
@@ -46,6 +47,30 @@ Image toksvigLut(const ToksvigLutOptions& options) {
         for (int i = 0; i < n; ++i) lut.at(i, j)[0] = toksvigLutEntry((i + 0.5f) / n, naDotNa, options);
     }
     return lut;
+}
+
+namespace {
+
+// Bilinear read of a one-channel table over [0, 1]^2 (texel centres at (i + 0.5)/N), clamped.
+float sampleTable(const Image& table, float u, float v) {
+    const float x = std::clamp(u * float(table.width) - 0.5f, 0.f, float(table.width - 1));
+    const float y = std::clamp(v * float(table.height) - 0.5f, 0.f, float(table.height - 1));
+    const int x0 = int(x), y0 = int(y);
+    const int x1 = std::min(x0 + 1, table.width - 1), y1 = std::min(y0 + 1, table.height - 1);
+    const float fx = x - float(x0), fy = y - float(y0);
+    const float top = (1 - fx) * table.at(x0, y0)[0] + fx * table.at(x1, y0)[0];
+    const float bottom = (1 - fx) * table.at(x0, y1)[0] + fx * table.at(x1, y1)[0];
+    return (1 - fy) * top + fy * bottom;
+}
+
+} // namespace
+
+glm::vec3 shadeToksvigLut(const Material& m, glm::vec3 albedo, glm::vec3 na, const Image& lut, glm::vec3 l,
+                          glm::vec3 v) {
+    const glm::vec3 h = glm::normalize(l + v);
+    const float relative = sampleTable(lut, glm::dot(na, h), glm::dot(na, na));
+    const float lobe = (m.exponent + 1.f) / (2.f * kPi) * relative;
+    return shadeToksvigLobe(m, albedo, na, l, v, lobe);
 }
 
 } // namespace ndfmip

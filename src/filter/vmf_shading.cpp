@@ -11,6 +11,7 @@ glm::vec3 shadeVmf(const Material& m, glm::vec3 baseAlbedo, const float* lobes, 
                    glm::vec3 l, glm::vec3 v) {
     const glm::vec3 h = glm::normalize(l + v);
     const float factor = specularFactor(m, l, h);
+    const float lobeKappa = lobeConcentration(m);
     glm::vec3 out(0.f);
     for (int j = 0; j < count; ++j) {
         const float* p = lobes + 4 * j;
@@ -40,7 +41,8 @@ glm::vec3 shadeVmf(const Material& m, glm::vec3 baseAlbedo, const float* lobes, 
         case Brdf::Tabulated: specular = materialLobe(m, cosH, 0.f, 0.f); break;
         case Brdf::Lambert: break;
         }
-        out += alpha * (albedo * diffuse + m.specular * (specular * factor * glm::max(cosL, 0.f)));
+        const float cosSpecular = specularCosine(mu, kappa, lobeKappa, h, l);
+        out += alpha * (albedo * diffuse + m.specular * (specular * factor * cosSpecular));
     }
     return out;
 }

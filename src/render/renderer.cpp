@@ -1,5 +1,6 @@
 // The reference renderer (see render.h): rows in parallel, each pixel on its own random
 // stream, so the image does not depend on the thread count.
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <optional>
@@ -70,86 +71,273 @@ glm::vec3 toTangent(const SurfaceHit& hit, glm::vec3 w) {
     return {glm::dot(w, hit.tangent), glm::dot(w, hit.bitangent), glm::dot(w, hit.normal)};
 }
 
+// How a pixel is shaded: the truth, or what a method's shader does with its filtered planes.
+enum class Shader { Truth, Exact, Naive, Toksvig, ToksvigLut, Sh, Vmf };
+
 struct Context {
-    const Scene* scene;
+    const Scene* scene = nullptr;
     CameraFrame camera;
-    const RenderTextures* textures;
-    const RenderOptions* options;
-    std::optional<Method> method; // empty: ground truth
-    FilteredPlanes planes;
-    ShShading sh;            // sh: the material's A_l
-    int vmfLobes = 0;        // vmf: J
-    bool vmfColors = false;  // vmf: colour planes follow the lobe planes
-    MipChain albedo;         // empty without an albedo map
+    const RenderTextures* textures = nullptr;
+    const RenderOptions* options = nullptr;
+    Shader shader = Shader::Truth;
+    bool exactTruth = false;  // truth integrated texel by texel (exactBoxView)
+    FilteredPlanes planes;    // methods: the linear planes (exact: the shaded chain)
+    std::vector<glm::ivec2> sizes; // their levels' sizes
+    ShShading sh;             // sh: the material's A_l
+    Image lut;                // toksvig-lut: the table of the material's exponent
+    int vmfLobes = 0;         // vmf: J
+    bool vmfColors = false;   // vmf: colour planes follow the lobe planes
+    MipChain albedo;          // empty without an albedo map
 };
 
-glm::vec3 shadeSample(const Context& ctx, float px, float py) {
+// One method's shading of one set of parameters (filtered, or one texel's) at a surface point.
+glm::vec3 shadeParameters(const Context& ctx, const float* params, glm::vec3 albedo, const SurfaceHit& hit,
+                          glm::vec3 view) {
+    if (ctx.shader == Shader::Exact) return {params[0], params[1], params[2]}; // already radiance
     const Scene& scene = *ctx.scene;
-    const Ray ray = cameraRay(ctx.camera, px, py);
-    const SurfaceHit hit = intersect(scene.geometry, ray);
-    if (!hit.hit) return scene.background;
-    const glm::vec3 view = toTangent(hit, -ray.direction);
-    if (view.z <= 0.f) return glm::vec3(0.f); // the back of the surface
-
-    glm::vec3 normal(0.f, 0.f, 1.f);
-    float params[kMaxFilteredChannels];
-    glm::vec3 albedo = scene.material.albedo;
     glm::vec3 colors[8];
-    if (!ctx.method) {
-        normal = sampleNormal(*ctx.textures->normals, hit.uv, ctx.options->nearest);
-        if (!ctx.albedo.levels.empty()) {
-            float a[4] = {0.f, 0.f, 0.f, 0.f};
-            if (ctx.options->nearest) {
-                const float* t = nearestTexel(*ctx.albedo.levels.front(), hit.uv);
-                a[0] = t[0], a[1] = t[1], a[2] = t[2];
-            } else {
-                accumulateBilinear(*ctx.albedo.levels.front(), hit.uv, 1.f, a);
-            }
-            albedo *= glm::vec3(a[0], a[1], a[2]);
-        }
-    } else {
-        const UvFootprint footprint = uvFootprint(ctx.camera, hit, px, py);
-        int offset = 0;
-        for (const MipChain& chain : ctx.planes.chains) {
-            sampleFiltered(chain, hit.uv, footprint, ctx.options->anisotropy, params + offset);
-            offset += chain.channels;
-        }
-        if (!ctx.albedo.levels.empty()) {
-            float a[4];
-            sampleFiltered(ctx.albedo, hit.uv, footprint, ctx.options->anisotropy, a);
-            albedo *= glm::vec3(a[0], a[1], a[2]);
-        }
-        for (int j = 0; ctx.vmfColors && j < ctx.vmfLobes; ++j) {
-            const float* c = params + 4 * ctx.vmfLobes + 3 * j;
-            colors[j] = unpackLobeColor(glm::vec3(c[0], c[1], c[2]), params[4 * j]);
-        }
+    for (int j = 0; ctx.vmfColors && j < ctx.vmfLobes; ++j) {
+        const float* c = params + 4 * ctx.vmfLobes + 3 * j;
+        colors[j] = unpackLobeColor(glm::vec3(c[0], c[1], c[2]), params[4 * j]);
     }
-
+    const glm::vec3 p(params[0], params[1], params[2]);
     glm::vec3 radiance(0.f);
     for (const Light& light : scene.lights) {
         const LightSample ls = lightAt(light, hit.position);
         const glm::vec3 l = toTangent(hit, ls.direction);
         if (l.z <= 0.f) continue; // below the geometric surface
         glm::vec3 r(0.f);
-        if (!ctx.method) {
-            r = shadeNormal(scene.material, albedo, normal, l, glm::normalize(l + view));
-        } else {
-            const glm::vec3 p(params[0], params[1], params[2]);
-            switch (*ctx.method) {
-            case Method::Naive: r = shadeNaive(scene.material, albedo, p, l, view); break;
-            case Method::Toksvig:
-                r = shadeToksvig(scene.material, albedo, p, l, view, ctx.options->roughnessMapping,
-                                 ctx.options->varianceScale);
-                break;
-            case Method::Sh: r = shadeSh(scene.material, albedo, params, ctx.sh, l, view); break;
-            case Method::Vmf:
-                r = shadeVmf(scene.material, albedo, params, ctx.vmfLobes, ctx.vmfColors ? colors : nullptr, l, view);
-                break;
-            }
+        switch (ctx.shader) {
+        case Shader::Naive: r = shadeNaive(scene.material, albedo, p, l, view); break;
+        case Shader::Toksvig:
+            r = shadeToksvig(scene.material, albedo, p, l, view, ctx.options->roughnessMapping,
+                             ctx.options->varianceScale);
+            break;
+        case Shader::ToksvigLut: r = shadeToksvigLut(scene.material, albedo, p, ctx.lut, l, view); break;
+        case Shader::Sh: r = shadeSh(scene.material, albedo, params, ctx.sh, l, view); break;
+        case Shader::Vmf:
+            r = shadeVmf(scene.material, albedo, params, ctx.vmfLobes, ctx.vmfColors ? colors : nullptr, l, view);
+            break;
+        case Shader::Truth:
+        case Shader::Exact: break;
         }
         radiance += ls.irradiance * r;
     }
     return radiance;
+}
+
+// A method's lookup at one hit with footprint `footprint`: the filtering rule's taps, then the
+// parameters blended and shaded once, or each texel shaded and the results blended.
+glm::vec3 shadeLookup(const Context& ctx, const SurfaceHit& hit, glm::vec3 view, const UvFootprint& footprint) {
+    const RenderOptions& o = *ctx.options;
+    TapList taps;
+    filteredTaps(ctx.sizes, hit.uv, footprint, o.anisotropy, o.lodBias, taps);
+    const glm::vec3 material = ctx.scene->material.albedo;
+    float params[kMaxFilteredChannels];
+    if (o.shadeFilter == ShadeFilter::Parameter || ctx.shader == Shader::Exact) {
+        int offset = 0;
+        for (const MipChain& chain : ctx.planes.chains) {
+            gatherTaps(chain, taps, params + offset);
+            offset += chain.channels;
+        }
+        glm::vec3 albedo = material;
+        if (!ctx.albedo.levels.empty()) {
+            float a[4];
+            gatherTaps(ctx.albedo, taps, a);
+            albedo *= glm::vec3(a[0], a[1], a[2]);
+        }
+        return shadeParameters(ctx, params, albedo, hit, view);
+    }
+    glm::vec3 sum(0.f);
+    for (int t = 0; t < taps.count; ++t) {
+        const TexelTap& tap = taps.tap[t];
+        int offset = 0;
+        for (const MipChain& chain : ctx.planes.chains) {
+            const float* texel = chain.levels[tap.level]->at(tap.x, tap.y);
+            std::copy(texel, texel + chain.channels, params + offset);
+            offset += chain.channels;
+        }
+        glm::vec3 albedo = material;
+        if (!ctx.albedo.levels.empty()) {
+            const float* a = ctx.albedo.levels[tap.level]->at(tap.x, tap.y);
+            albedo *= glm::vec3(a[0], a[1], a[2]);
+        }
+        sum += tap.weight * shadeParameters(ctx, params, albedo, hit, view);
+    }
+    return sum;
+}
+
+// The ray through (px, py), what it hits and the view direction in the hit's tangent frame;
+// false where it misses the object or sees its back (`radiance` then holds what the pixel sees).
+bool traceSurface(const Context& ctx, float px, float py, SurfaceHit& hit, glm::vec3& view, glm::vec3& radiance) {
+    const Ray ray = cameraRay(ctx.camera, px, py);
+    hit = intersect(ctx.scene->geometry, ray);
+    if (!hit.hit) {
+        radiance = ctx.scene->background;
+        return false;
+    }
+    view = toTangent(hit, -ray.direction);
+    if (view.z <= 0.f) { // the back of the surface
+        radiance = glm::vec3(0.f);
+        return false;
+    }
+    return true;
+}
+
+// The truth at one point: the finest normal (box or bilinear surface) shaded by every light.
+glm::vec3 shadeTruth(const Context& ctx, const SurfaceHit& hit, glm::vec3 view) {
+    const Scene& scene = *ctx.scene;
+    const bool box = ctx.options->truth == TruthFilter::Box;
+    const glm::vec3 normal = sampleNormal(*ctx.textures->normals, hit.uv, box);
+    glm::vec3 albedo = scene.material.albedo;
+    if (!ctx.albedo.levels.empty()) {
+        float a[4] = {0.f, 0.f, 0.f, 0.f};
+        if (box) {
+            const float* t = nearestTexel(*ctx.albedo.levels.front(), hit.uv);
+            a[0] = t[0], a[1] = t[1], a[2] = t[2];
+        } else {
+            accumulateBilinear(*ctx.albedo.levels.front(), hit.uv, 1.f, a);
+        }
+        albedo *= glm::vec3(a[0], a[1], a[2]);
+    }
+    glm::vec3 radiance(0.f);
+    for (const Light& light : scene.lights) {
+        const LightSample ls = lightAt(light, hit.position);
+        const glm::vec3 l = toTangent(hit, ls.direction);
+        if (l.z <= 0.f) continue;
+        radiance += ls.irradiance * shadeNormal(scene.material, albedo, normal, l, glm::normalize(l + view));
+    }
+    return radiance;
+}
+
+glm::vec3 shadeSample(const Context& ctx, float px, float py) {
+    SurfaceHit hit;
+    glm::vec3 view, radiance;
+    if (ctx.shader == Shader::Truth) {
+        if (!traceSurface(ctx, px, py, hit, view, radiance)) return radiance;
+        return shadeTruth(ctx, hit, view);
+    }
+    // Methods: taps x taps sub-samples over the pixel around (px, py), each with its share of
+    // the footprint.
+    const int k = ctx.options->taps;
+    if (k == 1) {
+        if (!traceSurface(ctx, px, py, hit, view, radiance)) return radiance;
+        return shadeLookup(ctx, hit, view, uvFootprint(ctx.camera, hit, px, py));
+    }
+    glm::vec3 sum(0.f);
+    const float step = 1.f / float(k);
+    for (int j = 0; j < k; ++j)
+        for (int i = 0; i < k; ++i) {
+            const float qx = px + (float(i) + 0.5f) * step - 0.5f, qy = py + (float(j) + 0.5f) * step - 0.5f;
+            if (!traceSurface(ctx, qx, qy, hit, view, radiance)) {
+                sum += radiance;
+                continue;
+            }
+            UvFootprint footprint = uvFootprint(ctx.camera, hit, qx, qy);
+            footprint.dx *= step;
+            footprint.dy *= step;
+            sum += shadeLookup(ctx, hit, view, footprint);
+        }
+    return sum * (step * step);
+}
+
+// The uv rectangle a pixel covers (corners' hits), in level-0 texels; false where a corner
+// misses the plane.
+bool pixelTexels(const Context& ctx, float px, float py, glm::vec2& lo, glm::vec2& hi) {
+    const Image& normals = *ctx.textures->normals;
+    const glm::vec2 size(float(normals.width), float(normals.height));
+    glm::vec2 corner[2];
+    for (int c = 0; c < 2; ++c) {
+        const SurfaceHit hit = intersect(ctx.scene->geometry, cameraRay(ctx.camera, px + float(c), py + float(c)));
+        if (!hit.hit) return false;
+        corner[c] = hit.uv * size;
+    }
+    lo = glm::min(corner[0], corner[1]);
+    hi = glm::max(corner[0], corner[1]);
+    return true;
+}
+
+// The truth of one pixel of an exactBoxView, integrated exactly: every level-0 texel the pixel
+// overlaps, shaded with its own normal (box surface), weighted by the overlap's area.
+glm::vec3 exactBoxPixel(const Context& ctx, float px, float py) {
+    glm::vec2 lo, hi;
+    if (!pixelTexels(ctx, px, py, lo, hi)) return shadeSample(ctx, px + 0.5f, py + 0.5f);
+    SurfaceHit hit;
+    glm::vec3 view, radiance;
+    if (!traceSurface(ctx, px + 0.5f, py + 0.5f, hit, view, radiance)) return radiance;
+    const Image& normals = *ctx.textures->normals;
+    const Scene& scene = *ctx.scene;
+    const glm::vec2 extent = hi - lo;
+    if (!(extent.x > 0.f && extent.y > 0.f)) return shadeTruth(ctx, hit, view);
+    // Light directions are the same over the pixel (directional lights, a plane).
+    glm::vec3 l[16], irradiance[16];
+    int lights = 0;
+    for (const Light& light : scene.lights) {
+        const LightSample ls = lightAt(light, hit.position);
+        const glm::vec3 lt = toTangent(hit, ls.direction);
+        if (lt.z <= 0.f || lights == 16) continue;
+        l[lights] = lt;
+        irradiance[lights++] = ls.irradiance;
+    }
+    auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
+    glm::dvec3 sum(0.0);
+    const int x0 = int(std::floor(lo.x)), x1 = int(std::ceil(hi.x));
+    const int y0 = int(std::floor(lo.y)), y1 = int(std::ceil(hi.y));
+    for (int y = y0; y < y1; ++y) {
+        const double wy = std::min(double(y + 1), double(hi.y)) - std::max(double(y), double(lo.y));
+        if (wy <= 0) continue;
+        for (int x = x0; x < x1; ++x) {
+            const double wx = std::min(double(x + 1), double(hi.x)) - std::max(double(x), double(lo.x));
+            if (wx <= 0) continue;
+            const int tx = wrap(x, normals.width), ty = wrap(y, normals.height);
+            const float* n = normals.at(tx, ty);
+            glm::vec3 albedo = scene.material.albedo;
+            if (!ctx.albedo.levels.empty()) {
+                const float* a = ctx.albedo.levels.front()->at(tx, ty);
+                albedo *= glm::vec3(a[0], a[1], a[2]);
+            }
+            glm::vec3 r(0.f);
+            for (int i = 0; i < lights; ++i)
+                r += irradiance[i] * shadeNormal(scene.material, albedo, glm::vec3(n[0], n[1], n[2]), l[i],
+                                                 glm::normalize(l[i] + view));
+            sum += (wx * wy) * glm::dvec3(r);
+        }
+    }
+    return glm::vec3(sum / (double(extent.x) * double(extent.y)));
+}
+
+// The exact reference's planes: level 0 every texel's normal shaded (RGB radiance, every
+// light), coarser levels the pyramid's exact footprint means of it. Needs constant l and v.
+std::vector<SharedImage> shadedChain(const Scene& scene, const RenderTextures& textures, const Context& ctx) {
+    const Image& normals = *textures.normals;
+    const SurfaceHit hit = intersect(scene.geometry, cameraRay(ctx.camera, 0.5f * ctx.camera.width,
+                                                               0.5f * ctx.camera.height));
+    const glm::vec3 view = toTangent(hit, -ctx.camera.forward);
+    auto level0 = std::make_shared<Image>(normals.width, normals.height, 3, Image::Uninitialized{});
+#pragma omp parallel for schedule(static)
+    for (int y = 0; y < normals.height; ++y)
+        for (int x = 0; x < normals.width; ++x) {
+            const float* n = normals.at(x, y);
+            glm::vec3 albedo = scene.material.albedo;
+            if (!ctx.albedo.levels.empty()) {
+                const float* a = ctx.albedo.levels.front()->at(x, y);
+                albedo *= glm::vec3(a[0], a[1], a[2]);
+            }
+            glm::vec3 r(0.f);
+            for (const Light& light : scene.lights) {
+                const glm::vec3 l = toTangent(hit, light.direction);
+                if (l.z <= 0.f || view.z <= 0.f) continue;
+                r += light.color * shadeNormal(scene.material, albedo, glm::vec3(n[0], n[1], n[2]), l,
+                                               glm::normalize(l + view));
+            }
+            float* out = level0->at(x, y);
+            out[0] = r.x, out[1] = r.y, out[2] = r.z;
+        }
+    const Pyramid pyramid = buildPyramid(textures.normals);
+    std::vector<SharedImage> chain{level0};
+    for (int k = 1; k < int(pyramid.levels.size()); ++k)
+        chain.push_back(std::make_shared<const Image>(averageToLevel(pyramid, *chain.back(), k)));
+    return chain;
 }
 
 } // namespace
@@ -165,7 +353,16 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
     if (scene.camera.width < 1 || scene.camera.height < 1)
         return Error{"render: the camera's image is empty"};
 
-    Context ctx{&scene, cameraFrame(scene.camera), &textures, &options, std::nullopt, {}, {}, 0, false, {}};
+    if (options.taps < 1 || options.taps > 16)
+        return Error{"render: taps must be in 1 .. 16, got " + std::to_string(options.taps)};
+    if (!std::isfinite(options.lodBias) || std::abs(options.lodBias) > 16.f)
+        return Error{"render: the LOD bias must be finite and within +-16"};
+
+    Context ctx;
+    ctx.scene = &scene;
+    ctx.camera = cameraFrame(scene.camera);
+    ctx.textures = &textures;
+    ctx.options = &options;
     if (!textures.albedo.empty()) {
         const Image& a = *textures.albedo.front();
         if (a.width != textures.normals->width || a.height != textures.normals->height || a.channels < 3)
@@ -173,16 +370,30 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
         for (const SharedImage& level : textures.albedo) ctx.albedo.levels.push_back(level.get());
         ctx.albedo.channels = a.channels;
     }
-    if (methodName != kGroundTruth) {
-        ctx.method = methodFromString(methodName);
-        if (!ctx.method) {
-            std::string known = kGroundTruth;
-            for (Method m : allMethods()) known += std::string(", ") + ndfmip::methodName(m);
-            return Error{"render: unknown method '" + methodName + "' (expected " + known + ")"};
-        }
+    std::vector<SharedImage> exactChain; // kExact: owns the shaded chain the planes point into
+    if (methodName == kGroundTruth) {
+        ctx.shader = Shader::Truth;
+        ctx.exactTruth = options.exact && options.truth == TruthFilter::Box && exactBoxView(scene);
+    } else if (methodName == kExact) {
+        if (!exactBoxView(scene))
+            return Error{"render: 'exact' needs constant light and view directions: an orthographic view "
+                         "straight down on a plane, directional lights"};
+        ctx.shader = Shader::Exact;
+        exactChain = shadedChain(scene, textures, ctx);
+        MipChain chain;
+        for (const SharedImage& level : exactChain) chain.levels.push_back(level.get());
+        chain.channels = 3;
+        ctx.planes.chains.push_back(std::move(chain));
+        ctx.planes.channels = 3;
+    } else {
+        const bool lut = methodName == kToksvigLut;
+        const std::optional<Method> method = lut ? std::optional<Method>(Method::Toksvig) : methodFromString(methodName);
+        if (!method)
+            return Error{"render: unknown method '" + methodName + "' (expected " + renderMethodNames() + ")"};
         const Bake& bake = textures.bake;
-        if (bake.levels.empty() || bake.method != *ctx.method)
-            return Error{"render: no bake of method '" + methodName + "' to render with"};
+        if (bake.levels.empty() || bake.method != *method)
+            return Error{"render: no bake of method '" + std::string(ndfmip::methodName(*method)) +
+                         "' to render with"};
         const Image& level0 = *bake.levels.front().front();
         if (level0.width != textures.normals->width || level0.height != textures.normals->height)
             return Error{"render: the bake's level 0 is " + std::to_string(level0.width) + "x" +
@@ -193,14 +404,34 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
         ctx.vmfLobes = bakeVmfLobes(bake);
         ctx.vmfColors = findPlane(bake.planes, "color0") >= 0;
         if (ctx.vmfLobes > 8) return Error{"render: vmf bakes have at most 8 lobes"};
-        if (*ctx.method == Method::Sh) {
+        switch (*method) {
+        case Method::Naive: ctx.shader = Shader::Naive; break;
+        case Method::Toksvig: ctx.shader = lut ? Shader::ToksvigLut : Shader::Toksvig; break;
+        case Method::Sh: ctx.shader = Shader::Sh; break;
+        case Method::Vmf: ctx.shader = Shader::Vmf; break;
+        }
+        if (*method == Method::Sh) {
             Result<ShShading> sh = shShadingFor(scene.material, bakeShOrder(bake));
             if (!sh) return sh.error();
             ctx.sh = std::move(sh.value());
         }
+        if (lut) {
+            if (scene.material.brdf != Brdf::BlinnPhong)
+                return Error{"render: toksvig-lut is Toksvig's table for Blinn-Phong materials, the material is " +
+                             std::string(brdfName(scene.material.brdf))};
+            ToksvigLutOptions lutOptions;
+            lutOptions.exponent = scene.material.exponent;
+            lutOptions.size = kToksvigLutSize;
+            lutOptions.bitDepth = kToksvigLutBits;
+            ctx.lut = toksvigLut(lutOptions);
+        }
         if (ctx.planes.channels < 3 || ctx.planes.channels > kMaxFilteredChannels)
             return Error{"render: method '" + methodName + "' has no filterable planes"};
     }
+    if (!ctx.planes.chains.empty()) ctx.sizes = levelSizes(ctx.planes.chains.front());
+    if (!ctx.albedo.levels.empty() && ctx.shader != Shader::Truth &&
+        ctx.albedo.levels.size() < ctx.sizes.size())
+        return Error{"render: the albedo map has fewer mip levels than the bake"};
 
     const Camera& camera = scene.camera;
     Image out(camera.width, camera.height, 3);
@@ -213,20 +444,24 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
         for (int x = 0; x < camera.width; ++x) {
             PixelRandom random{options.seed * 0x2545F4914F6CDD1Dull + uint64_t(y) * uint64_t(camera.width) +
                                uint64_t(x)};
-            glm::vec3 sum(0.f);
-            for (int sy = 0; sy < gy; ++sy) {
-                for (int sx = 0; sx < gx; ++sx) {
-                    float jx = 0.5f, jy = 0.5f;
-                    if (options.spp > 1) {
-                        jx = (float(sx) + random.uniform()) / float(gx);
-                        jy = (float(sy) + random.uniform()) / float(gy);
+            glm::vec3 mean(0.f);
+            if (ctx.exactTruth) { // one exact integral over the whole pixel
+                mean = exactBoxPixel(ctx, float(x) + options.pixelShift.x, float(y) + options.pixelShift.y);
+            } else {
+                for (int sy = 0; sy < gy; ++sy) {
+                    for (int sx = 0; sx < gx; ++sx) {
+                        float jx = 0.5f, jy = 0.5f;
+                        if (options.spp > 1) {
+                            jx = (float(sx) + random.uniform()) / float(gx);
+                            jy = (float(sy) + random.uniform()) / float(gy);
+                        }
+                        mean += shadeSample(ctx, float(x) + jx + options.pixelShift.x,
+                                            float(y) + jy + options.pixelShift.y);
                     }
-                    sum += shadeSample(ctx, float(x) + jx + options.pixelShift.x,
-                                       float(y) + jy + options.pixelShift.y);
                 }
+                mean /= float(options.spp);
             }
             float* px = out.at(x, y);
-            const glm::vec3 mean = sum / float(options.spp);
             px[0] = mean.x;
             px[1] = mean.y;
             px[2] = mean.z;
@@ -238,6 +473,46 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
         }
     }
     return out;
+}
+
+std::string renderMethodNames() {
+    std::string names = std::string(kGroundTruth) + ", " + kExact;
+    for (Method m : allMethods()) {
+        names += std::string(", ") + methodName(m);
+        if (m == Method::Toksvig) names += std::string(", ") + kToksvigLut;
+    }
+    return names;
+}
+
+const char* truthFilterName(TruthFilter filter) { return filter == TruthFilter::Box ? "box" : "bilinear"; }
+
+bool truthFilterFromString(const std::string& name, TruthFilter& out) {
+    if (name == "box") out = TruthFilter::Box;
+    else if (name == "bilinear") out = TruthFilter::Bilinear;
+    else return false;
+    return true;
+}
+
+const char* shadeFilterName(ShadeFilter filter) { return filter == ShadeFilter::Parameter ? "parameter" : "texel"; }
+
+bool shadeFilterFromString(const std::string& name, ShadeFilter& out) {
+    if (name == "parameter") out = ShadeFilter::Parameter;
+    else if (name == "texel") out = ShadeFilter::Texel;
+    else return false;
+    return true;
+}
+
+bool exactBoxView(const Scene& scene) {
+    if (scene.camera.type != CameraType::Orthographic || scene.geometry.type != GeometryType::Plane) return false;
+    for (const Light& light : scene.lights)
+        if (light.type != LightType::Directional) return false;
+    const CameraFrame frame = cameraFrame(scene.camera);
+    const Geometry& g = scene.geometry;
+    // Looking straight down the plane's normal, with the texel grid along the image axes.
+    const float facing = std::abs(glm::dot(frame.forward, glm::normalize(g.normal)));
+    const float along = std::abs(glm::dot(frame.right, glm::normalize(g.tangent)));
+    const float across = std::abs(glm::dot(frame.up, glm::normalize(g.tangent)));
+    return facing > 1.f - 1e-6f && (along > 1.f - 1e-6f || across > 1.f - 1e-6f);
 }
 
 } // namespace ndfmip

@@ -16,54 +16,87 @@ int wrap(int i, int n) {
 
 } // namespace
 
-void accumulateBilinear(const Image& level, glm::vec2 uv, float weight, float* out) {
+void bilinearTaps(int level, int w, int h, glm::vec2 uv, float weight, TapList& out) {
     // Texel centres sit at (i + 0.5) / size.
-    const float x = uv.x * float(level.width) - 0.5f;
-    const float y = uv.y * float(level.height) - 0.5f;
+    const float x = uv.x * float(w) - 0.5f;
+    const float y = uv.y * float(h) - 0.5f;
     const float fx0 = std::floor(x), fy0 = std::floor(y);
     const float fx = x - fx0, fy = y - fy0;
-    const int x0 = wrap(int(fx0), level.width), x1 = wrap(int(fx0) + 1, level.width);
-    const int y0 = wrap(int(fy0), level.height), y1 = wrap(int(fy0) + 1, level.height);
-    const float w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
-    const float* t[4] = {level.at(x0, y0), level.at(x1, y0), level.at(x0, y1), level.at(x1, y1)};
+    const int x0 = wrap(int(fx0), w), x1 = wrap(int(fx0) + 1, w);
+    const int y0 = wrap(int(fy0), h), y1 = wrap(int(fy0) + 1, h);
+    const float wt[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+    const int xs[4] = {x0, x1, x0, x1}, ys[4] = {y0, y0, y1, y1};
     for (int k = 0; k < 4; ++k) {
-        if (w[k] == 0.f) continue;
-        for (int c = 0; c < level.channels; ++c) out[c] += weight * w[k] * t[k][c];
+        if (wt[k] == 0.f || out.count == TapList::kMaxTaps) continue;
+        out.tap[out.count++] = {level, xs[k], ys[k], weight * wt[k]};
     }
 }
 
-void sampleTrilinear(const MipChain& chain, glm::vec2 uv, float lod, float* out) {
-    for (int c = 0; c < chain.channels; ++c) out[c] = 0.f;
-    const int last = int(chain.levels.size()) - 1;
+void trilinearTaps(const std::vector<glm::ivec2>& sizes, glm::vec2 uv, float lod, float weight, TapList& out) {
+    const int last = int(sizes.size()) - 1;
     lod = std::clamp(lod, 0.f, float(last));
     const int k0 = int(std::floor(lod));
     const int k1 = std::min(k0 + 1, last);
     const float f = lod - float(k0);
-    accumulateBilinear(*chain.levels[k0], uv, 1.f - f, out);
-    if (f > 0.f) accumulateBilinear(*chain.levels[k1], uv, f, out);
+    bilinearTaps(k0, sizes[k0].x, sizes[k0].y, uv, weight * (1.f - f), out);
+    if (f > 0.f) bilinearTaps(k1, sizes[k1].x, sizes[k1].y, uv, weight * f, out);
 }
 
-void sampleFiltered(const MipChain& chain, glm::vec2 uv, const UvFootprint& footprint, int maxProbes,
-                    float* out) {
-    const Image& base = *chain.levels.front();
-    const glm::vec2 size(float(base.width), float(base.height));
+void filteredTaps(const std::vector<glm::ivec2>& sizes, glm::vec2 uv, const UvFootprint& footprint,
+                  int maxProbes, float lodBias, TapList& out) {
+    out.count = 0;
+    const glm::vec2 size(sizes.front());
     const float lx = glm::length(footprint.dx * size), ly = glm::length(footprint.dy * size);
     const float major = std::max(lx, ly), minor = std::min(lx, ly);
     int probes = 1;
     if (maxProbes > 1 && minor > 0.f) probes = std::clamp(int(std::ceil(major / minor)), 1, maxProbes);
     if (probes == 1) {
-        sampleTrilinear(chain, uv, major > 0.f ? std::log2(major) : 0.f, out);
+        trilinearTaps(sizes, uv, (major > 0.f ? std::log2(major) : 0.f) + lodBias, 1.f, out);
         return;
     }
     const glm::vec2 axis = lx >= ly ? footprint.dx : footprint.dy;
-    const float lod = std::log2(major / float(probes));
-    float probe[kMaxFilteredChannels];
-    for (int c = 0; c < chain.channels; ++c) out[c] = 0.f;
+    const float lod = std::log2(major / float(probes)) + lodBias;
     for (int i = 0; i < probes; ++i) {
         float t = (float(i) + 0.5f) / float(probes) - 0.5f;
-        sampleTrilinear(chain, uv + t * axis, lod, probe);
-        for (int c = 0; c < chain.channels; ++c) out[c] += probe[c] / float(probes);
+        trilinearTaps(sizes, uv + t * axis, lod, 1.f / float(probes), out);
     }
+}
+
+std::vector<glm::ivec2> levelSizes(const MipChain& chain) {
+    std::vector<glm::ivec2> sizes;
+    for (const Image* level : chain.levels) sizes.emplace_back(level->width, level->height);
+    return sizes;
+}
+
+void gatherTaps(const MipChain& chain, const TapList& taps, float* out) {
+    for (int c = 0; c < chain.channels; ++c) out[c] = 0.f;
+    for (int t = 0; t < taps.count; ++t) {
+        const TexelTap& tap = taps.tap[t];
+        const float* texel = chain.levels[tap.level]->at(tap.x, tap.y);
+        for (int c = 0; c < chain.channels; ++c) out[c] += tap.weight * texel[c];
+    }
+}
+
+void accumulateBilinear(const Image& level, glm::vec2 uv, float weight, float* out) {
+    TapList taps;
+    bilinearTaps(0, level.width, level.height, uv, weight, taps);
+    for (int t = 0; t < taps.count; ++t) {
+        const float* texel = level.at(taps.tap[t].x, taps.tap[t].y);
+        for (int c = 0; c < level.channels; ++c) out[c] += taps.tap[t].weight * texel[c];
+    }
+}
+
+void sampleTrilinear(const MipChain& chain, glm::vec2 uv, float lod, float* out) {
+    TapList taps;
+    trilinearTaps(levelSizes(chain), uv, lod, 1.f, taps);
+    gatherTaps(chain, taps, out);
+}
+
+void sampleFiltered(const MipChain& chain, glm::vec2 uv, const UvFootprint& footprint, int maxProbes,
+                    float* out, float lodBias) {
+    TapList taps;
+    filteredTaps(levelSizes(chain), uv, footprint, maxProbes, lodBias, taps);
+    gatherTaps(chain, taps, out);
 }
 
 const float* nearestTexel(const Image& image, glm::vec2 uv) {

@@ -224,7 +224,7 @@ TEST(Renderer, ShMipsAreTheMeanOfTheirChildren) {
 // The aligned-view truth with nearest texels and one stratum per texel: the block mean.
 Result<Image> blockTruth(const Scene& scene, const RenderTextures& t, int spp) {
     RenderOptions o;
-    o.nearest = true;
+    o.truth = TruthFilter::Box;
     o.spp = spp;
     return render(scene, t, kGroundTruth, o);
 }
@@ -321,7 +321,7 @@ TEST(Renderer, AlignedOrthographicTruthIsTheBlockMean) {
     for (const Material& m : allMaterials()) {
         Scene scene = alignedScene(pixels, m, light);
         RenderOptions o;
-        o.nearest = true;
+        o.truth = TruthFilter::Box;
         o.spp = block * block; // one stratum per texel
         Result<Image> truth = render(scene, texturesFor(normals, Method::Toksvig), kGroundTruth, o);
         ASSERT_TRUE(truth.ok());

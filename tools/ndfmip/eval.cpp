@@ -34,8 +34,8 @@ struct EvalArgs {
     InputOptions input;
     std::string output;
     std::vector<int> footprints{1, 4, 16, 64};
-    std::vector<std::string> methods{"naive", "toksvig", "sh:2", "sh:4", "sh:7", "sh:10",
-                                     "vmf:1", "vmf:2", "vmf:4", "vmf:6", "vmf:8"};
+    std::vector<std::string> methods{"naive", "toksvig", "toksvig-lut", "sh:2", "sh:4", "sh:7", "sh:10",
+                                     "vmf:1", "vmf:2", "vmf:4", "vmf:6", "vmf:8", "exact"};
     std::vector<std::string> brdfs{"blinnphong", "ggx"};
     std::vector<float> exponents{8.f, 32.f, 128.f, 512.f};
     std::vector<float> roughness{0.1f, 0.3f};
@@ -49,6 +49,12 @@ struct EvalArgs {
     bool allImages = false;
     float coherence = 0.f; // vmf methods: C of eq. 32
     bool quiet = false;
+    std::string truth = "box";
+    bool aligned = false;                 // pixel = one texel of the level, on the texel grid
+    std::vector<float> offset{0.31f, 0.17f}; // the pixel grid's shift from the texel grid, in pixels
+    int taps = 1;
+    float lodBias = 0.f;
+    std::string lobeFilter = "parameter";
 };
 
 // One material setting of the matrix.
@@ -98,12 +104,12 @@ std::vector<Setting> settingsOf(const EvalArgs& a) {
 
 // The view of one footprint: world units are maps (1 unit = the map's width in texels, on
 // both axes), the camera looks straight down, `pixels` pixels square.
-Scene evalScene(int mapWidth, int mapHeight, int footprint, int pixels) {
+Scene evalScene(int mapWidth, int mapHeight, int footprint, int pixels, glm::vec2 shift) {
     Scene s;
     const float pixelWorld = float(footprint) / float(mapWidth);
     const float viewWorld = pixelWorld * float(pixels);
-    // A fraction of a pixel off the texel grid, the same for every footprint.
-    const glm::vec3 offset(0.31f * pixelWorld, 0.17f * pixelWorld, 0.f);
+    // `shift` pixels off the texel grid, the same for every footprint.
+    const glm::vec3 offset(shift.x * pixelWorld, shift.y * pixelWorld, 0.f);
     s.camera.type = CameraType::Orthographic;
     s.camera.eye = glm::vec3(0.f, 0.f, 10.f) + offset;
     s.camera.target = offset;
@@ -163,13 +169,17 @@ double flickerOf(const Scene& scene, const RenderTextures& t, const std::string&
 // A method as the matrix names it: "sh:L" is sh baked at order L ("sh" alone: 7), "vmf:J" is vmf
 // with J lobes ("vmf" alone: 4).
 struct MethodSpec {
-    std::string label; // as in the report
-    Method method;
+    std::string label;  // as in the report
+    std::string render; // the name render() takes
+    Method method;      // the bake it shades (exact: none)
     BakeOptions options;
+    bool baked = true;
 };
 
 MethodSpec methodSpec(const std::string& label) {
-    MethodSpec spec{label, Method::Naive, {}};
+    if (label == kExact) return {label, kExact, Method::Naive, {}, false};
+    if (label == kToksvigLut) return {label, kToksvigLut, Method::Toksvig, {}, true};
+    MethodSpec spec{label, "", Method::Naive, {}, true};
     std::string name = label, order;
     if (size_t colon = label.find(':'); colon != std::string::npos) {
         name = label.substr(0, colon);
@@ -177,8 +187,10 @@ MethodSpec methodSpec(const std::string& label) {
     }
     auto method = methodFromString(name);
     if (!method)
-        throw Failure("--methods: unknown method '" + label + "' (expected naive, toksvig, sh[:ORDER], vmf[:LOBES])");
+        throw Failure("--methods: unknown method '" + label +
+                      "' (expected naive, toksvig, toksvig-lut, sh[:ORDER], vmf[:LOBES], exact)");
     spec.method = *method;
+    spec.render = methodName(*method);
     if (!order.empty()) {
         char* end = nullptr;
         long l = std::strtol(order.c_str(), &end, 10);
@@ -202,6 +214,21 @@ struct MapData {
 
 void runEval(const EvalArgs& a) {
     const std::vector<Setting> settings = settingsOf(a);
+    TruthFilter truthFilter;
+    if (!truthFilterFromString(a.truth, truthFilter)) throw Failure("--truth: '" + a.truth + "' is not box or bilinear");
+    RenderOptions filtering;
+    filtering.taps = a.taps;
+    filtering.lodBias = a.lodBias;
+    if (!shadeFilterFromString(a.lobeFilter, filtering.shadeFilter))
+        throw Failure("--lobe-filter: '" + a.lobeFilter + "' is not parameter or texel");
+    if (a.offset.size() != 2 || !std::isfinite(a.offset[0]) || !std::isfinite(a.offset[1]))
+        throw Failure("--offset: two finite numbers X,Y expected");
+    // Aligned: each pixel exactly one texel of a level, so every method reads that one texel.
+    const glm::vec2 shift = a.aligned ? glm::vec2(0.f) : glm::vec2(a.offset[0], a.offset[1]);
+    if (a.aligned)
+        for (int f : a.footprints)
+            if ((f & (f - 1)) != 0)
+                throw Failure("--aligned: footprint " + std::to_string(f) + " is not a power of two (one texel of a level)");
     std::vector<MethodSpec> specs;
     for (const std::string& m : a.methods) specs.push_back(methodSpec(m));
     for (MethodSpec& spec : specs) spec.options.vmfCoherence = a.coherence;
@@ -222,7 +249,8 @@ void runEval(const EvalArgs& a) {
         map.name = std::filesystem::path(a.maps[mapIndex]).filename().string();
         map.normals = std::make_shared<const Image>(loadNormalsOrFail(a.maps[mapIndex], decode, a.quiet));
         map.pyramid = buildPyramid(map.normals);
-        for (const MethodSpec& spec : specs) map.bakes[spec.label] = bakeMethod(spec.method, map.pyramid, spec.options);
+        for (const MethodSpec& spec : specs)
+            if (spec.baked) map.bakes[spec.label] = bakeMethod(spec.method, map.pyramid, spec.options);
         if (a.calibrate && map.bakes.count("toksvig") == 0)
             map.bakes["toksvig"] = bakeMethod(Method::Toksvig, map.pyramid, {});
         if (!a.quiet)
@@ -231,21 +259,25 @@ void runEval(const EvalArgs& a) {
         auto textures = [&](const std::string& label) {
             RenderTextures t;
             t.normals = map.normals;
-            if (label != kGroundTruth) t.bake = map.bakes.at(label);
+            if (map.bakes.count(label)) t.bake = map.bakes.at(label);
             return t;
         };
         auto renderName = [&](const std::string& label) {
-            return label == kGroundTruth ? label : std::string(methodName(map.bakes.at(label).method));
+            if (label == kGroundTruth) return label;
+            for (const MethodSpec& spec : specs)
+                if (spec.label == label) return spec.render;
+            return std::string("toksvig"); // the calibration's own bake
         };
 
         for (int footprint : a.footprints) {
             const int pixels = std::clamp((std::max(map.normals->width, map.normals->height) + footprint - 1) / footprint,
                                           32, std::max(32, a.maxPixels));
-            Scene scene = evalScene(map.normals->width, map.normals->height, footprint, pixels);
+            Scene scene = evalScene(map.normals->width, map.normals->height, footprint, pixels, shift);
             RenderOptions truthOptions;
             truthOptions.seed = a.seed;
             truthOptions.spp = a.spp > 0 ? a.spp : std::clamp(footprint * footprint, 64, 1024);
-            RenderOptions methodOptions;
+            truthOptions.truth = truthFilter;
+            RenderOptions methodOptions = filtering;
             methodOptions.seed = a.seed;
 
             for (const Setting& setting : settings) {
@@ -271,6 +303,8 @@ void runEval(const EvalArgs& a) {
                     group.images.push_back({"ground truth", toneMap(truth, stops)});
                 }
                 for (const std::string& method : a.methods) {
+                    // Toksvig's table is for Blinn-Phong only.
+                    if (method == kToksvigLut && setting.material.brdf != Brdf::BlinnPhong) continue;
                     const Image image = renderOrFail(scene, textures(method), renderName(method), methodOptions);
                     Result<ImageComparison> cmp = compareImages(image, truth);
                     if (!cmp) throw Failure(cmp.error().message);
@@ -326,7 +360,11 @@ void runEval(const EvalArgs& a) {
     root["maps"] = a.maps;
     root["setup"] = {{"view", "orthographic, straight down"}, {"light", "directional, 25 deg off the normal"},
                      {"footprints", a.footprints}, {"methods", a.methods}, {"frames", a.frames},
-                     {"truth_spp", a.spp > 0 ? json(a.spp) : json("max(64, footprint^2), at most 1024")},
+                     {"truth", a.truth},
+                     {"truth_spp", truthFilter == TruthFilter::Box ? json("exact integral, no samples")
+                                   : a.spp > 0 ? json(a.spp) : json("max(64, footprint^2), at most 1024")},
+                     {"aligned", a.aligned}, {"offset", {shift.x, shift.y}},
+                     {"taps", a.taps}, {"lod_bias", a.lodBias}, {"lobe_filter", a.lobeFilter},
                      {"seed", a.seed}};
     root["cases"] = cases;
     if (a.calibrate) {
@@ -346,30 +384,43 @@ void runEval(const EvalArgs& a) {
     std::error_code ec;
     std::filesystem::create_directories(a.output, ec);
     if (ec) throw Failure(a.output + ": cannot create (" + ec.message() + ")");
+    char view[160];
+    std::snprintf(view, sizeof view, a.aligned ? "on the texel grid (aligned: each pixel one texel of a level)"
+                                               : "offset from the texel grid by (%g, %g) pixels", shift.x, shift.y);
+    const std::string truthText =
+        truthFilter == TruthFilter::Box
+            ? "the box surface of the finest normals (each texel's normal over its square, what the mip levels "
+              "average), integrated exactly over each pixel"
+            : "stratified supersampling of the bilinear, renormalised surface of the finest normals, "
+              "max(64, footprint^2) samples per pixel up to 1024";
+    char filter[160];
+    std::snprintf(filter, sizeof filter, "%d x %d sub-samples per pixel, LOD bias %g, %s filtering", a.taps, a.taps,
+                  a.lodBias, a.lobeFilter.c_str());
     report.notes.insert(report.notes.begin(),
         "Each case: a top-down orthographic view of the map tiled on a plane, one pixel covering footprint x "
-        "footprint texels, offset from the texel grid by a fraction of a pixel; one directional light 25 degrees "
-        "off the normal. Ground truth: stratified supersampling of the finest normals (bilinear, renormalised), "
-        "max(64, footprint^2) samples per pixel up to 1024. Methods: one sample at the pixel centre, trilinear "
-        "filtering. Flicker: mean over pixels of temporal std / mean over " + std::to_string(a.frames) +
-        " sub-pixel-shifted frames.");
+        "footprint texels, " + std::string(view) + "; one directional light 25 degrees off the normal. Ground "
+        "truth: " + truthText + ". Methods: trilinear filtering, " + filter + "; 'exact' shades each texel "
+        "read as the exact mean over its normals (the floor of any per-texel NDF). Flicker: mean over pixels "
+        "of temporal std / mean over " + std::to_string(a.frames) + " sub-pixel-shifted frames.");
     Status s = writeFileAtomic(a.output + "/report.json", root.dump(2) + "\n");
     if (!s) throw Failure(s.error);
     s = writeFileAtomic(a.output + "/report.html", renderReportHtml(report));
     if (!s) throw Failure(s.error);
 
-    // Summary on stdout: mean relative RMSE per method and footprint.
+    // Summary on stdout: geometric mean of the relative RMSE per method and footprint (errors
+    // differ by orders of magnitude between settings).
     std::printf("%-12s", "footprint");
     for (int f : a.footprints) std::printf(" %9d", f);
-    std::printf("   (mean rel. RMSE over maps and settings)\n");
+    std::printf("   (geometric mean of rel. RMSE over maps and settings)\n");
     for (const std::string& method : a.methods) {
         std::printf("%-12s", method.c_str());
         for (int f : a.footprints) {
-            double sum = 0;
+            double logSum = 0;
             int n = 0;
             for (const ReportCase& c : report.cases)
-                if (c.method == method && c.footprint == f) sum += c.relRmse, ++n;
-            std::printf(" %9.4f", n ? sum / n : 0.0);
+                if (c.method == method && c.footprint == f && c.relRmse > 0 && std::isfinite(c.relRmse))
+                    logSum += std::log(c.relRmse), ++n;
+            std::printf(" %9.4f", n ? std::exp(logSum / n) : 0.0);
         }
         std::printf("\n");
     }
@@ -406,6 +457,20 @@ void addEvalCommand(CLI::App& app) {
     c->add_option("--calibration-roughness", a->calibrationRoughness, "base alphas of the calibration")
         ->delimiter(',')->check(CLI::Range(1e-3f, 1.f))->capture_default_str();
     c->add_flag("--all-images", a->allImages, "images of every setting (default: s=32 and the first GGX alpha)");
+    c->add_option("--truth", a->truth,
+                  "ground truth surface: box (exact integral, noise-free) or bilinear (supersampled)")
+        ->capture_default_str();
+    c->add_flag("--aligned", a->aligned, "each pixel exactly one texel of a level (no offset): only the "
+                "representation error is left");
+    c->add_option("--offset", a->offset, "the pixel grid's shift from the texel grid, in pixels")
+        ->delimiter(',')->expected(2)->capture_default_str();
+    c->add_option("--taps", a->taps, "methods: K x K sub-samples per pixel, each a K times smaller footprint")
+        ->check(CLI::Range(1, 16))->capture_default_str();
+    c->add_option("--lod-bias", a->lodBias, "methods: added to every lookup's LOD")
+        ->check(CLI::Range(-16.f, 16.f))->capture_default_str();
+    c->add_option("--lobe-filter", a->lobeFilter,
+                  "methods: parameter (blend the texels' parameters, then shade) or texel (shade each texel, "
+                  "then blend)")->capture_default_str();
     c->add_flag("-q,--quiet", a->quiet, "no progress or warnings");
     c->callback([a] { runEval(*a); });
 }

@@ -29,6 +29,10 @@ struct RenderArgs {
     int order = 7; // sh baked on the fly
     uint64_t seed = 1;
     bool nearest = false;
+    std::string truth = "box";
+    int taps = 1;
+    float lodBias = 0.f;
+    std::string lobeFilter = "parameter";
     bool noPng = false;
     float exposure = std::numeric_limits<float>::quiet_NaN();
     bool quiet = false;
@@ -57,12 +61,20 @@ void runRender(const RenderArgs& a) {
     Result<Scene> scene = loadScene(a.scene);
     if (!scene) throw Failure(scene.error().message);
     const std::string method = a.method.empty() ? scene->method : a.method;
-    if (method != kGroundTruth && !methodFromString(method))
-        throw Failure("unknown method '" + method + "' (expected groundtruth, naive, toksvig, sh)");
+    const bool bakeless = method == kGroundTruth || method == kExact;
+    const std::string bakeName = method == kToksvigLut ? "toksvig" : method;
+    if (!bakeless && !methodFromString(bakeName))
+        throw Failure("unknown method '" + method + "' (expected " + renderMethodNames() + ")");
     RenderOptions options;
     options.spp = a.spp > 0 ? a.spp : (method == kGroundTruth ? 64 : 1);
     options.seed = a.seed;
-    options.nearest = a.nearest;
+    if (!truthFilterFromString(a.truth, options.truth))
+        throw Failure("--truth: '" + a.truth + "' is not box or bilinear");
+    if (a.nearest) options.truth = TruthFilter::Box;
+    if (!shadeFilterFromString(a.lobeFilter, options.shadeFilter))
+        throw Failure("--lobe-filter: '" + a.lobeFilter + "' is not parameter or texel");
+    options.taps = a.taps;
+    options.lodBias = a.lodBias;
     options.anisotropy = a.anisotropy;
     options.roughnessMapping = roughnessMappingOrFail(a.mapping);
     if (!a.quiet) options.progress = [](int done, int total) { showProgress("render", done, total); };
@@ -77,8 +89,8 @@ void runRender(const RenderArgs& a) {
         albedo = loadAlbedoOrFail(scene->albedoMap, textures.normals->width, textures.normals->height);
     // Needed to bake on the fly and for the albedo's mips.
     std::optional<Pyramid> pyramid;
-    if ((method != kGroundTruth && bakeDir.empty()) || albedo) pyramid = buildPyramid(textures.normals);
-    if (method != kGroundTruth) {
+    if ((!bakeless && bakeDir.empty()) || albedo) pyramid = buildPyramid(textures.normals);
+    if (!bakeless) {
         if (!bakeDir.empty()) {
             Result<Bake> bake = loadBake(bakeDir);
             if (!bake) throw Failure(bake.error().message);
@@ -87,7 +99,7 @@ void runRender(const RenderArgs& a) {
             BakeOptions bakeOptions;
             bakeOptions.shOrder = a.order;
             bakeOptions.albedo = albedo;
-            textures.bake = bakeMethod(*methodFromString(method), *pyramid, bakeOptions);
+            textures.bake = bakeMethod(*methodFromString(bakeName), *pyramid, bakeOptions);
         }
     }
     if (albedo) textures.albedo = albedoMips(*pyramid, albedo);
@@ -135,11 +147,23 @@ void addRenderCommand(CLI::App& app) {
     auto a = std::make_shared<RenderArgs>();
     CLI::App* c = app.add_subcommand("render", "render a scene (docs/SCENES.md) with a method or the ground truth");
     c->add_option("scene", a->scene, "scene file (JSON)")->required();
-    c->add_option("--method", a->method, "groundtruth, naive or toksvig (default: the scene's)");
+    c->add_option("--method", a->method, renderMethodNames() + " (default: the scene's)");
     c->add_option("--spp", a->spp, "samples per pixel, stratified (default 1; ground truth 64)")
         ->check(CLI::Range(1, 1 << 20));
     c->add_option("--seed", a->seed, "jitter seed")->capture_default_str();
-    c->add_flag("--nearest", a->nearest, "ground truth: nearest texel instead of bilinear + renormalise");
+    c->add_option("--truth", a->truth,
+                  "ground truth surface: box (each texel's normal over its square, as the mip levels "
+                  "average it; exact, noise-free integral where the view allows) or bilinear")
+        ->capture_default_str();
+    c->add_flag("--nearest", a->nearest, "the same as --truth box");
+    c->add_option("--taps", a->taps, "methods: K x K sub-samples per pixel, each a K times smaller footprint")
+        ->check(CLI::Range(1, 16))->capture_default_str();
+    c->add_option("--lod-bias", a->lodBias, "methods: added to every lookup's LOD")
+        ->check(CLI::Range(-16.f, 16.f))->capture_default_str();
+    c->add_option("--lobe-filter", a->lobeFilter,
+                  "methods: parameter (blend the texels' parameters, then shade) or texel (shade each "
+                  "texel, then blend)")
+        ->capture_default_str();
     c->add_option("--aniso", a->anisotropy, "methods: anisotropic probes along the footprint (1 = trilinear)")
         ->check(CLI::Range(1, 64))->capture_default_str();
     c->add_option("--order", a->order, "sh baked on the fly: highest band l*")
