@@ -1,4 +1,4 @@
-// vMF lobes for a whole pyramid (Han et al. 2007, Sec. 7): farthest-point initialisation and
+// vMF lobes for a whole pyramid (Han et al. 2007, Sec. 7): merged or farthest-point seeds and
 // spherical EM over every level-0 normal of every texel, plain or coherent (Sec. 7.3). Each level
 // costs about the same, (normals) x J x (iterations + 1) exps, so the counters report the EM
 // iterations.
@@ -20,14 +20,17 @@ void setCounters(benchmark::State& state, const ndfmip::VmfFitStats& stats, size
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(texels));
 }
 
-// Args: map size, J. The pyramid itself (a few ms) is built outside the timing.
+// Args: map size, J, seeding (0 merge, the default; 1 farthest point). The pyramid itself (a
+// few ms) is built outside the timing.
 void BM_VmfPyramid(benchmark::State& state) {
     const ndfmip::SharedImage& map = syntheticMap(int(state.range(0)));
     ndfmip::Pyramid pyramid = ndfmip::buildPyramid(map);
+    ndfmip::VmfFitOptions options;
+    options.seeding = state.range(2) == 0 ? ndfmip::VmfSeeding::Merge : ndfmip::VmfSeeding::FarthestPoint;
     ndfmip::VmfFitStats stats;
     for (auto _ : state) {
         std::vector<ndfmip::VmfLevel> levels =
-            ndfmip::fitVmfPyramid(pyramid, int(state.range(1)), {}, &stats);
+            ndfmip::fitVmfPyramid(pyramid, int(state.range(1)), options, &stats);
         benchmark::DoNotOptimize(levels.back().lobes.data());
     }
     setCounters(state, stats, map->texelCount());
@@ -77,9 +80,13 @@ void BM_VmfFitOneTexel(benchmark::State& state) {
 }
 
 BENCHMARK(BM_VmfPyramid)
-    ->Args({512, 4})
-    ->Args({512, 6})
-    ->Args({2048, 4})
+    ->Args({512, 4, 0})
+    ->Args({512, 4, 1})
+    ->Args({512, 6, 0})
+    ->Args({512, 6, 1})
+    ->Args({512, 8, 0})
+    ->Args({512, 8, 1})
+    ->Args({2048, 4, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_VmfPyramidCoherent)

@@ -95,6 +95,20 @@ VmfLobe unpackLobe(glm::vec4 packed, float kappaMax = kDefaultKappaMax);
 
 // ---- fitting -------------------------------------------------------------------------------
 
+// How fitVmfPyramid starts each texel's EM from its children's lobes.
+enum class VmfSeeding {
+    // mergedLobes: the children's lobes merged pairwise, cheapest first, until J are left
+    // (moment-preserving, so the seeds add up to the texel's mean normal).
+    Merge,
+    // farthestPointLobes: Hochbaum-Shmoys clustering of the children's directions (Sec. 7.1).
+    // It starts lobes on the most extreme directions, often single outlying normals, and EM then
+    // keeps them there as spikes (kappa at its cap, alpha = 1/N) that waste the texel's lobes.
+    FarthestPoint,
+};
+
+// The smoothing s of mergedLobes' cost (a Blinn-Phong exponent; its vMF concentration).
+constexpr float kDefaultMergeSmoothing = 1024.f;
+
 struct VmfFitOptions {
     int maxIterations = 50; // EM iterations (M-steps) at most
     // Stop once an iteration raises the log-likelihood by no more than
@@ -126,6 +140,9 @@ struct VmfFitOptions {
     // its packed vector alpha_j (r_j . mu_j) mu_j is the point of its axis nearest alpha_j r_j).
     // The same as false where nothing pulls.
     bool alignedKappa = false;
+    // fitVmfPyramid: the start of each texel's EM, and the smoothing of the merge cost.
+    VmfSeeding seeding = VmfSeeding::Merge;
+    float mergeSmoothing = kDefaultMergeSmoothing;
 };
 
 struct VmfFitResult {
@@ -195,6 +212,30 @@ VmfFitResult fitVmfMixture(const glm::vec3* normals, const float* weights, size_
 // 1 <= J <= kMaxVmfLobes (clamped).
 std::vector<VmfLobe> farthestPointLobes(const std::vector<VmfLobe>& candidates, int J);
 
+// Seeds by agglomeration: the candidates (alpha > 0 only) are merged two at a time until J are
+// left, each time the pair whose merge loses least. A merge preserves the moments eq. 33
+// filters: alphas add, the mean vectors alpha r mu add, and mu and kappa come from the sum
+// (kappa by Banerjee's map, or A^-1 with options.exactKappa). The loss of merging a and b into
+// c is Runnalls' bound on the Kullback-Leibler divergence for Gaussian mixtures, read for vMF
+// lobes as 2D Gaussians of variance 1/kappa per axis,
+//     B = alpha_a log(k_a / k_c) + alpha_b log(k_b / k_c),
+// with each kappa first seen through a lobe of concentration s = options.mergeSmoothing,
+// k = kappa s / (kappa + s) (eq. 29's convolution). Unsmoothed, spikes (kappa ~ 1e5, one normal
+// each) would look as costly to merge as anything; smoothed, a light outlier merges cheaply and
+// the lobes go to where the texel's mass is. Alphas of the result sum to 1, heaviest first; no
+// candidates give an empty result. 1 <= J <= kMaxVmfLobes (clamped).
+std::vector<VmfLobe> mergedLobes(const std::vector<VmfLobe>& candidates, int J,
+                                 const VmfFitOptions& options = {});
+
+// How well lobes stand for a set of normals, judged where shading sees the NDF: both seen through
+// a Blinn-Phong-like lobe of concentration s (the normals each as a vMF of kappa s, the lobes by
+// eq. 29's kappa s / (kappa + s)), the relative L2 distance over the sphere,
+//     sqrt( Integral (f_s - g_s)^2 / Integral f_s^2 ),
+// in closed form (Integral gamma_1 gamma_2 = C(k_1) C(k_2) / C(|k_1 mu_1 + k_2 mu_2|)). Unlike the
+// likelihood, which a lobe on one normal raises without end, this is the shading error a mixture
+// makes, integrated over every half vector. Cost: count^2 + count J + J^2 lobe products.
+double smoothedNdfError(const glm::vec3* normals, size_t count, std::span<const VmfLobe> lobes, double s);
+
 // ---- the whole pyramid ---------------------------------------------------------------------
 
 // The lobes of every texel of one level, packed: texel (x, y), index t = y * width + x, owns
@@ -222,9 +263,9 @@ struct VmfFitStats {
 
 // vMF lobes for every level of `pyramid`, J lobes at most per texel (1 <= J <= kMaxVmfLobes).
 // Level 0: one lobe per texel, alpha 1, mu = the normal, kappa = min(levelZeroKappa, kappaMax).
-// Level k >= 1: each texel starts from farthestPointLobes of its children's lobes (alphas
-// weighted by the children's footprints) and runs fitVmfMixture over all the level-0 normals of
-// its footprint. Every level costs about the same, (normals) x J x (iterations + 1) exps.
+// Level k >= 1: each texel starts from its children's lobes (alphas weighted by the children's
+// footprints), merged to J by mergedLobes (or farthestPointLobes, options.seeding), and runs
+// fitVmfMixture over all the level-0 normals of its footprint. Every level costs about the same, (normals) x J x (iterations + 1) exps.
 // Parallel over texels (OpenMP), or within a texel's fit for the few large texels of the top
 // levels; deterministic. `stats` may be null. options.coherence > 0: returns
 // fitVmfPyramidCoherent(pyramid, J, options, stats) instead.

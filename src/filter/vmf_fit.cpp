@@ -157,9 +157,7 @@ VmfLobe unpackLobe(glm::vec4 packed, float kappaMax) {
 // ---- EM ------------------------------------------------------------------------------------
 
 namespace vmf {
-namespace {
 
-// The kappa <-> mean length map of the fit (Banerjee's, or the exact one).
 double kappaOf(double r, const VmfFitOptions& options) {
     double kappaMax = std::max(double(options.kappaMax), 0.0);
     if (!options.exactKappa) return kappaFromMeanLength(r, kappaMax);
@@ -169,6 +167,8 @@ double kappaOf(double r, const VmfFitOptions& options) {
 double meanLengthOf(double kappa, const VmfFitOptions& options) {
     return options.exactKappa ? langevin(kappa) : meanLengthFromKappa(kappa);
 }
+
+namespace {
 
 void removeLobe(LobeSet& set, int j) {
     for (int k = j + 1; k < set.count; ++k) set.lobe[k - 1] = set.lobe[k];

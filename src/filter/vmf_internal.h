@@ -121,6 +121,15 @@ EmOutcome runSlotEm(const Samples& samples, LobeSet& lobes, const Alignment& ali
 // farthestPointLobes into a LobeSet (candidates: any number).
 void farthestPoint(const VmfLobe* candidates, size_t count, int J, LobeSet& out);
 
+// mergedLobes into a LobeSet (candidates: any number).
+void mergeCandidates(const VmfLobe* candidates, size_t count, int J, const VmfFitOptions& options,
+                     LobeSet& out);
+
+// The kappa <-> mean resultant length map of the fit: Banerjee's closed form, or with
+// options.exactKappa the exact A^-1 / A; kappa capped at options.kappaMax.
+double kappaOf(double r, const VmfFitOptions& options);
+double meanLengthOf(double kappa, const VmfFitOptions& options);
+
 // ---- the pyramid's footprints (vmf_pyramid.cpp) --------------------------------------------
 
 // Texel (x, y) of level k >= 1 has the children columns[x] .. columns[x + 1] - 1 by

@@ -126,7 +126,10 @@ TexelFit fitTexel(const Pyramid& pyramid, int k, int x, int y, const ChildRanges
             }
         }
     vmf::LobeSet lobes;
-    vmf::farthestPoint(candidates.data(), candidates.size(), J, lobes);
+    if (options.seeding == VmfSeeding::Merge)
+        vmf::mergeCandidates(candidates.data(), candidates.size(), J, options, lobes);
+    else
+        vmf::farthestPoint(candidates.data(), candidates.size(), J, lobes);
 
     vmf::Samples samples{all.x + start, all.y + start, all.z + start, nullptr, size_t(area)};
     vmf::EmOutcome outcome = vmf::runEm(samples, lobes, options, parallel, nullptr);

@@ -661,32 +661,41 @@ TEST(Vmf, PyramidOfGroovesEndsWithTheirTwoDirections) {
 }
 
 TEST(Vmf, PyramidTexelIsTheFitOfItsFootprint) {
-    // The pyramid's top texel equals fitVmfMixture over all normals, started from the farthest
-    // points of the level below (alphas weighted by the children's areas).
+    // The pyramid's top texel equals fitVmfMixture over all normals, started from the level
+    // below's lobes (alphas weighted by the children's areas) merged by mergedLobes, or with
+    // VmfSeeding::FarthestPoint from their farthest points.
     Pyramid pyramid = buildPyramid(grooveMap(8, 8, 16));
-    VmfFitOptions options;
-    options.tolerance = 1e-12; // converged, so that summation order alone tells them apart
-    std::vector<VmfLevel> levels = fitVmfPyramid(pyramid, 3, options, nullptr);
-    std::vector<VmfLobe> candidates;
-    for (int y = 0; y < 2; ++y)
-        for (int x = 0; x < 2; ++x)
-            for (VmfLobe l : levels[2].texel(x, y)) {
-                l.alpha *= 0.25f;
-                candidates.push_back(l);
-            }
     std::vector<glm::vec3> normals;
     for (size_t i = 0; i < pyramid.base->texelCount(); ++i) {
         const float* p = &pyramid.base->pixels[3 * i];
         normals.emplace_back(p[0], p[1], p[2]);
     }
-    VmfFitResult fit = fitVmfMixture(normals.data(), nullptr, normals.size(),
-                                     farthestPointLobes(candidates, 3), options);
-    std::span<const VmfLobe> top = levels[3].texel(0, 0);
-    ASSERT_EQ(top.size(), fit.lobes.size());
-    for (size_t j = 0; j < top.size(); ++j) {
-        EXPECT_NEAR(top[j].alpha, fit.lobes[j].alpha, 1e-5);
-        EXPECT_LT(angleBetween(top[j].mu, fit.lobes[j].mu), 1e-5);
-        EXPECT_NEAR(top[j].kappa, fit.lobes[j].kappa, 1e-4 * fit.lobes[j].kappa);
+    for (VmfSeeding seeding : {VmfSeeding::Merge, VmfSeeding::FarthestPoint}) {
+        VmfFitOptions options;
+        options.tolerance = 1e-12; // converged, so that summation order alone tells them apart
+        options.maxIterations = 1000;
+        options.exactKappa = true; // monotone EM: Banerjee's kappa can end a fit on a rounding dip
+        options.seeding = seeding;
+        std::vector<VmfLevel> levels = fitVmfPyramid(pyramid, 3, options, nullptr);
+        std::vector<VmfLobe> candidates;
+        for (int y = 0; y < 2; ++y)
+            for (int x = 0; x < 2; ++x)
+                for (VmfLobe l : levels[2].texel(x, y)) {
+                    l.alpha *= 0.25f;
+                    candidates.push_back(l);
+                }
+        const std::vector<VmfLobe> seeds = seeding == VmfSeeding::Merge ? mergedLobes(candidates, 3, options)
+                                                                         : farthestPointLobes(candidates, 3);
+        VmfFitResult fit = fitVmfMixture(normals.data(), nullptr, normals.size(), seeds, options);
+        std::span<const VmfLobe> top = levels[3].texel(0, 0);
+        ASSERT_EQ(top.size(), fit.lobes.size());
+        for (size_t j = 0; j < top.size(); ++j) {
+            // Two lobes of this map trade alpha along a flat ridge of the likelihood, where EM
+            // creeps: the two summation orders stop ~2e-5 apart in alpha, not in mu or kappa.
+            EXPECT_NEAR(top[j].alpha, fit.lobes[j].alpha, 5e-5);
+            EXPECT_LT(angleBetween(top[j].mu, fit.lobes[j].mu), 1e-5);
+            EXPECT_NEAR(top[j].kappa, fit.lobes[j].kappa, 1e-4 * fit.lobes[j].kappa);
+        }
     }
 }
 

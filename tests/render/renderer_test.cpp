@@ -42,6 +42,17 @@ RenderTextures texturesFor(const Image& normals, Method method) {
     return t;
 }
 
+// A GPU's plain trilinear lookup (one sample, one level, parameters blended): with it a pixel of
+// an aligned view reads exactly one texel.
+RenderOptions plainLookup(int spp = 1) {
+    RenderOptions o;
+    o.spp = spp;
+    o.taps = 1;
+    o.lodBias = 0.f;
+    o.shadeFilter = ShadeFilter::Parameter;
+    return o;
+}
+
 // A top-down orthographic view of a 1 x 1 plane carrying the map once, `pixels` pixels wide:
 // with a map of W texels each pixel covers a (W / pixels)^2 block exactly.
 Scene alignedScene(int pixels, Material material, glm::vec3 light) {
@@ -122,16 +133,14 @@ TEST(Renderer, FlatMapEveryMethodEqualsGroundTruth) {
             // A flat map shades the same at every position of a pixel, so the pixel centre of
             // the method matches the mean of the truth's samples up to the lights' variation.
             for (Method method : {Method::Naive, Method::Toksvig}) {
-                RenderOptions o;
-                o.spp = 4;
+                RenderOptions o = plainLookup(4);
                 Result<Image> image = render(scene, texturesFor(flat, method), methodName(method), o);
                 ASSERT_TRUE(image.ok()) << image.error().message;
                 expectImagesNear(image.value(), truth.value(), 1e-4f);
             }
             // vmf: a flat texel is one lobe at kappa's cap (1e5), a hair wider than a spike.
             if (m.brdf != Brdf::Tabulated) {
-                RenderOptions o;
-                o.spp = 4;
+                RenderOptions o = plainLookup(4);
                 Result<Image> vmf = render(scene, texturesFor(flat, Method::Vmf), "vmf", o);
                 ASSERT_TRUE(vmf.ok());
                 expectImagesNear(vmf.value(), truth.value(), 2e-3f);
@@ -250,7 +259,7 @@ TEST(Renderer, VmfLobesReproduceATwoSpikeNdf) {
         BakeOptions options;
         options.vmfLobes = 2;
         t.bake = bakeVmf(buildPyramid(t.normals), options);
-        Result<Image> vmf = render(scene, t, "vmf", {});
+        Result<Image> vmf = render(scene, t, "vmf", plainLookup());
         ASSERT_TRUE(truth.ok() && vmf.ok());
         float peak = 0.f;
         for (size_t i = 0; i < truth->pixels.size(); ++i) {
@@ -261,7 +270,7 @@ TEST(Renderer, VmfLobesReproduceATwoSpikeNdf) {
         // One lobe must widen to cover both spikes and misses the truth.
         options.vmfLobes = 1;
         t.bake = bakeVmf(buildPyramid(t.normals), options);
-        Result<Image> single = render(scene, t, "vmf", {});
+        Result<Image> single = render(scene, t, "vmf", plainLookup());
         ASSERT_TRUE(single.ok());
         double error = 0, norm = 0;
         for (size_t i = 0; i < truth->pixels.size(); ++i) {
@@ -299,9 +308,9 @@ TEST(Renderer, VmfLobeColoursFollowTheirNormals) {
     options.albedo = albedo;
     t.bake = bakeVmf(pyramid, options);
     ASSERT_GE(findPlane(t.bake.planes, "color1"), 0);
-    Result<Image> vmf = render(scene, t, "vmf", {});
+    Result<Image> vmf = render(scene, t, "vmf", plainLookup());
     t.bake = bakeNaive(pyramid, {});
-    Result<Image> naive = render(scene, t, "naive", {});
+    Result<Image> naive = render(scene, t, "naive", plainLookup());
     ASSERT_TRUE(truth.ok() && vmf.ok() && naive.ok());
     double naiveError = 0;
     for (size_t i = 0; i < truth->pixels.size(); ++i) {
@@ -326,7 +335,7 @@ TEST(Renderer, AlignedOrthographicTruthIsTheBlockMean) {
         Result<Image> truth = render(scene, texturesFor(normals, Method::Toksvig), kGroundTruth, o);
         ASSERT_TRUE(truth.ok());
         RenderTextures toksvig = texturesFor(normals, Method::Toksvig);
-        Result<Image> filtered = render(scene, toksvig, "toksvig", {});
+        Result<Image> filtered = render(scene, toksvig, "toksvig", plainLookup());
         ASSERT_TRUE(filtered.ok());
         const Image& mean = *toksvig.bake.levels[level][0];
         const glm::vec3 h = glm::normalize(light + view);

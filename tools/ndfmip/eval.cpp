@@ -52,9 +52,9 @@ struct EvalArgs {
     std::string truth = "box";
     bool aligned = false;                 // pixel = one texel of the level, on the texel grid
     std::vector<float> offset{0.31f, 0.17f}; // the pixel grid's shift from the texel grid, in pixels
-    int taps = 1;
-    float lodBias = 0.f;
-    std::string lobeFilter = "parameter";
+    int taps = RenderOptions{}.taps;
+    float lodBias = RenderOptions{}.lodBias;
+    std::string lobeFilter = shadeFilterName(RenderOptions{}.shadeFilter);
 };
 
 // One material setting of the matrix.
@@ -460,8 +460,8 @@ void addEvalCommand(CLI::App& app) {
     c->add_option("--truth", a->truth,
                   "ground truth surface: box (exact integral, noise-free) or bilinear (supersampled)")
         ->capture_default_str();
-    c->add_flag("--aligned", a->aligned, "each pixel exactly one texel of a level (no offset): only the "
-                "representation error is left");
+    c->add_flag("--aligned", a->aligned, "each pixel exactly one texel of a level (no offset, one lookup: "
+                "--taps 1 --lod-bias 0 unless given): only the representation error is left");
     c->add_option("--offset", a->offset, "the pixel grid's shift from the texel grid, in pixels")
         ->delimiter(',')->expected(2)->capture_default_str();
     c->add_option("--taps", a->taps, "methods: K x K sub-samples per pixel, each a K times smaller footprint")
@@ -472,7 +472,12 @@ void addEvalCommand(CLI::App& app) {
                   "methods: parameter (blend the texels' parameters, then shade) or texel (shade each texel, "
                   "then blend)")->capture_default_str();
     c->add_flag("-q,--quiet", a->quiet, "no progress or warnings");
-    c->callback([a] { runEval(*a); });
+    c->callback([a, c] {
+        EvalArgs args = *a;
+        if (args.aligned && c->count("--taps") == 0) args.taps = 1;
+        if (args.aligned && c->count("--lod-bias") == 0) args.lodBias = 0.f;
+        runEval(args);
+    });
 }
 
 } // namespace ndfmip::cli

@@ -30,9 +30,9 @@ struct RenderArgs {
     uint64_t seed = 1;
     bool nearest = false;
     std::string truth = "box";
-    int taps = 1;
-    float lodBias = 0.f;
-    std::string lobeFilter = "parameter";
+    int taps = RenderOptions{}.taps;
+    float lodBias = RenderOptions{}.lodBias;
+    std::string lobeFilter = shadeFilterName(RenderOptions{}.shadeFilter);
     bool noPng = false;
     float exposure = std::numeric_limits<float>::quiet_NaN();
     bool quiet = false;
