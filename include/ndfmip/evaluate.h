@@ -26,4 +26,8 @@ struct ErrorStats {
 // Compares an image with the truth (same size, first channel).
 ErrorStats compareToTruth(const Image& image, const Image& truth);
 
+// The same pooled over several image/truth pairs (e.g. one per light): every pixel of every pair
+// counts once, so a pair whose truth is near zero cannot dominate a ratio.
+ErrorStats compareToTruth(const std::vector<Image>& images, const std::vector<Image>& truths);
+
 } // namespace ndfmip

@@ -44,15 +44,18 @@ inline float lobeConcentration(const Material& m) {
 }
 
 // The cosine of a filtered specular term. The truth averages lobe(n.h) (n.l) over the normals;
-// where the NDF is a lobe of concentration kappa about mu, the product NDF x lobe is (as vMFs)
-// a lobe about kappa mu + lobeKappa h, and the normals that reflect are there: the cosine is
-// max(l . normalize(kappa mu + lobeKappa h), 0). A sharp NDF gives mu.l, a sharp BRDF h.l.
-// kappa may be infinite (a single normal).
+// where the NDF is a lobe of concentration kappa about mu, NDF x lobe is (as vMFs) a vMF with
+// natural parameter w = kappa mu + lobeKappa h, whose mean normal is A(|w|) w/|w| (Langevin's
+// A, eq. 23): the normals that reflect, on average. Its dot with l is the mean n.l, so the
+// cosine is max(A(|w|) l.w/|w|, 0): mu.l for a sharp NDF, h.l for a sharp lobe. kappa may be
+// infinite (a single normal).
 inline float specularCosine(glm::vec3 mu, float kappa, float lobeKappa, glm::vec3 h, glm::vec3 l) {
-    const float a = kappa < 1e30f ? kappa / glm::max(kappa + lobeKappa, 1e-30f) : 1.f;
-    const glm::vec3 w = a * mu + (1.f - a) * h;
-    const float length = glm::length(w);
-    return length > 0.f ? glm::max(glm::dot(w, l) / length, 0.f) : 0.f;
+    if (!(kappa < 1e30f)) return glm::max(glm::dot(mu, l), 0.f);
+    const glm::vec3 w = kappa * mu + lobeKappa * h;
+    const float k = glm::length(w);
+    if (!(k > 0.f)) return 0.f;
+    const float meanLength = k < 1e-3f ? k / 3.f : 1.f / glm::tanh(k) - 1.f / k;
+    return glm::max(meanLength * glm::dot(w, l) / k, 0.f);
 }
 
 // Toksvig: Na is kept unnormalised. Its length widens the specular lobe (Blinn-Phong: the

@@ -96,18 +96,28 @@ Image groundTruthLevel(const Pyramid& pyramid, int level, const ShadeContext& ct
 }
 
 ErrorStats compareToTruth(const Image& image, const Image& truth) {
-    assert(image.width == truth.width && image.height == truth.height);
+    return compareToTruth(std::vector<Image>{image}, std::vector<Image>{truth});
+}
+
+ErrorStats compareToTruth(const std::vector<Image>& images, const std::vector<Image>& truths) {
+    assert(images.size() == truths.size());
     double diff2 = 0, truth2 = 0, sumA = 0, sumB = 0;
-    const size_t n = truth.texelCount();
-    for (size_t i = 0; i < n; ++i) {
-        double a = image.pixels[i * image.channels], b = truth.pixels[i * truth.channels];
-        diff2 += (a - b) * (a - b);
-        truth2 += b * b;
-        sumA += a;
-        sumB += b;
+    size_t count = 0;
+    for (size_t k = 0; k < images.size(); ++k) {
+        const Image &image = images[k], &truth = truths[k];
+        assert(image.width == truth.width && image.height == truth.height);
+        const size_t n = truth.texelCount();
+        for (size_t i = 0; i < n; ++i) {
+            double a = image.pixels[i * image.channels], b = truth.pixels[i * truth.channels];
+            diff2 += (a - b) * (a - b);
+            truth2 += b * b;
+            sumA += a;
+            sumB += b;
+        }
+        count += n;
     }
     ErrorStats s;
-    s.rmse = std::sqrt(diff2 / double(n));
+    s.rmse = count ? std::sqrt(diff2 / double(count)) : 0.0;
     s.relativeRmse = truth2 > 0 ? std::sqrt(diff2 / truth2) : 0.0;
     s.energyRatio = sumB > 0 ? sumA / sumB : 0.0;
     return s;

@@ -483,3 +483,129 @@ TEST(Flicker, ConstantFramesDoNotFlickerAndAlternatingOnesDo) {
 
 } // namespace
 } // namespace ndfmip
+
+namespace ndfmip {
+namespace {
+
+// alignedScene with the map tiled 3 x 3 under the view and the view shifted by `shift` pixels:
+// each pixel covers parts of several texels.
+Scene shiftedScene(int pixels, Material material, glm::vec3 light, glm::vec2 shift) {
+    Scene s = alignedScene(pixels, material, light);
+    const glm::vec3 offset(shift.x / float(pixels), -shift.y / float(pixels), 0.f);
+    s.camera.eye += offset;
+    s.camera.target += offset;
+    s.geometry.size = {3.f, 3.f};
+    s.geometry.tiling = {3.f, 3.f};
+    return s;
+}
+
+double relativeRmse(const Image& a, const Image& b) {
+    double diff = 0, norm = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i) {
+        diff += std::pow(double(a.pixels[i]) - b.pixels[i], 2.0);
+        norm += std::pow(double(b.pixels[i]), 2.0);
+    }
+    return std::sqrt(diff / norm);
+}
+
+TEST(MeasuringStick, ExactBoxTruthAgreesWithSupersampling) {
+    // Pixels of 3.2 x 3.2 texels, off the grid: the exact integral (each texel by its covered
+    // area) against 128 x 128 stratified samples of the same box surface, whose only error is at
+    // texel edges (well under 1%).
+    const Image normals = randomNormals(16, 16, 0.8f, 21);
+    EXPECT_TRUE(exactBoxView(shiftedScene(5, allMaterials()[1], {0.3f, 0.2f, 1.f}, {0.37f, 0.21f})));
+    for (const Material& m : allMaterials()) {
+        const Scene scene = shiftedScene(5, m, {0.3f, 0.2f, 1.f}, {0.37f, 0.21f});
+        const RenderTextures t = texturesFor(normals, Method::Naive);
+        RenderOptions exact;
+        Result<Image> a = render(scene, t, kGroundTruth, exact);
+        RenderOptions sampled;
+        sampled.exact = false;
+        sampled.spp = 16384;
+        Result<Image> b = render(scene, t, kGroundTruth, sampled);
+        ASSERT_TRUE(a.ok() && b.ok());
+        EXPECT_LT(relativeRmse(a.value(), b.value()), 0.01) << brdfName(m.brdf);
+        // Noise-free: another seed gives the same image.
+        exact.seed = 99;
+        Result<Image> c = render(scene, t, kGroundTruth, exact);
+        ASSERT_TRUE(c.ok());
+        EXPECT_EQ(a->pixels, c->pixels);
+    }
+    // Perspective or point lights: no exact integral.
+    EXPECT_FALSE(exactBoxView(grazingScene(allMaterials()[1])));
+}
+
+TEST(MeasuringStick, ExactMethodIsTheTruthWhereEachLookupIsOneTexel) {
+    // 16 texels over 4 pixels: one lookup reads one level-2 texel (plain rule), or 2 x 2
+    // sub-samples read one level-1 texel each; either way 'exact' shades exactly the pixel.
+    const Image normals = randomNormals(16, 16, 1.0f, 5);
+    for (const Material& m : allMaterials()) {
+        const Scene scene = alignedScene(4, m, {0.4f, -0.3f, 1.f});
+        const RenderTextures t = texturesFor(normals, Method::Naive);
+        Result<Image> truth = render(scene, t, kGroundTruth, {});
+        RenderOptions twoByTwo = plainLookup();
+        twoByTwo.taps = 2;
+        for (const RenderOptions& o : {plainLookup(), twoByTwo}) {
+            Result<Image> exact = render(scene, t, kExact, o);
+            ASSERT_TRUE(truth.ok() && exact.ok()) << exact.error().message;
+            expectImagesNear(exact.value(), truth.value(), 1e-5f);
+        }
+    }
+    RenderTextures t = texturesFor(normals, Method::Naive);
+    Result<Image> perspective = render(grazingScene(allMaterials()[1]), t, kExact, {});
+    ASSERT_FALSE(perspective.ok());
+    EXPECT_NE(perspective.error().message.find("orthographic"), std::string::npos);
+}
+
+TEST(MeasuringStick, TexelFilteringIsExactForLobesThatHoldTheirTexelsNormals) {
+    // Level 1 of a random map: four normals a texel, which J = 4 lobes hold exactly (spikes at
+    // kappa's cap). Pixels of two texels off the grid blend four level-1 texels: shading each
+    // texel's lobes and blending is the exact reference's blend; blending the lobes' parameters
+    // first mixes unrelated lobes.
+    const Image normals = randomNormals(16, 16, 0.7f, 8);
+    const Material m = material(Brdf::BlinnPhong, 64.f, 0.f, glm::vec3(0.f), glm::vec3(1.f));
+    const Scene scene = shiftedScene(8, m, {0.3f, 0.1f, 1.f}, {0.3f, 0.4f});
+    RenderTextures t = texturesFor(normals, Method::Naive);
+    Result<Image> exact = render(scene, t, kExact, plainLookup());
+    BakeOptions options;
+    options.vmfLobes = 4;
+    t.bake = bakeVmf(buildPyramid(t.normals), options);
+    RenderOptions texel = plainLookup();
+    texel.shadeFilter = ShadeFilter::Texel;
+    Result<Image> shaded = render(scene, t, "vmf", texel);
+    Result<Image> blended = render(scene, t, "vmf", plainLookup());
+    ASSERT_TRUE(exact.ok() && shaded.ok() && blended.ok());
+    EXPECT_LT(relativeRmse(shaded.value(), exact.value()), 2e-3);
+    EXPECT_GT(relativeRmse(blended.value(), exact.value()), 0.05);
+}
+
+TEST(MeasuringStick, DefaultFilteringRuleLowersTheFloor) {
+    // The exact reference against the exact truth at 4 x 4 texels a pixel, off the grid: what is
+    // left is partial coverage of the texels a lookup reads. 2 x 2 sub-samples half a level
+    // finer read smaller texels and leave less of it.
+    const Image normals = randomNormals(64, 64, 0.8f, 13);
+    const Material m = material(Brdf::BlinnPhong, 32.f, 0.f, glm::vec3(0.f), glm::vec3(1.f));
+    const Scene scene = shiftedScene(16, m, {0.3f, 0.2f, 1.f}, {0.31f, 0.17f});
+    const RenderTextures t = texturesFor(normals, Method::Naive);
+    Result<Image> truth = render(scene, t, kGroundTruth, {});
+    Result<Image> plain = render(scene, t, kExact, plainLookup());
+    Result<Image> rule = render(scene, t, kExact, {});
+    ASSERT_TRUE(truth.ok() && plain.ok() && rule.ok());
+    const double before = relativeRmse(plain.value(), truth.value()), after = relativeRmse(rule.value(), truth.value());
+    EXPECT_GT(before, 0.05);
+    EXPECT_LT(after, 0.8 * before) << before << " -> " << after;
+}
+
+TEST(MeasuringStick, ToksvigLutIsForBlinnPhong) {
+    const Image normals = randomNormals(16, 16, 0.5f, 3);
+    const RenderTextures t = texturesFor(normals, Method::Toksvig);
+    Result<Image> ggx = render(alignedScene(4, allMaterials()[3], {0.f, 0.f, 1.f}), t, kToksvigLut, {});
+    ASSERT_FALSE(ggx.ok());
+    EXPECT_NE(ggx.error().message.find("Blinn-Phong"), std::string::npos);
+    Result<Image> phong = render(alignedScene(4, allMaterials()[1], {0.f, 0.f, 1.f}), t, kToksvigLut, {});
+    EXPECT_TRUE(phong.ok());
+    EXPECT_NE(renderMethodNames().find("toksvig-lut"), std::string::npos);
+}
+
+} // namespace
+} // namespace ndfmip
