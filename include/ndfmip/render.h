@@ -38,6 +38,7 @@ std::string renderMethodNames();
 // surface the mip pyramid averages (so a level-k texel's NDF is exactly its footprint's
 // normals). Bilinear: the bilinearly interpolated, renormalised surface a magnified view shows.
 enum class TruthFilter { Box, Bilinear };
+constexpr int kBilinearCells = 4; // RenderOptions::exact on the bilinear surface
 const char* truthFilterName(TruthFilter filter); // "box", "bilinear"
 bool truthFilterFromString(const std::string& name, TruthFilter& out);
 
@@ -53,10 +54,11 @@ struct RenderOptions {
     int spp = 1;             // samples per pixel, stratified and jittered (box filter); 1 = pixel centre
     uint64_t seed = 1;       // jitter seed: the same seed gives the same image on any thread count
     TruthFilter truth = TruthFilter::Box; // ground truth: which surface the finest normals form
-    // Ground truth with the box surface: where the view allows it (orthographic, looking straight
-    // down on a plane whose texel grid runs along the image axes, directional lights only),
-    // integrate each pixel exactly, texel by texel with its covered area, instead of sampling:
-    // no noise, and spp is then unused.
+    // Ground truth: where the view allows it (orthographic, looking straight down on a plane
+    // whose texel grid runs along the image axes, directional lights only), integrate each pixel
+    // without samples: the box surface exactly, texel by texel with its covered area; the
+    // bilinear surface by a midpoint rule on kBilinearCells x kBilinearCells cells per texel.
+    // No noise, and spp is then unused.
     bool exact = true;
     int anisotropy = 1;      // methods: up to this many trilinear probes along the footprint's major axis
     // Methods: the filtering rule. Each pixel sample becomes taps x taps sub-samples on a regular

@@ -3,8 +3,9 @@
 // (Walter et al. 2007, sec. 5.2), so 1/s ~ alpha^2/2; Toksvig widens a lobe by
 // 1/s' = 1/s + sigma^2 (eq. 5). Together alpha'^2 = alpha0^2 + 2 sigma^2 with
 // sigma^2 = (1 - |Na|)/|Na| (Toksvig eq. 1). Measured against GGX ground truth on real maps
-// (ndfmip eval --calibrate, docs/RESULTS.md) the constant 1 is closer than 2, so
-//     alpha'^2 = alpha0^2 + c sigma^2,   c = kVarianceScale = 1,
+// (ndfmip eval --calibrate, docs/RESULTS.md), with the truth the pyramid averages (the box
+// surface, integrated exactly), the derived constant 2 is also the closest, so
+//     alpha'^2 = alpha0^2 + c sigma^2,   c = kVarianceScale = 2,
 // capped at alpha' = 1. GGX uses the same alpha: GGX and Beckmann lobes of equal alpha have
 // the same peak 1/(pi alpha^2) and agree near it. docs/METHODS.md has the details.
 #pragma once
@@ -15,9 +16,10 @@
 
 namespace ndfmip {
 
-// The constant c of alpha'^2 = alpha0^2 + c sigma^2, fitted to GGX ground truth (c = 0.25 ... 4
-// tried; 1 has the lowest error over 9 real maps, 4 footprints and alpha0 = 0.05 ... 0.5).
-constexpr float kVarianceScale = 1.f;
+// The constant c of alpha'^2 = alpha0^2 + c sigma^2, checked against GGX ground truth (c = 0.25
+// ... 4 tried on three maps, footprints 4-64, alpha0 = 0.05 ... 0.5: 2 has the lowest error,
+// and holds on the six maps not used to choose it; docs/RESULTS.md).
+constexpr float kVarianceScale = 2.f;
 
 inline float varianceRoughness(float length, float baseAlpha, float scale = kVarianceScale) {
     float alpha2 = baseAlpha * baseAlpha + scale * toksvigSigma2(length);
@@ -37,7 +39,9 @@ enum class RoughnessMapping {
     Hdrp,     // alpha'^2 = alpha^2 + 0.5 / kappa
     Filament, // alpha'^2 = alpha^2 + 2 / kappa
     Godot,    // p'^2 = p^2 + min(0.75 / kappa, 0.16) on perceptual roughness p = sqrt(alpha)
-    Unreal,   // alpha'^2 = alpha^2 + (1 - r)/r
+    Unreal,   // alpha'^2 = (alpha^2 + 2V (1 - alpha^2)) / (1 + 2V (1 - alpha^2)), V = (1 - r)/r
+              // (Unreal Engine's texture compressor: a Toksvig variance with c = 2 that keeps
+              // alpha' below 1)
 };
 
 inline float vmfKappaFromLength(float r) {
@@ -56,7 +60,11 @@ inline float mappedRoughness(RoughnessMapping mapping, float r, float alpha,
         float p2 = alpha + glm::min(0.75f / glm::max(vmfKappaFromLength(r), 1e-6f), 0.16f);
         return glm::min(p2, 1.f); // alpha' = p'^2
     }
-    case RoughnessMapping::Unreal: a2 += toksvigSigma2(r); break;
+    case RoughnessMapping::Unreal: {
+        const float b = 2.f * toksvigSigma2(r) * (1.f - a2);
+        a2 = (a2 + b) / (1.f + b);
+        break;
+    }
     }
     return glm::min(glm::sqrt(a2), 1.f);
 }

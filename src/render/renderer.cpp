@@ -257,9 +257,11 @@ bool pixelTexels(const Context& ctx, float px, float py, glm::vec2& lo, glm::vec
     return true;
 }
 
-// The truth of one pixel of an exactBoxView, integrated exactly: every level-0 texel the pixel
-// overlaps, shaded with its own normal (box surface), weighted by the overlap's area.
-glm::vec3 exactBoxPixel(const Context& ctx, float px, float py) {
+// The truth of one pixel of an exactBoxView, integrated without samples: the pixel's rectangle
+// cut into cells, K x K per level-0 texel (box surface: K = 1, the texel itself, exact; bilinear
+// surface: K = kBilinearCells, a midpoint rule), each shaded at the centre of its part inside
+// the pixel and weighted by that part's area.
+glm::vec3 exactPixel(const Context& ctx, float px, float py) {
     glm::vec2 lo, hi;
     if (!pixelTexels(ctx, px, py, lo, hi)) return shadeSample(ctx, px + 0.5f, py + 0.5f);
     SurfaceHit hit;
@@ -279,28 +281,35 @@ glm::vec3 exactBoxPixel(const Context& ctx, float px, float py) {
         l[lights] = lt;
         irradiance[lights++] = ls.irradiance;
     }
-    auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
+    const bool box = ctx.options->truth == TruthFilter::Box;
+    const double k = box ? 1.0 : double(kBilinearCells);
+    const glm::dvec2 size(normals.width, normals.height);
     glm::dvec3 sum(0.0);
-    const int x0 = int(std::floor(lo.x)), x1 = int(std::ceil(hi.x));
-    const int y0 = int(std::floor(lo.y)), y1 = int(std::ceil(hi.y));
-    for (int y = y0; y < y1; ++y) {
-        const double wy = std::min(double(y + 1), double(hi.y)) - std::max(double(y), double(lo.y));
-        if (wy <= 0) continue;
-        for (int x = x0; x < x1; ++x) {
-            const double wx = std::min(double(x + 1), double(hi.x)) - std::max(double(x), double(lo.x));
-            if (wx <= 0) continue;
-            const int tx = wrap(x, normals.width), ty = wrap(y, normals.height);
-            const float* n = normals.at(tx, ty);
+    const long x0 = long(std::floor(double(lo.x) * k)), x1 = long(std::ceil(double(hi.x) * k));
+    const long y0 = long(std::floor(double(lo.y) * k)), y1 = long(std::ceil(double(hi.y) * k));
+    for (long y = y0; y < y1; ++y) {
+        const double top = std::max(double(y) / k, double(lo.y)), bottom = std::min(double(y + 1) / k, double(hi.y));
+        if (bottom <= top) continue;
+        for (long x = x0; x < x1; ++x) {
+            const double left = std::max(double(x) / k, double(lo.x)), right = std::min(double(x + 1) / k, double(hi.x));
+            if (right <= left) continue;
+            const glm::vec2 uv(glm::dvec2(0.5 * (left + right), 0.5 * (top + bottom)) / size);
+            const glm::vec3 n = sampleNormal(normals, uv, box);
             glm::vec3 albedo = scene.material.albedo;
             if (!ctx.albedo.levels.empty()) {
-                const float* a = ctx.albedo.levels.front()->at(tx, ty);
+                float a[4] = {0.f, 0.f, 0.f, 0.f};
+                if (box) {
+                    const float* t = nearestTexel(*ctx.albedo.levels.front(), uv);
+                    a[0] = t[0], a[1] = t[1], a[2] = t[2];
+                } else {
+                    accumulateBilinear(*ctx.albedo.levels.front(), uv, 1.f, a);
+                }
                 albedo *= glm::vec3(a[0], a[1], a[2]);
             }
             glm::vec3 r(0.f);
             for (int i = 0; i < lights; ++i)
-                r += irradiance[i] * shadeNormal(scene.material, albedo, glm::vec3(n[0], n[1], n[2]), l[i],
-                                                 glm::normalize(l[i] + view));
-            sum += (wx * wy) * glm::dvec3(r);
+                r += irradiance[i] * shadeNormal(scene.material, albedo, n, l[i], glm::normalize(l[i] + view));
+            sum += ((right - left) * (bottom - top)) * glm::dvec3(r);
         }
     }
     return glm::vec3(sum / (double(extent.x) * double(extent.y)));
@@ -373,7 +382,7 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
     std::vector<SharedImage> exactChain; // kExact: owns the shaded chain the planes point into
     if (methodName == kGroundTruth) {
         ctx.shader = Shader::Truth;
-        ctx.exactTruth = options.exact && options.truth == TruthFilter::Box && exactBoxView(scene);
+        ctx.exactTruth = options.exact && exactBoxView(scene);
     } else if (methodName == kExact) {
         if (!exactBoxView(scene))
             return Error{"render: 'exact' needs constant light and view directions: an orthographic view "
@@ -446,7 +455,7 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
                                uint64_t(x)};
             glm::vec3 mean(0.f);
             if (ctx.exactTruth) { // one exact integral over the whole pixel
-                mean = exactBoxPixel(ctx, float(x) + options.pixelShift.x, float(y) + options.pixelShift.y);
+                mean = exactPixel(ctx, float(x) + options.pixelShift.x, float(y) + options.pixelShift.y);
             } else {
                 for (int sy = 0; sy < gy; ++sy) {
                     for (int sx = 0; sx < gx; ++sx) {

@@ -79,7 +79,7 @@ TEST(Toksvig, BakeStoresUnnormalisedMeanAndRoughness) {
     EXPECT_NEAR(na[2], std::cos(theta), 1e-6f);
     EXPECT_NEAR(na[0], 0.f, 1e-6f);
     float sigma2 = (1 - std::cos(theta)) / std::cos(theta);
-    EXPECT_NEAR(bake.levels[1][1]->at(0, 0)[0], std::sqrt(0.01f + sigma2), 1e-5f);
+    EXPECT_NEAR(bake.levels[1][1]->at(0, 0)[0], std::sqrt(0.01f + kVarianceScale * sigma2), 1e-5f);
     EXPECT_NEAR(bake.levels[0][1]->at(0, 0)[0], 0.1f, 1e-6f); // unit normals: base roughness
     Bake naive = bakeNaive(p, {});
     EXPECT_NEAR(naive.levels[1][0]->at(0, 0)[2], 1.f, 1e-6f);
@@ -87,8 +87,13 @@ TEST(Toksvig, BakeStoresUnnormalisedMeanAndRoughness) {
 
 TEST(Roughness, VarianceRoughnessClosedForm) {
     EXPECT_FLOAT_EQ(varianceRoughness(1.f, 0.3f), 0.3f);
-    EXPECT_NEAR(varianceRoughness(0.9f, 0.f), std::sqrt(0.1f / 0.9f), 1e-6f);
-    EXPECT_NEAR(varianceRoughness(0.9f, 0.f, 2.f), std::sqrt(2.f * (0.1f / 0.9f)), 1e-6f);
+    EXPECT_NEAR(varianceRoughness(0.9f, 0.f, 1.f), std::sqrt(0.1f / 0.9f), 1e-6f);
+    EXPECT_NEAR(varianceRoughness(0.9f, 0.f), std::sqrt(2.f * (0.1f / 0.9f)), 1e-6f); // c = 2
+    // Unreal's form keeps alpha' <= 1 and is alpha0 where the normals agree.
+    EXPECT_NEAR(mappedRoughness(RoughnessMapping::Unreal, 1.f, 0.3f), 0.3f, 1e-6f);
+    const float v = 0.1f / 0.9f, b = 2.f * v * (1.f - 0.09f);
+    EXPECT_NEAR(mappedRoughness(RoughnessMapping::Unreal, 0.9f, 0.3f), std::sqrt((0.09f + b) / (1.f + b)), 1e-6f);
+    EXPECT_LT(mappedRoughness(RoughnessMapping::Unreal, 0.01f, 0.9f), 1.f);
     EXPECT_FLOAT_EQ(varianceRoughness(0.1f, 0.5f), 1.f); // capped
     EXPECT_FLOAT_EQ(perceptualRoughness(0.25f), 0.5f);
 }

@@ -509,22 +509,28 @@ double relativeRmse(const Image& a, const Image& b) {
 }
 
 TEST(MeasuringStick, ExactBoxTruthAgreesWithSupersampling) {
-    // Pixels of 3.2 x 3.2 texels, off the grid: the exact integral (each texel by its covered
-    // area) against 128 x 128 stratified samples of the same box surface, whose only error is at
-    // texel edges (well under 1%).
+    // Pixels of 3.2 x 3.2 texels, off the grid: the sample-free integral (box: each texel by its
+    // covered area; bilinear: the midpoint rule) against 128 x 128 stratified samples of the same
+    // surface.
     const Image normals = randomNormals(16, 16, 0.8f, 21);
     EXPECT_TRUE(exactBoxView(shiftedScene(5, allMaterials()[1], {0.3f, 0.2f, 1.f}, {0.37f, 0.21f})));
+    for (TruthFilter surface : {TruthFilter::Box, TruthFilter::Bilinear})
     for (const Material& m : allMaterials()) {
         const Scene scene = shiftedScene(5, m, {0.3f, 0.2f, 1.f}, {0.37f, 0.21f});
         const RenderTextures t = texturesFor(normals, Method::Naive);
         RenderOptions exact;
+        exact.truth = surface;
         Result<Image> a = render(scene, t, kGroundTruth, exact);
-        RenderOptions sampled;
+        RenderOptions sampled = exact;
         sampled.exact = false;
         sampled.spp = 16384;
         Result<Image> b = render(scene, t, kGroundTruth, sampled);
         ASSERT_TRUE(a.ok() && b.ok());
-        EXPECT_LT(relativeRmse(a.value(), b.value()), 0.01) << brdfName(m.brdf);
+        // Box: only the samples' error at texel edges is left. Bilinear: the midpoint rule's own
+        // error, largest on these independent random normals (neighbours up to 90 degrees apart;
+        // on real maps the rule agrees with 16384 samples to 0.5%, docs/RESULTS.md).
+        const double tolerance = surface == TruthFilter::Box ? 0.01 : 0.03;
+        EXPECT_LT(relativeRmse(a.value(), b.value()), tolerance) << brdfName(m.brdf) << " " << truthFilterName(surface);
         // Noise-free: another seed gives the same image.
         exact.seed = 99;
         Result<Image> c = render(scene, t, kGroundTruth, exact);
