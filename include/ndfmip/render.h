@@ -28,6 +28,11 @@ constexpr const char* kExact = "exact";
 // Toksvig's own way to shade: the toksvig bake looked up through the 2D table of eq. 9,
 // indexed by (Na.H, Na.Na), with the 8-bit phase-out of eqs. 10-11. Blinn-Phong only.
 constexpr const char* kToksvigLut = "toksvig-lut";
+// An engine's usual inputs, from any tool: the standard normal mipmap (a naive bake) with a mip
+// chain of roughness (RenderTextures::roughness: perceptual p, alpha = p^2, or alpha itself),
+// filtered as stored and shaded with the material's Beckmann or GGX lobe at that alpha per
+// lookup. What a peer's roughness mips are judged by.
+constexpr const char* kRoughnessMips = "roughness-mips";
 constexpr int kToksvigLutSize = 256; // table side, as the paper's
 constexpr int kToksvigLutBits = 8;   // bits of the normals whose |Na| the phase-out allows for
 
@@ -84,6 +89,10 @@ struct RenderTextures {
     // multiply the material's albedo: the truth samples level 0 per sample, methods filter the
     // chain trilinearly, and vmf bakes with colour planes use their lobes' colours instead.
     std::vector<SharedImage> albedo;
+    // kRoughnessMips: roughness, one channel, one image per level of the bake (the same sizes),
+    // filtered like the other planes; perceptual (alpha = value^2) unless roughnessIsAlpha.
+    std::vector<SharedImage> roughness;
+    bool roughnessIsAlpha = false;
 };
 
 // The albedo's mips, averaged with the normal map's pyramid footprints (linear, like Na).

@@ -72,7 +72,7 @@ glm::vec3 toTangent(const SurfaceHit& hit, glm::vec3 w) {
 }
 
 // How a pixel is shaded: the truth, or what a method's shader does with its filtered planes.
-enum class Shader { Truth, Exact, Naive, Toksvig, ToksvigLut, Sh, Vmf };
+enum class Shader { Truth, Exact, Naive, Toksvig, ToksvigLut, Sh, Vmf, RoughnessMips };
 
 struct Context {
     const Scene* scene = nullptr;
@@ -109,6 +109,13 @@ glm::vec3 shadeParameters(const Context& ctx, const float* params, glm::vec3 alb
         glm::vec3 r(0.f);
         switch (ctx.shader) {
         case Shader::Naive: r = shadeNaive(scene.material, albedo, p, l, view); break;
+        case Shader::RoughnessMips: {
+            Material m = scene.material;
+            const float stored = glm::clamp(params[3], 0.f, 1.f);
+            m.roughness = glm::max(ctx.textures->roughnessIsAlpha ? stored : stored * stored, 1e-4f);
+            r = shadeNaive(m, albedo, p, l, view);
+            break;
+        }
         case Shader::Toksvig:
             r = shadeToksvig(scene.material, albedo, p, l, view, ctx.options->roughnessMapping,
                              ctx.options->varianceScale);
@@ -395,8 +402,10 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
         ctx.planes.chains.push_back(std::move(chain));
         ctx.planes.channels = 3;
     } else {
-        const bool lut = methodName == kToksvigLut;
-        const std::optional<Method> method = lut ? std::optional<Method>(Method::Toksvig) : methodFromString(methodName);
+        const bool lut = methodName == kToksvigLut, roughnessMips = methodName == kRoughnessMips;
+        const std::optional<Method> method = lut ? std::optional<Method>(Method::Toksvig)
+                                             : roughnessMips ? std::optional<Method>(Method::Naive)
+                                                             : methodFromString(methodName);
         if (!method)
             return Error{"render: unknown method '" + methodName + "' (expected " + renderMethodNames() + ")"};
         const Bake& bake = textures.bake;
@@ -414,7 +423,7 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
         ctx.vmfColors = findPlane(bake.planes, "color0") >= 0;
         if (ctx.vmfLobes > 8) return Error{"render: vmf bakes have at most 8 lobes"};
         switch (*method) {
-        case Method::Naive: ctx.shader = Shader::Naive; break;
+        case Method::Naive: ctx.shader = roughnessMips ? Shader::RoughnessMips : Shader::Naive; break;
         case Method::Toksvig: ctx.shader = lut ? Shader::ToksvigLut : Shader::Toksvig; break;
         case Method::Sh: ctx.shader = Shader::Sh; break;
         case Method::Vmf: ctx.shader = Shader::Vmf; break;
@@ -423,6 +432,27 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
             Result<ShShading> sh = shShadingFor(scene.material, bakeShOrder(bake));
             if (!sh) return sh.error();
             ctx.sh = std::move(sh.value());
+        }
+        if (roughnessMips) {
+            if (scene.material.brdf != Brdf::Ggx && scene.material.brdf != Brdf::Beckmann)
+                return Error{"render: roughness-mips needs a GGX or Beckmann material, the material is " +
+                             std::string(brdfName(scene.material.brdf))};
+            if (textures.roughness.size() != bake.levels.size())
+                return Error{"render: roughness-mips needs a roughness image per level (" +
+                             std::to_string(bake.levels.size()) + "), got " + std::to_string(textures.roughness.size())};
+            MipChain chain;
+            for (size_t k = 0; k < textures.roughness.size(); ++k) {
+                const Image& r = *textures.roughness[k];
+                const Image& level = *bake.levels[k].front();
+                if (r.width != level.width || r.height != level.height || r.channels < 1)
+                    return Error{"render: roughness level " + std::to_string(k) + " is " + std::to_string(r.width) +
+                                 "x" + std::to_string(r.height) + ", the mip level " + std::to_string(level.width) +
+                                 "x" + std::to_string(level.height)};
+                chain.levels.push_back(&r);
+            }
+            chain.channels = textures.roughness.front()->channels;
+            ctx.planes.channels += chain.channels;
+            ctx.planes.chains.push_back(std::move(chain));
         }
         if (lut) {
             if (scene.material.brdf != Brdf::BlinnPhong)
@@ -485,7 +515,7 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
 }
 
 std::string renderMethodNames() {
-    std::string names = std::string(kGroundTruth) + ", " + kExact;
+    std::string names = std::string(kGroundTruth) + ", " + kExact + ", " + kRoughnessMips;
     for (Method m : allMethods()) {
         names += std::string(", ") + methodName(m);
         if (m == Method::Toksvig) names += std::string(", ") + kToksvigLut;

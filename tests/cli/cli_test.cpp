@@ -1049,6 +1049,54 @@ TEST(Cli, EvalWritesReportWhoseFlatMapCasesAreExact) {
     EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
 }
 
+// The reference and peer rows on a flat map in the aligned view: 'exact' is the truth, Toksvig's
+// table matches the truth (|Na| = 1: no widening) for Blinn-Phong only, and an external
+// roughness chain holding the material's own roughness is the GGX truth.
+TEST(Cli, EvalReferenceAndExternalRoughnessRows) {
+    TempDir tmp("eval-rows");
+    writePng16(tmp.file("flat.png"), encodeNormals(flatNormals(32, 32)));
+    for (int level = 0, size = 32; size >= 1; ++level, size /= 2) {
+        Image r(size, size, 1);
+        for (float& v : r.pixels) v = std::sqrt(0.2f); // perceptual roughness of alpha 0.2
+        writePng16(tmp.file("r_" + std::to_string(level) + ".png"), r);
+    }
+    const fs::path out = tmp.path / "report";
+    CliRun run = cli("eval " + shellQuoted(tmp.file("flat.png")) +
+                     " -q --aligned --methods toksvig,toksvig-lut,exact --footprints 1,4 --exponents 16 "
+                     "--roughness 0.2 --frames 0 --pixels 8 --external-roughness " +
+                     shellQuoted("const=" + tmp.file("r_{level}.png")) + " -o " + shellQuoted(out.string()));
+    ASSERT_EQ(run.status, 0) << run.output;
+    const json report = json::parse(readFile(out / "report.json"));
+    EXPECT_EQ(report.at("setup").at("truth"), "box");
+    EXPECT_EQ(report.at("setup").at("aligned"), true);
+    EXPECT_EQ(report.at("setup").at("taps"), 1);
+    int lut = 0, external = 0, exact = 0;
+    for (const json& c : report.at("cases")) {
+        const std::string method = c.at("method");
+        if (method == "groundtruth") continue;
+        // Toksvig's table: its last row is |Na| = 0.999, not 1, and the phase-out blends.
+        EXPECT_LT(c.at("rel_rmse").get<double>(), method == "toksvig-lut" ? 0.02 : 1e-3) << c.dump();
+        if (method == "toksvig-lut") {
+            ++lut;
+            EXPECT_EQ(c.at("brdf"), "blinnphong");
+        }
+        if (method == "const") {
+            ++external;
+            EXPECT_EQ(c.at("brdf"), "ggx");
+        }
+        exact += method == "exact";
+    }
+    EXPECT_EQ(lut, 2);      // footprints 1 and 4, Blinn-Phong
+    EXPECT_EQ(external, 2); // footprints 1 and 4, GGX
+    EXPECT_EQ(exact, 4);
+    // A level the pattern names but the folder lacks: one line naming the file.
+    fs::remove(tmp.file("r_3.png"));
+    expectCleanFailure(cli("eval " + shellQuoted(tmp.file("flat.png")) + " -q --methods toksvig --brdfs ggx " +
+                           "--external-roughness " + shellQuoted("const=" + tmp.file("r_{level}.png")) +
+                           " -o " + shellQuoted(tmp.file("r2"))),
+                       {"r_3.png"});
+}
+
 TEST(Cli, EvalRejectsBadOptions) {
     TempDir tmp("eval-bad");
     writePng16(tmp.file("flat.png"), encodeNormals(flatNormals(8, 8)));
@@ -1061,6 +1109,12 @@ TEST(Cli, EvalRejectsBadOptions) {
     expectCleanFailure(cli("eval " + map + " --brdfs velvet" + out), {"velvet"});
     expectCleanFailure(cli("eval " + map + " --footprints 0" + out), {"footprints"});
     expectCleanFailure(cli("eval " + shellQuoted(tmp.file("none.png")) + out), {"none.png"});
+    expectCleanFailure(cli("eval " + map + " --truth smooth" + out), {"--truth"});
+    expectCleanFailure(cli("eval " + map + " --lobe-filter fancy" + out), {"--lobe-filter"});
+    expectCleanFailure(cli("eval " + map + " --aligned --footprints 3" + out), {"--aligned"});
+    expectCleanFailure(cli("eval " + map + " --external-roughness nopattern" + out), {"NAME=PATTERN"});
+    expectCleanFailure(cli("eval " + map + " --external-roughness x=r.png" + out), {"{level}"});
+    expectCleanFailure(cli("eval " + map + " --taps 0" + out), {"--taps"});
     EXPECT_FALSE(fs::exists(tmp.path / "r"));
 }
 

@@ -42,6 +42,14 @@ Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bo
 // as linear. Throws unless it has `width` x `height` texels and 3 or 4 channels.
 SharedImage loadAlbedoOrFail(const std::string& path, int width, int height);
 
+// A mip chain of perceptual roughness written by any tool, one file per level: `pattern` with
+// {level} replaced by 0, 1, ... and each {key} of `fields` by its value. Level k must have
+// sizes[k] texels; the first channel is kept (8/16-bit files as stored, 0..1, no sRGB decoding,
+// as roughness maps are linear data). Throws on a missing level, a size or a NaN.
+std::vector<SharedImage> loadRoughnessMipsOrFail(const std::string& pattern,
+                                                 const std::vector<std::pair<int, int>>& sizes,
+                                                 const std::vector<std::pair<std::string, std::string>>& fields);
+
 // ours, hdrp, filament, godot or unreal (roughness.h); throws on anything else.
 RoughnessMapping roughnessMappingOrFail(const std::string& name);
 const char* roughnessMappingName(RoughnessMapping mapping);

@@ -90,6 +90,39 @@ SharedImage loadAlbedoOrFail(const std::string& path, int width, int height) {
     return std::make_shared<const Image>(std::move(rgb));
 }
 
+std::vector<SharedImage> loadRoughnessMipsOrFail(const std::string& pattern,
+                                                 const std::vector<std::pair<int, int>>& sizes,
+                                                 const std::vector<std::pair<std::string, std::string>>& fields) {
+    auto substitute = [](std::string text, const std::string& key, const std::string& value) {
+        const std::string token = "{" + key + "}";
+        for (size_t at = text.find(token); at != std::string::npos; at = text.find(token, at + value.size()))
+            text.replace(at, token.size(), value);
+        return text;
+    };
+    if (pattern.find("{level}") == std::string::npos)
+        throw Failure("roughness mips '" + pattern + "': the pattern has no {level}");
+    std::vector<SharedImage> levels;
+    for (size_t k = 0; k < sizes.size(); ++k) {
+        std::string path = substitute(pattern, "level", std::to_string(k));
+        for (const auto& [key, value] : fields) path = substitute(path, key, value);
+        Result<SourceImage> source = loadImage(path);
+        if (!source) throw Failure(source.error().message);
+        const Image& image = source->image;
+        if (image.width != sizes[k].first || image.height != sizes[k].second)
+            throw Failure(path + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                          ", but mip level " + std::to_string(k) + " is " + std::to_string(sizes[k].first) + "x" +
+                          std::to_string(sizes[k].second));
+        Image r(image.width, image.height, 1);
+        for (size_t i = 0; i < image.texelCount(); ++i) {
+            const float v = image.pixels[i * image.channels];
+            if (!std::isfinite(v)) throw Failure(path + ": NaN or infinite roughness");
+            r.pixels[i] = std::clamp(v, 0.f, 1.f);
+        }
+        levels.push_back(std::make_shared<const Image>(std::move(r)));
+    }
+    return levels;
+}
+
 RoughnessMapping roughnessMappingOrFail(const std::string& name) {
     for (const auto& [n, m] : kMappings)
         if (name == n) return m;

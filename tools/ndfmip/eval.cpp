@@ -52,6 +52,8 @@ struct EvalArgs {
     std::string truth = "box";
     bool aligned = false;                 // pixel = one texel of the level, on the texel grid
     std::vector<float> offset{0.31f, 0.17f}; // the pixel grid's shift from the texel grid, in pixels
+    std::vector<std::string> externalRoughness; // NAME=PATTERN
+    std::string externalEncoding = "perceptual"; // or alpha
     int taps = RenderOptions{}.taps;
     float lodBias = RenderOptions{}.lodBias;
     std::string lobeFilter = shadeFilterName(RenderOptions{}.shadeFilter);
@@ -210,10 +212,33 @@ struct MapData {
     SharedImage normals;
     Pyramid pyramid;
     std::map<std::string, Bake> bakes; // by label
+    std::map<std::string, std::vector<SharedImage>> roughness; // external mips by "NAME alpha"
 };
+
+// An --external-roughness row: a peer's perceptual-roughness mips beside the standard normal
+// mipmap, rendered as kRoughnessMips for Beckmann and GGX settings.
+struct ExternalRoughness {
+    std::string name, pattern;
+};
+
+std::vector<ExternalRoughness> externalRows(const std::vector<std::string>& specs) {
+    std::vector<ExternalRoughness> rows;
+    for (const std::string& spec : specs) {
+        const size_t eq = spec.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size())
+            throw Failure("--external-roughness: '" + spec + "' is not NAME=PATTERN");
+        if (spec.find("{level}", eq) == std::string::npos)
+            throw Failure("--external-roughness: '" + spec + "': the pattern has no {level}");
+        rows.push_back({spec.substr(0, eq), spec.substr(eq + 1)});
+    }
+    return rows;
+}
 
 void runEval(const EvalArgs& a) {
     const std::vector<Setting> settings = settingsOf(a);
+    const std::vector<ExternalRoughness> externals = externalRows(a.externalRoughness);
+    if (a.externalEncoding != "perceptual" && a.externalEncoding != "alpha")
+        throw Failure("--external-encoding: '" + a.externalEncoding + "' is not perceptual or alpha");
     TruthFilter truthFilter;
     if (!truthFilterFromString(a.truth, truthFilter)) throw Failure("--truth: '" + a.truth + "' is not box or bilinear");
     RenderOptions filtering;
@@ -251,6 +276,7 @@ void runEval(const EvalArgs& a) {
         map.pyramid = buildPyramid(map.normals);
         for (const MethodSpec& spec : specs)
             if (spec.baked) map.bakes[spec.label] = bakeMethod(spec.method, map.pyramid, spec.options);
+        if (!externals.empty()) map.bakes["naive (external roughness)"] = bakeMethod(Method::Naive, map.pyramid, {});
         if (a.calibrate && map.bakes.count("toksvig") == 0)
             map.bakes["toksvig"] = bakeMethod(Method::Toksvig, map.pyramid, {});
         if (!a.quiet)
@@ -316,6 +342,36 @@ void runEval(const EvalArgs& a) {
                     if (showcase) {
                         group.images.push_back({method, toneMap(image, stops)});
                         group.images.push_back({method + " error", errorImage(image, truth, errorScale > 0 ? errorScale : 0.f)});
+                    }
+                }
+                for (const ExternalRoughness& row : externals) {
+                    if (setting.material.brdf != Brdf::Ggx && setting.material.brdf != Brdf::Beckmann) continue;
+                    char alpha[32];
+                    std::snprintf(alpha, sizeof alpha, "%g", setting.roughness);
+                    const std::string key = row.name + " " + alpha;
+                    RenderTextures t;
+                    t.normals = map.normals;
+                    t.bake = map.bakes.at("naive (external roughness)");
+                    if (!map.roughness.count(key)) {
+                        std::vector<std::pair<int, int>> sizes;
+                        for (const auto& level : t.bake.levels) sizes.emplace_back(level[0]->width, level[0]->height);
+                        map.roughness[key] = loadRoughnessMipsOrFail(
+                            row.pattern, sizes,
+                            {{"stem", std::filesystem::path(map.name).stem().string()}, {"roughness", alpha}});
+                    }
+                    t.roughness = map.roughness.at(key);
+                    t.roughnessIsAlpha = a.externalEncoding == "alpha";
+                    const Image image = renderOrFail(scene, t, kRoughnessMips, methodOptions);
+                    Result<ImageComparison> cmp = compareImages(image, truth);
+                    if (!cmp) throw Failure(cmp.error().message);
+                    ReportCase c{map.name, row.name, setting.brdf, footprint, setting.exponent, setting.roughness,
+                                 cmp->relativeRmse, cmp->rmse, cmp->psnr, cmp->energyRatio,
+                                 flickerOf(scene, t, kRoughnessMips, methodOptions, a.frames)};
+                    report.cases.push_back(c);
+                    cases.push_back(caseJson(c));
+                    if (showcase) {
+                        group.images.push_back({row.name, toneMap(image, stops)});
+                        group.images.push_back({row.name + " error", errorImage(image, truth, errorScale > 0 ? errorScale : 0.f)});
                     }
                 }
                 if (showcase) report.groups.push_back(std::move(group));
@@ -412,7 +468,9 @@ void runEval(const EvalArgs& a) {
     std::printf("%-12s", "footprint");
     for (int f : a.footprints) std::printf(" %9d", f);
     std::printf("   (geometric mean of rel. RMSE over maps and settings)\n");
-    for (const std::string& method : a.methods) {
+    std::vector<std::string> rows = a.methods;
+    for (const ExternalRoughness& row : externals) rows.push_back(row.name);
+    for (const std::string& method : rows) {
         std::printf("%-12s", method.c_str());
         for (int f : a.footprints) {
             double logSum = 0;
@@ -471,6 +529,13 @@ void addEvalCommand(CLI::App& app) {
     c->add_option("--lobe-filter", a->lobeFilter,
                   "methods: parameter (blend the texels' parameters, then shade) or texel (shade each texel, "
                   "then blend)")->capture_default_str();
+    c->add_option("--external-roughness", a->externalRoughness,
+                  "NAME=PATTERN: another tool's perceptual-roughness mips (one file per level; PATTERN with "
+                  "{level}, {stem} of the map, {roughness} the base alpha) beside the standard normal mipmap, "
+                  "judged on the Beckmann/GGX settings");
+    c->add_option("--external-encoding", a->externalEncoding,
+                  "what the external roughness files store: perceptual (alpha = value^2) or alpha")
+        ->capture_default_str();
     c->add_flag("-q,--quiet", a->quiet, "no progress or warnings");
     c->callback([a, c] {
         EvalArgs args = *a;
