@@ -22,6 +22,7 @@ enum class Method {
     Toksvig, // mean normal kept unnormalised; |Na| widens the lobe
     Sh,      // spherical-harmonic coefficients of the NDF (Han et al. Sec. 5)
     Vmf,     // mixtures of von Mises-Fisher lobes fitted by spherical EM (Han et al. Sec. 7)
+    Lean,    // slope moments: one anisotropic Beckmann lobe (Olano and Baker 2010)
 };
 
 std::optional<Method> methodFromString(std::string_view name);
@@ -63,6 +64,11 @@ Bake bakeNaive(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeToksvig(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeSh(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options);
+Bake bakeLean(const Pyramid& pyramid, const BakeOptions& options);
+
+// lean: normals are clamped to n.z >= this before their slopes n.xy/n.z are taken (84 degrees;
+// steeper normals would give unbounded slopes).
+constexpr float kLeanMinZ = 0.1f;
 Bake bakeMethod(Method method, const Pyramid& pyramid, const BakeOptions& options);
 
 // Planes of an sh bake of order l*: four coefficients each, ceil((l*+1)^2 / 4).

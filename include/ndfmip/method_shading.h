@@ -122,6 +122,14 @@ Result<ShShading> shShadingFor(const Material& m, int order);
 glm::vec3 shadeSh(const Material& m, glm::vec3 albedo, const float* g, const ShShading& a, glm::vec3 l,
                   glm::vec3 v);
 
+// LEAN (Olano and Baker 2010): `p` holds the filtered slope moments (E[bx], E[by], E[bx^2],
+// E[by^2], E[bx by]) of the lean bake; their covariance plus the material's slope variance
+// (Beckmann alpha^2/2 per axis; Blinn-Phong through alpha^2 = 2/(s + 2); GGX as Beckmann) is a
+// 2D Gaussian of slopes, the anisotropic Beckmann lobe exp(-d^T S^-1 d / 2) / (2 pi sqrt|S|
+// h.z^4) with d = h.xy/h.z - E[b]. Cosines about the mean slope's normal, as shadeToksvig.
+glm::vec3 shadeLean(const Material& m, glm::vec3 albedo, const float* p, glm::vec3 l, glm::vec3 v);
+float leanLobe(const Material& m, const float* p, glm::vec3 h); // its lobe alone, no cosine
+
 // vMF mixture (Han et al. Sec. 7.2): `lobes` holds J filtered (alpha, alpha r mu) quadruples
 // (eq. 33); each lobe's mu and kappa come back by Algorithm 1 lines 12-13. Per lobe:
 //   Blinn-Phong    s' = kappa s / (kappa + s), (s' + 1)/(2 pi) (h.mu)^s'          (eq. 29)

@@ -15,11 +15,14 @@ const char* methodName(Method method) {
     case Method::Toksvig: return "toksvig";
     case Method::Sh: return "sh";
     case Method::Vmf: return "vmf";
+    case Method::Lean: return "lean";
     }
     return "?";
 }
 
-std::vector<Method> allMethods() { return {Method::Naive, Method::Toksvig, Method::Sh, Method::Vmf}; }
+std::vector<Method> allMethods() {
+    return {Method::Naive, Method::Toksvig, Method::Sh, Method::Vmf, Method::Lean};
+}
 
 int findPlane(const std::vector<PlaneInfo>& planes, const std::string& name) {
     for (size_t p = 0; p < planes.size(); ++p)
@@ -43,6 +46,7 @@ Bake bakeMethod(Method method, const Pyramid& pyramid, const BakeOptions& option
     case Method::Toksvig: return bakeToksvig(pyramid, options);
     case Method::Sh: return bakeSh(pyramid, options);
     case Method::Vmf: return bakeVmf(pyramid, options);
+    case Method::Lean: return bakeLean(pyramid, options);
     }
     return {};
 }

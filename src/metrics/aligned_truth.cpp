@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ndfmip/evaluate.h"
+#include "ndfmip/method_shading.h"
 #include "ndfmip/sh_brdf.h"
 #include "ndfmip/spherical_harmonics.h"
 #include "ndfmip/toksvig.h"
@@ -61,6 +62,19 @@ Image shadeLevel(const Bake& bake, int level, const ShadeContext& ctx) {
                 sum += lobe.alpha * blinnPhong(glm::dot(lobe.mu, h), s);
             }
             out.pixels[i] = sum;
+        }
+        return out;
+    }
+    if (bake.method == Method::Lean) { // the lobe alone, leanLobe
+        Material m;
+        m.brdf = Brdf::BlinnPhong;
+        m.exponent = ctx.exponent;
+#pragma omp parallel for schedule(static)
+        for (size_t i = 0; i < n; ++i) {
+            float p[5];
+            std::copy_n(&first.pixels[4 * i], 4, p);
+            p[4] = planes[1]->pixels[i];
+            out.pixels[i] = leanLobe(m, p, h);
         }
         return out;
     }

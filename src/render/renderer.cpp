@@ -72,7 +72,7 @@ glm::vec3 toTangent(const SurfaceHit& hit, glm::vec3 w) {
 }
 
 // How a pixel is shaded: the truth, or what a method's shader does with its filtered planes.
-enum class Shader { Truth, Exact, Naive, Toksvig, ToksvigLut, Sh, Vmf, RoughnessMips };
+enum class Shader { Truth, Exact, Naive, Toksvig, ToksvigLut, Sh, Vmf, Lean, RoughnessMips };
 
 struct Context {
     const Scene* scene = nullptr;
@@ -122,6 +122,7 @@ glm::vec3 shadeParameters(const Context& ctx, const float* params, glm::vec3 alb
             break;
         case Shader::ToksvigLut: r = shadeToksvigLut(scene.material, albedo, p, ctx.lut, l, view); break;
         case Shader::Sh: r = shadeSh(scene.material, albedo, params, ctx.sh, l, view); break;
+        case Shader::Lean: r = shadeLean(scene.material, albedo, params, l, view); break;
         case Shader::Vmf:
             r = shadeVmf(scene.material, albedo, params, ctx.vmfLobes, ctx.vmfColors ? colors : nullptr, l, view);
             break;
@@ -427,6 +428,7 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
         case Method::Toksvig: ctx.shader = lut ? Shader::ToksvigLut : Shader::Toksvig; break;
         case Method::Sh: ctx.shader = Shader::Sh; break;
         case Method::Vmf: ctx.shader = Shader::Vmf; break;
+        case Method::Lean: ctx.shader = Shader::Lean; break;
         }
         if (*method == Method::Sh) {
             Result<ShShading> sh = shShadingFor(scene.material, bakeShOrder(bake));

@@ -776,7 +776,8 @@ TEST(Cli, DemoWritesComparisonAndTable) {
     ASSERT_TRUE(picture.ok()) << picture.error().message;
     EXPECT_NE(r.output.find("sh"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("vmf"), std::string::npos) << r.output;
-    EXPECT_EQ(picture->image.width, 5 * w + 4 * 4); // truth, naive, toksvig, sh, vmf, 4-texel gaps
+    EXPECT_NE(r.output.find("lean"), std::string::npos) << r.output;
+    EXPECT_EQ(picture->image.width, 6 * w + 5 * 4); // truth, naive, toksvig, sh, vmf, lean, 4-texel gaps
     EXPECT_EQ(picture->image.height, h);
 }
 

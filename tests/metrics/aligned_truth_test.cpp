@@ -34,8 +34,11 @@ TEST(AlignedTruth, FlatMapEveryMethodEqualsTheTruth) {
         for (int k = 0; k < int(p.levels.size()); ++k) {
             ErrorStats e = compareToTruth(shadeLevel(bake, k, context(s)), groundTruthLevel(p, k, context(s)));
             // vmf: identical normals give kappa = 1e5 (the cap), which eq. 29 turns into
-            // s' = s / (1 + s / kappa): 0.06% narrower at s = 64.
-            EXPECT_LT(e.relativeRmse, m == Method::Vmf ? 2e-3 : 1e-5) << methodName(m) << " level " << k;
+            // s' = s / (1 + s / kappa): 0.06% narrower at s = 64. lean: its lobe is Beckmann's
+            // of alpha^2 = 2/(s + 2), which stands for Blinn-Phong s to 6% (tilted 13 degrees,
+            // where the slope-space lobe narrows along the tilt).
+            const double tolerance = m == Method::Vmf ? 2e-3 : m == Method::Lean ? 0.07 : 1e-5;
+            EXPECT_LT(e.relativeRmse, tolerance) << methodName(m) << " level " << k;
         }
     }
 }

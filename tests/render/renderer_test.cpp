@@ -132,7 +132,9 @@ TEST(Renderer, FlatMapEveryMethodEqualsGroundTruth) {
             ASSERT_TRUE(truth.ok()) << truth.error().message;
             // A flat map shades the same at every position of a pixel, so the pixel centre of
             // the method matches the mean of the truth's samples up to the lights' variation.
-            for (Method method : {Method::Naive, Method::Toksvig}) {
+            // lean's lobe is Beckmann's: exact for a Beckmann material on a flat map.
+            for (Method method : {Method::Naive, Method::Toksvig, Method::Lean}) {
+                if (method == Method::Lean && m.brdf != Brdf::Beckmann && m.brdf != Brdf::Lambert) continue;
                 RenderOptions o = plainLookup(4);
                 Result<Image> image = render(scene, texturesFor(flat, method), methodName(method), o);
                 ASSERT_TRUE(image.ok()) << image.error().message;

@@ -49,7 +49,7 @@ void runBake(const BakeArgs& a) {
     if (a.lobes != 0 && *method != Method::Vmf) throw Failure("--lobes applies to --method vmf only");
     if (!a.albedo.empty() && *method != Method::Vmf) throw Failure("--albedo applies to --method vmf only");
     if (a.coherence != 0.f && *method != Method::Vmf) throw Failure("--coherent applies to --method vmf only");
-    if (a.exportFormat == "png16" && (*method == Method::Sh || *method == Method::Vmf))
+    if (a.exportFormat == "png16" && (*method == Method::Sh || *method == Method::Vmf || *method == Method::Lean))
         throw Failure("--export png16 needs a method that stores a normal (naive, toksvig)");
     if (!a.gloss.empty() && a.maxExponent <= 0.f)
         throw Failure("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");

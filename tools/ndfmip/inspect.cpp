@@ -71,9 +71,9 @@ void addShKeys(nlohmann::json& out, const LoadedBake& bake, int x, int y) {
 // Level-0 unit normal at (x, y) of a bake read at level 0, whatever its method.
 glm::vec3 levelZeroNormal(const LoadedBake& level0, int x, int y) {
     const float* p = level0.level.front().at(x, y);
-    glm::vec3 n = level0.method == Method::Sh
-                      ? glm::vec3(p[3], p[1], p[2]) // band 1: sqrt(3 / 4 pi) (y, z, x)
-                      : glm::vec3(p[0], p[1], p[2]);
+    glm::vec3 n = level0.method == Method::Sh     ? glm::vec3(p[3], p[1], p[2]) // band 1: sqrt(3 / 4 pi) (y, z, x)
+                  : level0.method == Method::Lean ? glm::vec3(p[0], p[1], 1.f)  // the slope's normal
+                                                  : glm::vec3(p[0], p[1], p[2]);
     float length = glm::length(n);
     return length > 0.f ? n / length : glm::vec3(0.f, 0.f, 1.f);
 }
@@ -194,6 +194,15 @@ void runInspect(const InspectArgs& a) {
     case Method::Toksvig: addToksvigKeys(out, bake, x, y, a.exponent); break;
     case Method::Sh: addShKeys(out, bake, x, y); break;
     case Method::Vmf: addVmfKeys(out, bake, x, y); break;
+    case Method::Lean: {
+        const float* m = bake.level[planeIndex(bake, "lean_moments")].at(x, y);
+        const float cross = bake.level[planeIndex(bake, "lean_cross")].at(x, y)[0];
+        out["mean_slope"] = {m[0], m[1]};
+        out["slope_covariance"] = {{m[2] - m[0] * m[0], cross - m[0] * m[1]}, {cross - m[0] * m[1], m[3] - m[1] * m[1]}};
+        const glm::vec3 n = glm::normalize(glm::vec3(m[0], m[1], 1.f));
+        out["mean_normal"] = {n.x, n.y, n.z};
+        break;
+    }
     }
     if (!a.ndf.empty()) {
         writeNdfImage(a, bake, x, y, f);

@@ -1,0 +1,97 @@
+// LEAN mapping (Olano and Baker, "LEAN Mapping", I3D 2010): per texel the first and second
+// moments of the normals' slopes b = (n.x/n.z, n.y/n.z), which mip-map linearly; a shader
+// turns them into the covariance of a 2D Gaussian of slopes, an anisotropic Beckmann lobe.
+// The anisotropic single-lobe peer of Toksvig (one isotropic lobe) and vMF (several).
+#include <algorithm>
+#include <cmath>
+
+#include "ndfmip/bake.h"
+#include "ndfmip/method_shading.h"
+
+namespace ndfmip {
+
+Bake bakeLean(const Pyramid& pyramid, const BakeOptions& options) {
+    Bake bake;
+    bake.method = Method::Lean;
+    bake.parameters["min_z"] = kLeanMinZ;
+    bake.planes = {
+        {"lean_moments", {"E[bx]", "E[by]", "E[bx^2]", "E[by^2]"},
+         "slope moments, b = (n.x, n.y) / max(n.z, min_z): first and second", true},
+        {"lean_cross", {"E[bx by]"}, "slope cross moment", true},
+    };
+    const int count = int(pyramid.levels.size());
+    const Image& normals = *pyramid.base;
+    Image level0(normals.width, normals.height, 5, Image::Uninitialized{});
+#pragma omp parallel for schedule(static)
+    for (size_t i = 0; i < normals.texelCount(); ++i) {
+        float n[3];
+        normalizeOrFlat(&normals.pixels[3 * i], n);
+        const float z = std::max(n[2], kLeanMinZ);
+        const float bx = n[0] / z, by = n[1] / z;
+        float* out = &level0.pixels[5 * i];
+        out[0] = bx, out[1] = by, out[2] = bx * bx, out[3] = by * by, out[4] = bx * by;
+    }
+    // Each level: the exact footprint means (the pyramid's rule), split into the two planes.
+    Image moments = std::move(level0);
+    bake.levels.resize(count);
+    for (int k = 0; k < count; ++k) {
+        if (k > 0) moments = averageToLevel(pyramid, moments, k);
+        Image first(moments.width, moments.height, 4, Image::Uninitialized{});
+        Image cross(moments.width, moments.height, 1, Image::Uninitialized{});
+        for (size_t i = 0; i < moments.texelCount(); ++i) {
+            std::copy_n(&moments.pixels[5 * i], 4, &first.pixels[4 * i]);
+            cross.pixels[i] = moments.pixels[5 * i + 4];
+        }
+        bake.levels[k] = {std::make_shared<const Image>(std::move(first)),
+                          std::make_shared<const Image>(std::move(cross))};
+        if (options.progress) options.progress(k + 1, count);
+    }
+    return bake;
+}
+
+namespace {
+
+// The normals' own slope variances (x, y) and covariance.
+glm::vec3 slopeCovariance(const float* p) {
+    return {std::max(p[2] - p[0] * p[0], 0.f), std::max(p[3] - p[1] * p[1], 0.f), p[4] - p[0] * p[1]};
+}
+
+} // namespace
+
+float leanLobe(const Material& m, const float* p, glm::vec3 h) {
+    const glm::vec2 mean(p[0], p[1]);
+    const glm::vec3 own = slopeCovariance(p);
+    // The material's slope variance: Beckmann alpha^2/2 per axis; Blinn-Phong s through
+    // alpha^2 = 2/(s + 2) (Walter et al.); GGX shaded as the Beckmann lobe of its alpha (LEAN's
+    // lobe is Beckmann's).
+    float alpha2 = 0.f;
+    switch (m.brdf) {
+    case Brdf::BlinnPhong: alpha2 = 2.f / (m.exponent + 2.f); break;
+    case Brdf::Beckmann:
+    case Brdf::Ggx: alpha2 = m.roughness * m.roughness; break;
+    case Brdf::Tabulated: // no widening rule, as for toksvig: the table about the mean slope's normal
+        return materialLobe(m, glm::dot(glm::normalize(glm::vec3(mean, 1.f)), h), 0.f, 0.f);
+    case Brdf::Lambert: return 0.f;
+    }
+    if (h.z <= 0.f) return 0.f;
+    const float sxx = own.x + 0.5f * alpha2, syy = own.y + 0.5f * alpha2, sxy = own.z;
+    const float det = std::max(sxx * syy - sxy * sxy, 1e-12f);
+    const glm::vec2 d = glm::vec2(h.x, h.y) / h.z - mean;
+    const float q = (syy * d.x * d.x - 2.f * sxy * d.x * d.y + sxx * d.y * d.y) / det;
+    return std::exp(-0.5f * q) / (2.f * kPi * std::sqrt(det) * h.z * h.z * h.z * h.z);
+}
+
+glm::vec3 shadeLean(const Material& m, glm::vec3 albedo, const float* p, glm::vec3 l, glm::vec3 v) {
+    const glm::vec3 h = glm::normalize(l + v);
+    const glm::vec3 n = glm::normalize(glm::vec3(p[0], p[1], 1.f)); // the mean slope's normal
+    // Cosines as the other methods: the NDF read as a lobe of variance (vx + vy)/2 per axis.
+    const glm::vec3 own = slopeCovariance(p);
+    const float variance = 0.5f * (own.x + own.y);
+    const float kappa = variance > 0.f ? 1.f / variance : 1e30f;
+    const float cosDiffuse = std::max(glm::dot(n, l), 0.f);
+    const float cosSpecular = specularCosine(n, kappa, lobeConcentration(m), h, l);
+    return cosDiffuse * albedo * (1.f / kPi) +
+           cosSpecular * m.specular * leanLobe(m, p, h) * specularFactor(m, l, h);
+}
+
+} // namespace ndfmip
