@@ -48,6 +48,7 @@ struct BakeOptions {
     int vmfMaxIterations = 50; // vmf: EM iterations per texel at most
     double vmfTolerance = 1e-5; // vmf: relative log-likelihood gain that ends EM
     float vmfCoherence = 0.f;  // vmf: C of the alignment term (eq. 32); 0 = lobes not aligned
+    float vmfLobeBudget = 0.f; // vmf: lobes by error budget (VmfFitOptions::lobeBudget); 0 = J everywhere
     SharedImage albedo;        // vmf: colour per lobe (eq. 31) from this map, level-0 sized
     // Called after each level is done: (levels done, levels in all).
     std::function<void(int, int)> progress;

@@ -143,6 +143,11 @@ struct VmfFitOptions {
     // fitVmfPyramid: the start of each texel's EM, and the smoothing of the merge cost.
     VmfSeeding seeding = VmfSeeding::Merge;
     float mergeSmoothing = kDefaultMergeSmoothing;
+    // fitVmfPyramid: lobes by error budget. After each texel's EM its lobes are merged further
+    // (mergedLobes' rule and loss) while the cheapest merge loses at most this much; the texel
+    // keeps fewer than J lobes where more buy little (0 or less: off). The merged lobes keep the
+    // moments, so a texel's packed lobes still add up to its Na; they are not refitted.
+    float lobeBudget = 0.f;
 };
 
 struct VmfFitResult {
@@ -258,7 +263,7 @@ struct VmfFitStats {
     double meanIterations = 0; // iterations / texels
     int maxIterations = 0;     // most iterations one texel took
     uint64_t notConverged = 0; // texels stopped by options.maxIterations
-    uint64_t lobes = 0;        // lobes of levels >= 1
+    uint64_t lobes = 0;        // lobes of levels >= 1 (lobes / texels: the mean lobe count)
 };
 
 // vMF lobes for every level of `pyramid`, J lobes at most per texel (1 <= J <= kMaxVmfLobes).

@@ -18,6 +18,7 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
     // of their likelihood.
     fit.coherence = options.vmfCoherence;
     fit.alignedKappa = options.vmfCoherence > 0.f;
+    fit.lobeBudget = options.vmfLobeBudget;
     VmfFitStats stats;
     std::vector<VmfLevel> levels = fitVmfPyramid(pyramid, lobes, fit, &stats);
     const bool colors = options.albedo != nullptr;
@@ -33,6 +34,8 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
     bake.parameters["em_mean_iterations"] = stats.meanIterations;
     bake.parameters["em_most_iterations"] = stats.maxIterations;
     bake.parameters["em_not_converged"] = double(stats.notConverged);
+    bake.parameters["lobe_budget"] = options.vmfLobeBudget;
+    bake.parameters["mean_lobes"] = stats.texels ? double(stats.lobes) / double(stats.texels) : 0.0;
     bake.parameters["coherence"] = options.vmfCoherence;
     bake.parameters["lobe_mismatch_degrees"] = lobeMismatch(levels);
     const std::string slot = options.vmfCoherence > 0.f ? " (coherent slot, eq. 32)" : " (slot by decreasing alpha)";

@@ -121,9 +121,10 @@ EmOutcome runSlotEm(const Samples& samples, LobeSet& lobes, const Alignment& ali
 // farthestPointLobes into a LobeSet (candidates: any number).
 void farthestPoint(const VmfLobe* candidates, size_t count, int J, LobeSet& out);
 
-// mergedLobes into a LobeSet (candidates: any number).
+// mergedLobes into a LobeSet (candidates: any number); then, with maxLoss >= 0, further merges
+// while the cheapest loses at most maxLoss (VmfFitOptions::lobeBudget).
 void mergeCandidates(const VmfLobe* candidates, size_t count, int J, const VmfFitOptions& options,
-                     LobeSet& out);
+                     LobeSet& out, double maxLoss = -1);
 
 // The kappa <-> mean resultant length map of the fit: Banerjee's closed form, or with
 // options.exactKappa the exact A^-1 / A; kappa capped at options.kappaMax.

@@ -39,7 +39,7 @@ double mergeLoss(const Cluster& a, const Cluster& b, const VmfFitOptions& option
 } // namespace
 
 void mergeCandidates(const VmfLobe* candidates, size_t count, int J, const VmfFitOptions& options,
-                     LobeSet& out) {
+                     LobeSet& out, double maxLoss) {
     J = std::clamp(J, 1, kMaxVmfLobes);
     const double s = std::max(double(options.mergeSmoothing), 1e-6);
     thread_local std::vector<Cluster> clusters;
@@ -62,11 +62,11 @@ void mergeCandidates(const VmfLobe* candidates, size_t count, int J, const VmfFi
     }
     const size_t n = clusters.size();
     size_t live = n;
-    if (live > size_t(J)) {
+    if (live > size_t(J) || (live > 1 && maxLoss >= 0)) {
         loss.assign(n * n, 0.0);
         for (size_t i = 0; i < n; ++i)
             for (size_t j = i + 1; j < n; ++j) loss[i * n + j] = mergeLoss(clusters[i], clusters[j], options, s);
-        while (live > size_t(J)) {
+        while (live > 1) {
             size_t bi = 0, bj = 0;
             double best = INFINITY;
             for (size_t i = 0; i < n; ++i) {
@@ -75,6 +75,7 @@ void mergeCandidates(const VmfLobe* candidates, size_t count, int J, const VmfFi
                     if (clusters[j].live && loss[i * n + j] < best) best = loss[i * n + j], bi = i, bj = j;
             }
             if (bi == bj) break; // only NaN losses left
+            if (live <= size_t(J) && !(best <= maxLoss)) break; // J reached, the rest cost too much
             Cluster& into = clusters[bi];
             into.alpha += clusters[bj].alpha;
             into.mean += clusters[bj].mean;

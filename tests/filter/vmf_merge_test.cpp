@@ -187,3 +187,48 @@ TEST(VmfMerge, PyramidFitIsCloseToAMultiRestartReferenceOnRealMaps) {
 
 } // namespace
 } // namespace ndfmip
+
+namespace ndfmip {
+namespace {
+
+TEST(VmfMerge, ALobeBudgetKeepsFewerLobesAndTheMeanNormal) {
+    // Two groove directions in a checkerboard plus noise: with a budget, texels keep fewer lobes
+    // where more buy little; every texel's packed lobes still add up to its Na.
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(-0.05f, 0.05f);
+    Image map(32, 32, 3);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const float s = (x + y) % 2 ? 0.4f : -0.4f;
+            test::setNormal(map, x, y, s + u(rng), u(rng), 1.f);
+        }
+    const Pyramid pyramid = buildPyramid(map);
+    VmfFitStats all, budgeted, lean;
+    VmfFitOptions options;
+    options.minAlpha = 0.f;
+    const std::vector<VmfLevel> full = fitVmfPyramid(pyramid, 6, options, &all);
+    options.lobeBudget = 0.5f;
+    (void)fitVmfPyramid(pyramid, 6, options, &lean);
+    options.lobeBudget = 0.05f;
+    const std::vector<VmfLevel> fewer = fitVmfPyramid(pyramid, 6, options, &budgeted);
+    EXPECT_LT(budgeted.lobes, all.lobes);
+    EXPECT_LT(lean.lobes, budgeted.lobes); // a larger budget, fewer lobes
+    for (size_t k = 1; k < fewer.size(); ++k) {
+        const Image& na = *pyramid.levels[k].mean;
+        for (int y = 0; y < na.height; ++y)
+            for (int x = 0; x < na.width; ++x) {
+                glm::dvec3 sum(0.0);
+                for (const VmfLobe& l : fewer[k].texel(x, y)) {
+                    const glm::vec4 p = packLobe(l);
+                    sum += glm::dvec3(p.y, p.z, p.w);
+                }
+                const float* m = na.at(x, y);
+                EXPECT_LT(glm::length(sum - glm::dvec3(m[0], m[1], m[2])), 2e-5) << k << " " << x << " " << y;
+            }
+    }
+    // The two grooves stay apart: a texel of the top level keeps (at least) two lobes.
+    EXPECT_GE(fewer.back().texel(0, 0).size(), 2u);
+}
+
+} // namespace
+} // namespace ndfmip

@@ -21,6 +21,7 @@ struct BakeArgs {
     int lobes = 0; // vmf: 0 = the default J = 4
     std::string albedo; // vmf: colour per lobe
     float coherence = 0.f;
+    float lobeBudget = 0.f;
     int maxIterations = 50;
     double tolerance = 1e-5;
     bool half = false;
@@ -49,6 +50,8 @@ void runBake(const BakeArgs& a) {
     if (a.lobes != 0 && *method != Method::Vmf) throw Failure("--lobes applies to --method vmf only");
     if (!a.albedo.empty() && *method != Method::Vmf) throw Failure("--albedo applies to --method vmf only");
     if (a.coherence != 0.f && *method != Method::Vmf) throw Failure("--coherent applies to --method vmf only");
+    if (a.lobeBudget != 0.f && *method != Method::Vmf) throw Failure("--lobe-budget applies to --method vmf only");
+    if (a.lobeBudget != 0.f && a.coherence != 0.f) throw Failure("--lobe-budget does not apply to coherent lobes");
     if (a.exportFormat == "png16" && (*method == Method::Sh || *method == Method::Vmf || *method == Method::Lean))
         throw Failure("--export png16 needs a method that stores a normal (naive, toksvig)");
     if (!a.gloss.empty() && a.maxExponent <= 0.f)
@@ -71,6 +74,7 @@ void runBake(const BakeArgs& a) {
     options.vmfMaxIterations = a.maxIterations;
     options.vmfTolerance = a.tolerance;
     options.vmfCoherence = a.coherence;
+    options.vmfLobeBudget = a.lobeBudget;
     if (!a.albedo.empty()) options.albedo = loadAlbedoOrFail(a.albedo, width, height);
     if (!a.quiet) options.progress = [](int done, int total) { showProgress("bake: level", done, total); };
     Bake bake = bakeMethod(*method, pyramid, options);
@@ -94,9 +98,10 @@ void runBake(const BakeArgs& a) {
                     methodName(*method), width, height, bake.levels.size(), a.output.c_str(),
                     decodeMs, bakeMs, writeMs, report.offUnitLength);
         if (*method == Method::Vmf)
-            std::printf("vmf     : J = %d lobes, EM iterations per texel %.2f on average, %g at most, %g texels "
-                        "stopped at --max-iterations; lobe mismatch %.2f degrees (coherence %g)\n",
-                        bakeVmfLobes(bake), bake.parameters.at("em_mean_iterations"),
+            std::printf("vmf     : J = %d lobes (%.2f used per texel on average), EM iterations per texel %.2f on "
+                        "average, %g at most, %g texels stopped at --max-iterations; lobe mismatch %.2f degrees "
+                        "(coherence %g)\n",
+                        bakeVmfLobes(bake), bake.parameters.at("mean_lobes"), bake.parameters.at("em_mean_iterations"),
                         bake.parameters.at("em_most_iterations"), bake.parameters.at("em_not_converged"),
                         bake.parameters.at("lobe_mismatch_degrees"), bake.parameters.at("coherence"));
         if (*method == Method::Sh) {
@@ -117,7 +122,7 @@ void addBakeCommand(CLI::App& app) {
     CLI::App* c = app.add_subcommand("bake", "filter a normal map into a per-level bake directory");
     c->add_option("input", args->input, "normal map (PNG 8/16-bit, JPEG, TGA, OpenEXR)")->required();
     c->add_option("-o,--output", args->output, "output directory")->required();
-    c->add_option("--method", args->method, "naive, toksvig, sh or vmf")->capture_default_str();
+    c->add_option("--method", args->method, "naive, toksvig, sh, vmf or lean")->capture_default_str();
     c->add_option("--order", args->order, "sh: highest band l* ((l*+1)^2 coefficients; default 7)")
         ->check(CLI::Range(1, kMaxShOrder));
     c->add_flag("--half", args->half, "store the planes as 16-bit half floats");
@@ -126,6 +131,10 @@ void addBakeCommand(CLI::App& app) {
     c->add_option("--coherent", args->coherence,
                   "vmf: C of the alignment term (eq. 32): lobes fitted top-down, slot j matched across texels")
         ->check(CLI::Range(0.f, 1e6f));
+    c->add_option("--lobe-budget", args->lobeBudget,
+                  "vmf: merge a texel's lobes while a merge loses at most this much (Runnalls' bound, "
+                  "e.g. 0.01): fewer lobes where more buy little; 0 = J everywhere")
+        ->check(CLI::Range(0.f, 10.f));
     c->add_option("--max-iterations", args->maxIterations, "vmf: EM iterations per texel at most")
         ->check(CLI::Range(1, 10000))->capture_default_str();
     c->add_option("--tolerance", args->tolerance, "vmf: relative log-likelihood gain that ends EM")

@@ -190,19 +190,29 @@ MethodSpec methodSpec(const std::string& label) {
     auto method = methodFromString(name);
     if (!method)
         throw Failure("--methods: unknown method '" + label +
-                      "' (expected naive, toksvig, toksvig-lut, sh[:ORDER], vmf[:LOBES], exact)");
+                      "' (expected naive, toksvig, toksvig-lut, sh[:ORDER], vmf[:LOBES[:BUDGET]], lean, exact)");
     spec.method = *method;
     spec.render = methodName(*method);
     if (!order.empty()) {
+        // vmf:J or vmf:J:BUDGET (lobes by error budget).
+        std::string budget;
+        if (size_t colon = order.find(':'); colon != std::string::npos) {
+            budget = order.substr(colon + 1);
+            order = order.substr(0, colon);
+        }
         char* end = nullptr;
         long l = std::strtol(order.c_str(), &end, 10);
         const bool sh = *method == Method::Sh, vmf = *method == Method::Vmf;
         const long most = sh ? kMaxShOrder : 8;
-        if ((!sh && !vmf) || *end != '\0' || l < 1 || l > most)
+        char* budgetEnd = nullptr;
+        const float b = budget.empty() ? 0.f : std::strtof(budget.c_str(), &budgetEnd);
+        const bool budgetOk = budget.empty() || (vmf && *budgetEnd == '\0' && b >= 0.f && b <= 10.f);
+        if ((!sh && !vmf) || *end != '\0' || l < 1 || l > most || !budgetOk)
             throw Failure("--methods: '" + label + "': sh takes an order 1 .. " + std::to_string(kMaxShOrder) +
-                          ", vmf a lobe count 1 .. 8, other methods nothing");
+                          ", vmf a lobe count 1 .. 8 and optionally :BUDGET (0 .. 10), other methods nothing");
         if (sh) spec.options.shOrder = int(l);
         if (vmf) spec.options.vmfLobes = int(l);
+        spec.options.vmfLobeBudget = b;
     }
     return spec;
 }
