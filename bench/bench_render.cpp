@@ -1,6 +1,7 @@
-// The reference renderer: ground truth (many samples per pixel) and a filtered method
-// (one trilinear lookup per pixel) on a plane seen at a grazing angle, which spans every
-// mip level of the map in one image.
+// The reference renderer: ground truth (many samples per pixel) and a filtered method on a
+// plane seen at a grazing angle, which spans every mip level of the map in one image. Methods
+// under the default filtering rule (2 x 2 sub-samples, LOD bias -0.5, each texel shaded) and
+// under a GPU's plain trilinear lookup (one lookup, parameters blended).
 #include <benchmark/benchmark.h>
 
 #include "bench_support.h"
@@ -44,11 +45,18 @@ void BM_RenderGroundTruth(benchmark::State& state) {
     state.SetItemsProcessed(int64_t(state.iterations()) * state.range(0) * state.range(0) * state.range(1));
 }
 
+// Args: image side, rule (0 the default, 1 the plain lookup).
 void BM_RenderMethod(benchmark::State& state, ndfmip::Method method) {
     const ndfmip::Scene scene = grazingPlane(int(state.range(0)));
     const ndfmip::RenderTextures t = texturesFor(method);
+    ndfmip::RenderOptions o;
+    if (state.range(1) == 1) {
+        o.taps = 1;
+        o.lodBias = 0.f;
+        o.shadeFilter = ndfmip::ShadeFilter::Parameter;
+    }
     for (auto _ : state) {
-        auto image = ndfmip::render(scene, t, ndfmip::methodName(method), {});
+        auto image = ndfmip::render(scene, t, ndfmip::methodName(method), o);
         benchmark::DoNotOptimize(image.value().pixels.data());
     }
     state.SetItemsProcessed(int64_t(state.iterations()) * state.range(0) * state.range(0));
@@ -57,6 +65,11 @@ void BM_RenderMethod(benchmark::State& state, ndfmip::Method method) {
 } // namespace
 
 BENCHMARK(BM_RenderGroundTruth)->Args({512, 256})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_RenderMethod, naive, ndfmip::Method::Naive)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_RenderMethod, toksvig, ndfmip::Method::Toksvig)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_RenderMethod, sh7, ndfmip::Method::Sh)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_RenderMethod, naive, ndfmip::Method::Naive)
+    ->Args({1024, 0})->Args({1024, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_RenderMethod, toksvig, ndfmip::Method::Toksvig)
+    ->Args({1024, 0})->Args({1024, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_RenderMethod, sh7, ndfmip::Method::Sh)
+    ->Args({1024, 0})->Args({1024, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_RenderMethod, vmf4, ndfmip::Method::Vmf)
+    ->Args({1024, 0})->Args({1024, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
