@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "filter/vmf_test_support.h"
+#include "ndfmip/evaluate.h"
 #include "ndfmip/normal_map.h"
 #include "ndfmip/vmf.h"
 #include "test_support.h"
@@ -228,6 +229,56 @@ TEST(VmfMerge, ALobeBudgetKeepsFewerLobesAndTheMeanNormal) {
     }
     // The two grooves stay apart: a texel of the top level keeps (at least) two lobes.
     EXPECT_GE(fewer.back().texel(0, 0).size(), 2u);
+}
+
+} // namespace
+} // namespace ndfmip
+
+namespace ndfmip {
+namespace {
+
+TEST(VmfMerge, TheTopTexelOfTheBundledWallKeepsABroadLobe) {
+    // The bundled stone wall (256², DirectX) at its 1 x 1 level, J = 4: flat tiles and grooves
+    // spread over a wide cone. Farthest-point seeds end with one swollen lobe (alpha 0.95,
+    // kappa 54) holding tiles and grooves alike and three small ones (kappa 78-106); merged seeds
+    // keep the tiles' lobe (alpha 0.87, kappa 122) apart from a broad lobe for the grooves
+    // (alpha 0.09, kappa 8), and the pixel that covers the whole map stays close to the truth.
+    DecodeOptions decode;
+    decode.greenDown = true;
+    Result<Image> map = loadNormalMap(std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png",
+                                      decode, nullptr);
+    ASSERT_TRUE(map.ok()) << map.error().message;
+    const Pyramid pyramid = buildPyramid(map.value());
+    BakeOptions options;
+    options.vmfLobes = 4;
+    const Bake bake = bakeVmf(pyramid, options);
+    const int top = int(pyramid.levels.size()) - 1;
+    std::vector<Image> shaded, truth;
+    for (float azimuth : {45.f, 135.f, 225.f, 315.f}) {
+        ShadeContext c;
+        const float tilt = 30.f * kPi / 180.f, phi = azimuth * kPi / 180.f;
+        c.light = {std::sin(tilt) * std::cos(phi), std::sin(tilt) * std::sin(phi), std::cos(tilt)};
+        c.exponent = 512.f;
+        shaded.push_back(shadeLevel(bake, top, c));
+        truth.push_back(groundTruthLevel(pyramid, top, c));
+    }
+    EXPECT_LT(compareToTruth(shaded, truth).relativeRmse, 0.4); // measured 0.27
+    const std::vector<VmfLevel> levels = fitVmfPyramid(pyramid, 4, {}, nullptr);
+    bool broad = false;
+    for (const VmfLobe& l : levels.back().texel(0, 0)) broad = broad || (l.alpha > 0.05f && l.kappa < 20.f);
+    EXPECT_TRUE(broad);
+}
+
+TEST(VmfMerge, PooledComparisonWeighsEveryPixelOnce) {
+    // Two lights, the second with a near-zero truth: pooled, its pixels cannot blow up the ratio.
+    Image a1(2, 1, 1), b1(2, 1, 1), a2(2, 1, 1), b2(2, 1, 1);
+    a1.pixels = {1.f, 1.f};
+    b1.pixels = {1.f, 1.f};
+    a2.pixels = {0.01f, 0.01f};
+    b2.pixels = {1e-5f, 1e-5f};
+    const ErrorStats pooled = compareToTruth(std::vector<Image>{a1, a2}, std::vector<Image>{b1, b2});
+    EXPECT_NEAR(pooled.energyRatio, 2.02 / 2.00002, 1e-6);
+    EXPECT_NEAR(compareToTruth(a2, b2).energyRatio, 1000.0, 1e-2); // one light alone
 }
 
 } // namespace
