@@ -9,6 +9,10 @@
 #include "ndfmip/normal_map.h"
 #include "ndfmip/roughness.h"
 
+namespace ndfmip {
+struct RenderOptions; // render.h
+}
+
 namespace ndfmip::cli {
 
 // A user-facing failure: main prints "ndfmip: error: <message>" and exits with 1.
@@ -33,6 +37,19 @@ struct InputOptions {
     DecodeOptions resolved() const; // decode with height and address filled in
 };
 void addInputOptions(CLI::App* command, InputOptions& options);
+
+// The truth surface and the methods' filtering rule (render, eval): --truth, --taps, --lod-bias,
+// --lobe-filter, with the renderer's defaults.
+struct FilteringArgs {
+    std::string truth = "box";
+    int taps;
+    float lodBias;
+    std::string lobeFilter;
+    FilteringArgs();
+    // The options into `o` (truth, taps, lodBias, shadeFilter); throws on a bad name.
+    void apply(RenderOptions& o) const;
+};
+void addFilteringOptions(CLI::App* command, FilteringArgs& args);
 
 // Loads and decodes a normal map, warns on stderr about suspicious normals, throws on error.
 Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bool quiet,

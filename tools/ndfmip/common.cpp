@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "ndfmip/io.h"
+#include "ndfmip/render.h"
 #include "ndfmip/vmf.h"
 
 namespace ndfmip::cli {
@@ -88,6 +89,33 @@ SharedImage loadAlbedoOrFail(const std::string& path, int width, int height) {
             rgb.pixels[3 * i + c] = std::max(v, 0.f);
         }
     return std::make_shared<const Image>(std::move(rgb));
+}
+
+FilteringArgs::FilteringArgs()
+    : taps(RenderOptions{}.taps), lodBias(RenderOptions{}.lodBias),
+      lobeFilter(shadeFilterName(RenderOptions{}.shadeFilter)) {}
+
+void FilteringArgs::apply(RenderOptions& o) const {
+    if (!truthFilterFromString(truth, o.truth)) throw Failure("--truth: '" + truth + "' is not box or bilinear");
+    if (!shadeFilterFromString(lobeFilter, o.shadeFilter))
+        throw Failure("--lobe-filter: '" + lobeFilter + "' is not parameter or texel");
+    o.taps = taps;
+    o.lodBias = lodBias;
+}
+
+void addFilteringOptions(CLI::App* c, FilteringArgs& a) {
+    c->add_option("--truth", a.truth,
+                  "ground truth surface: box (each texel's normal over its square, as the mip levels "
+                  "average it; an exact, noise-free integral where the view allows) or bilinear")
+        ->capture_default_str();
+    c->add_option("--taps", a.taps, "methods: K x K sub-samples per pixel, each a K times smaller footprint")
+        ->check(CLI::Range(1, 16))->capture_default_str();
+    c->add_option("--lod-bias", a.lodBias, "methods: added to every lookup's LOD")
+        ->check(CLI::Range(-16.f, 16.f))->capture_default_str();
+    c->add_option("--lobe-filter", a.lobeFilter,
+                  "methods: parameter (blend the texels' parameters, then shade) or texel (shade each "
+                  "texel, then blend)")
+        ->capture_default_str();
 }
 
 std::vector<SharedImage> loadRoughnessMipsOrFail(const std::string& pattern,

@@ -49,14 +49,11 @@ struct EvalArgs {
     bool allImages = false;
     float coherence = 0.f; // vmf methods: C of eq. 32
     bool quiet = false;
-    std::string truth = "box";
     bool aligned = false;                 // pixel = one texel of the level, on the texel grid
     std::vector<float> offset{0.31f, 0.17f}; // the pixel grid's shift from the texel grid, in pixels
     std::vector<std::string> externalRoughness; // NAME=PATTERN
     std::string externalEncoding = "perceptual"; // or alpha
-    int taps = RenderOptions{}.taps;
-    float lodBias = RenderOptions{}.lodBias;
-    std::string lobeFilter = shadeFilterName(RenderOptions{}.shadeFilter);
+    FilteringArgs filtering;
 };
 
 // One material setting of the matrix.
@@ -249,13 +246,9 @@ void runEval(const EvalArgs& a) {
     const std::vector<ExternalRoughness> externals = externalRows(a.externalRoughness);
     if (a.externalEncoding != "perceptual" && a.externalEncoding != "alpha")
         throw Failure("--external-encoding: '" + a.externalEncoding + "' is not perceptual or alpha");
-    TruthFilter truthFilter;
-    if (!truthFilterFromString(a.truth, truthFilter)) throw Failure("--truth: '" + a.truth + "' is not box or bilinear");
     RenderOptions filtering;
-    filtering.taps = a.taps;
-    filtering.lodBias = a.lodBias;
-    if (!shadeFilterFromString(a.lobeFilter, filtering.shadeFilter))
-        throw Failure("--lobe-filter: '" + a.lobeFilter + "' is not parameter or texel");
+    a.filtering.apply(filtering);
+    const TruthFilter truthFilter = filtering.truth;
     if (a.offset.size() != 2 || !std::isfinite(a.offset[0]) || !std::isfinite(a.offset[1]))
         throw Failure("--offset: two finite numbers X,Y expected");
     // Aligned: each pixel exactly one texel of a level, so every method reads that one texel.
@@ -426,11 +419,12 @@ void runEval(const EvalArgs& a) {
     root["maps"] = a.maps;
     root["setup"] = {{"view", "orthographic, straight down"}, {"light", "directional, 25 deg off the normal"},
                      {"footprints", a.footprints}, {"methods", a.methods}, {"frames", a.frames},
-                     {"truth", a.truth},
+                     {"truth", a.filtering.truth},
                      {"truth_spp", truthFilter == TruthFilter::Box ? json("exact integral, no samples")
                                    : a.spp > 0 ? json(a.spp) : json("max(64, footprint^2), at most 1024")},
                      {"aligned", a.aligned}, {"offset", {shift.x, shift.y}},
-                     {"taps", a.taps}, {"lod_bias", a.lodBias}, {"lobe_filter", a.lobeFilter},
+                     {"taps", a.filtering.taps}, {"lod_bias", a.filtering.lodBias},
+                     {"lobe_filter", a.filtering.lobeFilter},
                      {"seed", a.seed}};
     root["cases"] = cases;
     if (a.calibrate) {
@@ -460,8 +454,8 @@ void runEval(const EvalArgs& a) {
             : "stratified supersampling of the bilinear, renormalised surface of the finest normals, "
               "max(64, footprint^2) samples per pixel up to 1024";
     char filter[160];
-    std::snprintf(filter, sizeof filter, "%d x %d sub-samples per pixel, LOD bias %g, %s filtering", a.taps, a.taps,
-                  a.lodBias, a.lobeFilter.c_str());
+    std::snprintf(filter, sizeof filter, "%d x %d sub-samples per pixel, LOD bias %g, %s filtering",
+                  a.filtering.taps, a.filtering.taps, a.filtering.lodBias, a.filtering.lobeFilter.c_str());
     report.notes.insert(report.notes.begin(),
         "Each case: a top-down orthographic view of the map tiled on a plane, one pixel covering footprint x "
         "footprint texels, " + std::string(view) + "; one directional light 25 degrees off the normal. Ground "
@@ -525,20 +519,11 @@ void addEvalCommand(CLI::App& app) {
     c->add_option("--calibration-roughness", a->calibrationRoughness, "base alphas of the calibration")
         ->delimiter(',')->check(CLI::Range(1e-3f, 1.f))->capture_default_str();
     c->add_flag("--all-images", a->allImages, "images of every setting (default: s=32 and the first GGX alpha)");
-    c->add_option("--truth", a->truth,
-                  "ground truth surface: box (exact integral, noise-free) or bilinear (supersampled)")
-        ->capture_default_str();
     c->add_flag("--aligned", a->aligned, "each pixel exactly one texel of a level (no offset, one lookup: "
                 "--taps 1 --lod-bias 0 unless given): only the representation error is left");
     c->add_option("--offset", a->offset, "the pixel grid's shift from the texel grid, in pixels")
         ->delimiter(',')->expected(2)->capture_default_str();
-    c->add_option("--taps", a->taps, "methods: K x K sub-samples per pixel, each a K times smaller footprint")
-        ->check(CLI::Range(1, 16))->capture_default_str();
-    c->add_option("--lod-bias", a->lodBias, "methods: added to every lookup's LOD")
-        ->check(CLI::Range(-16.f, 16.f))->capture_default_str();
-    c->add_option("--lobe-filter", a->lobeFilter,
-                  "methods: parameter (blend the texels' parameters, then shade) or texel (shade each texel, "
-                  "then blend)")->capture_default_str();
+    addFilteringOptions(c, a->filtering);
     c->add_option("--external-roughness", a->externalRoughness,
                   "NAME=PATTERN: another tool's perceptual-roughness mips (one file per level; PATTERN with "
                   "{level}, {stem} of the map, {roughness} the base alpha) beside the standard normal mipmap, "
@@ -549,8 +534,8 @@ void addEvalCommand(CLI::App& app) {
     c->add_flag("-q,--quiet", a->quiet, "no progress or warnings");
     c->callback([a, c] {
         EvalArgs args = *a;
-        if (args.aligned && c->count("--taps") == 0) args.taps = 1;
-        if (args.aligned && c->count("--lod-bias") == 0) args.lodBias = 0.f;
+        if (args.aligned && c->count("--taps") == 0) args.filtering.taps = 1;
+        if (args.aligned && c->count("--lod-bias") == 0) args.filtering.lodBias = 0.f;
         runEval(args);
     });
 }

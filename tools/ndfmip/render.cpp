@@ -29,10 +29,7 @@ struct RenderArgs {
     int order = 7; // sh baked on the fly
     uint64_t seed = 1;
     bool nearest = false;
-    std::string truth = "box";
-    int taps = RenderOptions{}.taps;
-    float lodBias = RenderOptions{}.lodBias;
-    std::string lobeFilter = shadeFilterName(RenderOptions{}.shadeFilter);
+    FilteringArgs filtering;
     bool noPng = false;
     float exposure = std::numeric_limits<float>::quiet_NaN();
     bool quiet = false;
@@ -68,13 +65,8 @@ void runRender(const RenderArgs& a) {
     RenderOptions options;
     options.spp = a.spp > 0 ? a.spp : (method == kGroundTruth ? 64 : 1);
     options.seed = a.seed;
-    if (!truthFilterFromString(a.truth, options.truth))
-        throw Failure("--truth: '" + a.truth + "' is not box or bilinear");
+    a.filtering.apply(options);
     if (a.nearest) options.truth = TruthFilter::Box;
-    if (!shadeFilterFromString(a.lobeFilter, options.shadeFilter))
-        throw Failure("--lobe-filter: '" + a.lobeFilter + "' is not parameter or texel");
-    options.taps = a.taps;
-    options.lodBias = a.lodBias;
     options.anisotropy = a.anisotropy;
     options.roughnessMapping = roughnessMappingOrFail(a.mapping);
     if (!a.quiet) options.progress = [](int done, int total) { showProgress("render", done, total); };
@@ -151,19 +143,8 @@ void addRenderCommand(CLI::App& app) {
     c->add_option("--spp", a->spp, "samples per pixel, stratified (default 1; ground truth 64)")
         ->check(CLI::Range(1, 1 << 20));
     c->add_option("--seed", a->seed, "jitter seed")->capture_default_str();
-    c->add_option("--truth", a->truth,
-                  "ground truth surface: box (each texel's normal over its square, as the mip levels "
-                  "average it; exact, noise-free integral where the view allows) or bilinear")
-        ->capture_default_str();
+    addFilteringOptions(c, a->filtering);
     c->add_flag("--nearest", a->nearest, "the same as --truth box");
-    c->add_option("--taps", a->taps, "methods: K x K sub-samples per pixel, each a K times smaller footprint")
-        ->check(CLI::Range(1, 16))->capture_default_str();
-    c->add_option("--lod-bias", a->lodBias, "methods: added to every lookup's LOD")
-        ->check(CLI::Range(-16.f, 16.f))->capture_default_str();
-    c->add_option("--lobe-filter", a->lobeFilter,
-                  "methods: parameter (blend the texels' parameters, then shade) or texel (shade each "
-                  "texel, then blend)")
-        ->capture_default_str();
     c->add_option("--aniso", a->anisotropy, "methods: anisotropic probes along the footprint (1 = trilinear)")
         ->check(CLI::Range(1, 64))->capture_default_str();
     c->add_option("--order", a->order, "sh baked on the fly: highest band l*")
