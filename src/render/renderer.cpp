@@ -81,6 +81,10 @@ struct Context {
     const RenderOptions* options = nullptr;
     Shader shader = Shader::Truth;
     bool exactTruth = false;  // truth integrated texel by texel (exactBoxView)
+    // exactBoxView scenes: the view and the lights in the plane's tangent frame, the same at
+    // every point (orthographic camera, directional lights).
+    glm::vec3 fixedView{0.f, 0.f, 1.f};
+    std::vector<LightSample> fixedLights;
     FilteredPlanes planes;    // methods: the linear planes (exact: the shaded chain)
     std::vector<glm::ivec2> sizes; // their levels' sizes
     ShShading sh;             // sh: the material's A_l
@@ -279,16 +283,6 @@ glm::vec3 exactPixel(const Context& ctx, float px, float py) {
     const Scene& scene = *ctx.scene;
     const glm::vec2 extent = hi - lo;
     if (!(extent.x > 0.f && extent.y > 0.f)) return shadeTruth(ctx, hit, view);
-    // Light directions are the same over the pixel (directional lights, a plane).
-    glm::vec3 l[16], irradiance[16];
-    int lights = 0;
-    for (const Light& light : scene.lights) {
-        const LightSample ls = lightAt(light, hit.position);
-        const glm::vec3 lt = toTangent(hit, ls.direction);
-        if (lt.z <= 0.f || lights == 16) continue;
-        l[lights] = lt;
-        irradiance[lights++] = ls.irradiance;
-    }
     const bool box = ctx.options->truth == TruthFilter::Box;
     const double k = box ? 1.0 : double(kBilinearCells);
     const glm::dvec2 size(normals.width, normals.height);
@@ -315,8 +309,9 @@ glm::vec3 exactPixel(const Context& ctx, float px, float py) {
                 albedo *= glm::vec3(a[0], a[1], a[2]);
             }
             glm::vec3 r(0.f);
-            for (int i = 0; i < lights; ++i)
-                r += irradiance[i] * shadeNormal(scene.material, albedo, n, l[i], glm::normalize(l[i] + view));
+            for (const LightSample& light : ctx.fixedLights)
+                r += light.irradiance *
+                     shadeNormal(scene.material, albedo, n, light.direction, glm::normalize(light.direction + view));
             sum += ((right - left) * (bottom - top)) * glm::dvec3(r);
         }
     }
@@ -327,9 +322,7 @@ glm::vec3 exactPixel(const Context& ctx, float px, float py) {
 // light), coarser levels the pyramid's exact footprint means of it. Needs constant l and v.
 std::vector<SharedImage> shadedChain(const Scene& scene, const RenderTextures& textures, const Context& ctx) {
     const Image& normals = *textures.normals;
-    const SurfaceHit hit = intersect(scene.geometry, cameraRay(ctx.camera, 0.5f * ctx.camera.width,
-                                                               0.5f * ctx.camera.height));
-    const glm::vec3 view = toTangent(hit, -ctx.camera.forward);
+    const glm::vec3 view = ctx.fixedView;
     auto level0 = std::make_shared<Image>(normals.width, normals.height, 3, Image::Uninitialized{});
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < normals.height; ++y)
@@ -341,12 +334,9 @@ std::vector<SharedImage> shadedChain(const Scene& scene, const RenderTextures& t
                 albedo *= glm::vec3(a[0], a[1], a[2]);
             }
             glm::vec3 r(0.f);
-            for (const Light& light : scene.lights) {
-                const glm::vec3 l = toTangent(hit, light.direction);
-                if (l.z <= 0.f || view.z <= 0.f) continue;
-                r += light.color * shadeNormal(scene.material, albedo, glm::vec3(n[0], n[1], n[2]), l,
-                                               glm::normalize(l + view));
-            }
+            for (const LightSample& light : ctx.fixedLights)
+                r += light.irradiance * shadeNormal(scene.material, albedo, glm::vec3(n[0], n[1], n[2]),
+                                                    light.direction, glm::normalize(light.direction + view));
             float* out = level0->at(x, y);
             out[0] = r.x, out[1] = r.y, out[2] = r.z;
         }
@@ -386,6 +376,19 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
             return Error{"render: the albedo map must be RGB and the normal map's size"};
         for (const SharedImage& level : textures.albedo) ctx.albedo.levels.push_back(level.get());
         ctx.albedo.channels = a.channels;
+    }
+    if (exactBoxView(scene)) {
+        // The plane's tangent frame, as intersect() builds it, and what is fixed in it.
+        const Geometry& g = scene.geometry;
+        SurfaceHit frame;
+        frame.normal = g.normal;
+        frame.tangent = g.tangent;
+        frame.bitangent = glm::cross(g.normal, g.tangent);
+        ctx.fixedView = toTangent(frame, -ctx.camera.forward);
+        for (const Light& light : scene.lights) {
+            const glm::vec3 l = toTangent(frame, light.direction);
+            if (l.z > 0.f && ctx.fixedView.z > 0.f) ctx.fixedLights.push_back({l, light.color});
+        }
     }
     std::vector<SharedImage> exactChain; // kExact: owns the shaded chain the planes point into
     if (methodName == kGroundTruth) {
