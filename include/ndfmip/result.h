@@ -45,7 +45,7 @@ struct Status {
 // Text from a file or the command line as an error message quotes it: in single quotes, control
 // characters as '?', cut after `maxChars` bytes (at a UTF-8 boundary) with "…", so a 10 MB key
 // cannot become a 10 MB error line.
-std::string quoted(std::string_view text, size_t maxChars = 80);
+std::string quote(std::string_view text, size_t maxChars = 80);
 
 // The same without the quotes (file paths read from a file).
 std::string shortened(std::string_view text, size_t maxChars = 80);

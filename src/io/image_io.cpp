@@ -26,6 +26,7 @@
 #include <png.h>
 #include <stb_image.h> // implementation lives in Debian's libstb.so
 
+#include "io/crash_recovery.h"
 #include "io/image_formats.h"
 #include "io/input_file.h"
 #include "ndfmip/limits.h"
@@ -599,6 +600,7 @@ Status savePng(const std::string& path, const Image& image, int bitsPerChannel) 
 }
 
 Status writeFileAtomic(const std::string& path, const std::string& bytes) {
+    removeStaleTemporaries(path); // what a killed earlier run left beside the same file
     std::string temp = tempPathFor(path);
     if (int err = writeNewFile(temp, bytes); err != 0) {
         ::unlink(temp.c_str()); // fails harmlessly when it was never created

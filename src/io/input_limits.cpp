@@ -41,7 +41,7 @@ std::string shortened(std::string_view text, size_t maxChars) {
     return out;
 }
 
-std::string quoted(std::string_view text, size_t maxChars) {
+std::string quote(std::string_view text, size_t maxChars) {
     std::string out(1, '\'');
     out += shortened(text, maxChars);
     out += '\'';

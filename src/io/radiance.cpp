@@ -101,7 +101,7 @@ Result<Image> decodeRadiance(std::string_view bytes, const std::string& name) {
         if (line.empty()) break;
         if (line.substr(0, 7) == "FORMAT=") {
             if (line != "FORMAT=32-bit_rle_rgbe")
-                return fail("unsupported Radiance pixel format " + quoted(line.substr(7)));
+                return fail("unsupported Radiance pixel format " + quote(line.substr(7)));
             rgbe = true;
         }
     }
@@ -109,7 +109,7 @@ Result<Image> decodeRadiance(std::string_view bytes, const std::string& name) {
     int64_t width = 0, height = 0;
     if (!in.line(line)) return fail("truncated Radiance HDR header (no resolution line)");
     if (!parseResolution(line, width, height))
-        return fail("unsupported Radiance resolution line " + quoted(line) +
+        return fail("unsupported Radiance resolution line " + quote(line) +
                     " (expected '-Y height +X width')");
     if (Status size = checkImageSize(name, width, height); !size) return Error{size.error};
 

@@ -44,7 +44,7 @@ void applyGlossOrFail(Image& normals, const BakeArgs& a) {
 
 void runBake(const BakeArgs& a) {
     auto method = methodFromString(a.method);
-    if (!method) throw Failure("unknown method '" + a.method + "' (naive, toksvig, sh, vmf)");
+    if (!method) throw Failure("unknown method " + quote(a.method) + " (naive, toksvig, sh, vmf)");
     if (a.order != 0 && *method != Method::Sh) throw Failure("--order applies to --method sh only");
     if (a.lobes != 0 && *method != Method::Vmf) throw Failure("--lobes applies to --method vmf only");
     if (!a.albedo.empty() && *method != Method::Vmf) throw Failure("--albedo applies to --method vmf only");
@@ -73,6 +73,7 @@ void runBake(const BakeArgs& a) {
     options.vmfCoherence = a.coherence;
     if (!a.albedo.empty()) options.albedo = loadAlbedoOrFail(a.albedo, width, height);
     if (!a.quiet) options.progress = [](int done, int total) { showProgress("bake: level", done, total); };
+    checkBakeMemoryOrFail(a.input, *method, options, width, height);
     Bake bake = bakeMethod(*method, pyramid, options);
     if (!a.gloss.empty()) bake.parameters["max_exponent"] = a.maxExponent;
     double bakeMs = millisecondsSince(start);

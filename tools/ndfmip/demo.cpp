@@ -78,6 +78,7 @@ void runDemo(DemoArgs a) {
     if (ec) throw Failure(a.output + ": cannot create (" + ec.message() + ")");
     const Image& normals = *pyramid.base;
     std::vector<Bake> bakes;
+    for (Method m : allMethods()) checkBakeMemoryOrFail(a.input, m, {}, normals.width, normals.height);
     for (Method m : allMethods()) bakes.push_back(bakeMethod(m, pyramid, {}));
     const std::vector<float> exponents = {8.f, 32.f, 128.f, 512.f};
     std::printf("%s: %dx%d, %zu levels\n", a.input.c_str(), normals.width, normals.height,

@@ -222,6 +222,7 @@ void runEval(const EvalArgs& a) {
         map.name = std::filesystem::path(a.maps[mapIndex]).filename().string();
         map.normals = std::make_shared<const Image>(loadNormalsOrFail(a.maps[mapIndex], decode, a.quiet));
         map.pyramid = buildPyramid(map.normals);
+        for (const MethodSpec& spec : specs) checkBakeMemoryOrFail(a.maps[mapIndex], spec.method, spec.options, map.normals->width, map.normals->height);
         for (const MethodSpec& spec : specs) map.bakes[spec.label] = bakeMethod(spec.method, map.pyramid, spec.options);
         if (a.calibrate && map.bakes.count("toksvig") == 0)
             map.bakes["toksvig"] = bakeMethod(Method::Toksvig, map.pyramid, {});
