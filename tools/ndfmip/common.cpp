@@ -70,7 +70,7 @@ void requireFiniteNumbers(CLI::App& app) {
         },
         "", "FINITE");
     for (CLI::Option* option : app.get_options())
-        if (option->get_type_name() == "FLOAT") option->check(finite);
+        if (option->get_type_name().rfind("FLOAT", 0) == 0) option->check(finite); // "FLOAT:..."
     for (CLI::App* command : app.get_subcommands({})) requireFiniteNumbers(*command);
 }
 

@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     } catch (const ndfmip::cli::Failure& e) {
-        std::fprintf(stderr, "ndfmip: error: %s\n", ndfmip::shortened(e.what(), 4400).c_str());
+        std::fprintf(stderr, "ndfmip: error: %s\n", ndfmip::shortened(e.what(), 1024).c_str());
         return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "ndfmip: internal error: %s\n", ndfmip::shortened(e.what(), 300).c_str());
