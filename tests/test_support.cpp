@@ -54,13 +54,16 @@ int runCliWithin(int seconds, const std::string& args, std::string* output) {
     return runCli("__timeout__" + std::to_string(seconds) + " " + args, output);
 }
 
-std::string shellArg(const std::string& text) { return "'" + text + "'"; }
+std::string shellArg(const std::string& text) {
+    return "'" + text + "'";
+}
 
 void expectOneLineError(int status, const std::string& output,
                         std::initializer_list<std::string> mentions) {
     EXPECT_GT(status, 0) << output;
     EXPECT_LT(status, 128) << "killed by a signal or timed out: " << output;
-    EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << "expected one line:\n" << output;
+    EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << "expected one line:\n"
+                                                                 << output;
     for (const std::string& m : mentions)
         EXPECT_NE(output.find(m), std::string::npos) << "'" << m << "' not in: " << output;
 }

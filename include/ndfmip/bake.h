@@ -108,7 +108,7 @@ Status writeBake(const std::string& dir, const Bake& bake, const BakeSource& sou
 struct LoadedBake {
     Method method = Method::Naive;
     std::vector<PlaneInfo> planes;
-    std::vector<std::pair<int, int>> levelSizes; // the GPU mip chain of the source's size
+    std::vector<std::pair<int, int>> levelSizes;      // the GPU mip chain of the source's size
     std::vector<std::vector<std::string>> levelFiles; // [level][plane]: plain names in DIR
     std::map<std::string, double> parameters;
     BakeSource source;

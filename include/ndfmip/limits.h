@@ -14,13 +14,13 @@
 namespace ndfmip {
 
 struct InputLimits {
-    int64_t maxSide = 32768;                    // either side of an image file, in texels
-    int64_t maxPixels = int64_t(1) << 28;       // texels of an image file (16384 x 16384)
-    int64_t maxCameraPixels = int64_t(1) << 26; // pixels of a rendered image (8192 x 8192)
-    int64_t maxMemoryBytes = int64_t(16) << 30; // estimated peak memory of a bake or bake folder
+    int64_t maxSide = 32768;                      // either side of an image file, in texels
+    int64_t maxPixels = int64_t(1) << 28;         // texels of an image file (16384 x 16384)
+    int64_t maxCameraPixels = int64_t(1) << 26;   // pixels of a rendered image (8192 x 8192)
+    int64_t maxMemoryBytes = int64_t(16) << 30;   // estimated peak memory of a bake or bake folder
     int64_t maxImageFileBytes = int64_t(4) << 30; // bytes of an image file
     int64_t maxTextFileBytes = int64_t(16) << 20; // scene, manifest and BRDF-table files
-    int maxJsonDepth = 64;                      // arrays and objects nested in scene/manifest JSON
+    int maxJsonDepth = 64; // arrays and objects nested in scene/manifest JSON
 };
 
 // The limits in force. setInputLimits is meant for the start of a program, before any work.

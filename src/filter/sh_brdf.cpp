@@ -297,7 +297,8 @@ Result<TabulatedTransfer> parseTabulatedTransfer(const std::string& fileText,
             double& out = k == 0 ? angle : value;
             const char* what = k == 0 ? "angle" : "value";
             if (!parseNumber(fields[k], out))
-                return at(line, std::string(what) + " " + quote(fields[k], 32) + " is not a number");
+                return at(line,
+                          std::string(what) + " " + quote(fields[k], 32) + " is not a number");
             if (std::isnan(out)) return at(line, std::string(what) + " is NaN");
             if (!std::isfinite(out)) return at(line, std::string(what) + " is infinite");
         }

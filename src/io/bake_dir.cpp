@@ -116,14 +116,16 @@ json manifestJson(const Bake& bake, const BakeSource& source) {
 // means the folder is someone's work, and it is never deleted.
 Status checkReplaceable(const fs::path& dir) {
     std::error_code ec;
-    if (!fs::is_directory(dir, ec)) return Status::failure(dir.string() + ": exists and is not a directory");
+    if (!fs::is_directory(dir, ec))
+        return Status::failure(dir.string() + ": exists and is not a directory");
     if (fs::is_empty(dir, ec)) return Status::success();
     auto refuse = [&](const std::string& why) {
         return Status::failure(dir.string() + ": exists and is not an ndfmip bake (" + why +
                                "); not replacing it");
     };
     const fs::path manifestPath = dir / "manifest.json";
-    Result<std::string> text = readRegularFile(manifestPath.string(), inputLimits().maxTextFileBytes);
+    Result<std::string> text =
+        readRegularFile(manifestPath.string(), inputLimits().maxTextFileBytes);
     if (!text) return refuse("no readable manifest.json");
     if (!jsonNestingProblem(text.value(), inputLimits().maxJsonDepth).empty())
         return refuse("its manifest.json is not an ndfmip manifest");
@@ -141,11 +143,12 @@ Status checkReplaceable(const fs::path& dir) {
             if (item.value().is_array())
                 for (const json& name : item.value())
                     if (name.is_string()) listed.insert(name.get<std::string>());
-    for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
-         it.increment(ec)) {
+    for (auto it = fs::recursive_directory_iterator(dir, ec);
+         !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
         const std::string relative = it->path().lexically_relative(dir).string();
         if (it->is_directory(ec) && !it->is_symlink(ec) && relative == "png16") continue;
-        if (!listed.count(relative)) return refuse("it holds " + quote(relative) + ", which its manifest does not list");
+        if (!listed.count(relative))
+            return refuse("it holds " + quote(relative) + ", which its manifest does not list");
     }
     if (ec) return refuse("cannot list it: " + ec.message());
     return Status::success();
@@ -177,12 +180,13 @@ Result<Image> readPlane(const fs::path& dir, const LoadedBake& bake, size_t p, i
     if (got.width != w || got.height != h || got.channels != channels)
         return Error{file + ": is " + std::to_string(got.width) + "x" + std::to_string(got.height) +
                      " with " + std::to_string(got.channels) + " channels, but the manifest's " +
-                     planeName(bake, p, level) + " is " + std::to_string(w) + "x" + std::to_string(h) +
-                     " with " + std::to_string(channels)};
+                     planeName(bake, p, level) + " is " + std::to_string(w) + "x" +
+                     std::to_string(h) + " with " + std::to_string(channels)};
     for (size_t i = 0; i < got.pixels.size(); ++i)
         if (!std::isfinite(got.pixels[i]))
-            return Error{file + ": texel (" + std::to_string(i / size_t(channels) % size_t(w)) + ", " +
-                         std::to_string(i / size_t(channels) / size_t(w)) + ") is not a finite number"};
+            return Error{file + ": texel (" + std::to_string(i / size_t(channels) % size_t(w)) +
+                         ", " + std::to_string(i / size_t(channels) / size_t(w)) +
+                         ") is not a finite number"};
     return std::move(image->image);
 }
 
@@ -264,8 +268,9 @@ Result<Bake> loadBake(const std::string& dirName) {
         for (const PlaneInfo& plane : manifest->planes)
             bytes += int64_t(w) * h * int64_t(plane.channels.size()) * int64_t(sizeof(float));
     if (bytes > inputLimits().maxMemoryBytes)
-        return Error{dirName + ": the bake's planes need " + byteSize(bytes) + " in memory, above the limit of " +
-                     byteSize(inputLimits().maxMemoryBytes) + "; --max-memory raises it"};
+        return Error{dirName + ": the bake's planes need " + byteSize(bytes) +
+                     " in memory, above the limit of " + byteSize(inputLimits().maxMemoryBytes) +
+                     "; --max-memory raises it"};
     Bake bake;
     bake.method = manifest->method;
     bake.planes = manifest->planes;

@@ -22,7 +22,9 @@ struct ManifestProblem {
     std::string problem;
 };
 
-[[noreturn]] void fail(const std::string& problem) { throw ManifestProblem{problem}; }
+[[noreturn]] void fail(const std::string& problem) {
+    throw ManifestProblem{problem};
+}
 
 std::string at(const std::string& path, const std::string& key) {
     return path.empty() ? key : path + "." + key;
@@ -108,7 +110,9 @@ std::vector<PlaneInfo> expectedPlanes(Method method, int order, int lobes, bool 
         planes.push_back({name, std::vector<std::string>(size_t(channels)), "", linear});
     };
     switch (method) {
-    case Method::Naive: add("normal", 3, true); break;
+    case Method::Naive:
+        add("normal", 3, true);
+        break;
     case Method::Toksvig:
         add("mean", 3, true);
         add("roughness_beckmann", 1, false);
@@ -158,7 +162,8 @@ void readPlanes(const json& m, LoadedBake& bake) {
     const json& planes = arrayAt(m, "", "planes");
     for (size_t i = 0; i < planes.size() && i < 256; ++i) { // sh order 30 has 241
         const std::string path = at("planes", i);
-        if (!planes[i].is_object()) fail(quote(path) + " must be an object, not " + shown(planes[i]));
+        if (!planes[i].is_object())
+            fail(quote(path) + " must be an object, not " + shown(planes[i]));
         PlaneInfo plane;
         plane.name = textAt(planes[i], path, "name");
         const json& channels = arrayAt(planes[i], path, "channels");
@@ -184,11 +189,14 @@ void readPlanes(const json& m, LoadedBake& bake) {
                bake.planes[p].linear == expected[p].linear;
     if (!same) {
         std::string what = methodName(bake.method);
-        if (order) what += " bake of order " + std::to_string(order);
-        else if (lobes) what += " bake with " + std::to_string(lobes) + " lobes";
-        else what += " bake";
-        fail("'planes' do not match a " + what + ": expected " + planeList(expected) +
-             "; found " + (planes.empty() ? std::string("none") : planeList(bake.planes)));
+        if (order)
+            what += " bake of order " + std::to_string(order);
+        else if (lobes)
+            what += " bake with " + std::to_string(lobes) + " lobes";
+        else
+            what += " bake";
+        fail("'planes' do not match a " + what + ": expected " + planeList(expected) + "; found " +
+             (planes.empty() ? std::string("none") : planeList(bake.planes)));
     }
 }
 
@@ -225,12 +233,13 @@ void readLevels(const json& m, LoadedBake& bake) {
     int w = bake.source.width, h = bake.source.height;
     const size_t count = size_t(levelCount(w, h));
     if (levels.size() != count)
-        fail("'levels' has " + std::to_string(levels.size()) + " entries; a " +
-             std::to_string(w) + "x" + std::to_string(h) + " source has " +
-             std::to_string(count) + " levels down to 1x1");
+        fail("'levels' has " + std::to_string(levels.size()) + " entries; a " + std::to_string(w) +
+             "x" + std::to_string(h) + " source has " + std::to_string(count) +
+             " levels down to 1x1");
     for (size_t k = 0; k < count; ++k) {
         const std::string path = at("levels", k);
-        if (!levels[k].is_object()) fail(quote(path) + " must be an object, not " + shown(levels[k]));
+        if (!levels[k].is_object())
+            fail(quote(path) + " must be an object, not " + shown(levels[k]));
         integerAt(levels[k], path, "level", int64_t(k), int64_t(k));
         integerAt(levels[k], path, "width", w, w);
         integerAt(levels[k], path, "height", h, h);
@@ -259,7 +268,8 @@ void readExports(const json& m, LoadedBake& bake) {
         if (!list.is_array()) fail("'exports.png16' must be an array, not " + shown(list));
         for (size_t i = 0; i < list.size(); ++i) {
             const std::string path = at("exports.png16", i);
-            if (!list[i].is_string()) fail(quote(path) + " must be a string, not " + shown(list[i]));
+            if (!list[i].is_string())
+                fail(quote(path) + " must be a string, not " + shown(list[i]));
             const std::string name = list[i].get<std::string>();
             if (name.rfind("png16/", 0) != 0 || !plainName(name.substr(6)))
                 fail(quote(path) + " is " + quote(name) + ", not png16/ and a plain file name");

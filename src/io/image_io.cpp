@@ -31,15 +31,15 @@
 #include "io/input_file.h"
 #include "ndfmip/limits.h"
 
-#include <half.h>
+#include <Iex.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
-#include <Iex.h>
 #include <ImfIO.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfThreading.h>
+#include <half.h>
 #include <thread>
 
 namespace ndfmip {
@@ -204,7 +204,7 @@ Result<std::vector<std::string>> exrChannelsToRead(const std::string& path,
 // OpenEXR reading from memory: the file was read (and checked to be a regular file of bounded
 // size) by us, so OpenEXR never opens a path itself.
 class MemoryIStream : public Imf::IStream {
-public:
+  public:
     explicit MemoryIStream(std::string_view bytes) : Imf::IStream("memory"), bytes_(bytes) {}
     bool read(char c[], int n) override {
         if (n < 0 || position_ > bytes_.size() || size_t(n) > bytes_.size() - position_)
@@ -216,7 +216,7 @@ public:
     uint64_t tellg() override { return position_; }
     void seekg(uint64_t pos) override { position_ = pos; }
 
-private:
+  private:
     std::string_view bytes_;
     uint64_t position_ = 0;
 };

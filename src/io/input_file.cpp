@@ -94,11 +94,14 @@ std::string jsonNestingProblem(std::string_view text, int maxDepth) {
         const char c = text[i];
         if (c == '\n') ++line;
         if (inString) {
-            if (c == '\\') ++i; // the escaped character cannot end the string
-            else if (c == '"') inString = false;
+            if (c == '\\')
+                ++i; // the escaped character cannot end the string
+            else if (c == '"')
+                inString = false;
             continue;
         }
-        if (c == '"') inString = true;
+        if (c == '"')
+            inString = true;
         else if (c == '[' || c == '{') {
             if (++depth > maxDepth)
                 return "nested deeper than " + std::to_string(maxDepth) + " levels at line " +

@@ -12,7 +12,9 @@ namespace {
 
 InputLimits gLimits;
 
-std::string count(int64_t n) { return std::to_string(n); }
+std::string count(int64_t n) {
+    return std::to_string(n);
+}
 
 // "16384x16384" when n is a square, else the plain number.
 std::string pixelsText(int64_t n) {
@@ -48,9 +50,13 @@ std::string quote(std::string_view text, size_t maxChars) {
     return out;
 }
 
-const InputLimits& inputLimits() { return gLimits; }
+const InputLimits& inputLimits() {
+    return gLimits;
+}
 
-void setInputLimits(const InputLimits& limits) { gLimits = limits; }
+void setInputLimits(const InputLimits& limits) {
+    gLimits = limits;
+}
 
 Status checkImageSize(const std::string& name, int64_t width, int64_t height) {
     const InputLimits& l = gLimits;
@@ -79,8 +85,12 @@ int64_t bakeMemoryEstimate(Method method, const BakeOptions& options, int64_t wi
     // normals (12 bytes) and the pyramid's means (12 bytes per texel per level).
     double perTexel = 12.0 + 12.0 * 4.0 / 3.0;
     switch (method) {
-    case Method::Naive: perTexel += 12.0 * 4.0 / 3.0; break;
-    case Method::Toksvig: perTexel += 4.0 * 4.0 / 3.0; break;
+    case Method::Naive:
+        perTexel += 12.0 * 4.0 / 3.0;
+        break;
+    case Method::Toksvig:
+        perTexel += 4.0 * 4.0 / 3.0;
+        break;
     case Method::Sh: {
         const int order = std::clamp(options.shOrder, 0, kMaxShOrder);
         perTexel += 16.0 * ((shCount(order) + 3) / 4) * 4.0 / 3.0;

@@ -115,8 +115,7 @@ Result<Image> decodeVectors(const SourceImage& source, const DecodeOptions& opti
 }
 
 // Derivative along one axis at index i of n samples, `at(j)` giving the sample at j.
-template <class Sample>
-double derivative(int i, int n, AddressMode address, Sample at) {
+template <class Sample> double derivative(int i, int n, AddressMode address, Sample at) {
     auto difference = [&](int a, int b) { return double(at(a)) - double(at(b)); };
     if (n < 2) return 0.0; // nothing to difference along a 1-texel dimension
     if (address == AddressMode::Wrap) return 0.5 * difference((i + 1) % n, (i + n - 1) % n);

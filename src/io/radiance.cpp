@@ -116,8 +116,8 @@ Result<Image> decodeRadiance(std::string_view bytes, const std::string& name) {
     // The least a scanline can take (flat: 4 bytes a pixel; run-length: a 4-byte marker and a
     // 2-byte run per 127 pixels of each component), so a short file fails before allocating.
     const bool rleWidth = width >= 8 && width <= 0x7FFF;
-    const int64_t leastPerRow = rleWidth ? std::min<int64_t>(4 * width, 4 + 8 * ((width + 126) / 127))
-                                         : 4 * width;
+    const int64_t leastPerRow =
+        rleWidth ? std::min<int64_t>(4 * width, 4 + 8 * ((width + 126) / 127)) : 4 * width;
     if (int64_t(in.left()) < leastPerRow * height)
         return fail("truncated Radiance HDR (" + std::to_string(in.left()) +
                     " bytes of pixel data cannot hold " + std::to_string(width) + "x" +
@@ -128,18 +128,21 @@ Result<Image> decodeRadiance(std::string_view bytes, const std::string& name) {
     for (int y = 0; y < int(height); ++y) {
         float* row = image.at(0, y);
         const bool rle = rleWidth && in.left() >= 4 && bytes[in.pos] == 2 &&
-                         bytes[in.pos + 1] == 2 && !(static_cast<uint8_t>(bytes[in.pos + 2]) & 0x80);
+                         bytes[in.pos + 1] == 2 &&
+                         !(static_cast<uint8_t>(bytes[in.pos + 2]) & 0x80);
         if (rle) {
             const int declared = (static_cast<uint8_t>(bytes[in.pos + 2]) << 8) |
                                  static_cast<uint8_t>(bytes[in.pos + 3]);
             if (declared != width)
                 return fail("corrupt Radiance HDR: scanline " + std::to_string(y) + " is " +
-                            std::to_string(declared) + " pixels wide, not " + std::to_string(width));
+                            std::to_string(declared) + " pixels wide, not " +
+                            std::to_string(width));
             in.pos += 4;
             if (!readRleScanline(in, int(width), planar))
                 return fail("truncated or corrupt Radiance HDR (run-length data of scanline " +
                             std::to_string(y) + ")");
-            for (int x = 0; x < int(width); ++x) toFloat(planar.data() + x, int(width), row + 3 * x);
+            for (int x = 0; x < int(width); ++x)
+                toFloat(planar.data() + x, int(width), row + 3 * x);
         } else {
             if (int64_t(in.left()) < 4 * width)
                 return fail("truncated Radiance HDR (scanline " + std::to_string(y) + ")");

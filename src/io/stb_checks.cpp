@@ -12,7 +12,9 @@ namespace {
 uint32_t le16(std::string_view b, size_t at) {
     return uint32_t(uint8_t(b[at])) | uint32_t(uint8_t(b[at + 1])) << 8;
 }
-uint32_t le32(std::string_view b, size_t at) { return le16(b, at) | le16(b, at + 2) << 16; }
+uint32_t le32(std::string_view b, size_t at) {
+    return le16(b, at) | le16(b, at + 2) << 16;
+}
 
 std::string shortBy(const char* format, uint64_t need, size_t have) {
     return std::string("truncated ") + format + " (" + std::to_string(have) +
@@ -23,15 +25,20 @@ std::string shortBy(const char* format, uint64_t need, size_t have) {
 int tgaChannels(int bits, bool grey, bool& rgb16) {
     rgb16 = false;
     switch (bits) {
-    case 8: return 1;
+    case 8:
+        return 1;
     case 16:
         if (grey) return 2;
         rgb16 = true;
         return 3;
-    case 15: rgb16 = true; return 3;
+    case 15:
+        rgb16 = true;
+        return 3;
     case 24:
-    case 32: return bits / 8;
-    default: return 0;
+    case 32:
+        return bits / 8;
+    default:
+        return 0;
     }
 }
 
@@ -98,7 +105,7 @@ std::string jpegProblem(std::string_view b) {
         while (at < b.size() && uint8_t(b[at]) == 0xFF) ++at;
         if (at >= b.size()) return truncated;
         const uint8_t marker = uint8_t(b[at++]);
-        if (marker == 0xD9) return "";                                  // end of image
+        if (marker == 0xD9) return "";                                      // end of image
         if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD8)) continue; // no length
         if (b.size() - at < 2) return truncated;
         const size_t length = size_t(uint8_t(b[at])) << 8 | uint8_t(b[at + 1]);
@@ -114,9 +121,12 @@ std::string jpegProblem(std::string_view b) {
             }
             if (at + 1 >= b.size()) return truncated;
             const uint8_t next = uint8_t(b[at + 1]);
-            if (next == 0x00 || (next >= 0xD0 && next <= 0xD7)) at += 2;
-            else if (next == 0xFF) ++at;
-            else break;
+            if (next == 0x00 || (next >= 0xD0 && next <= 0xD7))
+                at += 2;
+            else if (next == 0xFF)
+                ++at;
+            else
+                break;
         }
     }
 }

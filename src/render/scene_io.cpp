@@ -84,10 +84,14 @@ std::string shown(const json& value) {
         return json(s.substr(0, 40)).dump(-1, ' ', true) + (s.size() > 40 ? "\xE2\x80\xA6" : "");
     }
     if (value.is_structured()) {
-        const bool flat = value.size() <= 8 && std::none_of(value.begin(), value.end(), [](const json& v) {
-                              return v.is_structured() || (v.is_string() && v.get_ref<const std::string&>().size() > 40);
-                          });
-        if (!flat) return (value.is_array() ? "an array of " : "an object of ") + std::to_string(value.size());
+        const bool flat =
+            value.size() <= 8 && std::none_of(value.begin(), value.end(), [](const json& v) {
+                return v.is_structured() ||
+                       (v.is_string() && v.get_ref<const std::string&>().size() > 40);
+            });
+        if (!flat)
+            return (value.is_array() ? "an array of " : "an object of ") +
+                   std::to_string(value.size());
     }
     return shortened(value.dump(-1, ' ', true), 40);
 }
@@ -263,7 +267,8 @@ size_t oneOf(const json& value, const std::string& path,
 // than a path can be.
 std::string pathText(const json& value, const std::string& path) {
     std::string s = nonEmptyText(value, path);
-    if (s.find('\0') != std::string::npos) fail(path, "file name " + quote(s) + " holds a NUL character");
+    if (s.find('\0') != std::string::npos)
+        fail(path, "file name " + quote(s) + " holds a NUL character");
     if (s.size() > 4096) fail(path, "file name " + quote(s) + " is longer than 4096 bytes");
     return s;
 }
@@ -293,7 +298,8 @@ Camera readCamera(const json& value, const std::string& path) {
         camera.orthoHeight = positive(*v, at(path, "ortho_height"));
     if (const json* v = find(o, "width")) camera.width = pixels(*v, at(path, "width"));
     if (const json* v = find(o, "height")) camera.height = pixels(*v, at(path, "height"));
-    if (Status size = checkCameraSize(path, camera.width, camera.height); !size) fail("", size.error);
+    if (Status size = checkCameraSize(path, camera.width, camera.height); !size)
+        fail("", size.error);
 
     glm::dvec3 view = glm::dvec3(camera.target) - glm::dvec3(camera.eye);
     double scale =
@@ -388,8 +394,8 @@ Material readMaterial(const json& value, const std::string& path, const std::str
     if (const json* v = find(o, "brdf")) {
         std::string name = text(*v, at(path, "brdf"));
         if (!brdfFromString(name, m.brdf))
-            fail(at(path, "brdf"),
-                 "unknown BRDF " + quote(name) + " (expected lambert, blinnphong, beckmann, ggx, tabulated)");
+            fail(at(path, "brdf"), "unknown BRDF " + quote(name) +
+                                       " (expected lambert, blinnphong, beckmann, ggx, tabulated)");
     }
     if (const json* v = find(o, "table")) m.table = readTable(*v, at(path, "table"), baseDir, "theta_h");
     if (const json* v = find(o, "g_table")) m.factor = readTable(*v, at(path, "g_table"), baseDir, "theta_d");

@@ -68,7 +68,8 @@ Image bumpyMap(int size) {
     Image map(size, size, 3);
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) {
-            setNormal(map, x, y, 0.4f * std::sin(0.3f * float(x)), 0.3f * std::cos(0.2f * float(y)), 1.f);
+            setNormal(map, x, y, 0.4f * std::sin(0.3f * float(x)), 0.3f * std::cos(0.2f * float(y)),
+                      1.f);
             for (int c = 0; c < 3; ++c) map.at(x, y)[c] = 0.5f * (map.at(x, y)[c] + 1.f);
         }
     return map;
@@ -115,9 +116,10 @@ TEST(CrashSafety, KilledBakesLeaveTheOldOrTheNewBake) {
     fs::create_directory(refs);
     // The earlier bake (naive) and the new one (toksvig with engine exports), made once.
     runToEnd({"bake", map, "-q", "--method", "naive", "-o", (refs / "old").string()});
-    const std::vector<std::string> command = {"bake", map, "-q", "--method", "toksvig",
+    const std::vector<std::string> command = {"bake",     map,     "-q", "--method",  "toksvig",
                                               "--export", "png16", "-o", dir.string()};
-    runToEnd({"bake", map, "-q", "--method", "toksvig", "--export", "png16", "-o", (refs / "new").string()});
+    runToEnd({"bake", map, "-q", "--method", "toksvig", "--export", "png16", "-o",
+              (refs / "new").string()});
     const auto oldBake = snapshot(refs / "old"), newBake = snapshot(refs / "new");
     ASSERT_NE(oldBake, newBake);
     killRepeatedly(
@@ -139,8 +141,13 @@ TEST(CrashSafety, KilledRendersLeaveTheOldOrTheNewImages) {
     TempDir tmp("crash-render");
     ASSERT_TRUE(savePng(tmp.file("map.png"), bumpyMap(128), 16));
     const nlohmann::json scene = {
-        {"camera", {{"type", "perspective"}, {"eye", {0, -2, 1.5}}, {"target", {0, 0, 0}},
-                    {"up", {0, 0, 1}}, {"width", 320}, {"height", 240}}},
+        {"camera",
+         {{"type", "perspective"},
+          {"eye", {0, -2, 1.5}},
+          {"target", {0, 0, 0}},
+          {"up", {0, 0, 1}},
+          {"width", 320},
+          {"height", 240}}},
         {"object", {{"type", "plane"}, {"size", {4, 4}}, {"tiling", {4, 4}}}},
         {"lights", {{{"type", "directional"}, {"direction", {0.3, -0.5, 1}}}}},
         {"material", {{"brdf", "blinnphong"}, {"exponent", 64}}},
@@ -150,19 +157,22 @@ TEST(CrashSafety, KilledRendersLeaveTheOldOrTheNewImages) {
     const fs::path refs = tmp.path / "refs";
     fs::create_directory(refs);
     runToEnd({"render", sceneFile, "-q", "--method", "naive", "-o", (refs / "old.exr").string()});
-    runToEnd({"render", sceneFile, "-q", "--method", "toksvig", "--spp", "4", "-o", (refs / "new.exr").string()});
+    runToEnd({"render", sceneFile, "-q", "--method", "toksvig", "--spp", "4", "-o",
+              (refs / "new.exr").string()});
     const std::map<std::string, std::string> oldFiles = {{"exr", fileBytes(refs / "old.exr")},
                                                          {"png", fileBytes(refs / "old.png")}};
     const std::map<std::string, std::string> newFiles = {{"exr", fileBytes(refs / "new.exr")},
                                                          {"png", fileBytes(refs / "new.png")}};
     ASSERT_NE(oldFiles, newFiles);
     const fs::path out = tmp.path / "out";
-    const std::vector<std::string> command = {"render", sceneFile, "-q", "--method", "toksvig",
-                                              "--spp", "4", "-o", out.string() + ".exr"};
+    const std::vector<std::string> command = {"render",   sceneFile, "-q",
+                                              "--method", "toksvig", "--spp",
+                                              "4",        "-o",      out.string() + ".exr"};
     killRepeatedly(
         tmp.path, command,
         [&] {
-            for (const char* ext : {"exr", "png"}) writeBytes(out.string() + "." + ext, oldFiles.at(ext));
+            for (const char* ext : {"exr", "png"})
+                writeBytes(out.string() + "." + ext, oldFiles.at(ext));
         },
         [&](const std::string& trace) {
             // Each file is replaced atomically on its own: old or new, never a mixture.

@@ -31,8 +31,14 @@ Image flatMap(int width, int height) {
 }
 
 json sceneJson(const std::string& normalMap, int width = 4, int height = 4) {
-    return {{"camera", {{"type", "orthographic"}, {"eye", {0, 0, 1}}, {"target", {0, 0, 0}},
-                        {"up", {0, 1, 0}}, {"ortho_height", 2}, {"width", width}, {"height", height}}},
+    return {{"camera",
+             {{"type", "orthographic"},
+              {"eye", {0, 0, 1}},
+              {"target", {0, 0, 0}},
+              {"up", {0, 1, 0}},
+              {"ortho_height", 2},
+              {"width", width},
+              {"height", height}}},
             {"object", {{"type", "plane"}}},
             {"lights", {{{"type", "directional"}, {"direction", {0, 0, 1}}}}},
             {"normal_map", normalMap}};
@@ -67,7 +73,8 @@ std::vector<std::string> floatOptions(const std::string& sub) {
         std::string names0, type;
         words >> names0 >> type;
         if (type.rfind("FLOAT", 0) != 0) continue;
-        names.push_back(names0.substr(names0.rfind(',') == std::string::npos ? 0 : names0.rfind(',') + 1));
+        names.push_back(
+            names0.substr(names0.rfind(',') == std::string::npos ? 0 : names0.rfind(',') + 1));
     }
     return names;
 }
@@ -100,8 +107,10 @@ TEST_F(HostileCli, NaNAndInfinityFailEveryFloatOption) {
                                                      : args + " " + option + " " + value;
                 // NaN passes every range check, so it must meet the finite check; infinities
                 // may meet an option's range first.
-                if (value == "nan") expectCliRefuses(line, {option, "must be a finite number, not 'nan'"});
-                else expectCliRefuses(line, {option, value});
+                if (value == "nan")
+                    expectCliRefuses(line, {option, "must be a finite number, not 'nan'"});
+                else
+                    expectCliRefuses(line, {option, value});
                 ++checked;
             }
         }
@@ -118,26 +127,32 @@ TEST_F(HostileCli, SpecialFilesAsInputsFailAtOnce) {
     const std::string dir = tmp.path.string();
     for (const std::string& input : {fifo, std::string("/dev/zero"), dir}) {
         SCOPED_TRACE(input);
-        const std::string why = input == fifo ? "(a FIFO)" : input == dir ? "is a directory"
-                                                                        : "(a character device)";
+        const std::string why = input == fifo  ? "(a FIFO)"
+                                : input == dir ? "is a directory"
+                                               : "(a character device)";
         expectCliRefuses(bakeArgs(input), {input, why});
-        expectCliRefuses(bakeArgs(map, "--gloss " + shellArg(input) + " --max-exponent 8"), {input, why});
+        expectCliRefuses(bakeArgs(map, "--gloss " + shellArg(input) + " --max-exponent 8"),
+                         {input, why});
         expectCliRefuses("compare " + shellArg(map) + " " + shellArg(input), {input, why});
-        expectCliRefuses("render " + shellArg(input) + " -o " + shellArg(tmp.file("o.exr")), {input, why});
+        expectCliRefuses("render " + shellArg(input) + " -o " + shellArg(tmp.file("o.exr")),
+                         {input, why});
         json scene = sceneJson(input);
         writeBytes(tmp.path / "scene.json", scene.dump());
-        expectCliRefuses("render " + shellArg(tmp.file("scene.json")) + " -o " + shellArg(tmp.file("o.exr")),
+        expectCliRefuses("render " + shellArg(tmp.file("scene.json")) + " -o " +
+                             shellArg(tmp.file("o.exr")),
                          {input, why});
         scene = sceneJson("map.png");
         scene["material"] = {{"brdf", "tabulated"}, {"table", input}};
         writeBytes(tmp.path / "scene.json", scene.dump());
-        expectCliRefuses("render " + shellArg(tmp.file("scene.json")) + " -o " + shellArg(tmp.file("o.exr")),
+        expectCliRefuses("render " + shellArg(tmp.file("scene.json")) + " -o " +
+                             shellArg(tmp.file("o.exr")),
                          {input, why});
     }
     // A bake folder whose manifest is a FIFO.
     fs::create_directory(tmp.path / "bake");
     ASSERT_EQ(::mkfifo((tmp.path / "bake" / "manifest.json").c_str(), 0600), 0);
-    expectCliRefuses("inspect " + shellArg(tmp.file("bake")) + " --texel 0,0", {"manifest.json", "(a FIFO)"});
+    expectCliRefuses("inspect " + shellArg(tmp.file("bake")) + " --texel 0,0",
+                     {"manifest.json", "(a FIFO)"});
     expectNothingWritten();
     EXPECT_FALSE(fs::exists(tmp.path / "o.exr"));
 }
@@ -145,7 +160,8 @@ TEST_F(HostileCli, SpecialFilesAsInputsFailAtOnce) {
 TEST_F(HostileCli, ImageSizeLimitsHoldAndCanBeRaised) {
     const std::string big = tmp.file("big.png");
     ASSERT_TRUE(savePng(big, flatMap(64, 64), 8));
-    expectCliRefuses("--max-pixels 1000 " + bakeArgs(big), {big, "64x64", "1000 pixels", "--max-pixels"});
+    expectCliRefuses("--max-pixels 1000 " + bakeArgs(big),
+                     {big, "64x64", "1000 pixels", "--max-pixels"});
     expectNothingWritten();
     // The option also works after the subcommand, and raising the limit lets the map through.
     expectCliRefuses(bakeArgs(big, "--max-pixels 1000"), {big, "64x64"});
@@ -157,14 +173,16 @@ TEST_F(HostileCli, ShOrderTimesMapSizeIsCheckedBeforeBaking) {
     const std::string big = tmp.file("big.png");
     ASSERT_TRUE(savePng(big, flatMap(512, 512), 8));
     // l* = 30: 241 planes of 16 bytes per texel and level, about 1.3 GiB for 512x512.
-    expectCliRefuses(bakeArgs(big, "--method sh --order 30 --max-memory 1"),
-                     {big, "sh order 30", "512x512", "GiB", "above the limit of 1.0 GiB", "--max-memory"});
+    expectCliRefuses(
+        bakeArgs(big, "--method sh --order 30 --max-memory 1"),
+        {big, "sh order 30", "512x512", "GiB", "above the limit of 1.0 GiB", "--max-memory"});
     expectNothingWritten();
 }
 
 TEST_F(HostileCli, CameraSizeIsLimited) {
     writeBytes(tmp.path / "scene.json", sceneJson("map.png", 16384, 16384).dump());
-    expectCliRefuses("render " + shellArg(tmp.file("scene.json")) + " -o " + shellArg(tmp.file("o.exr")),
+    expectCliRefuses("render " + shellArg(tmp.file("scene.json")) + " -o " +
+                         shellArg(tmp.file("o.exr")),
                      {"scene.json", "camera", "16384x16384", "above the limit", "--max-pixels"});
     writeBytes(tmp.path / "scene.json", sceneJson("map.png", 100, 100).dump());
     expectCliRefuses("--max-pixels 5000 render " + shellArg(tmp.file("scene.json")) + " -o " +
@@ -203,10 +221,10 @@ TEST_F(HostileCli, DeepOrHugeSceneTextGivesAShortError) {
 
 TEST_F(HostileCli, LongCommandLineValuesAreQuotedShort) {
     const std::string longText(100000, 'm');
-    for (const std::string& args : {bakeArgs(map, "--method " + longText),
-                                    bakeArgs(map, "--export " + longText),
-                                    "render " + longText + " -o " + shellArg(tmp.file("o.exr")),
-                                    "inspect " + shellArg(map) + " --texel " + longText}) {
+    for (const std::string& args :
+         {bakeArgs(map, "--method " + longText), bakeArgs(map, "--export " + longText),
+          "render " + longText + " -o " + shellArg(tmp.file("o.exr")),
+          "inspect " + shellArg(map) + " --texel " + longText}) {
         std::string output;
         expectOneLineError(runCliWithin(60, args, &output), output, {"mmm"});
         // Every message is cut at about 1 KB, whatever it quotes.
@@ -241,8 +259,8 @@ TEST_F(HostileCli, AFolderWithAnyManifestIsNotTakenForABake) {
 
 TEST_F(HostileCli, AnEarlierBakeWithAddedFilesIsNotReplaced) {
     ASSERT_EQ(runCli(bakeArgs(map, "--export png16"), nullptr), 0);
-    for (const std::string& extra : {std::string("notes.txt"), std::string("png16/mine.png"),
-                                     std::string("sub/deep.bin")}) {
+    for (const std::string& extra :
+         {std::string("notes.txt"), std::string("png16/mine.png"), std::string("sub/deep.bin")}) {
         SCOPED_TRACE(extra);
         fs::create_directories((out / extra).parent_path());
         writeBytes(out / extra, "mine");

@@ -41,10 +41,10 @@ class TamperedBake : public ::testing::Test {
     // Bakes `args` into `pristine` once; each test then works on a fresh copy in `bake`.
     void makeBake(const std::string& args) {
         std::string output;
-        ASSERT_EQ(runCli("bake " + shellArg(map) + " -q " + args + " -o " +
-                             shellArg(pristine.string()),
-                         &output),
-                  0)
+        ASSERT_EQ(
+            runCli("bake " + shellArg(map) + " -q " + args + " -o " + shellArg(pristine.string()),
+                   &output),
+            0)
             << output;
         fresh();
     }
@@ -69,8 +69,14 @@ class TamperedBake : public ::testing::Test {
 
     // A render of the flat scene with this bake.
     std::string renderArgs() {
-        json scene = {{"camera", {{"type", "orthographic"}, {"eye", {0, 0, 1}}, {"target", {0, 0, 0}},
-                                  {"up", {0, 1, 0}}, {"ortho_height", 2}, {"width", 4}, {"height", 4}}},
+        json scene = {{"camera",
+                       {{"type", "orthographic"},
+                        {"eye", {0, 0, 1}},
+                        {"target", {0, 0, 0}},
+                        {"up", {0, 1, 0}},
+                        {"ortho_height", 2},
+                        {"width", 4},
+                        {"height", 4}}},
                       {"object", {{"type", "plane"}}},
                       {"lights", {{{"type", "directional"}, {"direction", {0, 0, 1}}}}},
                       {"normal_map", "map.png"}};
@@ -176,9 +182,9 @@ TEST_F(TamperedBake, PlanesMustBeTheMethods) {
 TEST_F(TamperedBake, LevelFilesMustBePlainNamesInsideTheFolder) {
     makeBake("--method toksvig");
     writeBytes(tmp.path / "outside.exr", fileBytes(bake / "mean_L0.exr"));
-    for (const std::string& name : {std::string("/etc/passwd"), std::string("../outside.exr"),
-                                    std::string("sub/mean_L0.exr"), std::string(".."),
-                                    std::string("")}) {
+    for (const std::string& name :
+         {std::string("/etc/passwd"), std::string("../outside.exr"), std::string("sub/mean_L0.exr"),
+          std::string(".."), std::string("")}) {
         SCOPED_TRACE(name);
         fresh();
         tamper([&](json& m) { m["levels"][0]["files"]["mean"] = name; });
@@ -193,9 +199,11 @@ TEST_F(TamperedBake, LevelFilesMustBePlainNamesInsideTheFolder) {
 
 TEST_F(TamperedBake, MissingKeysAreNamedNotInternalErrors) {
     makeBake("--method toksvig");
-    const std::vector<std::vector<std::string>> keys = {
-        {"method"}, {"tool"}, {"parameters"}, {"planes"}, {"source"}, {"source", "width"},
-        {"conventions"}, {"conventions", "address"}, {"levels"}};
+    const std::vector<std::vector<std::string>> keys = {{"method"},      {"tool"},
+                                                        {"parameters"},  {"planes"},
+                                                        {"source"},      {"source", "width"},
+                                                        {"conventions"}, {"conventions", "address"},
+                                                        {"levels"}};
     for (const auto& key : keys) {
         fresh();
         std::string dotted;
@@ -234,7 +242,8 @@ TEST_F(TamperedBake, HostileManifestTextStaysShort) {
 
 TEST_F(TamperedBake, RenderRefusesAPlanesMemoryAboveTheLimit) {
     makeBake("--method sh --order 1");
-    expectCliRefuses("--max-memory 0.000001 " + renderArgs(), {"planes need", "above the limit of", "--max-memory"});
+    expectCliRefuses("--max-memory 0.000001 " + renderArgs(),
+                     {"planes need", "above the limit of", "--max-memory"});
 }
 
 } // namespace

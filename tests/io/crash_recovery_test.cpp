@@ -40,7 +40,8 @@ void makeFolder(const fs::path& dir, const std::string& content) {
 TEST(CrashRecovery, WritersAreAliveOnlyWhileTheirProcessIs) {
     const long dead = deadPid();
     EXPECT_FALSE(writerMayBeAlive(dead, 2000000000));
-    EXPECT_FALSE(writerMayBeAlive(long(::getpid()), 2000000000)) << "this process has no leftovers yet";
+    EXPECT_FALSE(writerMayBeAlive(long(::getpid()), 2000000000))
+        << "this process has no leftovers yet";
     EXPECT_TRUE(writerMayBeAlive(long(::getppid()), 2000000000));
     // A running process that started after the leftover was written merely reuses the number.
     EXPECT_FALSE(writerMayBeAlive(long(::getppid()), 1000));
@@ -79,8 +80,9 @@ TEST(CrashRecovery, StaleTemporaryFilesAreRemoved) {
     writeBytes(tmp.path / ("out.exr.tmp-" + alive + "-0123abcd"), "writing");
     writeBytes(tmp.path / ("out.png.tmp-" + dead + "-0123abcd"), "another file's");
     removeStaleTemporaries(out);
-    EXPECT_EQ(names(tmp.path), (std::set<std::string>{"out.exr", "out.exr.tmp-" + alive + "-0123abcd",
-                                                      "out.png.tmp-" + dead + "-0123abcd"}));
+    EXPECT_EQ(names(tmp.path),
+              (std::set<std::string>{"out.exr", "out.exr.tmp-" + alive + "-0123abcd",
+                                     "out.png.tmp-" + dead + "-0123abcd"}));
 }
 
 TEST(CrashRecovery, ReplaceFolderWithAndWithoutExchange) {

@@ -46,7 +46,8 @@ void expectRefused(const Result<SourceImage>& loaded, const std::string& name,
     const std::string& m = loaded.error().message;
     EXPECT_EQ(m.rfind(name + ": ", 0), 0u) << m;
     EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-    for (const std::string& part : parts) EXPECT_TRUE(has(m, part)) << "'" << part << "' not in: " << m;
+    for (const std::string& part : parts)
+        EXPECT_TRUE(has(m, part)) << "'" << part << "' not in: " << m;
 }
 
 void put32le(std::string& s, uint32_t v) {
@@ -158,7 +159,7 @@ TEST(UntrustedImage, TgaHeaderClaimingHugeSizeIsRefused) {
     TempDir dir("tga-huge");
     const std::string path = dir.file("huge.tga");
     std::string tga(18, '\0');
-    tga[2] = 10; // run-length true colour
+    tga[2] = 10;                                        // run-length true colour
     tga[12] = tga[13] = tga[14] = tga[15] = char(0xFF); // 65535 x 65535
     tga[16] = 32;
     writeRaw(path, tga + std::string(7000, '\x80'));

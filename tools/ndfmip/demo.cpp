@@ -72,13 +72,14 @@ void runDemo(DemoArgs a) {
     DecodeOptions decode = a.input_options.resolved();
     if (a.defaultGreenDown) decode.greenDown = true;
     Pyramid pyramid = buildPyramid(std::make_shared<const Image>(loadNormalsOrFail(a.input, decode, false)));
+    for (Method m : allMethods())
+        checkBakeMemoryOrFail(a.input, m, {}, pyramid.base->width, pyramid.base->height);
     // Only once the map has loaded: a bad map leaves no empty output folder behind.
     std::error_code ec;
     std::filesystem::create_directories(a.output, ec);
     if (ec) throw Failure(a.output + ": cannot create (" + ec.message() + ")");
     const Image& normals = *pyramid.base;
     std::vector<Bake> bakes;
-    for (Method m : allMethods()) checkBakeMemoryOrFail(a.input, m, {}, normals.width, normals.height);
     for (Method m : allMethods()) bakes.push_back(bakeMethod(m, pyramid, {}));
     const std::vector<float> exponents = {8.f, 32.f, 128.f, 512.f};
     std::printf("%s: %dx%d, %zu levels\n", a.input.c_str(), normals.width, normals.height,

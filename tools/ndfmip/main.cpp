@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "ndfmip: error: %s\n", ndfmip::shortened(e.what(), 1024).c_str());
         return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "ndfmip: internal error: %s\n", ndfmip::shortened(e.what(), 300).c_str());
+        std::fprintf(stderr, "ndfmip: internal error: %s\n",
+                     ndfmip::shortened(e.what(), 300).c_str());
         return 2;
     }
     return 0;

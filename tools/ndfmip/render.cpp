@@ -58,7 +58,8 @@ void runRender(const RenderArgs& a) {
     if (!scene) throw Failure(scene.error().message);
     const std::string method = a.method.empty() ? scene->method : a.method;
     if (method != kGroundTruth && !methodFromString(method))
-        throw Failure("unknown method " + quote(method) + " (expected groundtruth, naive, toksvig, sh, vmf)");
+        throw Failure("unknown method " + quote(method) +
+                      " (expected groundtruth, naive, toksvig, sh, vmf)");
     RenderOptions options;
     options.spp = a.spp > 0 ? a.spp : (method == kGroundTruth ? 64 : 1);
     options.seed = a.seed;
