@@ -233,7 +233,9 @@ Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource&
         if (!names) return fail(dirName + ": " + names.error().message);
         manifest["exports"] = {{"png16", names.value()}};
     }
-    Status s = writeFileAtomic((staging / "manifest.json").string(), manifest.dump(2) + "\n");
+    // File names need not be UTF-8; JSON must be: invalid bytes are written as U+FFFD.
+    const std::string text = manifest.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+    Status s = writeFileAtomic((staging / "manifest.json").string(), text);
     if (!s) return fail(s.error);
     // Checked again at the last moment: files may have been added while the bake ran.
     if (fs::exists(dir, ec))

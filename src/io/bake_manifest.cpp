@@ -39,7 +39,7 @@ std::string shown(const json& value) {
     if (value.is_array()) return "an array of " + std::to_string(value.size());
     if (value.is_object()) return "an object";
     if (value.is_string()) return quote(value.get_ref<const std::string&>());
-    return shortened(value.dump(), 40);
+    return shortened(value.dump(-1, ' ', false, json::error_handler_t::replace), 40);
 }
 
 const json& member(const json& object, const std::string& path, const char* key) {

@@ -281,7 +281,9 @@ Result<SourceImage> loadExr(const std::string& path, std::string_view bytes) {
 // The formats handed to stb_image. GIF, PSD, PIC and PNM are refused: no one stores normal maps
 // in them, and stb 2.27 has known flaws in some of their decoders.
 std::string stbFormat(std::string_view bytes) {
-    if (startsWith(bytes, "\xFF\xD8\xFF")) return "jpeg";
+    // stb takes any run of 0xFF before 0xD8 as a JPEG's start-of-image marker: so do we.
+    const size_t fill = bytes.find_first_not_of('\xFF');
+    if (fill > 0 && fill != std::string_view::npos && bytes[fill] == '\xD8') return "jpeg";
     if (startsWith(bytes, "BM")) return "bmp";
     if (startsWith(bytes, "GIF8")) return "gif";
     if (startsWith(bytes, "8BPS")) return "psd";

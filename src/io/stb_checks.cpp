@@ -98,7 +98,9 @@ std::string bmpProblem(std::string_view b) {
 
 std::string jpegProblem(std::string_view b) {
     const char* truncated = "truncated JPEG (no end-of-image marker)";
-    size_t at = 2; // after the start-of-image marker
+    size_t at = b.find_first_not_of('\xFF'); // the start-of-image marker, after fill bytes
+    if (at == std::string_view::npos || uint8_t(b[at]) != 0xD8) return "not a JPEG file";
+    ++at;
     while (true) {
         // Segments may be padded; stb scans forward to the next marker too.
         while (at < b.size() && uint8_t(b[at]) != 0xFF) ++at;

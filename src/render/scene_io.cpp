@@ -81,7 +81,10 @@ std::string at(const std::string& path, size_t index) {
 std::string shown(const json& value) {
     if (value.is_string()) {
         const std::string& s = value.get_ref<const std::string&>();
-        return json(s.substr(0, 40)).dump(-1, ' ', true) + (s.size() > 40 ? "\xE2\x80\xA6" : "");
+        // Cut at 40 bytes, maybe inside a UTF-8 sequence: the broken end is shown as U+FFFD.
+        const auto replace = json::error_handler_t::replace;
+        return json(s.substr(0, 40)).dump(-1, ' ', true, replace) +
+               (s.size() > 40 ? "\xE2\x80\xA6" : "");
     }
     if (value.is_structured()) {
         const bool flat =
@@ -93,7 +96,7 @@ std::string shown(const json& value) {
             return (value.is_array() ? "an array of " : "an object of ") +
                    std::to_string(value.size());
     }
-    return shortened(value.dump(-1, ' ', true), 40);
+    return shortened(value.dump(-1, ' ', true, json::error_handler_t::replace), 40);
 }
 
 const json* find(const json& object, const char* key) {

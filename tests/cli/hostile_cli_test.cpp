@@ -245,6 +245,16 @@ TEST_F(HostileCli, ExrValuesOfOverflowingSizeAreAnError) {
     expectNothingWritten();
 }
 
+TEST_F(HostileCli, FileNamesThatAreNotUtf8StillBake) {
+    // Linux file names are bytes; the manifest (JSON, so UTF-8) shows the odd one as U+FFFD.
+    const std::string odd = tmp.file("map\xFF\xFE.png");
+    fs::copy_file(map, odd);
+    std::string output;
+    ASSERT_EQ(runCli(bakeArgs(odd), &output), 0) << output;
+    EXPECT_NE(fileBytes(out / "manifest.json").find("map\xEF\xBF\xBD"), std::string::npos);
+    EXPECT_EQ(runCli("inspect " + shellArg(out.string()) + " --texel 1,1", &output), 0) << output;
+}
+
 // ---- bake output folders that are not earlier bakes are never replaced ------------------------
 
 TEST_F(HostileCli, AFolderWithAnyManifestIsNotTakenForABake) {

@@ -202,7 +202,7 @@ void runInspect(const InspectArgs& a) {
         writeNdfImage(a, bake, x, y, f);
         out["ndf_image"] = a.ndf;
     }
-    std::printf("%s\n", out.dump(2).c_str());
+    std::printf("%s\n", out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
 }
 
 } // namespace
