@@ -9,7 +9,7 @@ namespace ndfmip {
 inline void setFuzzLimits() {
     InputLimits limits;
     limits.maxSide = 4096;
-    limits.maxPixels = int64_t(1) << 20;
+    limits.maxPixels = int64_t(1) << 18;
     limits.maxCameraPixels = int64_t(1) << 16;
     limits.maxMemoryBytes = int64_t(256) << 20;
     limits.maxImageFileBytes = int64_t(16) << 20;

@@ -103,6 +103,11 @@ struct BakeWriteOptions {
 Status writeBake(const std::string& dir, const Bake& bake, const BakeSource& source,
                  const BakeWriteOptions& options = {});
 
+// Cleans up beside DIR after killed bakes, as writeBake does first: removes DIR.partial-PID and
+// DIR.old-PID folders whose process is gone, restoring a missing DIR from the newest
+// DIR.old-PID. Commands call it before they start, so a run that then fails still cleans up.
+void recoverInterruptedBake(const std::string& dir);
+
 // A bake read back: the manifest's facts and, for one level, the plane images. Everything in it
 // has been checked (parseBakeManifest, then each image against its level's size and plane).
 struct LoadedBake {

@@ -199,6 +199,8 @@ Result<LoadedBake> readManifest(const fs::path& dir) {
 
 } // namespace
 
+void recoverInterruptedBake(const std::string& dir) { recoverFolderLeftovers(bakeFolder(dir)); }
+
 Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource& source,
                  const BakeWriteOptions& options) {
     const fs::path dir = bakeFolder(dirName);

@@ -11,6 +11,8 @@
 #include <vector>
 
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -253,6 +255,24 @@ TEST_F(HostileCli, FileNamesThatAreNotUtf8StillBake) {
     ASSERT_EQ(runCli(bakeArgs(odd), &output), 0) << output;
     EXPECT_NE(fileBytes(out / "manifest.json").find("map\xEF\xBF\xBD"), std::string::npos);
     EXPECT_EQ(runCli("inspect " + shellArg(out.string()) + " --texel 1,1", &output), 0) << output;
+}
+
+TEST_F(HostileCli, TheNextBakeRestoresAFolderAKillLeftAside) {
+    // What a kill between the two renames of a swap leaves where the file system has no atomic
+    // exchange: no DIR, the earlier bake as DIR.old-PID, the new one as DIR.partial-PID.
+    ASSERT_EQ(runCli(bakeArgs(map), nullptr), 0);
+    const auto earlier = snapshot(out);
+    pid_t child = ::fork();
+    if (child == 0) ::_exit(0);
+    ::waitpid(child, nullptr, 0); // a process number no one has now
+    const std::string pid = std::to_string(child);
+    fs::rename(out, out.string() + ".old-" + pid);
+    fs::create_directory(out.string() + ".partial-" + pid);
+    writeBytes(out.string() + ".partial-" + pid + "/mean_L0.exr", "half written");
+    // Even a run that then fails on its input puts the earlier bake back first.
+    expectCliRefuses(bakeArgs(tmp.file("missing.png")), {"missing.png"});
+    EXPECT_EQ(snapshot(out), earlier);
+    EXPECT_TRUE(leftovers(tmp.path).empty());
 }
 
 // ---- bake output folders that are not earlier bakes are never replaced ------------------------

@@ -54,6 +54,7 @@ void runBake(const BakeArgs& a) {
     if (!a.gloss.empty() && a.maxExponent <= 0.f)
         throw Failure("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");
     DecodeOptions decode = a.input_options.resolved();
+    recoverInterruptedBake(a.output);
 
     long long start = nowNanoseconds();
     DecodeReport report;
