@@ -1,10 +1,15 @@
 #include "test_support.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <sys/wait.h>
+
+#include <gtest/gtest.h>
 
 namespace ndfmip::test {
 
@@ -26,7 +31,14 @@ std::filesystem::path sharedNormalMaps() {
 }
 
 int runCli(const std::string& args, std::string* output) {
-    std::string command = std::string("\"") + NDFMIP_CLI_PATH + "\" " + args + " 2>&1";
+    // runCliWithin's marker: the command runs under timeout(1), killed after that many seconds.
+    std::string prefix, rest = args;
+    if (args.rfind("__timeout__", 0) == 0) {
+        const size_t space = args.find(' ');
+        prefix = "timeout -s KILL " + args.substr(11, space - 11) + " ";
+        rest = args.substr(space + 1);
+    }
+    std::string command = prefix + "\"" + NDFMIP_CLI_PATH + "\" " + rest + " 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return -1;
     std::array<char, 4096> buffer;
@@ -36,6 +48,62 @@ int runCli(const std::string& args, std::string* output) {
     int status = pclose(pipe);
     if (output) *output = text;
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+int runCliWithin(int seconds, const std::string& args, std::string* output) {
+    return runCli("__timeout__" + std::to_string(seconds) + " " + args, output);
+}
+
+std::string shellArg(const std::string& text) {
+    return "'" + text + "'";
+}
+
+void expectOneLineError(int status, const std::string& output,
+                        std::initializer_list<std::string> mentions) {
+    EXPECT_GT(status, 0) << output;
+    EXPECT_LT(status, 128) << "killed by a signal or timed out: " << output;
+    EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << "expected one line:\n"
+                                                                 << output;
+    for (const std::string& m : mentions)
+        EXPECT_NE(output.find(m), std::string::npos) << "'" << m << "' not in: " << output;
+}
+
+void expectCliRefuses(const std::string& args, std::initializer_list<std::string> mentions) {
+    std::string output;
+    int status = runCliWithin(60, args, &output);
+    SCOPED_TRACE(args.substr(0, 300));
+    expectOneLineError(status, output, mentions);
+}
+
+std::vector<std::string> leftovers(const std::filesystem::path& root) {
+    std::vector<std::string> found;
+    std::error_code ec;
+    for (auto it = std::filesystem::recursive_directory_iterator(root, ec);
+         !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        for (const char* mark : {".partial-", ".old-", ".tmp-"})
+            if (name.find(mark) != std::string::npos) found.push_back(it->path().string());
+    }
+    return found;
+}
+
+std::map<std::string, std::string> snapshot(const std::filesystem::path& dir) {
+    std::map<std::string, std::string> files;
+    std::error_code ec;
+    for (auto it = std::filesystem::recursive_directory_iterator(dir, ec);
+         !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec))
+        if (it->is_regular_file())
+            files[std::filesystem::relative(it->path(), dir).string()] = fileBytes(it->path());
+    return files;
+}
+
+std::string fileBytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+void writeBytes(const std::filesystem::path& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary).write(text.data(), std::streamsize(text.size()));
 }
 
 void setNormal(Image& map, int x, int y, float nx, float ny, float nz) {

@@ -2,7 +2,10 @@
 #pragma once
 
 #include <filesystem>
+#include <initializer_list>
+#include <map>
 #include <string>
+#include <vector>
 
 #include "ndfmip/image.h"
 
@@ -25,6 +28,29 @@ std::filesystem::path sharedNormalMaps();
 // Runs the built CLI with `args` (a shell-quoted string); returns the exit status and
 // fills `output` with stdout and stderr together.
 int runCli(const std::string& args, std::string* output);
+
+// The same, killed (and reported as status 137) when it runs longer than `seconds`.
+int runCliWithin(int seconds, const std::string& args, std::string* output);
+
+// `text` single-quoted for the shell (it must hold no single quote).
+std::string shellArg(const std::string& text);
+
+// A clean refusal: a non-zero status below 128 (no crash, no timeout) and exactly one line of
+// output that names each of `mentions`.
+void expectOneLineError(int status, const std::string& output,
+                        std::initializer_list<std::string> mentions);
+
+// Runs the CLI with `args` (at most 60 s) and expects a clean refusal.
+void expectCliRefuses(const std::string& args, std::initializer_list<std::string> mentions);
+
+// Paths below `root` that interrupted writes leave (names holding .partial-, .old- or .tmp-).
+std::vector<std::string> leftovers(const std::filesystem::path& root);
+
+// Every file below `dir` (relative path -> bytes); empty when dir does not exist.
+std::map<std::string, std::string> snapshot(const std::filesystem::path& dir);
+
+std::string fileBytes(const std::filesystem::path& path);
+void writeBytes(const std::filesystem::path& path, const std::string& text);
 
 // Stores (nx, ny, nz) normalised to unit length at texel (x, y).
 void setNormal(Image& map, int x, int y, float nx, float ny, float nz);

@@ -101,24 +101,46 @@ struct BakeWriteOptions {
 };
 
 // Writes DIR/manifest.json and DIR/<plane>_L<k>.exr (float). The whole folder is staged beside
-// DIR and renamed into place at the end: a failure leaves no partial bake, and an existing
-// DIR is replaced only if it holds an earlier bake (or nothing).
+// DIR (DIR.partial-PID) and swapped into place at the end, atomically where the file system
+// allows (renameat2 RENAME_EXCHANGE): a failure or a kill at any instant leaves either the
+// complete earlier bake or the complete new one. An existing DIR is replaced only if it holds an
+// earlier bake and nothing else (or nothing). Leftovers of killed runs beside DIR (staging and
+// set-aside folders whose process is gone) are cleaned up first, and a DIR that a kill left
+// missing is restored from its set-aside copy.
 Status writeBake(const std::string& dir, const Bake& bake, const BakeSource& source,
                  const BakeWriteOptions& options = {});
 
-// A bake read back: the manifest's facts and, for one level, the plane images.
+// Cleans up beside DIR after killed bakes, as writeBake does first: removes DIR.partial-PID and
+// DIR.old-PID folders whose process is gone, restoring a missing DIR from the newest
+// DIR.old-PID. Commands call it before they start, so a run that then fails still cleans up.
+void recoverInterruptedBake(const std::string& dir);
+
+// A bake read back: the manifest's facts and, for one level, the plane images. Everything in it
+// has been checked (parseBakeManifest, then each image against its level's size and plane).
 struct LoadedBake {
     Method method = Method::Naive;
     std::vector<PlaneInfo> planes;
-    std::vector<std::pair<int, int>> levelSizes;
+    std::vector<std::pair<int, int>> levelSizes;      // the GPU mip chain of the source's size
+    std::vector<std::vector<std::string>> levelFiles; // [level][plane]: plain names in DIR
     std::map<std::string, double> parameters;
     BakeSource source;
-    std::vector<Image> level; // planes of the requested level
+    std::string storage = "float";    // "float" or "half"
+    std::vector<std::string> exports; // png16/<name> files
+    std::vector<Image> level;         // planes of the requested level
 };
 
+// The manifest's facts (no images), checked: method, parameters in range (sh order 1 ..
+// kMaxShOrder, vmf lobes 1 .. 8), exactly the method's planes, the source size within the input
+// limits, one level per step of the GPU mip rule with its size, and level files that are plain
+// names inside the folder. Errors are one line starting with `name`, naming the key.
+Result<LoadedBake> parseBakeManifest(const std::string& json, const std::string& name);
+
+// The manifest and the plane images of one level; each image must be a regular file with the
+// level's size, the plane's channel count and finite values.
 Result<LoadedBake> readBake(const std::string& dir, int level);
 
-// Every level of a bake, back in memory (checked against the manifest).
+// Every level of a bake, back in memory, with the same checks; refused before loading when the
+// planes of every level together would exceed the input limits' memory.
 Result<Bake> loadBake(const std::string& dir);
 
 } // namespace ndfmip

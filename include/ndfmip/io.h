@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ndfmip/image.h"
@@ -19,9 +20,14 @@ struct SourceImage {
     std::string format;     // "png", "jpeg", "tga", "exr", ...
 };
 
-// Reads PNG (8/16-bit), JPEG, TGA (and other stb formats) and OpenEXR (half/float).
-// Grey+alpha is returned with 2 channels, RGBA with 4; alpha is never dropped here.
+// Reads PNG (8/16-bit), JPEG, TGA, BMP, OpenEXR (half/float) and Radiance HDR, recognised by
+// their first bytes. Grey+alpha is returned with 2 channels, RGBA with 4; alpha is never dropped
+// here. Only regular files are read (a FIFO, device or folder is an error), and the size a header
+// declares is checked against the input limits (limits.h) before anything is allocated.
 Result<SourceImage> loadImage(const std::string& path);
+
+// The same from bytes in memory; `name` starts error messages.
+Result<SourceImage> decodeImage(std::string_view bytes, const std::string& name);
 
 // Writes a float OpenEXR file (FLOAT pixels, or HALF with `half`; ZIP compression).
 // channelNames, when given, has one name per channel; the default is R,G,B,A (Y for one

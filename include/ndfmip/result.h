@@ -2,7 +2,9 @@
 // outside (files, parameters) comes back as an Error with a one-line message.
 #pragma once
 
+#include <cstddef>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <variant>
 
@@ -39,5 +41,13 @@ struct Status {
     static Status success() { return {}; }
     static Status failure(std::string message) { return {std::move(message)}; }
 };
+
+// Text from a file or the command line as an error message quotes it: in single quotes, control
+// characters as '?', cut after `maxChars` bytes (at a UTF-8 boundary) with "…", so a 10 MB key
+// cannot become a 10 MB error line.
+std::string quote(std::string_view text, size_t maxChars = 80);
+
+// The same without the quotes (file paths read from a file).
+std::string shortened(std::string_view text, size_t maxChars = 80);
 
 } // namespace ndfmip

@@ -133,7 +133,11 @@ struct TabulatedTransfer {
 // malformed header, a row without exactly two numbers, non-numeric, NaN or infinite entries,
 // negative values, angles outside [0, 90], a first angle other than 0, angles that do not
 // increase, fewer than 2 rows.
+// Only a regular file is read (limits.h bounds its size).
 Result<TabulatedTransfer> loadTabulatedTransfer(const std::string& path);
+
+// The same from the file's text; `path` names it in messages.
+Result<TabulatedTransfer> parseTabulatedTransfer(const std::string& text, const std::string& path);
 
 // The table at acos(t) (t clamped to [-1, 1]): f(theta_h) for t = n.h.
 double evaluate(const TabulatedTransfer& table, double t);

@@ -2,6 +2,9 @@
 // docs/SPHERICAL_HARMONICS.md).
 #include "ndfmip/sh_brdf.h"
 
+#include "io/input_file.h"
+#include "ndfmip/limits.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cerrno>
@@ -241,11 +244,6 @@ bool parseNumber(const std::string& word, double& out) {
     return ec == std::errc() && ptr == end;
 }
 
-// A word of a bad line as quoted in a message: a binary file's "word" can be any length.
-std::string shortened(const std::string& word) {
-    return word.size() <= 32 ? word : word.substr(0, 32) + "...";
-}
-
 // The value at an angle in degrees: linear between rows, 0 beyond the last.
 double valueAtDegrees(const TabulatedTransfer& table, double degrees) {
     const std::vector<double>& x = table.anglesDegrees;
@@ -260,12 +258,14 @@ double valueAtDegrees(const TabulatedTransfer& table, double degrees) {
 } // namespace
 
 Result<TabulatedTransfer> loadTabulatedTransfer(const std::string& path) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec))
-        return Error{path + ": cannot read: is a directory"};
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return Error{path + ": cannot read: " + std::strerror(errno)};
+    Result<std::string> text = readRegularFile(path, inputLimits().maxTextFileBytes);
+    if (!text) return text.error();
+    return parseTabulatedTransfer(text.value(), path);
+}
 
+Result<TabulatedTransfer> parseTabulatedTransfer(const std::string& fileText,
+                                                 const std::string& path) {
+    std::istringstream in(fileText);
     TabulatedTransfer table;
     table.path = path;
     auto at = [&](int line, const std::string& problem) {
@@ -298,22 +298,21 @@ Result<TabulatedTransfer> loadTabulatedTransfer(const std::string& path) {
             const char* what = k == 0 ? "angle" : "value";
             if (!parseNumber(fields[k], out))
                 return at(line,
-                          std::string(what) + " '" + shortened(fields[k]) + "' is not a number");
+                          std::string(what) + " " + quote(fields[k], 32) + " is not a number");
             if (std::isnan(out)) return at(line, std::string(what) + " is NaN");
             if (!std::isfinite(out)) return at(line, std::string(what) + " is infinite");
         }
         if (angle < 0.0 || angle > 90.0)
-            return at(line, "angle " + fields[0] + " outside [0, 90] degrees");
-        if (value < 0.0) return at(line, "negative value " + fields[1]);
+            return at(line, "angle " + shortened(fields[0], 32) + " outside [0, 90] degrees");
+        if (value < 0.0) return at(line, "negative value " + shortened(fields[1], 32));
         if (table.anglesDegrees.empty() && angle != 0.0)
-            return at(line, "the first angle must be 0, found " + fields[0]);
+            return at(line, "the first angle must be 0, found " + shortened(fields[0], 32));
         if (!table.anglesDegrees.empty() && angle <= table.anglesDegrees.back())
-            return at(line, "angle " + fields[0] + " does not increase (previous " +
+            return at(line, "angle " + shortened(fields[0], 32) + " does not increase (previous " +
                                 number(table.anglesDegrees.back()) + ")");
         table.anglesDegrees.push_back(angle);
         table.values.push_back(value);
     }
-    if (in.bad()) return Error{path + ": cannot read: read error"};
     if (!header) return Error{path + ": no header line (empty file?)"};
     if (table.values.size() < 2)
         return Error{path + ": " + std::to_string(table.values.size()) +

@@ -1,17 +1,22 @@
 // The bake directory: manifest.json (what was baked, from what, how to read each channel) and
 // one float EXR per plane per level. The whole directory is staged beside its final place
-// and swapped in at the end, so a failed bake never leaves a half-written one behind.
+// and swapped in at the end, so a failed or killed bake never leaves a half-written one behind.
+// Reading checks every image against the manifest (bake_manifest.cpp checks the manifest).
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <set>
+
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
+#include "io/crash_recovery.h"
+#include "io/input_file.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/io.h"
+#include "ndfmip/limits.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -106,44 +111,107 @@ json manifestJson(const Bake& bake, const BakeSource& source) {
     };
 }
 
-// Moves the finished staging folder to `dir`, replacing an earlier bake there but never a
-// folder that holds anything else.
-Status swapIn(const fs::path& staging, const fs::path& dir) {
+// Whether `dir` may be replaced: it is empty, or it holds an earlier bake and nothing else (its
+// manifest says ndfmip wrote it, and every file in it is one the manifest lists). Anything more
+// means the folder is someone's work, and it is never deleted.
+Status checkReplaceable(const fs::path& dir) {
     std::error_code ec;
-    if (fs::exists(dir, ec)) {
-        if (!fs::is_directory(dir, ec))
-            return Status::failure(dir.string() + ": exists and is not a directory");
-        bool empty = fs::is_empty(dir, ec);
-        if (!empty && !fs::exists(dir / "manifest.json", ec))
-            return Status::failure(dir.string() +
-                                   ": exists and is not an ndfmip bake directory; not replacing it");
-        fs::path old = dir.string() + ".old-" + std::to_string(getpid());
-        fs::rename(dir, old, ec);
-        if (ec) return Status::failure(dir.string() + ": cannot replace (" + ec.message() + ")");
-        fs::rename(staging, dir, ec);
-        if (ec) {
-            fs::rename(old, dir);
-            return Status::failure(dir.string() + ": cannot replace (" + ec.message() + ")");
-        }
-        fs::remove_all(old, ec);
-        return Status::success();
+    if (!fs::is_directory(dir, ec))
+        return Status::failure(dir.string() + ": exists and is not a directory");
+    if (fs::is_empty(dir, ec)) return Status::success();
+    auto refuse = [&](const std::string& why) {
+        return Status::failure(dir.string() + ": exists and is not an ndfmip bake (" + why +
+                               "); not replacing it");
+    };
+    const fs::path manifestPath = dir / "manifest.json";
+    Result<std::string> text =
+        readRegularFile(manifestPath.string(), inputLimits().maxTextFileBytes);
+    if (!text) return refuse("no readable manifest.json");
+    if (!jsonNestingProblem(text.value(), inputLimits().maxJsonDepth).empty())
+        return refuse("its manifest.json is not an ndfmip manifest");
+    json m = json::parse(text.value(), nullptr, /*allow_exceptions=*/false);
+    const json* tool = m.is_object() && m.contains("tool") ? &m["tool"] : nullptr;
+    if (!tool || *tool != "ndfmip" || !m.contains("levels") || !m["levels"].is_array())
+        return refuse("its manifest.json is not an ndfmip manifest");
+    std::set<std::string> listed{"manifest.json"};
+    for (const json& level : m["levels"])
+        if (level.is_object() && level.contains("files") && level["files"].is_object())
+            for (const auto& item : level["files"].items())
+                if (item.value().is_string()) listed.insert(item.value().get<std::string>());
+    if (m.contains("exports") && m["exports"].is_object())
+        for (const auto& item : m["exports"].items())
+            if (item.value().is_array())
+                for (const json& name : item.value())
+                    if (name.is_string()) listed.insert(name.get<std::string>());
+    for (auto it = fs::recursive_directory_iterator(dir, ec);
+         !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+        const std::string relative = it->path().lexically_relative(dir).string();
+        if (it->is_directory(ec) && !it->is_symlink(ec) && relative == "png16") continue;
+        if (!listed.count(relative))
+            return refuse("it holds " + quote(relative) + ", which its manifest does not list");
     }
-    fs::rename(staging, dir, ec);
-    if (ec) return Status::failure(dir.string() + ": cannot create (" + ec.message() + ")");
+    if (ec) return refuse("cannot list it: " + ec.message());
     return Status::success();
+}
+
+// The folder a bake writes to, without a trailing separator.
+fs::path bakeFolder(const std::string& dirName) {
+    fs::path dir = fs::path(dirName).lexically_normal();
+    if (dir.filename().empty()) dir = dir.parent_path();
+    return dir;
+}
+
+std::string planeName(const LoadedBake& bake, size_t p, int level) {
+    return "plane '" + bake.planes[p].name + "' of level " + std::to_string(level);
+}
+
+// One plane image of one level, checked against the manifest: a plain file (no link out of the
+// folder), the level's size, the plane's channel count, finite values.
+Result<Image> readPlane(const fs::path& dir, const LoadedBake& bake, size_t p, int level) {
+    const std::string file = (dir / bake.levelFiles[size_t(level)][p]).string();
+    struct stat info {};
+    if (::lstat(file.c_str(), &info) == 0 && S_ISLNK(info.st_mode))
+        return Error{file + ": is a symbolic link; a bake's files are plain files in its folder"};
+    Result<SourceImage> image = loadImage(file);
+    if (!image) return image.error();
+    const Image& got = image->image;
+    const auto [w, h] = bake.levelSizes[size_t(level)];
+    const int channels = int(bake.planes[p].channels.size());
+    if (got.width != w || got.height != h || got.channels != channels)
+        return Error{file + ": is " + std::to_string(got.width) + "x" + std::to_string(got.height) +
+                     " with " + std::to_string(got.channels) + " channels, but the manifest's " +
+                     planeName(bake, p, level) + " is " + std::to_string(w) + "x" +
+                     std::to_string(h) + " with " + std::to_string(channels)};
+    for (size_t i = 0; i < got.pixels.size(); ++i)
+        if (!std::isfinite(got.pixels[i]))
+            return Error{file + ": texel (" + std::to_string(i / size_t(channels) % size_t(w)) +
+                         ", " + std::to_string(i / size_t(channels) / size_t(w)) +
+                         ") is not a finite number"};
+    return std::move(image->image);
+}
+
+Result<LoadedBake> readManifest(const fs::path& dir) {
+    const std::string path = (dir / "manifest.json").string();
+    Result<std::string> text = readRegularFile(path, inputLimits().maxTextFileBytes);
+    if (!text) return text.error();
+    return parseBakeManifest(text.value(), path);
 }
 
 } // namespace
 
+void recoverInterruptedBake(const std::string& dir) { recoverFolderLeftovers(bakeFolder(dir)); }
+
 Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource& source,
                  const BakeWriteOptions& options) {
-    fs::path dir = fs::path(dirName).lexically_normal();
-    if (dir.filename().empty()) dir = dir.parent_path();
+    const fs::path dir = bakeFolder(dirName);
     std::error_code ec;
     fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
     if (!fs::is_directory(parent, ec))
         return Status::failure(dirName + ": parent folder " + parent.string() +
                                (fs::exists(parent, ec) ? " is not a folder" : " does not exist"));
+    recoverFolderLeftovers(dir);
+    if (fs::exists(dir, ec))
+        if (Status s = checkReplaceable(dir); !s) return s;
     fs::path staging = dir.string() + ".partial-" + std::to_string(getpid());
     fs::remove_all(staging, ec);
     if (!fs::create_directory(staging, ec))
@@ -167,76 +235,56 @@ Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource&
         if (!names) return fail(dirName + ": " + names.error().message);
         manifest["exports"] = {{"png16", names.value()}};
     }
-    Status s = writeFileAtomic((staging / "manifest.json").string(), manifest.dump(2) + "\n");
+    // File names need not be UTF-8; JSON must be: invalid bytes are written as U+FFFD.
+    const std::string text = manifest.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+    Status s = writeFileAtomic((staging / "manifest.json").string(), text);
     if (!s) return fail(s.error);
-    s = swapIn(staging, dir);
+    // Checked again at the last moment: files may have been added while the bake ran.
+    if (fs::exists(dir, ec))
+        if (s = checkReplaceable(dir); !s) return fail(s.error);
+    s = replaceFolder(staging, dir);
     if (!s) return fail(s.error);
     return Status::success();
 }
 
 Result<LoadedBake> readBake(const std::string& dirName, int level) {
-    fs::path manifestPath = fs::path(dirName) / "manifest.json";
-    std::ifstream in(manifestPath);
-    if (!in) return Error{manifestPath.string() + ": cannot open (not a bake directory?)"};
-    LoadedBake bake;
-    try {
-        json m = json::parse(in);
-        auto method = methodFromString(m.at("method").get<std::string>());
-        if (!method) return Error{manifestPath.string() + ": unknown method " + m.at("method").dump()};
-        bake.method = *method;
-        for (auto& [key, value] : m.at("parameters").items()) bake.parameters[key] = value.get<double>();
-        for (const json& p : m.at("planes"))
-            bake.planes.push_back({p.at("name"), p.at("channels"), p.at("description"), p.at("linear")});
-        const json& src = m.at("source");
-        bake.source.path = src.at("path");
-        bake.source.sha256 = src.at("sha256");
-        bake.source.width = src.at("width");
-        bake.source.height = src.at("height");
-        bake.source.gloss = src.value("gloss", "");
-        const json& conv = m.at("conventions");
-        bake.source.decode.greenDown = conv.at("green_down");
-        bake.source.decode.twoChannel = conv.at("two_channel");
-        bake.source.decode.signedValues = conv.at("signed");
-        bake.source.decode.height = conv.at("height");
-        bake.source.decode.heightScale = conv.at("height_scale");
-        bake.source.decode.address = conv.at("address") == "clamp" ? AddressMode::Clamp : AddressMode::Wrap;
-        const json& levels = m.at("levels");
-        for (const json& l : levels) bake.levelSizes.emplace_back(l.at("width"), l.at("height"));
-        if (level < 0 || level >= int(levels.size()))
-            return Error{dirName + ": level " + std::to_string(level) + " out of range (the bake has " +
-                         std::to_string(levels.size()) + " levels, 0 to " +
-                         std::to_string(levels.size() - 1) + ")"};
-        for (const PlaneInfo& p : bake.planes) {
-            std::string file = (fs::path(dirName) / levels[level].at("files").at(p.name).get<std::string>()).string();
-            Result<SourceImage> image = loadImage(file);
-            if (!image) return image.error();
-            bake.level.push_back(std::move(image->image));
-        }
-    } catch (const json::exception& e) {
-        return Error{manifestPath.string() + ": malformed manifest (" + e.what() + ")"};
+    const fs::path dir(dirName);
+    Result<LoadedBake> bake = readManifest(dir);
+    if (!bake) return bake;
+    const size_t levels = bake->levelSizes.size();
+    if (level < 0 || level >= int(levels))
+        return Error{dirName + ": level " + std::to_string(level) + " out of range (the bake has " +
+                     std::to_string(levels) + " levels, 0 to " + std::to_string(levels - 1) + ")"};
+    for (size_t p = 0; p < bake->planes.size(); ++p) {
+        Result<Image> image = readPlane(dir, bake.value(), p, level);
+        if (!image) return image.error();
+        bake->level.push_back(std::move(image.value()));
     }
     return bake;
 }
 
-Result<Bake> loadBake(const std::string& dir) {
-    Result<LoadedBake> first = readBake(dir, 0);
-    if (!first) return first.error();
+Result<Bake> loadBake(const std::string& dirName) {
+    const fs::path dir(dirName);
+    Result<LoadedBake> manifest = readManifest(dir);
+    if (!manifest) return manifest.error();
+    int64_t bytes = 0;
+    for (const auto& [w, h] : manifest->levelSizes)
+        for (const PlaneInfo& plane : manifest->planes)
+            bytes += int64_t(w) * h * int64_t(plane.channels.size()) * int64_t(sizeof(float));
+    if (bytes > inputLimits().maxMemoryBytes)
+        return Error{dirName + ": the bake's planes need " + byteSize(bytes) +
+                     " in memory, above the limit of " + byteSize(inputLimits().maxMemoryBytes) +
+                     "; --max-memory raises it"};
     Bake bake;
-    bake.method = first->method;
-    bake.planes = first->planes;
-    bake.parameters = first->parameters;
-    const int count = int(first->levelSizes.size());
-    for (int k = 0; k < count; ++k) {
-        Result<LoadedBake> level = k == 0 ? std::move(first) : readBake(dir, k);
-        if (!level) return level.error();
+    bake.method = manifest->method;
+    bake.planes = manifest->planes;
+    bake.parameters = manifest->parameters;
+    for (int k = 0; k < int(manifest->levelSizes.size()); ++k) {
         std::vector<SharedImage> planes;
-        for (size_t p = 0; p < level->level.size(); ++p) {
-            Image& image = level->level[p];
-            const auto [w, h] = level->levelSizes[k];
-            if (image.width != w || image.height != h || image.channels != int(bake.planes[p].channels.size()))
-                return Error{dir + ": level " + std::to_string(k) + " plane '" + bake.planes[p].name +
-                             "' does not match the manifest's size or channels"};
-            planes.push_back(std::make_shared<const Image>(std::move(image)));
+        for (size_t p = 0; p < bake.planes.size(); ++p) {
+            Result<Image> image = readPlane(dir, manifest.value(), p, k);
+            if (!image) return image.error();
+            planes.push_back(std::make_shared<const Image>(std::move(image.value())));
         }
         bake.levels.push_back(std::move(planes));
     }

@@ -26,7 +26,12 @@
 #include <png.h>
 #include <stb_image.h> // implementation lives in Debian's libstb.so
 
-#include <half.h>
+#include "io/crash_recovery.h"
+#include "io/image_formats.h"
+#include "io/input_file.h"
+#include "ndfmip/limits.h"
+
+#include <Iex.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -34,6 +39,7 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfThreading.h>
+#include <half.h>
 #include <thread>
 
 namespace ndfmip {
@@ -57,34 +63,8 @@ std::string stbReason() {
     return reason ? reason : "unknown error";
 }
 
-// ---- reading whole files ---------------------------------------------------------------------
-
-// Reads up to `limit` bytes (all when limit is 0). Fails on a missing file or a directory.
-Result<std::string> readBytes(const std::string& path, size_t limit = 0) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) return fail(path, "is a directory");
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file) return fail(path, "cannot open (" + errnoText(errno) + ")");
-    std::string bytes;
-    std::array<char, 1 << 16> chunk;
-    bool error = false;
-    while (limit == 0 || bytes.size() < limit) {
-        size_t want = limit == 0 ? chunk.size() : std::min(chunk.size(), limit - bytes.size());
-        size_t got = std::fread(chunk.data(), 1, want, file);
-        bytes.append(chunk.data(), got);
-        if (got < want) {
-            error = std::ferror(file) != 0;
-            break;
-        }
-    }
-    int err = errno;
-    std::fclose(file);
-    if (error) return fail(path, "read error (" + errnoText(err) + ")");
-    return bytes;
-}
-
-bool startsWith(const std::string& bytes, std::string_view magic) {
-    return bytes.size() >= magic.size() && std::string_view(bytes).substr(0, magic.size()) == magic;
+bool startsWith(std::string_view bytes, std::string_view magic) {
+    return bytes.size() >= magic.size() && bytes.substr(0, magic.size()) == magic;
 }
 
 // ---- PNG reading (libpng's full API) ---------------------------------------------------------
@@ -92,7 +72,7 @@ bool startsWith(const std::string& bytes, std::string_view magic) {
 // conversions; a normal map is data, so we read the stored samples untouched instead.
 
 struct PngReadJob {
-    const std::string* bytes = nullptr;
+    std::string_view bytes;
     size_t position = 0;
     uint32_t width = 0, height = 0;
     int channels = 0, bits = 0;
@@ -110,8 +90,8 @@ void pngWarning(png_structp, png_const_charp) {} // e.g. "known incorrect sRGB p
 
 void pngReadBytes(png_structp png, png_bytep out, size_t count) {
     auto* job = static_cast<PngReadJob*>(png_get_io_ptr(png));
-    if (count > job->bytes->size() - job->position) png_error(png, "file is truncated");
-    std::memcpy(out, job->bytes->data() + job->position, count);
+    if (count > job->bytes.size() - job->position) png_error(png, "file is truncated");
+    std::memcpy(out, job->bytes.data() + job->position, count);
     job->position += count;
 }
 
@@ -152,9 +132,33 @@ bool decodePngSamples(PngReadJob& job) {
     return true;
 }
 
-Result<SourceImage> loadPng(const std::string& path, const std::string& bytes) {
+uint32_t be32(std::string_view b, size_t at) {
+    uint32_t v = 0;
+    for (size_t i = 0; i < 4; ++i) v = v << 8 | uint8_t(b[at + i]);
+    return v;
+}
+
+// The size in the IHDR chunk (which must come first) against the input limits, and against the
+// file's length: deflate expands at most 1032:1, so compressed rows shorter than a 1032nd of
+// the raw ones cannot hold the image. Both before libpng allocates anything.
+Status checkPngHeader(const std::string& path, std::string_view b) {
+    if (b.size() < 33 || b.substr(12, 4) != "IHDR") return Status::success(); // libpng reports it
+    const uint64_t width = be32(b, 16), height = be32(b, 20);
+    if (Status size = checkImageSize(path, int64_t(width), int64_t(height)); !size) return size;
+    const int bits = uint8_t(b[24]), colourType = uint8_t(b[25]);
+    const int channels = colourType == 2 ? 3 : colourType == 4 ? 2 : colourType == 6 ? 4 : 1;
+    const uint64_t raw = height * (1 + (width * uint64_t(channels * bits) + 7) / 8);
+    if (raw > 1040 * uint64_t(b.size()) + 4096)
+        return Status::failure(path + ": truncated PNG (" + std::to_string(b.size()) +
+                               " bytes cannot hold " + std::to_string(width) + "x" +
+                               std::to_string(height) + " pixels)");
+    return Status::success();
+}
+
+Result<SourceImage> loadPng(const std::string& path, std::string_view bytes) {
+    if (Status header = checkPngHeader(path, bytes); !header) return Error{header.error};
     PngReadJob job;
-    job.bytes = &bytes;
+    job.bytes = bytes;
     if (!decodePngSamples(job))
         return fail(path, std::string("corrupt or truncated PNG (") + job.message + ")");
     if (job.channels < 1 || job.channels > 4 || (job.bits != 8 && job.bits != 16))
@@ -197,13 +201,50 @@ Result<std::vector<std::string>> exrChannelsToRead(const std::string& path,
     return fail(path, "no R,G,B or Y channels in EXR (has: " + names + ")");
 }
 
-Result<SourceImage> loadExrUnchecked(const std::string& path) {
-    Imf::InputFile file(path.c_str());
-    const Imath::Box2i window = file.header().dataWindow();
+// OpenEXR reading from memory: the file was read (and checked to be a regular file of bounded
+// size) by us, so OpenEXR never opens a path itself.
+class MemoryIStream : public Imf::IStream {
+  public:
+    explicit MemoryIStream(std::string_view bytes) : Imf::IStream("memory"), bytes_(bytes) {}
+    bool read(char c[], int n) override {
+        if (n < 0 || position_ > bytes_.size() || size_t(n) > bytes_.size() - position_)
+            throw Iex::InputExc("unexpected end of file");
+        std::memcpy(c, bytes_.data() + position_, size_t(n));
+        position_ += uint64_t(n);
+        return position_ < bytes_.size();
+    }
+    uint64_t tellg() override { return position_; }
+    void seekg(uint64_t pos) override { position_ = pos; }
+
+  private:
+    std::string_view bytes_;
+    uint64_t position_ = 0;
+};
+
+Result<SourceImage> loadExrUnchecked(const std::string& path, std::string_view bytes) {
+    // OpenEXR's own header check, before it sizes any table from the data window.
+    const int side = int(std::min<int64_t>(inputLimits().maxSide, INT32_MAX));
+    Imf::Header::setMaxImageSize(side, side);
+    Imf::Header::setMaxTileSize(side, side);
+    // The (first) header alone, to check the declared size before OpenEXR sizes its tables.
+    MemoryIStream stream(bytes);
+    char magic[8];
+    stream.read(magic, 8);
+    int version = 0;
+    std::memcpy(&version, magic + 4, 4); // little-endian, as the file stores it
+    Imf::Header first;
+    first.readFrom(stream, version);
+    const Imath::Box2i window = first.dataWindow();
     int64_t width = int64_t(window.max.x) - window.min.x + 1;
     int64_t height = int64_t(window.max.y) - window.min.y + 1;
     if (width <= 0 || height <= 0) return fail(path, "image is empty (0x0)");
-    if (width > INT32_MAX || height > INT32_MAX) return fail(path, "image is too large");
+    if (Status size = checkImageSize(path, width, height); !size) return Error{size.error};
+    stream.seekg(0);
+    Imf::InputFile file(stream, 1);
+    if (file.header().dataWindow() != window) return fail(path, "inconsistent OpenEXR headers");
+    // Every chunk must be there before pixels are allocated: a 10 KB file declaring a large
+    // image is refused here, not after gigabytes of zeros.
+    if (!file.isComplete()) return fail(path, "truncated or incomplete OpenEXR file");
     auto names = exrChannelsToRead(path, file.header().channels());
     if (!names) return names.error();
     SourceImage out;
@@ -226,22 +267,26 @@ Result<SourceImage> loadExrUnchecked(const std::string& path) {
     return out;
 }
 
-Result<SourceImage> loadExr(const std::string& path) {
+Result<SourceImage> loadExr(const std::string& path, std::string_view bytes) {
     try {
-        return loadExrUnchecked(path);
+        return loadExrUnchecked(path, bytes);
     } catch (const std::exception& e) {
-        return fail(path, std::string("corrupt or unreadable OpenEXR file (") + e.what() + ")");
+        return fail(path, std::string("corrupt or unreadable OpenEXR file (") +
+                              shortened(e.what(), 200) + ")");
     }
 }
 
 // ---- stb_image formats -----------------------------------------------------------------------
 
-std::string stbFormat(const std::string& bytes) {
-    if (startsWith(bytes, "\xFF\xD8\xFF")) return "jpeg";
+// The formats handed to stb_image. GIF, PSD, PIC and PNM are refused: no one stores normal maps
+// in them, and stb 2.27 has known flaws in some of their decoders.
+std::string stbFormat(std::string_view bytes) {
+    // stb takes any run of 0xFF before 0xD8 as a JPEG's start-of-image marker: so do we.
+    const size_t fill = bytes.find_first_not_of('\xFF');
+    if (fill > 0 && fill != std::string_view::npos && bytes[fill] == '\xD8') return "jpeg";
     if (startsWith(bytes, "BM")) return "bmp";
     if (startsWith(bytes, "GIF8")) return "gif";
     if (startsWith(bytes, "8BPS")) return "psd";
-    if (startsWith(bytes, "#?RADIANCE") || startsWith(bytes, "#?RGBE")) return "hdr";
     if (startsWith(bytes, "P5") || startsWith(bytes, "P6")) return "pnm";
     if (startsWith(bytes, "\x53\x80\xF6\x34")) return "pic";
     return "tga"; // TGA has no signature; stb decides whether it is one
@@ -256,24 +301,29 @@ Image imageFromStb(const T* data, int w, int h, int c, float range) {
     return image;
 }
 
-Result<SourceImage> loadWithStb(const std::string& path, const std::string& bytes) {
-    auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
-    int size = int(std::min<size_t>(bytes.size(), INT32_MAX));
-    int w = 0, h = 0, c = 0;
+Result<SourceImage> loadWithStb(const std::string& path, std::string_view bytes) {
     SourceImage out;
     out.format = stbFormat(bytes);
+    if (out.format != "jpeg" && out.format != "bmp" && out.format != "tga")
+        return fail(path, "unsupported image format (" + out.format +
+                              "; ndfmip reads PNG, JPEG, TGA, BMP, OpenEXR and Radiance HDR)");
+    if (bytes.size() > size_t(INT32_MAX)) return fail(path, "file too large for its format");
+    // Truncated JPEG and BMP files are told by their structure alone; a TGA only once stb has
+    // recognised it as one (TGA has no signature).
+    const std::string problem = out.format == "bmp"    ? bmpProblem(bytes)
+                                : out.format == "jpeg" ? jpegProblem(bytes)
+                                                       : "";
+    if (!problem.empty()) return fail(path, problem);
+    auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+    const int size = int(bytes.size());
+    int w = 0, h = 0, c = 0;
     if (!stbi_info_from_memory(data, size, &w, &h, &c)) {
         if (out.format == "tga") return fail(path, "unsupported or unrecognised image format");
         return fail(path, "corrupt " + out.format + " file (" + stbReason() + ")");
     }
-    if (out.format == "hdr") {
-        float* f = stbi_loadf_from_memory(data, size, &w, &h, &c, 0);
-        if (f) out.image = imageFromStb(f, w, h, c, 1.f);
-        out.isFloat = true;
-        out.bitsPerChannel = 32;
-        stbi_image_free(f);
-        if (!f) return fail(path, "corrupt image (" + stbReason() + ")");
-    } else if (stbi_is_16_bit_from_memory(data, size)) {
+    if (Status s = checkImageSize(path, w, h); !s) return Error{s.error};
+    if (out.format == "tga" && !tgaProblem(bytes).empty()) return fail(path, tgaProblem(bytes));
+    if (stbi_is_16_bit_from_memory(data, size)) {
         stbi_us* s = stbi_load_16_from_memory(data, size, &w, &h, &c, 0);
         if (s) out.image = imageFromStb(s, w, h, c, 65535.f);
         out.bitsPerChannel = 16;
@@ -288,16 +338,24 @@ Result<SourceImage> loadWithStb(const std::string& path, const std::string& byte
     return out;
 }
 
-Result<SourceImage> loadDetected(const std::string& path) {
-    auto head = readBytes(path, 8);
-    if (!head) return head.error();
-    if (head->empty()) return fail(path, "file is empty");
-    // OpenEXR reads the file itself, so only the signature is read here.
-    if (startsWith(head.value(), "\x76\x2F\x31\x01")) return loadExr(path);
-    auto bytes = readBytes(path);
-    if (!bytes) return bytes.error();
-    if (startsWith(bytes.value(), "\x89PNG\r\n\x1A\n")) return loadPng(path, bytes.value());
-    return loadWithStb(path, bytes.value());
+Result<SourceImage> loadRadiance(const std::string& path, std::string_view bytes) {
+    Result<Image> image = decodeRadiance(bytes, path);
+    if (!image) return image.error();
+    SourceImage out;
+    out.format = "hdr";
+    out.isFloat = true;
+    out.bitsPerChannel = 32;
+    out.image = std::move(image.value());
+    return out;
+}
+
+Result<SourceImage> decodeDetected(std::string_view bytes, const std::string& name) {
+    if (bytes.empty()) return fail(name, "file is empty");
+    if (startsWith(bytes, "\x76\x2F\x31\x01")) return loadExr(name, bytes);
+    if (startsWith(bytes, "\x89PNG\r\n\x1A\n")) return loadPng(name, bytes);
+    if (startsWith(bytes, "#?RADIANCE") || startsWith(bytes, "#?RGBE"))
+        return loadRadiance(name, bytes);
+    return loadWithStb(name, bytes);
 }
 
 // ---- writing ---------------------------------------------------------------------------------
@@ -487,14 +545,20 @@ bool writePngStream(PngWriteJob& job) {
 
 } // namespace
 
-Result<SourceImage> loadImage(const std::string& path) {
+Result<SourceImage> decodeImage(std::string_view bytes, const std::string& name) {
     try {
-        auto loaded = loadDetected(path);
-        if (loaded && loaded->image.empty()) return fail(path, "image is empty (0x0)");
+        auto loaded = decodeDetected(bytes, name);
+        if (loaded && loaded->image.empty()) return fail(name, "image is empty (0x0)");
         return loaded;
-    } catch (const std::exception& e) { // e.g. bad_alloc for a huge declared size
-        return fail(path, std::string("cannot read (") + e.what() + ")");
+    } catch (const std::exception& e) { // e.g. bad_alloc when memory runs out
+        return fail(name, std::string("cannot read (") + shortened(e.what(), 200) + ")");
     }
+}
+
+Result<SourceImage> loadImage(const std::string& path) {
+    Result<std::string> bytes = readRegularFile(path, inputLimits().maxImageFileBytes);
+    if (!bytes) return bytes.error();
+    return decodeImage(bytes.value(), path);
 }
 
 Status saveExr(const std::string& path, const Image& image,
@@ -538,6 +602,7 @@ Status savePng(const std::string& path, const Image& image, int bitsPerChannel) 
 }
 
 Status writeFileAtomic(const std::string& path, const std::string& bytes) {
+    removeStaleTemporaries(path); // what a killed earlier run left beside the same file
     std::string temp = tempPathFor(path);
     if (int err = writeNewFile(temp, bytes); err != 0) {
         ::unlink(temp.c_str()); // fails harmlessly when it was never created
@@ -553,10 +618,13 @@ Status writeFileAtomic(const std::string& path, const std::string& bytes) {
 }
 
 Result<std::string> sha256File(const std::string& path) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) return fail(path, "is a directory");
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file) return fail(path, "cannot open (" + errnoText(errno) + ")");
+    Result<int> fd = openRegularFile(path);
+    if (!fd) return fd.error();
+    std::FILE* file = ::fdopen(fd.value(), "rb");
+    if (!file) {
+        ::close(fd.value());
+        return fail(path, "cannot read: " + errnoText(errno));
+    }
     EVP_MD_CTX* ctx = EVP_MD_CTX_new();
     bool ok = ctx && EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr) == 1;
     std::array<unsigned char, 1 << 16> chunk;

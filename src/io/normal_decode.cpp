@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 
 namespace ndfmip {
 namespace {
@@ -41,15 +42,23 @@ RawNormal rawNormal(const float* t, bool twoChannel, bool stored) {
     return {x, y, decode(t[2])};
 }
 
-// Unit-normalises every texel of `raw` (3 channels) in place, filling the counts.
-void renormalise(Image& raw, DecodeReport& report) {
+// Unit-normalises every texel of `raw` (3 channels) in place, filling the counts. Returns the
+// index of the first texel whose length overflows a float (a component near 1e19 or more:
+// dividing by an infinite length would leave a silent zero normal), or -1.
+int64_t renormalise(Image& raw, DecodeReport& report) {
     const int64_t count = int64_t(raw.texelCount());
     size_t offUnit = 0, degenerate = 0, facingDown = 0;
+    int64_t firstOverflow = count;
     float* p = raw.pixels.data();
-#pragma omp parallel for reduction(+ : offUnit, degenerate, facingDown) schedule(static)
+#pragma omp parallel for reduction(+ : offUnit, degenerate, facingDown) \
+    reduction(min : firstOverflow) schedule(static)
     for (int64_t i = 0; i < count; ++i) {
         float* n = p + 3 * i;
         float length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!std::isfinite(length)) {
+            firstOverflow = std::min(firstOverflow, i);
+            continue;
+        }
         if (std::abs(length - 1.f) > 0.1f) ++offUnit;
         if (length < 1e-3f) {
             ++degenerate;
@@ -60,6 +69,7 @@ void renormalise(Image& raw, DecodeReport& report) {
         if (n[2] < 0.f) ++facingDown;
     }
     report = {size_t(count), offUnit, degenerate, facingDown};
+    return firstOverflow < count ? firstOverflow : -1;
 }
 
 // Channel 0 of `image` as a one-channel height field.
@@ -105,13 +115,13 @@ Result<Image> decodeVectors(const SourceImage& source, const DecodeOptions& opti
 }
 
 // Derivative along one axis at index i of n samples, `at(j)` giving the sample at j.
-template <class Sample>
-float derivative(int i, int n, AddressMode address, Sample at) {
-    if (n < 2) return 0.f; // nothing to difference along a 1-texel dimension
-    if (address == AddressMode::Wrap) return 0.5f * (at((i + 1) % n) - at((i + n - 1) % n));
-    if (i == 0) return at(1) - at(0); // one-sided at the edges: nothing exists outside
-    if (i == n - 1) return at(n - 1) - at(n - 2);
-    return 0.5f * (at(i + 1) - at(i - 1));
+template <class Sample> double derivative(int i, int n, AddressMode address, Sample at) {
+    auto difference = [&](int a, int b) { return double(at(a)) - double(at(b)); };
+    if (n < 2) return 0.0; // nothing to difference along a 1-texel dimension
+    if (address == AddressMode::Wrap) return 0.5 * difference((i + 1) % n, (i + n - 1) % n);
+    if (i == 0) return difference(1, 0); // one-sided at the edges: nothing exists outside
+    if (i == n - 1) return difference(n - 1, n - 2);
+    return 0.5 * difference(i + 1, i - 1);
 }
 
 } // namespace
@@ -125,12 +135,14 @@ Image heightToNormals(const Image& height, float scale, AddressMode address) {
         for (int x = 0; x < w; ++x) {
             // Rows run downwards, y runs up: dh/dy_up = -dh/drow.
             auto alongColumn = [&](int r) { return height.at(x, r)[0]; };
-            float dx = derivative(x, w, address, alongRow);
-            float dyUp = -derivative(row, h, address, alongColumn);
-            float nx = -scale * dx, ny = -scale * dyUp;
-            float length = std::sqrt(nx * nx + ny * ny + 1.f);
+            // In double: huge heights (1e30) times the scale would overflow a float's square
+            // and leave a zero normal; in double they give the steep normal they mean.
+            double dx = derivative(x, w, address, alongRow);
+            double dyUp = -derivative(row, h, address, alongColumn);
+            double nx = -double(scale) * dx, ny = -double(scale) * dyUp;
+            double length = std::sqrt(nx * nx + ny * ny + 1.0);
             float* n = out.at(x, row);
-            n[0] = nx / length, n[1] = ny / length, n[2] = 1.f / length;
+            n[0] = float(nx / length), n[1] = float(ny / length), n[2] = float(1.0 / length);
         }
     }
     return out;
@@ -146,7 +158,15 @@ Result<Image> decodeNormalMap(const SourceImage& source, const DecodeOptions& op
                                   : decodeVectors(source, options, name);
     if (!decoded) return decoded;
     DecodeReport counts;
-    renormalise(decoded.value(), counts);
+    if (int64_t bad = renormalise(decoded.value(), counts); bad >= 0) {
+        const float* t = in.pixels.data() + size_t(bad) * size_t(in.channels);
+        char values[96];
+        std::snprintf(values, sizeof values, "%g, %g, %g", t[0], t[std::min(1, in.channels - 1)],
+                      t[std::min(2, in.channels - 1)]);
+        return fail(name, "texel (" + std::to_string(bad % in.width) + ", " +
+                              std::to_string(bad / in.width) + ") holds (" + values +
+                              "), too large for a normal (its length overflows a float)");
+    }
     if (counts.degenerate == counts.texels)
         return fail(name, "every normal is zero-length (not a normal map?)");
     if (report) *report = counts;

@@ -411,7 +411,7 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
                                              : roughnessMips ? std::optional<Method>(Method::Naive)
                                                              : methodFromString(methodName);
         if (!method)
-            return Error{"render: unknown method '" + methodName + "' (expected " + renderMethodNames() + ")"};
+            return Error{"render: unknown method " + quote(methodName) + " (expected " + renderMethodNames() + ")"};
         const Bake& bake = textures.bake;
         if (bake.levels.empty() || bake.method != *method)
             return Error{"render: no bake of method '" + std::string(ndfmip::methodName(*method)) +
@@ -470,7 +470,7 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
             ctx.lut = toksvigLut(lutOptions);
         }
         if (ctx.planes.channels < 3 || ctx.planes.channels > kMaxFilteredChannels)
-            return Error{"render: method '" + methodName + "' has no filterable planes"};
+            return Error{"render: method " + quote(methodName) + " has no filterable planes"};
     }
     if (!ctx.planes.chains.empty()) ctx.sizes = levelSizes(ctx.planes.chains.front());
     if (!ctx.albedo.levels.empty() && ctx.shader != Shader::Truth &&

@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/input_file.h"
+#include "ndfmip/limits.h"
 #include "ndfmip/scene.h"
 #include "ndfmip/sh_brdf.h"
 
@@ -74,11 +76,27 @@ std::string at(const std::string& path, size_t index) {
     return path + "[" + std::to_string(index) + "]";
 }
 
-// A value as the message shows it: JSON text, ASCII only, cut short.
+// A value as the message shows it: JSON text, ASCII only, cut short. Only scalars and small flat
+// arrays and objects are printed; a large or nested value (a 10 MB array) is only described.
 std::string shown(const json& value) {
-    std::string text = value.dump(-1, ' ', true);
-    if (text.size() > 40) text = text.substr(0, 37) + "...";
-    return text;
+    if (value.is_string()) {
+        const std::string& s = value.get_ref<const std::string&>();
+        // Cut at 40 bytes, maybe inside a UTF-8 sequence: the broken end is shown as U+FFFD.
+        const auto replace = json::error_handler_t::replace;
+        return json(s.substr(0, 40)).dump(-1, ' ', true, replace) +
+               (s.size() > 40 ? "\xE2\x80\xA6" : "");
+    }
+    if (value.is_structured()) {
+        const bool flat =
+            value.size() <= 8 && std::none_of(value.begin(), value.end(), [](const json& v) {
+                return v.is_structured() ||
+                       (v.is_string() && v.get_ref<const std::string&>().size() > 40);
+            });
+        if (!flat)
+            return (value.is_array() ? "an array of " : "an object of ") +
+                   std::to_string(value.size());
+    }
+    return shortened(value.dump(-1, ' ', true, json::error_handler_t::replace), 40);
 }
 
 const json* find(const json& object, const char* key) {
@@ -117,6 +135,7 @@ void checkKeys(const json& object, const std::string& path,
         std::string_view nearest;
         size_t distance = 3;
         for (std::string_view candidate : allowed) {
+            if (key.size() > 2 * candidate.size() + 3) continue; // too far to be a misspelling
             size_t d = editDistance(key, candidate);
             if (d < distance) distance = d, nearest = candidate;
         }
@@ -129,7 +148,7 @@ void checkKeys(const json& object, const std::string& path,
                 problem += (candidate == *allowed.begin() ? " " : ", ") + std::string(candidate);
             problem += ")";
         }
-        fail(at(path, key), problem);
+        fail(at(path, shortened(key)), problem);
     }
 }
 
@@ -187,6 +206,7 @@ float inInterval(const json& value, const std::string& path, float hi, bool clos
 }
 
 constexpr int kMaxPixels = 16384;
+constexpr size_t kMaxLights = 256;
 
 int pixels(const json& value, const std::string& path) {
     bool ok = value.is_number();
@@ -243,7 +263,17 @@ size_t oneOf(const json& value, const std::string& path,
     if (it != names.end()) return size_t(it - names.begin());
     std::string expected;
     for (std::string_view n : names) expected += (expected.empty() ? "" : ", ") + std::string(n);
-    fail(path, "unknown " + what + " '" + name + "' (expected " + expected + ")");
+    fail(path, "unknown " + what + " " + quote(name) + " (expected " + expected + ")");
+}
+
+// A file name from the scene: no NUL (the C library would cut the name there) and no longer
+// than a path can be.
+std::string pathText(const json& value, const std::string& path) {
+    std::string s = nonEmptyText(value, path);
+    if (s.find('\0') != std::string::npos)
+        fail(path, "file name " + quote(s) + " holds a NUL character");
+    if (s.size() > 4096) fail(path, "file name " + quote(s) + " is longer than 4096 bytes");
+    return s;
 }
 
 std::string resolvePath(const std::string& path, const std::string& baseDir) {
@@ -271,6 +301,8 @@ Camera readCamera(const json& value, const std::string& path) {
         camera.orthoHeight = positive(*v, at(path, "ortho_height"));
     if (const json* v = find(o, "width")) camera.width = pixels(*v, at(path, "width"));
     if (const json* v = find(o, "height")) camera.height = pixels(*v, at(path, "height"));
+    if (Status size = checkCameraSize(path, camera.width, camera.height); !size)
+        fail("", size.error);
 
     glm::dvec3 view = glm::dvec3(camera.target) - glm::dvec3(camera.eye);
     double scale =
@@ -337,6 +369,10 @@ Light readLight(const json& value, const std::string& path) {
 std::vector<Light> readLights(const json& value, const std::string& path) {
     if (!value.is_array()) fail(path, "expected an array of lights, got " + shown(value));
     if (value.empty()) fail(path, "empty (a scene needs at least one light)");
+    // Every light is shaded at every sample: thousands would only make a render crawl.
+    if (value.size() > kMaxLights)
+        fail(path, std::to_string(value.size()) + " lights; a scene has at most " +
+                       std::to_string(kMaxLights));
     std::vector<Light> lights;
     for (size_t i = 0; i < value.size(); ++i) lights.push_back(readLight(value[i], at(path, i)));
     return lights;
@@ -345,7 +381,7 @@ std::vector<Light> readLights(const json& value, const std::string& path) {
 // A BRDF table named by `key`, read and checked; its angle must be `angle`.
 std::shared_ptr<const TabulatedTransfer> readTable(const json& value, const std::string& path,
                                                    const std::string& baseDir, const char* angle) {
-    const std::string file = resolvePath(nonEmptyText(value, path), baseDir);
+    const std::string file = resolvePath(pathText(value, path), baseDir);
     Result<TabulatedTransfer> table = loadTabulatedTransfer(file);
     if (!table) fail(path, table.error().message);
     if (table->angle != angle)
@@ -361,8 +397,8 @@ Material readMaterial(const json& value, const std::string& path, const std::str
     if (const json* v = find(o, "brdf")) {
         std::string name = text(*v, at(path, "brdf"));
         if (!brdfFromString(name, m.brdf))
-            fail(at(path, "brdf"),
-                 "unknown BRDF '" + name + "' (expected lambert, blinnphong, beckmann, ggx, tabulated)");
+            fail(at(path, "brdf"), "unknown BRDF " + quote(name) +
+                                       " (expected lambert, blinnphong, beckmann, ggx, tabulated)");
     }
     if (const json* v = find(o, "table")) m.table = readTable(*v, at(path, "table"), baseDir, "theta_h");
     if (const json* v = find(o, "g_table")) m.factor = readTable(*v, at(path, "g_table"), baseDir, "theta_d");
@@ -382,7 +418,7 @@ Material readMaterial(const json& value, const std::string& path, const std::str
 NormalMapRef readNormalMap(const json& value, const std::string& path, const std::string& baseDir) {
     NormalMapRef ref;
     if (value.is_string()) {
-        ref.path = resolvePath(nonEmptyText(value, path), baseDir);
+        ref.path = resolvePath(pathText(value, path), baseDir);
         return ref;
     }
     if (!value.is_object())
@@ -390,7 +426,7 @@ NormalMapRef readNormalMap(const json& value, const std::string& path, const std
     checkKeys(value, path,
               {"path", "green_down", "two_channel", "signed", "height_scale", "address"},
               "normal_map");
-    ref.path = resolvePath(nonEmptyText(required(value, path, "path"), at(path, "path")), baseDir);
+    ref.path = resolvePath(pathText(required(value, path, "path"), at(path, "path")), baseDir);
     DecodeOptions& d = ref.decode;
     if (const json* v = find(value, "green_down")) d.greenDown = flag(*v, at(path, "green_down"));
     if (const json* v = find(value, "two_channel"))
@@ -418,12 +454,15 @@ Scene readScene(const json& root, const std::string& baseDir) {
     scene.lights = readLights(required(root, "", "lights"), "lights");
     if (const json* v = find(root, "material")) scene.material = readMaterial(*v, "material", baseDir);
     scene.normalMap = readNormalMap(required(root, "", "normal_map"), "normal_map", baseDir);
-    if (const json* v = find(root, "method")) scene.method = nonEmptyText(*v, "method");
+    if (const json* v = find(root, "method")) {
+        scene.method = nonEmptyText(*v, "method");
+        if (scene.method.size() > 64) fail("method", "unknown method " + quote(scene.method));
+    }
     if (const json* v = find(root, "bake"))
-        scene.bakeDir = resolvePath(nonEmptyText(*v, "bake"), baseDir);
+        scene.bakeDir = resolvePath(pathText(*v, "bake"), baseDir);
     if (const json* v = find(root, "background")) scene.background = colour(*v, "background");
     if (const json* v = find(root, "albedo_map"))
-        scene.albedoMap = resolvePath(nonEmptyText(*v, "albedo_map"), baseDir);
+        scene.albedoMap = resolvePath(pathText(*v, "albedo_map"), baseDir);
     return scene;
 }
 
@@ -492,6 +531,10 @@ std::string oneLine(std::string text) {
 
 Result<Scene> parseScene(const std::string& jsonText, const std::string& name,
                          const std::string& baseDir) {
+    // The parser itself does not recurse, but dumping or copying a value does: refuse deep
+    // nesting before anything else sees it.
+    if (std::string deep = jsonNestingProblem(jsonText, inputLimits().maxJsonDepth); !deep.empty())
+        return Error{oneLine(name + ": invalid JSON (" + deep + ")")};
     json root;
     DuplicateKeys duplicates;
     try {
@@ -508,10 +551,10 @@ Result<Scene> parseScene(const std::string& jsonText, const std::string& name,
         std::string detail = position != std::string::npos    ? " " + what.substr(position)
                              : prefixEnd != std::string::npos ? ": " + what.substr(prefixEnd + 2)
                                                               : ": " + what;
-        return Error{oneLine(name + ": invalid JSON" + detail)};
+        return Error{oneLine(name + ": invalid JSON" + shortened(detail, 200))};
     }
     if (!duplicates.first.empty())
-        return Error{oneLine(name + ": " + duplicates.first + ": given twice")};
+        return Error{oneLine(name + ": " + shortened(duplicates.first, 160) + ": given twice")};
     try {
         return readScene(root, baseDir);
     } catch (const SceneProblem& p) {
@@ -520,20 +563,9 @@ Result<Scene> parseScene(const std::string& jsonText, const std::string& name,
 }
 
 Result<Scene> loadScene(const std::string& path) {
-    auto cannotRead = [&](const std::string& why) { return Error{path + ": cannot read: " + why}; };
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) return cannotRead("is a directory");
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file) return cannotRead(std::strerror(errno));
-    std::string text;
-    char chunk[1 << 14];
-    size_t n;
-    while ((n = std::fread(chunk, 1, sizeof chunk, file)) > 0) text.append(chunk, n);
-    bool readError = std::ferror(file);
-    std::fclose(file);
-    if (readError) return cannotRead("read error");
-
-    Result<Scene> scene = parseScene(text, path, fs::path(path).parent_path().string());
+    Result<std::string> text = readRegularFile(path, inputLimits().maxTextFileBytes);
+    if (!text) return text.error();
+    Result<Scene> scene = parseScene(text.value(), path, fs::path(path).parent_path().string());
     if (scene) scene->path = path;
     return scene;
 }

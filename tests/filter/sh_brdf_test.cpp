@@ -537,7 +537,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadTable{"word", "theta_h_degrees f\n0 1\n10 bright\n",
                  ":3: value 'bright' is not a number"},
         BadTable{"long_word", "theta_h_degrees f\n0 1\n10 0123456789abcdefghijklmnopqrstuvwxyz\n",
-                 ":3: value '0123456789abcdefghijklmnopqrstuv...' is not a number"},
+                 ":3: value '0123456789abcdefghijklmnopqrstuv\xE2\x80\xA6' is not a number"},
         BadTable{"trailing", "theta_h_degrees f\n0 1x\n", ":2: value '1x' is not a number"},
         BadTable{"nan_value", "theta_h_degrees f\n0 1\n10 nan\n", ":3: value is NaN"},
         BadTable{"nan_angle", "theta_h_degrees f\n0 1\nNaN 1\n", ":3: angle is NaN"},

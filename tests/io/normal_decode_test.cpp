@@ -325,3 +325,39 @@ TEST(NormalDecode, HeightOptionUsesFirstChannelAndScale) {
     ASSERT_FALSE(bad);
     EXPECT_NE(bad.error().message.find("(2, 0)"), std::string::npos) << bad.error().message;
 }
+
+TEST(NormalDecode, ValuesWhoseLengthOverflowsAreAnErrorNotZeroNormals) {
+    // 1e30 is finite, but its square is not: it must not become a silent (0, 0, 0) normal.
+    for (bool isSigned : {false, true}) {
+        Image image = filled(3, 2, {0.5f, 0.5f, 1.f});
+        image.at(1, 1)[0] = 1e30f;
+        DecodeOptions options;
+        options.signedValues = isSigned;
+        auto n = ndfmip::decodeNormalMap(source(image, true), options, "big.exr", nullptr);
+        ASSERT_FALSE(n);
+        const std::string& m = n.error().message;
+        EXPECT_TRUE(startsWith(m, "big.exr: texel (1, 1) holds (1e+30, ")) << m;
+        EXPECT_NE(m.find("too large for a normal"), std::string::npos) << m;
+    }
+    // Large but finite lengths still give the direction they mean, counted as off unit length.
+    Image image = filled(2, 1, {0.f, 0.f, 1.f});
+    image.at(0, 0)[0] = 1e15f;
+    image.at(0, 0)[2] = 1e15f;
+    DecodeOptions options;
+    options.signedValues = true;
+    DecodeReport report;
+    auto n = ndfmip::decodeNormalMap(source(image, true), options, "big.exr", &report);
+    ASSERT_TRUE(n) << n.error().message;
+    expectNormal(n->at(0, 0), 1, 0, 1);
+    EXPECT_EQ(report.offUnitLength, 1u);
+}
+
+TEST(NormalDecode, HugeHeightsGiveSteepNormalsNotZeroOnes) {
+    Image h(3, 1, 1);
+    h.pixels = {0.f, 1e30f, 2e30f};
+    Image n = ndfmip::heightToNormals(h, 1.f, AddressMode::Clamp);
+    for (int x = 0; x < 3; ++x) expectNormal(n.at(x, 0), -1, 0, 0, 1e-6);
+    h.pixels = {-3e38f, 0.f, 3e38f}; // differences beyond float range
+    n = ndfmip::heightToNormals(h, 1e6f, AddressMode::Wrap);
+    expectNormal(n.at(1, 0), -1, 0, 0, 1e-6);
+}

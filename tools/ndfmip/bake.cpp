@@ -45,7 +45,7 @@ void applyGlossOrFail(Image& normals, const BakeArgs& a) {
 
 void runBake(const BakeArgs& a) {
     auto method = methodFromString(a.method);
-    if (!method) throw Failure("unknown method '" + a.method + "' (naive, toksvig, sh, vmf)");
+    if (!method) throw Failure("unknown method " + quote(a.method) + " (naive, toksvig, sh, vmf)");
     if (a.order != 0 && *method != Method::Sh) throw Failure("--order applies to --method sh only");
     if (a.lobes != 0 && *method != Method::Vmf) throw Failure("--lobes applies to --method vmf only");
     if (!a.albedo.empty() && *method != Method::Vmf) throw Failure("--albedo applies to --method vmf only");
@@ -57,6 +57,7 @@ void runBake(const BakeArgs& a) {
     if (!a.gloss.empty() && a.maxExponent <= 0.f)
         throw Failure("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");
     DecodeOptions decode = a.input_options.resolved();
+    recoverInterruptedBake(a.output);
 
     long long start = nowNanoseconds();
     DecodeReport report;
@@ -77,6 +78,7 @@ void runBake(const BakeArgs& a) {
     options.vmfLobeBudget = a.lobeBudget;
     if (!a.albedo.empty()) options.albedo = loadAlbedoOrFail(a.albedo, width, height);
     if (!a.quiet) options.progress = [](int done, int total) { showProgress("bake: level", done, total); };
+    checkBakeMemoryOrFail(a.input, *method, options, width, height);
     Bake bake = bakeMethod(*method, pyramid, options);
     if (!a.gloss.empty()) bake.parameters["max_exponent"] = a.maxExponent;
     double bakeMs = millisecondsSince(start);

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "ndfmip/bake.h"
 #include "ndfmip/normal_map.h"
 #include "ndfmip/roughness.h"
 
@@ -70,6 +71,18 @@ std::vector<SharedImage> loadRoughnessMipsOrFail(const std::string& pattern,
 // ours, hdrp, filament, godot or unreal (roughness.h); throws on anything else.
 RoughnessMapping roughnessMappingOrFail(const std::string& name);
 const char* roughnessMappingName(RoughnessMapping mapping);
+
+// Adds a finite-number check to every floating-point option of `app` and its subcommands, so
+// "nan" and "inf" fail like any other out-of-range value (CLI::Range lets NaN through, and
+// every comparison with NaN is false). Call once every subcommand is registered.
+void requireFiniteNumbers(CLI::App& app);
+
+// The options that raise the input limits (limits.h): --max-pixels and --max-memory.
+void addLimitOptions(CLI::App& app);
+
+// A bake of `method` with `options` over a width x height map within the memory limit, or throws.
+void checkBakeMemoryOrFail(const std::string& name, Method method, const BakeOptions& options,
+                           int width, int height);
 
 // A short "\r<label> k/n" progress line on stderr when it is a terminal.
 void showProgress(const char* label, int done, int total);

@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "ndfmip/io.h"
 #include "ndfmip/render.h"
+#include "ndfmip/limits.h"
 #include "ndfmip/vmf.h"
 
 namespace ndfmip::cli {
@@ -58,6 +60,52 @@ Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bo
     return std::move(normals.value());
 }
 
+void requireFiniteNumbers(CLI::App& app) {
+    const CLI::Validator finite(
+        [](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double value = std::strtod(text.c_str(), &end);
+            // Text that is no number at all is left to the option's own conversion error.
+            if (end == text.c_str() || std::isfinite(value)) return "";
+            return "must be a finite number, not " + quote(text);
+        },
+        "", "FINITE");
+    for (CLI::Option* option : app.get_options())
+        if (option->get_type_name().rfind("FLOAT", 0) == 0) option->check(finite); // "FLOAT:..."
+    for (CLI::App* command : app.get_subcommands({})) requireFiniteNumbers(*command);
+}
+
+void addLimitOptions(CLI::App& app) {
+    const InputLimits defaults;
+    app.add_option_function<int64_t>(
+           "--max-pixels",
+           [](int64_t pixels) {
+               InputLimits limits = inputLimits();
+               limits.maxPixels = limits.maxCameraPixels = pixels;
+               setInputLimits(limits);
+           },
+           "largest image read or rendered, in pixels (default " +
+               std::to_string(defaults.maxPixels) + " for files, " +
+               std::to_string(defaults.maxCameraPixels) + " for renders)")
+        ->check(CLI::Range(int64_t(1), int64_t(1) << 40));
+    app.add_option_function<double>(
+           "--max-memory",
+           [](double gib) {
+               InputLimits limits = inputLimits();
+               limits.maxMemoryBytes = int64_t(gib * double(int64_t(1) << 30));
+               setInputLimits(limits);
+           },
+           "memory a bake may need, in GiB (default " +
+               std::to_string(defaults.maxMemoryBytes >> 30) + ")")
+        ->check(CLI::Range(1e-6, 1e6));
+}
+
+void checkBakeMemoryOrFail(const std::string& name, Method method, const BakeOptions& options,
+                           int width, int height) {
+    Status s = checkBakeMemory(name, method, options, width, height);
+    if (!s) throw Failure(s.error);
+}
+
 void showProgress(const char* label, int done, int total) {
     static const bool terminal = isatty(2);
     if (!terminal) return;
@@ -96,9 +144,9 @@ FilteringArgs::FilteringArgs()
       lobeFilter(shadeFilterName(RenderOptions{}.shadeFilter)) {}
 
 void FilteringArgs::apply(RenderOptions& o) const {
-    if (!truthFilterFromString(truth, o.truth)) throw Failure("--truth: '" + truth + "' is not box or bilinear");
+    if (!truthFilterFromString(truth, o.truth)) throw Failure("--truth: " + quote(truth) + " is not box or bilinear");
     if (!shadeFilterFromString(lobeFilter, o.shadeFilter))
-        throw Failure("--lobe-filter: '" + lobeFilter + "' is not parameter or texel");
+        throw Failure("--lobe-filter: " + quote(lobeFilter) + " is not parameter or texel");
     o.taps = taps;
     o.lodBias = lodBias;
 }
@@ -128,7 +176,7 @@ std::vector<SharedImage> loadRoughnessMipsOrFail(const std::string& pattern,
         return text;
     };
     if (pattern.find("{level}") == std::string::npos)
-        throw Failure("roughness mips '" + pattern + "': the pattern has no {level}");
+        throw Failure("roughness mips " + quote(pattern) + ": the pattern has no {level}");
     std::vector<SharedImage> levels;
     for (size_t k = 0; k < sizes.size(); ++k) {
         std::string path = substitute(pattern, "level", std::to_string(k));
@@ -154,7 +202,8 @@ std::vector<SharedImage> loadRoughnessMipsOrFail(const std::string& pattern,
 RoughnessMapping roughnessMappingOrFail(const std::string& name) {
     for (const auto& [n, m] : kMappings)
         if (name == n) return m;
-    throw Failure("unknown roughness mapping '" + name + "' (expected ours, hdrp, filament, godot, unreal)");
+    throw Failure("unknown roughness mapping " + quote(name) +
+                  " (expected ours, hdrp, filament, godot, unreal)");
 }
 
 const char* roughnessMappingName(RoughnessMapping mapping) {

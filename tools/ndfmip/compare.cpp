@@ -70,7 +70,7 @@ void runCompare(const CompareArgs& args) {
         {"energy_ratio", number(c.energyRatio)},
         {"max_abs_error", number(c.maxAbsError)},
     };
-    std::printf("%s\n", out.dump(2).c_str());
+    std::printf("%s\n", out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
 }
 
 } // namespace

@@ -72,6 +72,8 @@ void runDemo(DemoArgs a) {
     DecodeOptions decode = a.input_options.resolved();
     if (a.defaultGreenDown) decode.greenDown = true;
     Pyramid pyramid = buildPyramid(std::make_shared<const Image>(loadNormalsOrFail(a.input, decode, false)));
+    for (Method m : allMethods())
+        checkBakeMemoryOrFail(a.input, m, {}, pyramid.base->width, pyramid.base->height);
     // Only once the map has loaded: a bad map leaves no empty output folder behind.
     std::error_code ec;
     std::filesystem::create_directories(a.output, ec);

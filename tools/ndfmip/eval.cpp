@@ -91,7 +91,7 @@ std::vector<Setting> settingsOf(const EvalArgs& a) {
     for (const std::string& name : a.brdfs) {
         Brdf brdf;
         if (!brdfFromString(name, brdf))
-            throw Failure("--brdfs: unknown BRDF '" + name + "' (expected lambert, blinnphong, beckmann, ggx)");
+            throw Failure("--brdfs: unknown BRDF " + quote(name) + " (expected lambert, blinnphong, beckmann, ggx)");
         if (brdf == Brdf::Lambert) out.push_back(makeSetting(brdf, 0.f, 0.f));
         if (brdf == Brdf::BlinnPhong)
             for (float s : a.exponents) out.push_back(makeSetting(brdf, s, 0.f));
@@ -186,8 +186,8 @@ MethodSpec methodSpec(const std::string& label) {
     }
     auto method = methodFromString(name);
     if (!method)
-        throw Failure("--methods: unknown method '" + label +
-                      "' (expected naive, toksvig, toksvig-lut, sh[:ORDER], vmf[:LOBES[:BUDGET]], lean, exact)");
+        throw Failure("--methods: unknown method " + quote(label) +
+                      " (expected naive, toksvig, toksvig-lut, sh[:ORDER], vmf[:LOBES[:BUDGET]], lean, exact)");
     spec.method = *method;
     spec.render = methodName(*method);
     if (!order.empty()) {
@@ -205,7 +205,7 @@ MethodSpec methodSpec(const std::string& label) {
         const float b = budget.empty() ? 0.f : std::strtof(budget.c_str(), &budgetEnd);
         const bool budgetOk = budget.empty() || (vmf && *budgetEnd == '\0' && b >= 0.f && b <= 10.f);
         if ((!sh && !vmf) || *end != '\0' || l < 1 || l > most || !budgetOk)
-            throw Failure("--methods: '" + label + "': sh takes an order 1 .. " + std::to_string(kMaxShOrder) +
+            throw Failure("--methods: " + quote(label) + ": sh takes an order 1 .. " + std::to_string(kMaxShOrder) +
                           ", vmf a lobe count 1 .. 8 and optionally :BUDGET (0 .. 10), other methods nothing");
         if (sh) spec.options.shOrder = int(l);
         if (vmf) spec.options.vmfLobes = int(l);
@@ -233,9 +233,9 @@ std::vector<ExternalRoughness> externalRows(const std::vector<std::string>& spec
     for (const std::string& spec : specs) {
         const size_t eq = spec.find('=');
         if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size())
-            throw Failure("--external-roughness: '" + spec + "' is not NAME=PATTERN");
+            throw Failure("--external-roughness: " + quote(spec) + " is not NAME=PATTERN");
         if (spec.find("{level}", eq) == std::string::npos)
-            throw Failure("--external-roughness: '" + spec + "': the pattern has no {level}");
+            throw Failure("--external-roughness: " + quote(spec) + ": the pattern has no {level}");
         rows.push_back({spec.substr(0, eq), spec.substr(eq + 1)});
     }
     return rows;
@@ -245,7 +245,7 @@ void runEval(const EvalArgs& a) {
     const std::vector<Setting> settings = settingsOf(a);
     const std::vector<ExternalRoughness> externals = externalRows(a.externalRoughness);
     if (a.externalEncoding != "perceptual" && a.externalEncoding != "alpha")
-        throw Failure("--external-encoding: '" + a.externalEncoding + "' is not perceptual or alpha");
+        throw Failure("--external-encoding: " + quote(a.externalEncoding) + " is not perceptual or alpha");
     RenderOptions filtering;
     a.filtering.apply(filtering);
     const TruthFilter truthFilter = filtering.truth;
@@ -277,6 +277,10 @@ void runEval(const EvalArgs& a) {
         map.name = std::filesystem::path(a.maps[mapIndex]).filename().string();
         map.normals = std::make_shared<const Image>(loadNormalsOrFail(a.maps[mapIndex], decode, a.quiet));
         map.pyramid = buildPyramid(map.normals);
+        for (const MethodSpec& spec : specs)
+            if (spec.baked)
+                checkBakeMemoryOrFail(a.maps[mapIndex], spec.method, spec.options, map.normals->width,
+                                      map.normals->height);
         for (const MethodSpec& spec : specs)
             if (spec.baked) map.bakes[spec.label] = bakeMethod(spec.method, map.pyramid, spec.options);
         if (!externals.empty()) map.bakes["naive (external roughness)"] = bakeMethod(Method::Naive, map.pyramid, {});

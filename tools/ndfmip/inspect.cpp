@@ -29,7 +29,7 @@ std::pair<int, int> parseTexel(const std::string& text) {
     int x = 0, y = 0;
     char extra = 0;
     if (std::sscanf(text.c_str(), "%d,%d%c", &x, &y, &extra) != 2)
-        throw Failure("--texel '" + text + "': expected X,Y (column, row from the top)");
+        throw Failure("--texel " + quote(text) + ": expected X,Y (column, row from the top)");
     return {x, y};
 }
 
@@ -119,6 +119,8 @@ void addVmfKeys(nlohmann::json& out, const LoadedBake& bake, int x, int y) {
 void writeNdfImage(const InspectArgs& a, const LoadedBake& bake, int x, int y, const Footprint& f) {
     Result<LoadedBake> level0 = readBake(a.dir, 0);
     if (!level0) throw Failure(level0.error().message);
+    if (level0->levelSizes != bake.levelSizes)
+        throw Failure(a.dir + ": the bake changed while it was read");
     const int width = 256, height = 128;
     Image reconstructed(width, height, 1), histogram(width, height, 1);
     for (int by = f.y0; by < f.y1; ++by)
@@ -180,8 +182,9 @@ void runInspect(const InspectArgs& a) {
     const LoadedBake& bake = loaded.value();
     auto [w, h] = bake.levelSizes[a.level];
     if (x < 0 || x >= w || y < 0 || y >= h)
-        throw Failure(a.dir + ": texel (" + a.texel + ") outside level " + std::to_string(a.level) +
-                      " (" + std::to_string(w) + "x" + std::to_string(h) + ")");
+        throw Failure(a.dir + ": texel " + quote(a.texel) + " outside level " +
+                      std::to_string(a.level) + " (" + std::to_string(w) + "x" + std::to_string(h) +
+                      ")");
     Footprint f = footprintOf(bake.source.width, bake.source.height, a.level, x, y);
     nlohmann::json out = {
         {"method", methodName(bake.method)},
@@ -208,7 +211,7 @@ void runInspect(const InspectArgs& a) {
         writeNdfImage(a, bake, x, y, f);
         out["ndf_image"] = a.ndf;
     }
-    std::printf("%s\n", out.dump(2).c_str());
+    std::printf("%s\n", out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
 }
 
 } // namespace

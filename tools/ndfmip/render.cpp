@@ -59,9 +59,9 @@ void runRender(const RenderArgs& a) {
     if (!scene) throw Failure(scene.error().message);
     const std::string method = a.method.empty() ? scene->method : a.method;
     const bool bakeless = method == kGroundTruth || method == kExact;
-    const std::string bakeName = method == kToksvigLut ? "toksvig" : method;
+    const std::string bakeName = method == kToksvigLut ? "toksvig" : method == kRoughnessMips ? "naive" : method;
     if (!bakeless && !methodFromString(bakeName))
-        throw Failure("unknown method '" + method + "' (expected " + renderMethodNames() + ")");
+        throw Failure("unknown method " + quote(method) + " (expected " + renderMethodNames() + ")");
     RenderOptions options;
     options.spp = a.spp > 0 ? a.spp : (method == kGroundTruth ? 64 : 1);
     options.seed = a.seed;
@@ -91,6 +91,8 @@ void runRender(const RenderArgs& a) {
             BakeOptions bakeOptions;
             bakeOptions.shOrder = a.order;
             bakeOptions.albedo = albedo;
+            checkBakeMemoryOrFail(scene->normalMap.path, *methodFromString(bakeName), bakeOptions,
+                                  textures.normals->width, textures.normals->height);
             textures.bake = bakeMethod(*methodFromString(bakeName), *pyramid, bakeOptions);
         }
     }

@@ -1,0 +1,165 @@
+// Writes the fuzzers' seed corpora: fuzz_seeds OUT REPO [SHARED_DATA]. Small images in every
+// format ndfmip reads, cut from the bundled map and from SHARED_DATA's normal and environment
+// maps when that folder exists; the example scenes and BRDF tables; the manifests of one small
+// bake per method. Seeds stay small so that the fuzzers spend their time mutating, not decoding.
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#define STB_IMAGE_WRITE_STATIC
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#include <stb_image_write.h>
+
+#include <nlohmann/json.hpp>
+
+#include "fuzz_bakes.h"
+#include "ndfmip/io.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+using ndfmip::Image;
+
+void writeBytes(const fs::path& path, const std::string& bytes) {
+    std::FILE* file = std::fopen(path.c_str(), "wb");
+    if (!file) return;
+    std::fwrite(bytes.data(), 1, bytes.size(), file);
+    std::fclose(file);
+}
+
+// The top-left w x h texels of `image` (fewer where it is smaller).
+Image crop(const Image& image, int w, int h) {
+    w = std::min(w, image.width), h = std::min(h, image.height);
+    Image out(w, h, image.channels);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < image.channels; ++c) out.at(x, y)[c] = image.at(x, y)[c];
+    return out;
+}
+
+std::vector<unsigned char> bytes8(const Image& image) {
+    std::vector<unsigned char> out(image.pixels.size());
+    for (size_t i = 0; i < out.size(); ++i)
+        out[i] = static_cast<unsigned char>(std::clamp(image.pixels[i], 0.f, 1.f) * 255.f + 0.5f);
+    return out;
+}
+
+// `image` in every format, as DIR/STEM.<format>.
+void writeAllFormats(const fs::path& dir, const std::string& stem, const Image& image) {
+    const std::string base = (dir / stem).string();
+    ndfmip::savePng(base + ".8.png", image, 8);
+    ndfmip::savePng(base + ".16.png", image, 16);
+    ndfmip::saveExr(base + ".float.exr", image);
+    ndfmip::saveExr(base + ".half.exr", image, {}, true);
+    const std::vector<unsigned char> b = bytes8(image);
+    const int w = image.width, h = image.height, c = image.channels;
+    stbi_write_tga_with_rle = 0;
+    stbi_write_tga((base + ".raw.tga").c_str(), w, h, c, b.data());
+    stbi_write_tga_with_rle = 1;
+    stbi_write_tga((base + ".rle.tga").c_str(), w, h, c, b.data());
+    stbi_write_bmp((base + ".bmp").c_str(), w, h, c, b.data());
+    stbi_write_jpg((base + ".jpg").c_str(), w, h, c, b.data(), 90);
+    if (c == 3) stbi_write_hdr((base + ".hdr").c_str(), w, h, c, image.pixels.data());
+}
+
+void imageSeeds(const fs::path& out, const fs::path& repo, const fs::path& shared) {
+    const fs::path dir = out / "image";
+    fs::create_directories(dir);
+    Image gradient(3, 2, 3);
+    for (size_t i = 0; i < gradient.pixels.size(); ++i) gradient.pixels[i] = float(i) / 17.f;
+    writeAllFormats(dir, "gradient", gradient);
+    Image grey(9, 4, 1);
+    for (size_t i = 0; i < grey.pixels.size(); ++i) grey.pixels[i] = float(i % 7) / 6.f;
+    writeAllFormats(dir, "grey", grey);
+    std::vector<fs::path> sources = {repo / "data" / "normalmaps" / "pyramidwall_256.png"};
+    for (const char* sub : {"normalmaps", "envmaps"}) {
+        if (shared.empty() || !fs::is_directory(shared / sub)) continue;
+        for (const auto& entry : fs::directory_iterator(shared / sub))
+            if (entry.path().extension() != ".md") sources.push_back(entry.path());
+    }
+    int n = 0;
+    for (const fs::path& source : sources) {
+        ndfmip::Result<ndfmip::SourceImage> image = ndfmip::loadImage(source.string());
+        if (!image) continue;
+        Image rgb = crop(image->image, 24, 16);
+        if (image->format == "hdr") {
+            // Radiance files: run-length scanlines (width 24) from real data.
+            stbi_write_hdr((dir / ("env" + std::to_string(n++) + ".hdr")).c_str(), rgb.width,
+                           rgb.height, 3, rgb.pixels.data());
+            continue;
+        }
+        writeAllFormats(dir, "map" + std::to_string(n++), rgb);
+    }
+}
+
+void sceneSeeds(const fs::path& out, const fs::path& repo) {
+    const fs::path dir = out / "scene";
+    fs::create_directories(dir);
+    for (const auto& entry : fs::directory_iterator(repo / "scenes"))
+        fs::copy_file(entry.path(), dir / entry.path().filename(),
+                      fs::copy_options::overwrite_existing);
+    const json camera = {
+        {"type", "orthographic"}, {"eye", {0, 0, 2}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}},
+        {"ortho_height", 2},      {"width", 8},       {"height", 8}};
+    const json point = {
+        {"type", "point"}, {"position", {1, 2, 3}}, {"color", 0.5}, {"intensity", 2}};
+    json scene = {{"camera", camera},
+                  {"object", {{"type", "sphere"}, {"radius", 1}, {"tiling", {2, 1}}}},
+                  {"lights", {point}},
+                  {"material", {{"brdf", "ggx"}, {"roughness", 0.3}, {"albedo", {0.2, 0.3, 0.4}}}},
+                  {"normal_map",
+                   {{"path", "map.png"},
+                    {"green_down", true},
+                    {"two_channel", false},
+                    {"signed", false},
+                    {"height_scale", 2},
+                    {"address", "clamp"}}},
+                  {"method", "vmf"},
+                  {"bake", "bake"},
+                  {"albedo_map", "albedo.png"},
+                  {"background", 0.1}};
+    writeBytes(dir / "every_key.json", scene.dump(1));
+    scene["material"] = {{"brdf", "tabulated"}, {"table", "f.txt"}, {"g_table", "g.txt"}};
+    writeBytes(dir / "tables.json", scene.dump());
+}
+
+void manifestSeeds(const fs::path& out) {
+    const fs::path dir = out / "manifest", bakes = out / "bakes";
+    fs::create_directories(dir);
+    if (!ndfmip::writeFuzzBakes(bakes)) return;
+    for (const char* method : {"naive", "toksvig", "sh", "vmf"})
+        fs::copy_file(bakes / method / "manifest.json", dir / (std::string(method) + ".json"),
+                      fs::copy_options::overwrite_existing);
+    fs::remove_all(bakes);
+}
+
+void tableSeeds(const fs::path& out, const fs::path& repo) {
+    const fs::path dir = out / "brdf_table";
+    fs::create_directories(dir);
+    for (const auto& entry : fs::directory_iterator(repo / "data" / "brdf"))
+        fs::copy_file(entry.path(), dir / entry.path().filename(),
+                      fs::copy_options::overwrite_existing);
+    writeBytes(dir / "small.txt", "# two rows\ntheta_h_degrees f\n0 1\n+90 0.5e-1\n");
+    writeBytes(dir / "crlf.txt", "theta_d_degrees g\r\n0 0.04\r\n45 0.2\r\n90 1\r\n");
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 3) {
+        std::fprintf(stderr, "usage: fuzz_seeds OUT REPO [SHARED_DATA]\n");
+        return 2;
+    }
+    const fs::path out = argv[1], repo = argv[2];
+    const fs::path shared = argc > 3 && fs::is_directory(argv[3]) ? fs::path(argv[3]) : fs::path();
+    imageSeeds(out, repo, shared);
+    sceneSeeds(out, repo);
+    manifestSeeds(out);
+    tableSeeds(out, repo);
+    std::printf("fuzz_seeds: %s%s\n", out.c_str(),
+                shared.empty() ? " (no shared data: bundled files only)" : "");
+    return 0;
+}
