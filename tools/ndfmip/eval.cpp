@@ -466,7 +466,7 @@ void runEval(const EvalArgs& a) {
         "truth: " + truthText + ". Methods: trilinear filtering, " + filter + "; 'exact' shades each texel "
         "read as the exact mean over its normals (the floor of any per-texel NDF). Flicker: mean over pixels "
         "of temporal std / mean over " + std::to_string(a.frames) + " sub-pixel-shifted frames.");
-    Status s = writeFileAtomic(a.output + "/report.json", root.dump(2) + "\n");
+    Status s = writeFileAtomic(a.output + "/report.json", root.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
     if (!s) throw Failure(s.error);
     s = writeFileAtomic(a.output + "/report.html", renderReportHtml(report));
     if (!s) throw Failure(s.error);
