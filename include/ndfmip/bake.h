@@ -28,6 +28,8 @@ enum class Method {
 std::optional<Method> methodFromString(std::string_view name);
 const char* methodName(Method method);
 std::vector<Method> allMethods();
+std::string methodNames();      // "naive, toksvig, sh, vmf, lean"
+std::string methodSummaries();  // one "name: what it stores" line per method
 
 // One parameter image per level: its name, what each channel means, and whether it may be
 // interpolated linearly (trilinear filtering) before shading.

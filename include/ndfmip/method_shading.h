@@ -29,6 +29,17 @@ inline glm::vec3 shadeNaive(const Material& m, glm::vec3 filtered, glm::vec3 l, 
     return shadeNaive(m, m.albedo, filtered, l, v);
 }
 
+// An engine's normal mipmap with a roughness mip chain (kRoughnessMips in render.h): the
+// filtered normal renormalised, the material's Beckmann or GGX lobe at the filtered roughness
+// `stored` (perceptual, alpha = stored^2, unless `isAlpha`).
+inline glm::vec3 shadeRoughnessMipsTexel(const Material& m, glm::vec3 albedo, glm::vec3 filtered, float stored,
+                                         bool isAlpha, glm::vec3 l, glm::vec3 v) {
+    Material widened = m;
+    const float r = glm::clamp(stored, 0.f, 1.f);
+    widened.roughness = glm::max(isAlpha ? r : r * r, 1e-4f);
+    return shadeNaive(widened, albedo, filtered, l, v);
+}
+
 // The material's lobe as a function of n about h, read as a vMF concentration: Blinn-Phong
 // (n.h)^s ~ exp(s (n.h - 1)), so s; Beckmann and GGX through Walter et al.'s s = 2/alpha^2 - 2;
 // 0 where no width is known (tabulated lobes, Lambert).
@@ -74,21 +85,24 @@ inline glm::vec3 shadeToksvigLobe(const Material& m, glm::vec3 albedo, glm::vec3
     return cosDiffuse * albedo * (1.f / kPi) + cosSpecular * m.specular * lobe * specularFactor(m, l, h);
 }
 
-inline glm::vec3 shadeToksvig(const Material& m, glm::vec3 albedo, glm::vec3 na, glm::vec3 l, glm::vec3 v,
-                              RoughnessMapping mapping, float varianceScale = kVarianceScale) {
+// Toksvig's lobe alone (no cosine) about Na/|Na|, widened by |Na|.
+inline float toksvigLobe(const Material& m, glm::vec3 na, glm::vec3 h, RoughnessMapping mapping,
+                         float varianceScale = kVarianceScale) {
     const float length = glm::length(na);
-    const glm::vec3 h = glm::normalize(l + v);
     const float cosH = length > 0.f ? glm::dot(na, h) / length : 0.f;
-    float lobe = 0.f;
     switch (m.brdf) {
-    case Brdf::BlinnPhong:
-        lobe = blinnPhong(cosH, toksvigFactor(length, m.exponent) * m.exponent);
-        break;
-    case Brdf::Beckmann: lobe = beckmannD(cosH, mappedRoughness(mapping, length, m.roughness, varianceScale)); break;
-    case Brdf::Ggx: lobe = ggxD(cosH, mappedRoughness(mapping, length, m.roughness, varianceScale)); break;
-    case Brdf::Tabulated: lobe = materialLobe(m, cosH, 0.f, 0.f); break; // no widening rule
+    case Brdf::BlinnPhong: return blinnPhong(cosH, toksvigFactor(length, m.exponent) * m.exponent);
+    case Brdf::Beckmann: return beckmannD(cosH, mappedRoughness(mapping, length, m.roughness, varianceScale));
+    case Brdf::Ggx: return ggxD(cosH, mappedRoughness(mapping, length, m.roughness, varianceScale));
+    case Brdf::Tabulated: return materialLobe(m, cosH, 0.f, 0.f); // no widening rule
     case Brdf::Lambert: break;
     }
+    return 0.f;
+}
+
+inline glm::vec3 shadeToksvig(const Material& m, glm::vec3 albedo, glm::vec3 na, glm::vec3 l, glm::vec3 v,
+                              RoughnessMapping mapping, float varianceScale = kVarianceScale) {
+    const float lobe = toksvigLobe(m, na, glm::normalize(l + v), mapping, varianceScale);
     return shadeToksvigLobe(m, albedo, na, l, v, lobe);
 }
 
@@ -103,6 +117,7 @@ inline glm::vec3 shadeToksvig(const Material& m, glm::vec3 na, glm::vec3 l, glm:
 // shadeToksvig. Blinn-Phong materials only.
 glm::vec3 shadeToksvigLut(const Material& m, glm::vec3 albedo, glm::vec3 na, const Image& lut, glm::vec3 l,
                           glm::vec3 v);
+float toksvigLutLobe(const Material& m, glm::vec3 na, const Image& lut, glm::vec3 h); // the lobe alone
 
 // Spherical harmonics (Han et al. eq. 17): the BRDF's A_l, fixed per material and order.
 struct ShShading {
@@ -121,6 +136,7 @@ Result<ShShading> shShadingFor(const Material& m, int order);
 // at 0. `g` holds shCount(order) coefficients.
 glm::vec3 shadeSh(const Material& m, glm::vec3 albedo, const float* g, const ShShading& a, glm::vec3 l,
                   glm::vec3 v);
+float shLobe(const float* g, const ShShading& a, glm::vec3 h); // the lobe alone, Sum A_l g_lm Y_lm(h) >= 0
 
 // LEAN (Olano and Baker 2010): `p` holds the filtered slope moments (E[bx], E[by], E[bx^2],
 // E[by^2], E[bx by]) of the lean bake; their covariance plus the material's slope variance
@@ -143,5 +159,6 @@ float leanLobe(const Material& m, const float* p, glm::vec3 h); // its lobe alon
 // multiply the material's albedo in place of `albedo`.
 glm::vec3 shadeVmf(const Material& m, glm::vec3 albedo, const float* lobes, int count, const glm::vec3* colors,
                    glm::vec3 l, glm::vec3 v);
+float vmfLobe(const Material& m, const float* lobes, int count, glm::vec3 h); // Sum alpha_j lobe_j, no cosine
 
 } // namespace ndfmip

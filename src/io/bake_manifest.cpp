@@ -10,6 +10,7 @@
 #include "io/input_file.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/limits.h"
+#include "methods/method_unit.h"
 #include "ndfmip/spherical_harmonics.h"
 
 using nlohmann::json;
@@ -40,6 +41,12 @@ std::string shown(const json& value) {
     if (value.is_object()) return "an object";
     if (value.is_string()) return quote(value.get_ref<const std::string&>());
     return shortened(value.dump(-1, ' ', false, json::error_handler_t::replace), 40);
+}
+
+std::string plainNumber(double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", x);
+    return text;
 }
 
 const json& member(const json& object, const std::string& path, const char* key) {
@@ -103,36 +110,6 @@ std::string fileAt(const json& object, const std::string& path, const char* key)
     return name;
 }
 
-// The planes a bake of `method` with these parameters has, in order.
-std::vector<PlaneInfo> expectedPlanes(Method method, int order, int lobes, bool colours) {
-    std::vector<PlaneInfo> planes;
-    auto add = [&](const std::string& name, int channels, bool linear) {
-        planes.push_back({name, std::vector<std::string>(size_t(channels)), "", linear});
-    };
-    switch (method) {
-    case Method::Naive:
-        add("normal", 3, true);
-        break;
-    case Method::Toksvig:
-        add("mean", 3, true);
-        add("roughness_beckmann", 1, false);
-        add("roughness_ggx", 1, false);
-        break;
-    case Method::Sh:
-        for (int p = 0; p < shPlaneCount(order); ++p) add("sh" + std::to_string(p), 4, true);
-        break;
-    case Method::Vmf:
-        for (int j = 0; j < lobes; ++j) add("lobe" + std::to_string(j), 4, true);
-        for (int j = 0; colours && j < lobes; ++j) add("color" + std::to_string(j), 3, true);
-        break;
-    case Method::Lean:
-        add("lean_moments", 4, true);
-        add("lean_cross", 1, true);
-        break;
-    }
-    return planes;
-}
-
 std::string planeList(const std::vector<PlaneInfo>& planes) {
     std::string text;
     for (const PlaneInfo& p : planes)
@@ -148,13 +125,16 @@ void readParameters(const json& m, LoadedBake& bake) {
             fail(quote(at("parameters", key)) + " must be a number, not " + shown(value));
         bake.parameters[key] = value.get<double>();
     }
-    // Those the commands use, in the ranges a bake writes.
-    if (bake.method == Method::Sh) integerAt(parameters, "parameters", "order", 1, kMaxShOrder);
-    if (bake.method == Method::Vmf) integerAt(parameters, "parameters", "lobes", 1, 8);
-    if (bake.method == Method::Toksvig) {
-        const double a = numberAt(parameters, "parameters", "base_roughness");
-        if (!(a >= 0.0 && a <= 1.0))
-            fail("'parameters.base_roughness' must be in [0, 1], not " + shown(a));
+    // Those the method's commands use, in the ranges a bake writes.
+    for (const RequiredParameter& r : methodUnit(bake.method).required) {
+        if (r.integer) {
+            integerAt(parameters, "parameters", r.key, int64_t(r.min), int64_t(r.max));
+            continue;
+        }
+        const double x = numberAt(parameters, "parameters", r.key);
+        if (!(x >= r.min && x <= r.max))
+            fail(quote(at("parameters", r.key)) + " must be in [" + plainNumber(r.min) + ", " + plainNumber(r.max) +
+                 "], not " + shown(x));
     }
     if (parameters.contains("max_exponent")) {
         const double s = numberAt(parameters, "parameters", "max_exponent");
@@ -182,23 +162,15 @@ void readPlanes(const json& m, LoadedBake& bake) {
         plane.linear = flagAt(planes[i], path, "linear");
         bake.planes.push_back(std::move(plane));
     }
-    const int order = bake.method == Method::Sh ? int(bake.parameters.at("order")) : 0;
-    const int lobes = bake.method == Method::Vmf ? int(bake.parameters.at("lobes")) : 0;
-    const bool colours = findPlane(bake.planes, "color0") >= 0;
-    const std::vector<PlaneInfo> expected = expectedPlanes(bake.method, order, lobes, colours);
+    const MethodUnit& unit = methodUnit(bake.method);
+    const std::vector<PlaneInfo> expected = unit.planes(bake.parameters, findPlane(bake.planes, "color0") >= 0);
     bool same = planes.size() == expected.size();
     for (size_t p = 0; same && p < expected.size(); ++p)
         same = bake.planes[p].name == expected[p].name &&
                bake.planes[p].channels.size() == expected[p].channels.size() &&
                bake.planes[p].linear == expected[p].linear;
     if (!same) {
-        std::string what = methodName(bake.method);
-        if (order)
-            what += " bake of order " + std::to_string(order);
-        else if (lobes)
-            what += " bake with " + std::to_string(lobes) + " lobes";
-        else
-            what += " bake";
+        const std::string what = unit.describe(bake.parameters);
         fail("'planes' do not match a " + what + ": expected " + planeList(expected) + "; found " +
              (planes.empty() ? std::string("none") : planeList(bake.planes)));
     }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "methods/method_unit.h"
 #include "ndfmip/spherical_harmonics.h"
 
 namespace ndfmip {
@@ -84,29 +85,7 @@ int64_t bakeMemoryEstimate(Method method, const BakeOptions& options, int64_t wi
     // Per level-0 texel; a full pyramid holds 4/3 of its level 0. Every bake holds the decoded
     // normals (12 bytes) and the pyramid's means (12 bytes per texel per level).
     double perTexel = 12.0 + 12.0 * 4.0 / 3.0;
-    switch (method) {
-    case Method::Naive:
-        perTexel += 12.0 * 4.0 / 3.0;
-        break;
-    case Method::Toksvig:
-        perTexel += 4.0 * 4.0 / 3.0;
-        break;
-    case Method::Sh: {
-        const int order = std::clamp(options.shOrder, 0, kMaxShOrder);
-        perTexel += 16.0 * ((shCount(order) + 3) / 4) * 4.0 / 3.0;
-        break;
-    }
-    case Method::Vmf: {
-        // Fitted lobes (32 bytes each) and their offsets, then the lobe and colour planes.
-        const int lobes = std::clamp(options.vmfLobes, 1, 8);
-        perTexel += (4.0 + lobes * (32.0 + 16.0 + (options.albedo ? 12.0 : 0.0))) * 4.0 / 3.0;
-        break;
-    }
-    case Method::Lean:
-        // The five slope moments being averaged (20 bytes), then the two planes (20 bytes).
-        perTexel += 20.0 + 20.0 * 4.0 / 3.0;
-        break;
-    }
+    perTexel += methodUnit(method).bakeBytesPerTexel(options);
     return int64_t(perTexel * double(width) * double(height));
 }
 
@@ -114,10 +93,11 @@ Status checkBakeMemory(const std::string& name, Method method, const BakeOptions
                        int64_t width, int64_t height) {
     const int64_t need = bakeMemoryEstimate(method, options, width, height);
     if (need <= gLimits.maxMemoryBytes) return Status::success();
-    std::string what = methodName(method);
-    if (method == Method::Sh) what += " order " + std::to_string(options.shOrder);
-    if (method == Method::Vmf) what += " with " + std::to_string(options.vmfLobes) + " lobes";
-    return Status::failure(name + ": a " + what + " bake of a " + count(width) + "x" +
+    BakeParameters parameters;
+    if (method == Method::Sh) parameters["order"] = options.shOrder;
+    if (method == Method::Vmf) parameters["lobes"] = options.vmfLobes;
+    const std::string what = methodUnit(method).describe(parameters);
+    return Status::failure(name + ": a " + what + " of a " + count(width) + "x" +
                            count(height) + " map needs about " + byteSize(need) +
                            ", above the limit of " + byteSize(gLimits.maxMemoryBytes) +
                            "; --max-memory raises it");

@@ -3,87 +3,42 @@
 #include <algorithm>
 #include <cmath>
 
+#include "methods/method_unit.h"
 #include "ndfmip/evaluate.h"
-#include "ndfmip/method_shading.h"
-#include "ndfmip/sh_brdf.h"
-#include "ndfmip/spherical_harmonics.h"
-#include "ndfmip/toksvig.h"
-#include "ndfmip/vmf.h"
+#include "render/texture_sampling.h"
 
 namespace ndfmip {
 
-namespace {
-
-// The SH lobe alone (no cosine), as the truth below has none: Sum A_l g_lm Y_lm(h).
-float shSpecular(const float* g, const std::vector<double>& A, int order, glm::vec3 h) {
-    std::vector<double> y = evaluateSh(glm::dvec3(h), order);
-    double sum = 0.0;
-    for (int l = 0; l <= order; ++l)
-        for (int m = -l; m <= l; ++m) sum += A[l] * g[shIndex(l, m)] * y[shIndex(l, m)];
-    return float(std::max(0.0, sum));
-}
-
-} // namespace
-
+// Each texel's linear planes shaded by the method's own shader, lobe alone (no cosine, as the
+// truth below has none), for a Blinn-Phong material of the context's exponent.
 Image shadeLevel(const Bake& bake, int level, const ShadeContext& ctx) {
     const std::vector<SharedImage>& planes = bake.levels[level];
     const Image& first = *planes.front();
     Image out(first.width, first.height, 1);
-    const size_t n = first.texelCount();
     const glm::vec3 h = halfVector(ctx);
-    if (bake.method == Method::Sh) {
-        const int order = bakeShOrder(bake);
-        const std::vector<double> A = blinnPhongCoefficients(ctx.exponent, order);
-#pragma omp parallel for schedule(static)
-        for (size_t i = 0; i < n; ++i) {
-            std::vector<float> g;
-            for (const SharedImage& p : planes) g.insert(g.end(), &p->pixels[4 * i], &p->pixels[4 * i + 4]);
-            out.pixels[i] = shSpecular(g.data(), A, order, h);
-        }
-        return out;
-    }
-    if (bake.method == Method::Vmf) {
-        // The lobe alone: shadeVmf's specular term without its cosine, eq. 29 per lobe.
-        Material m;
-        m.brdf = Brdf::BlinnPhong;
-        m.exponent = ctx.exponent;
-        m.albedo = glm::vec3(0.f);
-        m.specular = glm::vec3(1.f);
-        const int lobes = bakeVmfLobes(bake);
-#pragma omp parallel for schedule(static)
-        for (size_t i = 0; i < n; ++i) {
-            std::vector<float> p;
-            for (const SharedImage& plane : planes) p.insert(p.end(), &plane->pixels[4 * i], &plane->pixels[4 * i + 4]);
-            float sum = 0.f;
-            for (int j = 0; j < lobes; ++j) {
-                const VmfLobe lobe = unpackLobe(glm::vec4(p[4 * j], p[4 * j + 1], p[4 * j + 2], p[4 * j + 3]));
-                if (!(lobe.alpha > 0.f)) continue;
-                const float s = lobe.kappa * ctx.exponent / (lobe.kappa + ctx.exponent);
-                sum += lobe.alpha * blinnPhong(glm::dot(lobe.mu, h), s);
-            }
-            out.pixels[i] = sum;
-        }
-        return out;
-    }
-    if (bake.method == Method::Lean) { // the lobe alone, leanLobe
-        Material m;
-        m.brdf = Brdf::BlinnPhong;
-        m.exponent = ctx.exponent;
-#pragma omp parallel for schedule(static)
-        for (size_t i = 0; i < n; ++i) {
-            float p[5];
-            std::copy_n(&first.pixels[4 * i], 4, p);
-            p[4] = planes[1]->pixels[i];
-            out.pixels[i] = leanLobe(m, p, h);
-        }
-        return out;
-    }
+    const MethodShader* shader = findShader(methodName(bake.method));
+    assert(shader);
+    Material m;
+    m.brdf = Brdf::BlinnPhong;
+    m.exponent = ctx.exponent;
+    m.albedo = glm::vec3(0.f);
+    m.specular = glm::vec3(1.f);
+    RenderTextures textures;
+    textures.bake = bake;
+    ShaderSetup setup;
+    if (!shader->prepare(m, textures, RenderOptions{}, setup)) return out;
+    const size_t n = first.texelCount();
 #pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; ++i) {
-        const float* p = &first.pixels[i * first.channels];
-        const glm::vec3 v(p[0], p[1], p[2]);
-        out.pixels[i] = bake.method == Method::Naive ? naiveSpecular(v, h, ctx.exponent)
-                                                     : toksvigSpecular(v, h, ctx.exponent);
+        float params[kMaxFilteredChannels];
+        int offset = 0;
+        for (size_t p = 0; p < planes.size(); ++p) {
+            if (!bake.planes[p].linear) continue;
+            const int c = planes[p]->channels;
+            std::copy_n(&planes[p]->pixels[size_t(c) * i], c, params + offset);
+            offset += c;
+        }
+        out.pixels[i] = shader->lobe(setup, m, params, h);
     }
     return out;
 }

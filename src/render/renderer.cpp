@@ -5,7 +5,7 @@
 #include <cmath>
 #include <optional>
 
-#include "ndfmip/method_shading.h"
+#include "methods/method_unit.h"
 #include "ndfmip/render.h"
 #include "ndfmip/vmf.h"
 #include "texture_sampling.h"
@@ -71,8 +71,9 @@ glm::vec3 toTangent(const SurfaceHit& hit, glm::vec3 w) {
     return {glm::dot(w, hit.tangent), glm::dot(w, hit.bitangent), glm::dot(w, hit.normal)};
 }
 
-// How a pixel is shaded: the truth, or what a method's shader does with its filtered planes.
-enum class Shader { Truth, Exact, Naive, Toksvig, ToksvigLut, Sh, Vmf, Lean, RoughnessMips };
+// How a pixel is shaded: the truth, the exact reference, or what a method's shader does with
+// its filtered planes.
+enum class Shader { Truth, Exact, Method };
 
 struct Context {
     const Scene* scene = nullptr;
@@ -87,10 +88,8 @@ struct Context {
     std::vector<LightSample> fixedLights;
     FilteredPlanes planes;    // methods: the linear planes (exact: the shaded chain)
     std::vector<glm::ivec2> sizes; // their levels' sizes
-    ShShading sh;             // sh: the material's A_l
-    Image lut;                // toksvig-lut: the table of the material's exponent
-    int vmfLobes = 0;         // vmf: J
-    bool vmfColors = false;   // vmf: colour planes follow the lobe planes
+    const MethodShader* method = nullptr; // Shader::Method
+    ShaderSetup setup;        // what it prepared for this material and bake
     MipChain albedo;          // empty without an albedo map
 };
 
@@ -99,40 +98,12 @@ glm::vec3 shadeParameters(const Context& ctx, const float* params, glm::vec3 alb
                           glm::vec3 view) {
     if (ctx.shader == Shader::Exact) return {params[0], params[1], params[2]}; // already radiance
     const Scene& scene = *ctx.scene;
-    glm::vec3 colors[8];
-    for (int j = 0; ctx.vmfColors && j < ctx.vmfLobes; ++j) {
-        const float* c = params + 4 * ctx.vmfLobes + 3 * j;
-        colors[j] = unpackLobeColor(glm::vec3(c[0], c[1], c[2]), params[4 * j]);
-    }
-    const glm::vec3 p(params[0], params[1], params[2]);
     glm::vec3 radiance(0.f);
     for (const Light& light : scene.lights) {
         const LightSample ls = lightAt(light, hit.position);
         const glm::vec3 l = toTangent(hit, ls.direction);
         if (l.z <= 0.f) continue; // below the geometric surface
-        glm::vec3 r(0.f);
-        switch (ctx.shader) {
-        case Shader::Naive: r = shadeNaive(scene.material, albedo, p, l, view); break;
-        case Shader::RoughnessMips: {
-            Material m = scene.material;
-            const float stored = glm::clamp(params[3], 0.f, 1.f);
-            m.roughness = glm::max(ctx.textures->roughnessIsAlpha ? stored : stored * stored, 1e-4f);
-            r = shadeNaive(m, albedo, p, l, view);
-            break;
-        }
-        case Shader::Toksvig:
-            r = shadeToksvig(scene.material, albedo, p, l, view, ctx.options->roughnessMapping,
-                             ctx.options->varianceScale);
-            break;
-        case Shader::ToksvigLut: r = shadeToksvigLut(scene.material, albedo, p, ctx.lut, l, view); break;
-        case Shader::Sh: r = shadeSh(scene.material, albedo, params, ctx.sh, l, view); break;
-        case Shader::Lean: r = shadeLean(scene.material, albedo, params, l, view); break;
-        case Shader::Vmf:
-            r = shadeVmf(scene.material, albedo, params, ctx.vmfLobes, ctx.vmfColors ? colors : nullptr, l, view);
-            break;
-        case Shader::Truth:
-        case Shader::Exact: break;
-        }
+        const glm::vec3 r = ctx.method->shade(ctx.setup, scene.material, params, albedo, l, view);
         radiance += ls.irradiance * r;
     }
     return radiance;
@@ -406,15 +377,13 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
         ctx.planes.chains.push_back(std::move(chain));
         ctx.planes.channels = 3;
     } else {
-        const bool lut = methodName == kToksvigLut, roughnessMips = methodName == kRoughnessMips;
-        const std::optional<Method> method = lut ? std::optional<Method>(Method::Toksvig)
-                                             : roughnessMips ? std::optional<Method>(Method::Naive)
-                                                             : methodFromString(methodName);
-        if (!method)
+        ctx.method = findShader(methodName);
+        if (!ctx.method)
             return Error{"render: unknown method " + quote(methodName) + " (expected " + renderMethodNames() + ")"};
+        ctx.shader = Shader::Method;
         const Bake& bake = textures.bake;
-        if (bake.levels.empty() || bake.method != *method)
-            return Error{"render: no bake of method '" + std::string(ndfmip::methodName(*method)) +
+        if (bake.levels.empty() || bake.method != ctx.method->bake)
+            return Error{"render: no bake of method '" + std::string(ndfmip::methodName(ctx.method->bake)) +
                          "' to render with"};
         const Image& level0 = *bake.levels.front().front();
         if (level0.width != textures.normals->width || level0.height != textures.normals->height)
@@ -422,26 +391,10 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
                          std::to_string(level0.height) + " but the normal map is " +
                          std::to_string(textures.normals->width) + "x" +
                          std::to_string(textures.normals->height)};
+        if (Status ready = ctx.method->prepare(scene.material, textures, options, ctx.setup); !ready)
+            return Error{ready.error};
         ctx.planes = linearPlanes(bake);
-        ctx.vmfLobes = bakeVmfLobes(bake);
-        ctx.vmfColors = findPlane(bake.planes, "color0") >= 0;
-        if (ctx.vmfLobes > 8) return Error{"render: vmf bakes have at most 8 lobes"};
-        switch (*method) {
-        case Method::Naive: ctx.shader = roughnessMips ? Shader::RoughnessMips : Shader::Naive; break;
-        case Method::Toksvig: ctx.shader = lut ? Shader::ToksvigLut : Shader::Toksvig; break;
-        case Method::Sh: ctx.shader = Shader::Sh; break;
-        case Method::Vmf: ctx.shader = Shader::Vmf; break;
-        case Method::Lean: ctx.shader = Shader::Lean; break;
-        }
-        if (*method == Method::Sh) {
-            Result<ShShading> sh = shShadingFor(scene.material, bakeShOrder(bake));
-            if (!sh) return sh.error();
-            ctx.sh = std::move(sh.value());
-        }
-        if (roughnessMips) {
-            if (scene.material.brdf != Brdf::Ggx && scene.material.brdf != Brdf::Beckmann)
-                return Error{"render: roughness-mips needs a GGX or Beckmann material, the material is " +
-                             std::string(brdfName(scene.material.brdf))};
+        if (methodName == kRoughnessMips) { // an engine's roughness mips, filtered like the planes
             if (textures.roughness.size() != bake.levels.size())
                 return Error{"render: roughness-mips needs a roughness image per level (" +
                              std::to_string(bake.levels.size()) + "), got " + std::to_string(textures.roughness.size())};
@@ -458,16 +411,6 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
             chain.channels = textures.roughness.front()->channels;
             ctx.planes.channels += chain.channels;
             ctx.planes.chains.push_back(std::move(chain));
-        }
-        if (lut) {
-            if (scene.material.brdf != Brdf::BlinnPhong)
-                return Error{"render: toksvig-lut is Toksvig's table for Blinn-Phong materials, the material is " +
-                             std::string(brdfName(scene.material.brdf))};
-            ToksvigLutOptions lutOptions;
-            lutOptions.exponent = scene.material.exponent;
-            lutOptions.size = kToksvigLutSize;
-            lutOptions.bitDepth = kToksvigLutBits;
-            ctx.lut = toksvigLut(lutOptions);
         }
         if (ctx.planes.channels < 3 || ctx.planes.channels > kMaxFilteredChannels)
             return Error{"render: method " + quote(methodName) + " has no filterable planes"};
@@ -520,11 +463,8 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
 }
 
 std::string renderMethodNames() {
-    std::string names = std::string(kGroundTruth) + ", " + kExact + ", " + kRoughnessMips;
-    for (Method m : allMethods()) {
-        names += std::string(", ") + methodName(m);
-        if (m == Method::Toksvig) names += std::string(", ") + kToksvigLut;
-    }
+    std::string names = std::string(kGroundTruth) + ", " + kExact;
+    for (const MethodShader& shader : methodShaders()) names += std::string(", ") + shader.name;
     return names;
 }
 

@@ -177,7 +177,7 @@ TEST_F(HostileCli, ShOrderTimesMapSizeIsCheckedBeforeBaking) {
     // l* = 30: 241 planes of 16 bytes per texel and level, about 1.3 GiB for 512x512.
     expectCliRefuses(
         bakeArgs(big, "--method sh --order 30 --max-memory 1"),
-        {big, "sh order 30", "512x512", "GiB", "above the limit of 1.0 GiB", "--max-memory"});
+        {big, "sh bake of order 30", "512x512", "GiB", "above the limit of 1.0 GiB", "--max-memory"});
     expectNothingWritten();
 }
 

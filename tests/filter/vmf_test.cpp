@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include "filter/vmf_internal.h"
+#include "methods/vmf/vmf_internal.h"
 #include "ndfmip/pyramid.h"
 #include "ndfmip/vmf.h"
 #include "test_support.h"

@@ -45,7 +45,7 @@ void applyGlossOrFail(Image& normals, const BakeArgs& a) {
 
 void runBake(const BakeArgs& a) {
     auto method = methodFromString(a.method);
-    if (!method) throw Failure("unknown method " + quote(a.method) + " (naive, toksvig, sh, vmf)");
+    if (!method) throw Failure("unknown method " + quote(a.method) + " (" + methodNames() + ")");
     if (a.order != 0 && *method != Method::Sh) throw Failure("--order applies to --method sh only");
     if (a.lobes != 0 && *method != Method::Vmf) throw Failure("--lobes applies to --method vmf only");
     if (!a.albedo.empty() && *method != Method::Vmf) throw Failure("--albedo applies to --method vmf only");
@@ -124,7 +124,7 @@ void addBakeCommand(CLI::App& app) {
     CLI::App* c = app.add_subcommand("bake", "filter a normal map into a per-level bake directory");
     c->add_option("input", args->input, "normal map (PNG 8/16-bit, JPEG, TGA, OpenEXR)")->required();
     c->add_option("-o,--output", args->output, "output directory")->required();
-    c->add_option("--method", args->method, "naive, toksvig, sh, vmf or lean")->capture_default_str();
+    c->add_option("--method", args->method, methodSummaries())->capture_default_str();
     c->add_option("--order", args->order, "sh: highest band l* ((l*+1)^2 coefficients; default 7)")
         ->check(CLI::Range(1, kMaxShOrder));
     c->add_flag("--half", args->half, "store the planes as 16-bit half floats");

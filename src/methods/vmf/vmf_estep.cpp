@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <cstring>
 
-#include "filter/vmf_internal.h"
+#include "methods/vmf/vmf_internal.h"
 
 // Every helper taking or returning a vector is inlined into the kernels below, so no vector
 // crosses a call boundary whose ABI depends on AVX being enabled.

@@ -2,7 +2,7 @@
 // them. Same arithmetic as the portable kernel (double log-terms, Cephes float exp/log), written
 // out so that the compiler keeps the float <-> double conversions to one instruction each and the
 // per-lobe constants in registers.
-#include "filter/vmf_internal.h"
+#include "methods/vmf/vmf_internal.h"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 

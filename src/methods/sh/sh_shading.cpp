@@ -45,6 +45,10 @@ double convolve(const float* g, const std::vector<double>& A, int order, glm::ve
 
 } // namespace
 
+float shLobe(const float* g, const ShShading& a, glm::vec3 h) {
+    return float(std::max(0.0, convolve(g, a.specular, a.order, h)));
+}
+
 glm::vec3 shadeSh(const Material& m, glm::vec3 albedo, const float* g, const ShShading& a, glm::vec3 l,
                   glm::vec3 v) {
     glm::vec3 out(0.f);
@@ -60,7 +64,7 @@ glm::vec3 shadeSh(const Material& m, glm::vec3 albedo, const float* g, const ShS
         const float cosL = specularCosine(mu, kappa, lobeConcentration(m), h, l);
         if (cosL > 0.f)
             out += m.specular * (cosL * specularFactor(m, l, h) *
-                                 float(std::max(0.0, convolve(g, a.specular, a.order, h))));
+                                 shLobe(g, a, h));
     }
     return out;
 }

@@ -15,7 +15,7 @@
 
 #include <omp.h>
 
-#include "filter/vmf_internal.h"
+#include "methods/vmf/vmf_internal.h"
 
 namespace ndfmip {
 namespace {

@@ -65,12 +65,13 @@ float sampleTable(const Image& table, float u, float v) {
 
 } // namespace
 
+float toksvigLutLobe(const Material& m, glm::vec3 na, const Image& lut, glm::vec3 h) {
+    return (m.exponent + 1.f) / (2.f * kPi) * sampleTable(lut, glm::dot(na, h), glm::dot(na, na));
+}
+
 glm::vec3 shadeToksvigLut(const Material& m, glm::vec3 albedo, glm::vec3 na, const Image& lut, glm::vec3 l,
                           glm::vec3 v) {
-    const glm::vec3 h = glm::normalize(l + v);
-    const float relative = sampleTable(lut, glm::dot(na, h), glm::dot(na, na));
-    const float lobe = (m.exponent + 1.f) / (2.f * kPi) * relative;
-    return shadeToksvigLobe(m, albedo, na, l, v, lobe);
+    return shadeToksvigLobe(m, albedo, na, l, v, toksvigLutLobe(m, na, lut, glm::normalize(l + v)));
 }
 
 } // namespace ndfmip

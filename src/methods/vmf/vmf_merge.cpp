@@ -3,7 +3,7 @@
 #include <cmath>
 #include <vector>
 
-#include "filter/vmf_internal.h"
+#include "methods/vmf/vmf_internal.h"
 
 namespace ndfmip {
 namespace vmf {

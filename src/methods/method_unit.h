@@ -1,0 +1,109 @@
+// A method as one unit: everything the library and the tool need to know about it, in one
+// table entry (method_table.cpp) filled from the method's own folder (src/methods/<name>/).
+// Adding a method is a folder with its bake, its shading (shaders/<name>.glsl, shared with C++
+// through method_shading.h) and its unit, plus one line in each table.
+//
+// A bake method (naive, toksvig, sh, vmf, lean) makes planes; a shader is one way to render a
+// bake's planes (toksvig has two: the closed form and Toksvig's lookup table; a naive bake is
+// also read with an engine's roughness mips).
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json_fwd.hpp>
+
+#include "ndfmip/bake.h"
+#include "ndfmip/render.h"
+#include "ndfmip/sh_brdf.h"
+#include "ndfmip/method_shading.h"
+
+namespace ndfmip {
+
+using BakeParameters = std::map<std::string, double>;
+
+// A parameter a bake of the method must record, with its range (manifest check).
+struct RequiredParameter {
+    const char* key;
+    double min, max;
+    bool integer;
+};
+
+struct InspectOptions {
+    bool hasExponent = false; // --exponent given
+    float exponent = 0.f;
+};
+
+struct MethodUnit {
+    Method method;
+    const char* name;    // as on the command line and in manifests
+    const char* summary; // one line for help texts
+    Bake (*bake)(const Pyramid& pyramid, const BakeOptions& options);
+    // The planes a bake with these parameters has, in order (names, channel counts, linear);
+    // `colours`: a vmf bake with lobe colours.
+    std::vector<PlaneInfo> (*planes)(const BakeParameters& parameters, bool colours);
+    std::vector<RequiredParameter> required;
+    // Bytes per level-0 texel that the bake holds beyond the decoded normals and the pyramid.
+    double (*bakeBytesPerTexel)(const BakeOptions& options);
+    // "sh order 7", "vmf with 4 lobes": the bake named in messages.
+    std::string (*describe)(const BakeParameters& parameters);
+    // inspect: the texel's keys (the level's planes are in `bake.level`).
+    void (*inspect)(nlohmann::json& out, const LoadedBake& bake, int x, int y, const InspectOptions& options);
+    // The unit normal a level-0 texel holds (`planes` = its planes' values, plane after plane).
+    glm::vec3 (*levelZeroNormal)(const float* planes);
+    // The texel's NDF density at unit w, for methods that store one (inspect --ndf); else null.
+    double (*ndfDensity)(const LoadedBake& bake, int x, int y, glm::dvec3 w);
+};
+
+const std::vector<MethodUnit>& methodUnits();
+const MethodUnit& methodUnit(Method method);
+
+// What a shader needs besides the texels, set up once per render from the material and bake.
+struct ShaderSetup {
+    ShShading sh;                // sh: the material's A_l
+    Image lut;                   // toksvig-lut: the table of the material's exponent
+    int vmfLobes = 0;            // vmf: J
+    bool vmfColors = false;      // vmf: colour planes follow the lobe planes
+    bool roughnessIsAlpha = false; // roughness-mips: stored alpha, not perceptual
+    RoughnessMapping mapping = RoughnessMapping::Ours;
+    float varianceScale = kVarianceScale;
+};
+
+struct MethodShader {
+    const char* name; // render and eval method name
+    Method bake;      // the bake it reads
+    const char* glsl; // its GLSL file in shaders/ (the functions the GPU path calls)
+    // Checks the material (and textures) and fills `setup`; an error names what is wrong.
+    Status (*prepare)(const Material& material, const RenderTextures& textures, const RenderOptions& options,
+                      ShaderSetup& setup);
+    // Radiance per unit irradiance from the filtered (or one texel's) linear plane values, in
+    // plane order; roughness-mips' roughness comes last.
+    glm::vec3 (*shade)(const ShaderSetup& setup, const Material& material, const float* params, glm::vec3 albedo,
+                       glm::vec3 l, glm::vec3 v);
+    // The specular lobe alone at half vector h, no cosine (what `ndfmip demo` compares).
+    float (*lobe)(const ShaderSetup& setup, const Material& material, const float* params, glm::vec3 h);
+};
+
+const std::vector<MethodShader>& methodShaders();
+const MethodShader* findShader(const std::string& name); // null if none
+
+// Each method's unit and shaders (in its folder).
+MethodUnit naiveUnit();
+MethodUnit toksvigUnit();
+MethodUnit shUnit();
+MethodUnit vmfUnit();
+MethodUnit leanUnit();
+std::vector<MethodShader> naiveShaders();
+std::vector<MethodShader> toksvigShaders();
+std::vector<MethodShader> shShaders();
+std::vector<MethodShader> vmfShaders();
+std::vector<MethodShader> leanShaders();
+
+// Helpers the units share.
+PlaneInfo planeOf(const std::string& name, int channels, bool linear);
+nlohmann::json jsonVec3(const float* v);
+int requirePlane(const LoadedBake& bake, const std::string& name); // throws std::runtime_error
+
+} // namespace ndfmip

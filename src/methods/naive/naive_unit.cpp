@@ -1,0 +1,69 @@
+// The standard mipmap as a unit, and its two shaders: the renormalised mean normal with the
+// material unchanged, and the same normals with an engine's roughness mips (kRoughnessMips).
+#include <nlohmann/json.hpp>
+
+#include "methods/method_unit.h"
+
+namespace ndfmip {
+
+namespace {
+
+glm::vec3 shadeNaiveParams(const ShaderSetup&, const Material& m, const float* p, glm::vec3 albedo, glm::vec3 l,
+                           glm::vec3 v) {
+    return shadeNaive(m, albedo, glm::vec3(p[0], p[1], p[2]), l, v);
+}
+
+Status prepareRoughnessMips(const Material& m, const RenderTextures& textures, const RenderOptions&,
+                            ShaderSetup& setup) {
+    if (m.brdf != Brdf::Ggx && m.brdf != Brdf::Beckmann)
+        return Status::failure(std::string("render: roughness-mips needs a GGX or Beckmann material, the material is ") +
+                               brdfName(m.brdf));
+    setup.roughnessIsAlpha = textures.roughnessIsAlpha;
+    return Status::success();
+}
+
+// The normal's three channels, then the roughness channel(s) appended by the renderer.
+glm::vec3 shadeRoughnessMips(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo,
+                             glm::vec3 l, glm::vec3 v) {
+    return shadeRoughnessMipsTexel(m, albedo, glm::vec3(p[0], p[1], p[2]), p[3], setup.roughnessIsAlpha, l, v);
+}
+
+} // namespace
+
+MethodUnit naiveUnit() {
+    MethodUnit u{};
+    u.method = Method::Naive;
+    u.name = "naive";
+    u.summary = "standard mipmap: the mean normal, renormalised";
+    u.bake = bakeNaive;
+    u.planes = [](const BakeParameters&, bool) { return std::vector<PlaneInfo>{planeOf("normal", 3, true)}; };
+    u.bakeBytesPerTexel = [](const BakeOptions&) { return 12.0 * 4.0 / 3.0; };
+    u.describe = [](const BakeParameters&) { return std::string("naive bake"); };
+    u.inspect = [](nlohmann::json& out, const LoadedBake& bake, int x, int y, const InspectOptions&) {
+        out["normal"] = jsonVec3(bake.level[requirePlane(bake, "normal")].at(x, y));
+    };
+    u.levelZeroNormal = [](const float* p) { return glm::vec3(p[0], p[1], p[2]); };
+    u.ndfDensity = nullptr;
+    return u;
+}
+
+std::vector<MethodShader> naiveShaders() {
+    auto none = [](const Material&, const RenderTextures&, const RenderOptions&, ShaderSetup&) {
+        return Status::success();
+    };
+    auto lobe = [](const ShaderSetup&, const Material& m, const float* p, glm::vec3 h) {
+        const glm::vec3 n(p[0], p[1], p[2]);
+        const float length = glm::length(n);
+        return length > 0.f ? materialLobe(m, glm::dot(n, h) / length, m.exponent, m.roughness) : 0.f;
+    };
+    auto roughLobe = [](const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 h) {
+        const glm::vec3 n(p[0], p[1], p[2]);
+        const float length = glm::length(n), r = glm::clamp(p[3], 0.f, 1.f);
+        const float alpha = glm::max(setup.roughnessIsAlpha ? r : r * r, 1e-4f);
+        return length > 0.f ? specularLobe(m.brdf, glm::dot(n, h) / length, m.exponent, alpha) : 0.f;
+    };
+    return {{"naive", Method::Naive, "naive.glsl", none, shadeNaiveParams, lobe},
+            {kRoughnessMips, Method::Naive, "naive.glsl", prepareRoughnessMips, shadeRoughnessMips, roughLobe}};
+}
+
+} // namespace ndfmip

@@ -1,0 +1,105 @@
+// vMF mixtures (Han et al. Sec. 7) as a unit, and their shader (eqs. 29-31).
+#include <algorithm>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "methods/method_unit.h"
+#include "ndfmip/vmf.h"
+
+namespace ndfmip {
+
+namespace {
+
+int lobesOf(const BakeParameters& parameters) {
+    auto it = parameters.find("lobes");
+    return it == parameters.end() ? 0 : int(it->second);
+}
+
+// The texel's lobes as the shader sees them, unpacked from (alpha, alpha r mu).
+std::vector<VmfLobe> texelLobes(const LoadedBake& bake, int x, int y) {
+    std::vector<VmfLobe> lobes;
+    for (size_t p = 0; p < bake.planes.size(); ++p) {
+        if (bake.planes[p].name.rfind("lobe", 0) != 0) continue;
+        const float* v = bake.level[p].at(x, y);
+        lobes.push_back(unpackLobe(glm::vec4(v[0], v[1], v[2], v[3])));
+    }
+    return lobes;
+}
+
+void inspectVmf(nlohmann::json& out, const LoadedBake& bake, int x, int y, const InspectOptions&) {
+    nlohmann::json lobes = nlohmann::json::array();
+    const std::vector<VmfLobe> all = texelLobes(bake, x, y);
+    for (size_t j = 0; j < all.size(); ++j) {
+        const VmfLobe& l = all[j];
+        if (!(l.alpha > 0.f)) continue;
+        nlohmann::json lobe = {{"alpha", l.alpha}, {"mu", {l.mu.x, l.mu.y, l.mu.z}}, {"kappa", l.kappa}};
+        const int color = findPlane(bake.planes, "color" + std::to_string(j));
+        if (color >= 0) {
+            const float* c = bake.level[color].at(x, y);
+            const glm::vec3 rgb = unpackLobeColor(glm::vec3(c[0], c[1], c[2]), l.alpha);
+            lobe["color"] = {rgb.x, rgb.y, rgb.z};
+        }
+        lobes.push_back(lobe);
+    }
+    out["lobes"] = lobes;
+}
+
+Status prepareVmf(const Material&, const RenderTextures& textures, const RenderOptions&, ShaderSetup& setup) {
+    setup.vmfLobes = bakeVmfLobes(textures.bake);
+    setup.vmfColors = findPlane(textures.bake.planes, "color0") >= 0;
+    if (setup.vmfLobes < 1 || setup.vmfLobes > 8) return Status::failure("render: vmf bakes have 1 to 8 lobes");
+    return Status::success();
+}
+
+// Lobe planes (4 channels each), then colour planes (3 each) when the bake has them.
+glm::vec3 shadeVmfParams(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo, glm::vec3 l,
+                         glm::vec3 v) {
+    glm::vec3 colors[8];
+    for (int j = 0; setup.vmfColors && j < setup.vmfLobes; ++j) {
+        const float* c = p + 4 * setup.vmfLobes + 3 * j;
+        colors[j] = unpackLobeColor(glm::vec3(c[0], c[1], c[2]), p[4 * j]);
+    }
+    return shadeVmf(m, albedo, p, setup.vmfLobes, setup.vmfColors ? colors : nullptr, l, v);
+}
+
+} // namespace
+
+MethodUnit vmfUnit() {
+    MethodUnit u{};
+    u.method = Method::Vmf;
+    u.name = "vmf";
+    u.summary = "mixtures of --lobes von Mises-Fisher lobes fitted by spherical EM (Han et al.)";
+    u.bake = bakeVmf;
+    u.planes = [](const BakeParameters& parameters, bool colours) {
+        std::vector<PlaneInfo> planes;
+        const int lobes = lobesOf(parameters);
+        for (int j = 0; j < lobes; ++j) planes.push_back(planeOf("lobe" + std::to_string(j), 4, true));
+        for (int j = 0; colours && j < lobes; ++j) planes.push_back(planeOf("color" + std::to_string(j), 3, true));
+        return planes;
+    };
+    u.required = {{"lobes", 1, 8, true}};
+    // Fitted lobes (32 bytes each) and their offsets, then the lobe and colour planes.
+    u.bakeBytesPerTexel = [](const BakeOptions& o) {
+        const int lobes = std::clamp(o.vmfLobes, 1, 8);
+        return (4.0 + lobes * (32.0 + 16.0 + (o.albedo ? 12.0 : 0.0))) * 4.0 / 3.0;
+    };
+    u.describe = [](const BakeParameters& parameters) {
+        return "vmf bake with " + std::to_string(lobesOf(parameters)) + " lobes";
+    };
+    u.inspect = inspectVmf;
+    u.levelZeroNormal = [](const float* p) { return glm::vec3(p[1], p[2], p[3]); }; // alpha r mu, alpha = 1
+    u.ndfDensity = [](const LoadedBake& bake, int x, int y, glm::dvec3 w) {
+        return std::exp(vmfMixtureLogDensity(glm::vec3(w), texelLobes(bake, x, y)));
+    };
+    return u;
+}
+
+std::vector<MethodShader> vmfShaders() {
+    auto lobe = [](const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 h) {
+        return vmfLobe(m, p, setup.vmfLobes, h);
+    };
+    return {{"vmf", Method::Vmf, "vmf.glsl", prepareVmf, shadeVmfParams, lobe}};
+}
+
+} // namespace ndfmip
