@@ -19,31 +19,15 @@ namespace ndfmip {
 
 // Beckmann distribution, normalised so that its projected area integrates to 1:
 // exp(-tan^2 t / a^2) / (pi a^2 cos^4 t).
-inline float beckmannD(float cosH, float alpha) {
-    if (cosH <= 0.f) return 0.f;
-    float c2 = cosH * cosH;
-    float a2 = alpha * alpha;
-    return glm::exp((c2 - 1.f) / (c2 * a2)) / (kPi * a2 * c2 * c2);
-}
+inline float beckmannD(float cosH, float alpha) { return glsl().ndfmipBeckmann(cosH, alpha); }
 
 // GGX (Trowbridge-Reitz) distribution: a^2 / (pi (cos^2 t (a^2 - 1) + 1)^2).
-inline float ggxD(float cosH, float alpha) {
-    if (cosH <= 0.f) return 0.f;
-    float a2 = alpha * alpha;
-    float d = cosH * cosH * (a2 - 1.f) + 1.f;
-    return a2 / (kPi * d * d);
-}
+inline float ggxD(float cosH, float alpha) { return glsl().ndfmipGgx(cosH, alpha); }
 
 // The material's specular lobe at n.h with a given exponent (Blinn-Phong) or alpha.
+// Tabulated lobes need the material's table: materialLobe.
 inline float specularLobe(Brdf brdf, float cosH, float exponent, float alpha) {
-    switch (brdf) {
-    case Brdf::BlinnPhong: return blinnPhong(cosH, exponent);
-    case Brdf::Beckmann: return beckmannD(cosH, alpha);
-    case Brdf::Ggx: return ggxD(cosH, alpha);
-    case Brdf::Lambert:
-    case Brdf::Tabulated: return 0.f; // needs the material's table: materialLobe
-    }
-    return 0.f;
+    return glsl().ndfmipLobe(int(brdf), cosH, exponent, alpha);
 }
 
 // The material's lobe at n.h (tabulated lobes read their table).
@@ -61,10 +45,11 @@ inline float specularFactor(const Material& m, glm::vec3 l, glm::vec3 h) {
 // Reflected radiance per unit irradiance for one unit normal n: the ground truth's integrand.
 // `albedo` replaces the material's (an albedo map's texel times it).
 inline glm::vec3 shadeNormal(const Material& m, glm::vec3 albedo, glm::vec3 n, glm::vec3 l, glm::vec3 h) {
-    float cosL = glm::max(glm::dot(n, l), 0.f);
+    const float factor = specularFactor(m, l, h);
+    if (m.brdf != Brdf::Tabulated) return glsl().ndfmipShadeNormal(glslMaterial(m, factor), albedo, n, l, h);
+    const float cosL = glm::max(glm::dot(n, l), 0.f);
     if (cosL <= 0.f) return glm::vec3(0.f);
-    float lobe = materialLobe(m, glm::dot(n, h), m.exponent, m.roughness) * specularFactor(m, l, h);
-    return cosL * (albedo * (1.f / kPi) + m.specular * lobe);
+    return cosL * (albedo * (1.f / kPi) + m.specular * (materialLobe(m, glm::dot(n, h), 0.f, 0.f) * factor));
 }
 
 inline glm::vec3 shadeNormal(const Material& m, glm::vec3 n, glm::vec3 l, glm::vec3 h) {

@@ -20,9 +20,10 @@ namespace ndfmip {
 // `albedo`, in every shade function below, is the material's albedo times the filtered albedo
 // map (or the material's alone).
 inline glm::vec3 shadeNaive(const Material& m, glm::vec3 albedo, glm::vec3 filtered, glm::vec3 l, glm::vec3 v) {
-    float length = glm::length(filtered);
-    glm::vec3 n = length > 0.f ? filtered / length : glm::vec3(0.f, 0.f, 1.f);
-    return shadeNormal(m, albedo, n, l, glm::normalize(l + v));
+    const glm::vec3 h = glm::normalize(l + v);
+    if (m.brdf != Brdf::Tabulated) return glsl().ndfmipShadeNaive(glslMaterial(m, specularFactor(m, l, h)), albedo, filtered, l, v);
+    const float length = glm::length(filtered);
+    return shadeNormal(m, albedo, length > 0.f ? filtered / length : glm::vec3(0.f, 0.f, 1.f), l, h);
 }
 
 inline glm::vec3 shadeNaive(const Material& m, glm::vec3 filtered, glm::vec3 l, glm::vec3 v) {
@@ -34,25 +35,14 @@ inline glm::vec3 shadeNaive(const Material& m, glm::vec3 filtered, glm::vec3 l, 
 // `stored` (perceptual, alpha = stored^2, unless `isAlpha`).
 inline glm::vec3 shadeRoughnessMipsTexel(const Material& m, glm::vec3 albedo, glm::vec3 filtered, float stored,
                                          bool isAlpha, glm::vec3 l, glm::vec3 v) {
-    Material widened = m;
-    const float r = glm::clamp(stored, 0.f, 1.f);
-    widened.roughness = glm::max(isAlpha ? r : r * r, 1e-4f);
-    return shadeNaive(widened, albedo, filtered, l, v);
+    const float factor = specularFactor(m, l, glm::normalize(l + v));
+    return glsl().ndfmipShadeRoughnessMips(glslMaterial(m, factor), albedo, filtered, stored, isAlpha, l, v);
 }
 
 // The material's lobe as a function of n about h, read as a vMF concentration: Blinn-Phong
 // (n.h)^s ~ exp(s (n.h - 1)), so s; Beckmann and GGX through Walter et al.'s s = 2/alpha^2 - 2;
 // 0 where no width is known (tabulated lobes, Lambert).
-inline float lobeConcentration(const Material& m) {
-    switch (m.brdf) {
-    case Brdf::BlinnPhong: return m.exponent;
-    case Brdf::Beckmann:
-    case Brdf::Ggx: return glm::max(2.f / glm::max(m.roughness * m.roughness, 1e-8f) - 2.f, 0.f);
-    case Brdf::Tabulated:
-    case Brdf::Lambert: break;
-    }
-    return 0.f;
-}
+inline float lobeConcentration(const Material& m) { return glsl().ndfmipLobeConcentration(glslMaterial(m)); }
 
 // The cosine of a filtered specular term. The truth averages lobe(n.h) (n.l) over the normals;
 // where the NDF is a lobe of concentration kappa about mu, NDF x lobe is (as vMFs) a vMF with
@@ -61,12 +51,7 @@ inline float lobeConcentration(const Material& m) {
 // cosine is max(A(|w|) l.w/|w|, 0): mu.l for a sharp NDF, h.l for a sharp lobe. kappa may be
 // infinite (a single normal).
 inline float specularCosine(glm::vec3 mu, float kappa, float lobeKappa, glm::vec3 h, glm::vec3 l) {
-    if (!(kappa < 1e30f)) return glm::max(glm::dot(mu, l), 0.f);
-    const glm::vec3 w = kappa * mu + lobeKappa * h;
-    const float k = glm::length(w);
-    if (!(k > 0.f)) return 0.f;
-    const float meanLength = k < 1e-3f ? k / 3.f : 1.f / glm::tanh(k) - 1.f / k;
-    return glm::max(meanLength * glm::dot(w, l) / k, 0.f);
+    return glsl().ndfmipSpecularCosine(mu, kappa, lobeKappa, h, l);
 }
 
 // Toksvig: Na is kept unnormalised. Its length widens the specular lobe (Blinn-Phong: the
@@ -76,28 +61,16 @@ inline float specularCosine(glm::vec3 mu, float kappa, float lobeKappa, glm::vec
 // specularCosine with the NDF read as a vMF of kappa = 1/sigma^2 = |Na|/(1 - |Na|) (eq. 1).
 inline glm::vec3 shadeToksvigLobe(const Material& m, glm::vec3 albedo, glm::vec3 na, glm::vec3 l, glm::vec3 v,
                                   float lobe) {
-    const float length = glm::length(na);
     const glm::vec3 h = glm::normalize(l + v);
-    const glm::vec3 mu = length > 0.f ? na / length : glm::vec3(0.f, 0.f, 1.f);
-    const float kappa = length < 1.f ? length / (1.f - length) : 1e30f;
-    const float cosDiffuse = glm::max(glm::dot(na, l), 0.f);
-    const float cosSpecular = specularCosine(mu, kappa, lobeConcentration(m), h, l);
-    return cosDiffuse * albedo * (1.f / kPi) + cosSpecular * m.specular * lobe * specularFactor(m, l, h);
+    return glsl().ndfmipShadeToksvigLobe(glslMaterial(m, specularFactor(m, l, h)), albedo, na, l, v, lobe);
 }
 
 // Toksvig's lobe alone (no cosine) about Na/|Na|, widened by |Na|.
 inline float toksvigLobe(const Material& m, glm::vec3 na, glm::vec3 h, RoughnessMapping mapping,
                          float varianceScale = kVarianceScale) {
-    const float length = glm::length(na);
-    const float cosH = length > 0.f ? glm::dot(na, h) / length : 0.f;
-    switch (m.brdf) {
-    case Brdf::BlinnPhong: return blinnPhong(cosH, toksvigFactor(length, m.exponent) * m.exponent);
-    case Brdf::Beckmann: return beckmannD(cosH, mappedRoughness(mapping, length, m.roughness, varianceScale));
-    case Brdf::Ggx: return ggxD(cosH, mappedRoughness(mapping, length, m.roughness, varianceScale));
-    case Brdf::Tabulated: return materialLobe(m, cosH, 0.f, 0.f); // no widening rule
-    case Brdf::Lambert: break;
-    }
-    return 0.f;
+    if (m.brdf != Brdf::Tabulated) return glsl().ndfmipToksvigLobe(glslMaterial(m), na, h, int(mapping), varianceScale);
+    const float length = glm::length(na); // a table has no widening rule: read about Na/|Na|
+    return materialLobe(m, length > 0.f ? glm::dot(na, h) / length : 0.f, 0.f, 0.f);
 }
 
 inline glm::vec3 shadeToksvig(const Material& m, glm::vec3 albedo, glm::vec3 na, glm::vec3 l, glm::vec3 v,

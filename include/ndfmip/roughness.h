@@ -22,8 +22,7 @@ namespace ndfmip {
 constexpr float kVarianceScale = 2.f;
 
 inline float varianceRoughness(float length, float baseAlpha, float scale = kVarianceScale) {
-    float alpha2 = baseAlpha * baseAlpha + scale * toksvigSigma2(length);
-    return glm::min(glm::sqrt(alpha2), 1.f);
+    return glsl().ndfmipMappedRoughness(NDFMIP_MAPPING_OURS, length, baseAlpha, scale);
 }
 
 // Engines store "perceptual" roughness, alpha = perceptual^2 (Burley 2012; glTF, Unreal,
@@ -44,29 +43,15 @@ enum class RoughnessMapping {
               // alpha' below 1)
 };
 
-inline float vmfKappaFromLength(float r) {
-    r = glm::clamp(r, 0.f, 0.999999f);
-    return (3.f * r - r * r * r) / (1.f - r * r);
-}
+inline float vmfKappaFromLength(float r) { return glsl().ndfmipKappaFromLength(r); }
 
 inline float mappedRoughness(RoughnessMapping mapping, float r, float alpha,
                              float scale = kVarianceScale) {
-    float a2 = alpha * alpha;
-    switch (mapping) {
-    case RoughnessMapping::Ours: return varianceRoughness(r, alpha, scale);
-    case RoughnessMapping::Hdrp: a2 += 0.5f / glm::max(vmfKappaFromLength(r), 1e-6f); break;
-    case RoughnessMapping::Filament: a2 += 2.f / glm::max(vmfKappaFromLength(r), 1e-6f); break;
-    case RoughnessMapping::Godot: {
-        float p2 = alpha + glm::min(0.75f / glm::max(vmfKappaFromLength(r), 1e-6f), 0.16f);
-        return glm::min(p2, 1.f); // alpha' = p'^2
-    }
-    case RoughnessMapping::Unreal: {
-        const float b = 2.f * toksvigSigma2(r) * (1.f - a2);
-        a2 = (a2 + b) / (1.f + b);
-        break;
-    }
-    }
-    return glm::min(glm::sqrt(a2), 1.f);
+    return glsl().ndfmipMappedRoughness(int(mapping), r, alpha, scale);
 }
+static_assert(int(RoughnessMapping::Ours) == NDFMIP_MAPPING_OURS && int(RoughnessMapping::Hdrp) == NDFMIP_MAPPING_HDRP &&
+              int(RoughnessMapping::Filament) == NDFMIP_MAPPING_FILAMENT &&
+              int(RoughnessMapping::Godot) == NDFMIP_MAPPING_GODOT &&
+              int(RoughnessMapping::Unreal) == NDFMIP_MAPPING_UNREAL);
 
 } // namespace ndfmip

@@ -1,8 +1,10 @@
-// Shading math shared by every method. Written in the subset of C++ that maps one to one
-// onto GLSL (glm types, float math, no containers), so the GLSL twin reads the same.
+// Shading math shared by every method; the formulas themselves are the GLSL library's
+// (shaders/*.glsl through ndfmip/glsl.h).
 #pragma once
 
 #include <glm/glm.hpp>
+
+#include "ndfmip/glsl.h"
 
 namespace ndfmip {
 
@@ -19,8 +21,6 @@ inline glm::vec3 halfVector(const ShadeContext& c) { return glm::normalize(c.lig
 
 // Normalised Blinn-Phong lobe over half-vectors, (s+1)/(2 pi) (n.h)^s: integrates to 1 over
 // the hemisphere about n (Toksvig eq. 7; Han et al. eq. 28). `cosH` may be negative.
-inline float blinnPhong(float cosH, float s) {
-    return (s + 1.f) / (2.f * kPi) * glm::pow(glm::max(cosH, 0.f), s);
-}
+inline float blinnPhong(float cosH, float s) { return glsl().ndfmipBlinnPhong(cosH, s); }
 
 } // namespace ndfmip

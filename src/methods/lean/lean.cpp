@@ -49,49 +49,17 @@ Bake bakeLean(const Pyramid& pyramid, const BakeOptions& options) {
     return bake;
 }
 
-namespace {
-
-// The normals' own slope variances (x, y) and covariance.
-glm::vec3 slopeCovariance(const float* p) {
-    return {std::max(p[2] - p[0] * p[0], 0.f), std::max(p[3] - p[1] * p[1], 0.f), p[4] - p[0] * p[1]};
-}
-
-} // namespace
 
 float leanLobe(const Material& m, const float* p, glm::vec3 h) {
-    const glm::vec2 mean(p[0], p[1]);
-    const glm::vec3 own = slopeCovariance(p);
-    // The material's slope variance: Beckmann alpha^2/2 per axis; Blinn-Phong s through
-    // alpha^2 = 2/(s + 2) (Walter et al.); GGX shaded as the Beckmann lobe of its alpha (LEAN's
-    // lobe is Beckmann's).
-    float alpha2 = 0.f;
-    switch (m.brdf) {
-    case Brdf::BlinnPhong: alpha2 = 2.f / (m.exponent + 2.f); break;
-    case Brdf::Beckmann:
-    case Brdf::Ggx: alpha2 = m.roughness * m.roughness; break;
-    case Brdf::Tabulated: // no widening rule, as for toksvig: the table about the mean slope's normal
-        return materialLobe(m, glm::dot(glm::normalize(glm::vec3(mean, 1.f)), h), 0.f, 0.f);
-    case Brdf::Lambert: return 0.f;
-    }
-    if (h.z <= 0.f) return 0.f;
-    const float sxx = own.x + 0.5f * alpha2, syy = own.y + 0.5f * alpha2, sxy = own.z;
-    const float det = std::max(sxx * syy - sxy * sxy, 1e-12f);
-    const glm::vec2 d = glm::vec2(h.x, h.y) / h.z - mean;
-    const float q = (syy * d.x * d.x - 2.f * sxy * d.x * d.y + sxx * d.y * d.y) / det;
-    return std::exp(-0.5f * q) / (2.f * kPi * std::sqrt(det) * h.z * h.z * h.z * h.z);
+    if (m.brdf == Brdf::Tabulated) // no widening rule, as for toksvig: the table about the mean slope's normal
+        return materialLobe(m, glm::dot(glm::normalize(glm::vec3(p[0], p[1], 1.f)), h), 0.f, 0.f);
+    return glsl().ndfmipLeanLobe(glslMaterial(m), glm::vec4(p[0], p[1], p[2], p[3]), p[4], h);
 }
 
 glm::vec3 shadeLean(const Material& m, glm::vec3 albedo, const float* p, glm::vec3 l, glm::vec3 v) {
     const glm::vec3 h = glm::normalize(l + v);
-    const glm::vec3 n = glm::normalize(glm::vec3(p[0], p[1], 1.f)); // the mean slope's normal
-    // Cosines as the other methods: the NDF read as a lobe of variance (vx + vy)/2 per axis.
-    const glm::vec3 own = slopeCovariance(p);
-    const float variance = 0.5f * (own.x + own.y);
-    const float kappa = variance > 0.f ? 1.f / variance : 1e30f;
-    const float cosDiffuse = std::max(glm::dot(n, l), 0.f);
-    const float cosSpecular = specularCosine(n, kappa, lobeConcentration(m), h, l);
-    return cosDiffuse * albedo * (1.f / kPi) +
-           cosSpecular * m.specular * leanLobe(m, p, h) * specularFactor(m, l, h);
+    return glsl().ndfmipShadeLeanLobe(glslMaterial(m, specularFactor(m, l, h)), albedo,
+                                      glm::vec4(p[0], p[1], p[2], p[3]), p[4], l, v, leanLobe(m, p, h));
 }
 
 } // namespace ndfmip

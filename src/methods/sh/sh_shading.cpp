@@ -51,22 +51,13 @@ float shLobe(const float* g, const ShShading& a, glm::vec3 h) {
 
 glm::vec3 shadeSh(const Material& m, glm::vec3 albedo, const float* g, const ShShading& a, glm::vec3 l,
                   glm::vec3 v) {
-    glm::vec3 out(0.f);
-    if (albedo != glm::vec3(0.f))
-        out += albedo * float(std::max(0.0, convolve(g, a.diffuse, a.order, l)));
-    if (m.brdf != Brdf::Lambert && m.specular != glm::vec3(0.f)) {
-        const float c = std::sqrt(3.f / (4.f * kPi));
-        const glm::vec3 na = glm::vec3(g[shIndex(1, 1)], g[shIndex(1, -1)], g[shIndex(1, 0)]) / c;
-        const float length = glm::length(na);
-        const glm::vec3 h = glm::normalize(l + v);
-        const glm::vec3 mu = length > 0.f ? na / length : glm::vec3(0.f, 0.f, 1.f);
-        const float kappa = float(kappaFromMeanLength(length, 1e30));
-        const float cosL = specularCosine(mu, kappa, lobeConcentration(m), h, l);
-        if (cosL > 0.f)
-            out += m.specular * (cosL * specularFactor(m, l, h) *
-                                 shLobe(g, a, h));
-    }
-    return out;
+    // The convolutions in double to any order (the GPU's ndfmipShConvolve: float, order <= 10),
+    // eq. 17 from them by the GLSL.
+    const glm::vec3 h = glm::normalize(l + v);
+    const float diffuse = float(convolve(g, a.diffuse, a.order, l));
+    const float specular = m.brdf == Brdf::Lambert ? 0.f : float(convolve(g, a.specular, a.order, h));
+    const glm::vec3 na = glsl().ndfmipShMeanNormal(g[shIndex(1, -1)], g[shIndex(1, 0)], g[shIndex(1, 1)]);
+    return glsl().ndfmipShadeShSums(glslMaterial(m, specularFactor(m, l, h)), albedo, diffuse, specular, na, l, v);
 }
 
 } // namespace ndfmip

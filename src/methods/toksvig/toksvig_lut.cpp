@@ -66,7 +66,8 @@ float sampleTable(const Image& table, float u, float v) {
 } // namespace
 
 float toksvigLutLobe(const Material& m, glm::vec3 na, const Image& lut, glm::vec3 h) {
-    return (m.exponent + 1.f) / (2.f * kPi) * sampleTable(lut, glm::dot(na, h), glm::dot(na, na));
+    const glm::vec2 uv = glsl().ndfmipToksvigLutCoordinates(na, h);
+    return glsl().ndfmipToksvigLutLobe(m.exponent, sampleTable(lut, uv.x, uv.y));
 }
 
 glm::vec3 shadeToksvigLut(const Material& m, glm::vec3 albedo, glm::vec3 na, const Image& lut, glm::vec3 l,
