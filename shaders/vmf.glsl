@@ -15,17 +15,17 @@ struct NdfmipLobe {
 
 // Algorithm 1, lines 12-13: r = |alpha r mu| / alpha, mu = its direction, kappa from r by
 // Banerjee's approximation, at most NDFMIP_KAPPA_MAX.
-NdfmipLobe ndfmipUnpackLobe(vec4 packed) {
+NdfmipLobe ndfmipUnpackLobe(vec4 lobeTexel) {
     NdfmipLobe lobe;
     lobe.alpha = 0.0f;
     lobe.mu = vec3(0.0f, 0.0f, 1.0f);
     lobe.kappa = 0.0f;
-    if (!(packed.x > 0.0f)) return lobe;
-    vec3 scaled = vec3(packed.y, packed.z, packed.w);
+    if (!(lobeTexel.x > 0.0f)) return lobe;
+    vec3 scaled = vec3(lobeTexel.y, lobeTexel.z, lobeTexel.w);
     float len = sqrt(dot(scaled, scaled));
-    lobe.alpha = packed.x;
+    lobe.alpha = lobeTexel.x;
     if (len > 0.0f) lobe.mu = scaled / len;
-    float r = len / packed.x;
+    float r = len / lobeTexel.x;
     if (!(r > 0.0f)) lobe.kappa = 0.0f;
     else if (r >= 1.0f) lobe.kappa = NDFMIP_KAPPA_MAX;
     else lobe.kappa = min(r * (3.0f - r * r) / ((1.0f - r) * (1.0f + r)), NDFMIP_KAPPA_MAX);
@@ -57,8 +57,8 @@ vec3 ndfmipVmfLobeTerm(NdfmipMaterial m, vec3 albedo, NdfmipLobe lobe, float spe
 
 // One filtered lobe texel (alpha, alpha r mu); `albedo` is the lobe's colour (colour plane /
 // alpha) times the material's, or the material's.
-vec3 ndfmipShadeVmfLobe(NdfmipMaterial m, vec3 albedo, vec4 packed, vec3 l, vec3 v) {
-    NdfmipLobe lobe = ndfmipUnpackLobe(packed);
+vec3 ndfmipShadeVmfLobe(NdfmipMaterial m, vec3 albedo, vec4 lobeTexel, vec3 l, vec3 v) {
+    NdfmipLobe lobe = ndfmipUnpackLobe(lobeTexel);
     float specular = ndfmipVmfWidenedLobe(m, lobe.mu, lobe.kappa, normalize(l + v));
     return ndfmipVmfLobeTerm(m, albedo, lobe, specular, l, v);
 }
