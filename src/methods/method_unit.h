@@ -74,7 +74,7 @@ struct ShaderSetup {
 struct MethodShader {
     const char* name; // render and eval method name
     Method bake;      // the bake it reads
-    const char* glsl; // its GLSL file in shaders/ (the functions the GPU path calls)
+    const char* glsl; // its render glue in shaders/ (render/<name>.glsl: ndfmipShadeTexel for the GPU renderer)
     // Checks the material (and textures) and fills `setup`; an error names what is wrong.
     Status (*prepare)(const Material& material, const RenderTextures& textures, const RenderOptions& options,
                       ShaderSetup& setup);

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "cli.h"
+#include "ndfmip/gpu_render.h"
 #include "ndfmip/io.h"
 #include "ndfmip/render.h"
 #include "ndfmip/sh_brdf.h"
@@ -33,6 +34,8 @@ struct RenderArgs {
     bool noPng = false;
     float exposure = std::numeric_limits<float>::quiet_NaN();
     bool quiet = false;
+    bool gpu = false;
+    int gpuFrames = 1;
 };
 
 // Eq. 17 keeps bands l <= l*: say so when the material's lobe holds more than 1% of its energy
@@ -101,8 +104,13 @@ void runRender(const RenderArgs& a) {
         warnAboutShTruncation(scene->material, bakeShOrder(textures.bake));
     const double loadMs = millisecondsSince(start);
 
+    GpuRenderStats gpuStats;
+    auto draw = [&](const RenderOptions& o, GpuRenderStats* statistics, int frames) {
+        return a.gpu ? renderGpu(scene.value(), textures, method, o, statistics, frames)
+                     : render(scene.value(), textures, method, o);
+    };
     const long long renderStart = nowNanoseconds();
-    Result<Image> image = render(scene.value(), textures, method, options);
+    Result<Image> image = draw(options, &gpuStats, a.gpuFrames);
     if (!image) throw Failure(a.scene + ": " + image.error().message);
     const double renderMs = millisecondsSince(renderStart);
 
@@ -113,7 +121,7 @@ void runRender(const RenderArgs& a) {
         quiet.progress = nullptr;
         for (glm::vec2 shift : flickerShifts(a.frames)) {
             quiet.pixelShift = shift;
-            Result<Image> frame = render(scene.value(), textures, method, quiet);
+            Result<Image> frame = draw(quiet, nullptr, 1);
             if (!frame) throw Failure(frame.error().message);
             frames.push_back(std::move(frame.value()));
         }
@@ -133,6 +141,12 @@ void runRender(const RenderArgs& a) {
                 image->width, image->height, options.spp, loadMs, renderMs, a.output.c_str(),
                 png.empty() ? "" : ", ", png.c_str());
     if (flicker >= 0.0) std::printf("flicker (%d frames): %.5f\n", a.frames, flicker);
+    if (a.gpu && !gpuStats.frameMs.empty()) {
+        std::vector<double> ms = gpuStats.frameMs;
+        std::sort(ms.begin(), ms.end());
+        std::printf("gpu: %s: frame %.3f ms (median of %zu, GL timer queries), setup %.0f ms\n",
+                    gpuStats.device.c_str(), ms[ms.size() / 2], ms.size(), gpuStats.compileMs);
+    }
 }
 
 } // namespace
@@ -160,6 +174,9 @@ void addRenderCommand(CLI::App& app) {
     c->add_option("--exposure", a->exposure, "PNG exposure in stops (default: automatic)");
     c->add_flag("--no-png", a->noPng, "write the EXR only");
     c->add_flag("-q,--quiet", a->quiet, "no progress or warnings");
+    c->add_flag("--gpu", a->gpu, "methods: render with OpenGL 4.5 (headless EGL; the GLSL of shaders/) instead of the CPU");
+    c->add_option("--gpu-frames", a->gpuFrames, "--gpu: draw the frame N times and print the median GPU time")
+        ->check(CLI::Range(1, 10000))->capture_default_str();
     c->add_option("-o,--output", a->output, "output .exr (float RGB); the PNG goes beside it")->required();
     c->callback([a] { runRender(*a); });
 }

@@ -1,0 +1,31 @@
+// The GPU renderer: the same scenes, bakes and filtering rule as render() (render.h), drawn by
+// OpenGL 4.5 through EGL without a display (Mesa's llvmpipe where there is no GPU), with the
+// GLSL shading library of shaders/. Each pixel traces the camera ray as the CPU renderer does;
+// the bake's own levels are the mip levels of one RGBA32F array texture (a layer per linear
+// plane); a lookup is the hardware's trilinear filtering (parameter blending) or the eight
+// texels of the trilinear footprint shaded one by one (texel shading).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "ndfmip/render.h"
+
+namespace ndfmip {
+
+struct GpuRenderStats {
+    std::string device;            // "GL_RENDERER, GL_VERSION"
+    std::vector<double> frameMs;   // GPU time of each drawn frame (GL timer queries, no readback)
+    double compileMs = 0.0;        // shader compilation and texture upload, wall clock
+};
+
+// Renders `scene` with `method` (a method or shader name: naive, toksvig, toksvig-lut,
+// roughness-mips, sh, vmf, lean), drawing it `frames` times (the image of the last; every
+// frame timed in `stats`). Errors, one line: no GL or EGL ("GPU: ..."), a shader that does not
+// compile (file and line), the ground truth or `exact` (CPU only), tabulated BRDFs or factors
+// (CPU only), more than 16 lights, spp > 1, a bake of another method or size, textures beyond
+// the driver's limits.
+Result<Image> renderGpu(const Scene& scene, const RenderTextures& textures, const std::string& method,
+                        const RenderOptions& options, GpuRenderStats* stats = nullptr, int frames = 1);
+
+} // namespace ndfmip

@@ -1,0 +1,140 @@
+// ndfmip's GPU renderer, fragment stage: per pixel the CPU renderer's filtering rule (K x K
+// sub-samples, LOD from ray differentials plus a bias, anisotropic probes along the major
+// axis), each lookup either the hardware's trilinear filtering of the bake's planes (blend
+// parameters, then shade) or the eight texels of the trilinear footprint shaded one by one.
+// Needs the library, raycast.glsl and the method's render/<method>.glsl, which defines
+// NDFMIP_LAYERS (or the renderer does) and ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v).
+
+#define NDFMIP_MAX_LIGHTS 16
+
+uniform vec3 ndfmipBackground;
+uniform int ndfmipLightCount;
+uniform int ndfmipLightType[NDFMIP_MAX_LIGHTS]; // 0 directional, 1 point
+uniform vec3 ndfmipLightDirection[NDFMIP_MAX_LIGHTS];
+uniform vec3 ndfmipLightPosition[NDFMIP_MAX_LIGHTS];
+uniform vec3 ndfmipLightColor[NDFMIP_MAX_LIGHTS];
+
+uniform int ndfmipTaps;
+uniform float ndfmipLodBias;
+uniform int ndfmipAnisotropy;
+uniform bool ndfmipShadeEachTexel;
+uniform vec2 ndfmipPixelShift;
+uniform bool ndfmipHasAlbedoMap; // its RGB in layer NDFMIP_LAYERS
+
+// The bake's linear planes, one layer each (RGBA), ndfmip's own levels as the mips.
+uniform sampler2DArray ndfmipPlanes;
+uniform int ndfmipLevelCount; // its levels (textureQueryLevels is not reliable on every driver)
+
+layout(location = 0) out vec4 ndfmipColour;
+
+vec3 ndfmipShadeLights(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, vec3 view) {
+    vec3 radiance = vec3(0.0f);
+    for (int i = 0; i < ndfmipLightCount; ++i) {
+        vec3 direction = ndfmipLightDirection[i];
+        vec3 irradiance = ndfmipLightColor[i];
+        if (ndfmipLightType[i] == 1) {
+            vec3 d = ndfmipLightPosition[i] - hit.position;
+            float d2 = dot(d, d);
+            if (d2 <= 0.0f) continue;
+            direction = d / sqrt(d2);
+            irradiance = ndfmipLightColor[i] / d2;
+        }
+        vec3 l = ndfmipToTangent(hit, direction);
+        if (l.z <= 0.0f) continue;
+        radiance += irradiance * ndfmipShadeTexel(p, albedo, l, view);
+    }
+    return radiance;
+}
+
+// Repeat wrapping in integers, dividing non-negative numbers only (GLSL leaves % of negative
+// ones undefined, and llvmpipe's float mod(13, 1) is 1).
+int ndfmipWrap1(int i, int n) {
+    int q = i >= 0 ? i / n : -((n - 1 - i) / n);
+    return i - q * n;
+}
+ivec2 ndfmipWrap(ivec2 i, ivec2 n) { return ivec2(ndfmipWrap1(i.x, n.x), ndfmipWrap1(i.y, n.y)); }
+
+// One trilinear probe at `lod`, weight `weight`.
+vec3 ndfmipProbe(NdfmipHit hit, vec3 view, vec2 uv, float lod, float weight) {
+    int last = ndfmipLevelCount - 1;
+    lod = clamp(lod, 0.0f, float(last));
+    vec4 p[NDFMIP_LAYERS];
+    if (!ndfmipShadeEachTexel) {
+        for (int k = 0; k < NDFMIP_LAYERS; ++k) p[k] = textureLod(ndfmipPlanes, vec3(uv, float(k)), lod);
+        vec3 albedo = ndfmipMaterialAlbedo;
+        if (ndfmipHasAlbedoMap) albedo *= textureLod(ndfmipPlanes, vec3(uv, float(NDFMIP_LAYERS)), lod).rgb;
+        return weight * ndfmipShadeLights(p, albedo, hit, view);
+    }
+    int k0 = int(floor(lod));
+    int k1 = min(k0 + 1, last);
+    float f = lod - float(k0);
+    vec3 sum = vec3(0.0f);
+    for (int level = 0; level < 2; ++level) {
+        float levelWeight = level == 0 ? 1.0f - f : f;
+        if (levelWeight == 0.0f) continue;
+        int k = level == 0 ? k0 : k1;
+        // GL's mip size rule from level 0 (llvmpipe's textureSize takes one lane's level for all).
+        ivec2 size = max(textureSize(ndfmipPlanes, 0).xy >> ivec2(k), ivec2(1));
+        vec2 x = uv * vec2(size) - 0.5f;
+        vec2 x0 = floor(x);
+        vec2 fr = x - x0;
+        for (int j = 0; j < 4; ++j) {
+            ivec2 offset = ivec2(j & 1, j >> 1);
+            float w = (offset.x == 1 ? fr.x : 1.0f - fr.x) * (offset.y == 1 ? fr.y : 1.0f - fr.y);
+            if (w == 0.0f) continue;
+            ivec2 texel = ndfmipWrap(ivec2(x0) + offset, size);
+            for (int c = 0; c < NDFMIP_LAYERS; ++c) p[c] = texelFetch(ndfmipPlanes, ivec3(texel, c), k);
+            vec3 albedo = ndfmipMaterialAlbedo;
+            if (ndfmipHasAlbedoMap) albedo *= texelFetch(ndfmipPlanes, ivec3(texel, NDFMIP_LAYERS), k).rgb;
+            sum += (weight * levelWeight * w) * ndfmipShadeLights(p, albedo, hit, view);
+        }
+    }
+    return sum;
+}
+
+// The lookup at a hit with footprint (dx, dy) in uv: anisotropic probes along the major axis.
+vec3 ndfmipLookup(NdfmipHit hit, vec3 view, vec2 dx, vec2 dy) {
+    vec2 size = vec2(textureSize(ndfmipPlanes, 0).xy);
+    float lx = length(dx * size);
+    float ly = length(dy * size);
+    float major = max(lx, ly);
+    float minor = min(lx, ly);
+    int probes = 1;
+    if (ndfmipAnisotropy > 1 && minor > 0.0f) probes = clamp(int(ceil(major / minor)), 1, ndfmipAnisotropy);
+    if (probes == 1) return ndfmipProbe(hit, view, hit.uv, (major > 0.0f ? log2(major) : 0.0f) + ndfmipLodBias, 1.0f);
+    vec2 axis = lx >= ly ? dx : dy;
+    float lod = log2(major / float(probes)) + ndfmipLodBias;
+    vec3 sum = vec3(0.0f);
+    for (int i = 0; i < probes; ++i) {
+        float t = (float(i) + 0.5f) / float(probes) - 0.5f;
+        sum += ndfmipProbe(hit, view, hit.uv + t * axis, lod, 1.0f / float(probes));
+    }
+    return sum;
+}
+
+void main() {
+    // The CPU renderer's pixel (x, y) from the top-left, sampled at its centre.
+    float px = gl_FragCoord.x + ndfmipPixelShift.x;
+    float py = ndfmipImageSize.y - gl_FragCoord.y + ndfmipPixelShift.y;
+    int k = ndfmipTaps;
+    float stepSize = 1.0f / float(k);
+    vec3 sum = vec3(0.0f);
+    for (int j = 0; j < k; ++j) {
+        for (int i = 0; i < k; ++i) {
+            float qx = k == 1 ? px : px + (float(i) + 0.5f) * stepSize - 0.5f;
+            float qy = k == 1 ? py : py + (float(j) + 0.5f) * stepSize - 0.5f;
+            NdfmipRay ray = ndfmipCameraRay(qx, qy);
+            NdfmipHit hit = ndfmipIntersect(ray);
+            if (!hit.hit) {
+                sum += ndfmipBackground;
+                continue;
+            }
+            vec3 view = ndfmipToTangent(hit, -ray.direction);
+            if (view.z <= 0.0f) continue;
+            vec2 dx = ndfmipUvOffset(hit, qx + 1.0f, qy) * stepSize;
+            vec2 dy = ndfmipUvOffset(hit, qx, qy + 1.0f) * stepSize;
+            sum += ndfmipLookup(hit, view, dx, dy);
+        }
+    }
+    ndfmipColour = vec4(sum * (stepSize * stepSize), 1.0f);
+}

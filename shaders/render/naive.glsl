@@ -1,0 +1,5 @@
+// Render glue for the naive bake: layer 0 = "normal".
+#define NDFMIP_LAYERS 1
+vec3 ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v) {
+    return ndfmipShadeNaive(ndfmipMaterial, albedo, p[0].xyz, l, v);
+}

@@ -1,0 +1,122 @@
+// ndfmip's GPU renderer: the scene's camera and object traced per pixel exactly as the CPU
+// renderer does (src/render/geometry.cpp), so a GPU image can be compared with the CPU's.
+// Uniforms are set by src/gpu/gpu_renderer.cpp.
+
+uniform NdfmipMaterial ndfmipMaterial;
+uniform vec3 ndfmipMaterialAlbedo; // the material's albedo (an albedo map multiplies it)
+
+uniform int ndfmipCameraType; // 0 perspective, 1 orthographic
+uniform vec3 ndfmipEye;
+uniform vec3 ndfmipForward;
+uniform vec3 ndfmipRight;
+uniform vec3 ndfmipUp;
+uniform vec2 ndfmipHalfSize;  // half the image plane: at distance 1 (perspective) or in world units
+uniform vec2 ndfmipImageSize; // pixels
+
+uniform int ndfmipGeometryType; // 0 plane, 1 sphere
+uniform vec3 ndfmipCenter;
+uniform vec3 ndfmipNormal;
+uniform vec3 ndfmipTangent;
+uniform vec2 ndfmipPlaneSize;
+uniform vec2 ndfmipTiling;
+uniform float ndfmipRadius;
+
+struct NdfmipRay {
+    vec3 origin;
+    vec3 direction;
+};
+
+struct NdfmipHit {
+    bool hit;
+    vec3 position;
+    vec2 uv;
+    vec3 tangent;
+    vec3 bitangent;
+    vec3 normal;
+    vec3 dpdu;
+    vec3 dpdv;
+};
+
+// The ray through image position (px, py), in pixels from the top-left corner.
+NdfmipRay ndfmipCameraRay(float px, float py) {
+    float sx = 2.0f * px / ndfmipImageSize.x - 1.0f;
+    float sy = 1.0f - 2.0f * py / ndfmipImageSize.y;
+    vec3 across = ndfmipRight * (sx * ndfmipHalfSize.x) + ndfmipUp * (sy * ndfmipHalfSize.y);
+    NdfmipRay ray;
+    if (ndfmipCameraType == 1) {
+        ray.origin = ndfmipEye + across;
+        ray.direction = ndfmipForward;
+    } else {
+        ray.origin = ndfmipEye;
+        ray.direction = normalize(ndfmipForward + across);
+    }
+    return ray;
+}
+
+NdfmipHit ndfmipIntersect(NdfmipRay ray) {
+    NdfmipHit h;
+    h.hit = false;
+    if (ndfmipGeometryType == 0) {
+        float denom = dot(ray.direction, ndfmipNormal);
+        if (abs(denom) < 1e-12f) return h;
+        float t = dot(ndfmipCenter - ray.origin, ndfmipNormal) / denom;
+        if (!(t > 0.0f)) return h;
+        vec3 p = ray.origin + t * ray.direction;
+        vec3 bitangent = cross(ndfmipNormal, ndfmipTangent);
+        vec3 d = p - ndfmipCenter;
+        float s = dot(d, ndfmipTangent) / ndfmipPlaneSize.x + 0.5f;
+        float r = 0.5f - dot(d, bitangent) / ndfmipPlaneSize.y;
+        if (s < 0.0f || s > 1.0f || r < 0.0f || r > 1.0f) return h;
+        h.hit = true;
+        h.position = p;
+        h.uv = vec2(s * ndfmipTiling.x, r * ndfmipTiling.y);
+        h.tangent = ndfmipTangent;
+        h.bitangent = bitangent;
+        h.normal = ndfmipNormal;
+        h.dpdu = ndfmipTangent * (ndfmipPlaneSize.x / ndfmipTiling.x);
+        h.dpdv = -bitangent * (ndfmipPlaneSize.y / ndfmipTiling.y);
+        return h;
+    }
+    vec3 oc = ray.origin - ndfmipCenter;
+    float b = dot(oc, ray.direction);
+    float c = dot(oc, oc) - ndfmipRadius * ndfmipRadius;
+    float disc = b * b - c;
+    if (disc < 0.0f) return h;
+    float root = sqrt(disc);
+    float t = -b - root;
+    if (!(t > 0.0f)) t = -b + root;
+    if (!(t > 0.0f)) return h;
+    vec3 p = ray.origin + t * ray.direction;
+    vec3 n = normalize(p - ndfmipCenter);
+    float theta = acos(clamp(n.z, -1.0f, 1.0f));
+    float phi = atan(n.y, n.x);
+    if (phi < 0.0f) phi += 2.0f * NDFMIP_PI;
+    h.hit = true;
+    h.position = p;
+    h.uv = vec2(phi / (2.0f * NDFMIP_PI) * ndfmipTiling.x, theta / NDFMIP_PI * ndfmipTiling.y);
+    h.normal = n;
+    h.tangent = vec3(-sin(phi), cos(phi), 0.0f);
+    h.bitangent = cross(h.normal, h.tangent);
+    h.dpdu = vec3(-sin(phi), cos(phi), 0.0f) * (ndfmipRadius * sin(theta) * 2.0f * NDFMIP_PI / ndfmipTiling.x);
+    h.dpdv = vec3(cos(theta) * cos(phi), cos(theta) * sin(phi), -sin(theta)) * (ndfmipRadius * NDFMIP_PI / ndfmipTiling.y);
+    return h;
+}
+
+// uv offset to where the ray through (qx, qy) meets the hit's tangent plane (ray differentials).
+vec2 ndfmipUvOffset(NdfmipHit hit, float qx, float qy) {
+    NdfmipRay r = ndfmipCameraRay(qx, qy);
+    float denom = dot(r.direction, hit.normal);
+    if (abs(denom) < 1e-12f) return vec2(0.0f);
+    float t = dot(hit.position - r.origin, hit.normal) / denom;
+    vec3 dp = r.origin + t * r.direction - hit.position;
+    float a = dot(hit.dpdu, hit.dpdu);
+    float b = dot(hit.dpdu, hit.dpdv);
+    float c = dot(hit.dpdv, hit.dpdv);
+    float ru = dot(dp, hit.dpdu);
+    float rv = dot(dp, hit.dpdv);
+    float det = a * c - b * b;
+    if (abs(det) < 1e-20f) return vec2(0.0f);
+    return vec2((c * ru - b * rv) / det, (a * rv - b * ru) / det);
+}
+
+vec3 ndfmipToTangent(NdfmipHit hit, vec3 w) { return vec3(dot(w, hit.tangent), dot(w, hit.bitangent), dot(w, hit.normal)); }

@@ -1,0 +1,13 @@
+// Render glue for the vmf bake: layers "lobe0" .. "lobe<J-1>" (NDFMIP_LOBES = J, set by the
+// renderer), then, with NDFMIP_LOBE_COLOURS, "color0" .. whose colours replace the albedo.
+vec3 ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v) {
+    vec3 sum = vec3(0.0f);
+    for (int j = 0; j < NDFMIP_LOBES; ++j) {
+        vec3 lobeAlbedo = albedo;
+#ifdef NDFMIP_LOBE_COLOURS
+        lobeAlbedo = p[j].x > 0.0f ? p[NDFMIP_LOBES + j].rgb / p[j].x * ndfmipMaterialAlbedo : vec3(0.0f);
+#endif
+        sum += ndfmipShadeVmfLobe(ndfmipMaterial, lobeAlbedo, p[j], l, v);
+    }
+    return sum;
+}
