@@ -1,7 +1,7 @@
 // ndfmip's GPU renderer, fragment stage: per pixel the CPU renderer's filtering rule (K x K
 // sub-samples, LOD from ray differentials plus a bias, anisotropic probes along the major
 // axis), each lookup either the hardware's trilinear filtering of the bake's planes (blend
-// parameters, then shade) or the eight texels of the trilinear footprint shaded one by one.
+// parameters over the probes, then shade) or the texels of every probe shaded one by one.
 // Needs the library, raycast.glsl and the method's render/<method>.glsl, which defines
 // NDFMIP_LAYERS (or the renderer does) and ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v).
 
@@ -54,20 +54,22 @@ int ndfmipWrap1(int i, int n) {
 }
 ivec2 ndfmipWrap(ivec2 i, ivec2 n) { return ivec2(ndfmipWrap1(i.x, n.x), ndfmipWrap1(i.y, n.y)); }
 
-// One trilinear probe at `lod`, weight `weight`.
-vec3 ndfmipProbe(NdfmipHit hit, vec3 view, vec2 uv, float lod, float weight) {
+// Parameter blending: the probe's planes as the hardware filters them (trilinear at `lod`),
+// added with weight `weight` into p and albedo.
+void ndfmipAddFiltered(vec2 uv, float lod, float weight, inout vec4 p[NDFMIP_LAYERS], inout vec3 albedo) {
+    lod = clamp(lod, 0.0f, float(ndfmipLevelCount - 1));
+    for (int k = 0; k < NDFMIP_LAYERS; ++k) p[k] += weight * textureLod(ndfmipPlanes, vec3(uv, float(k)), lod);
+    if (ndfmipHasAlbedoMap) albedo += weight * textureLod(ndfmipPlanes, vec3(uv, float(NDFMIP_LAYERS)), lod).rgb;
+}
+
+// Texel shading: the eight texels of a trilinear probe at `lod`, each shaded, with weight `weight`.
+vec3 ndfmipShadeProbeTexels(NdfmipHit hit, vec3 view, vec2 uv, float lod, float weight) {
     int last = ndfmipLevelCount - 1;
     lod = clamp(lod, 0.0f, float(last));
-    vec4 p[NDFMIP_LAYERS];
-    if (!ndfmipShadeEachTexel) {
-        for (int k = 0; k < NDFMIP_LAYERS; ++k) p[k] = textureLod(ndfmipPlanes, vec3(uv, float(k)), lod);
-        vec3 albedo = ndfmipMaterialAlbedo;
-        if (ndfmipHasAlbedoMap) albedo *= textureLod(ndfmipPlanes, vec3(uv, float(NDFMIP_LAYERS)), lod).rgb;
-        return weight * ndfmipShadeLights(p, albedo, hit, view);
-    }
     int k0 = int(floor(lod));
     int k1 = min(k0 + 1, last);
     float f = lod - float(k0);
+    vec4 p[NDFMIP_LAYERS];
     vec3 sum = vec3(0.0f);
     for (int level = 0; level < 2; ++level) {
         float levelWeight = level == 0 ? 1.0f - f : f;
@@ -92,7 +94,9 @@ vec3 ndfmipProbe(NdfmipHit hit, vec3 view, vec2 uv, float lod, float weight) {
     return sum;
 }
 
-// The lookup at a hit with footprint (dx, dy) in uv: anisotropic probes along the major axis.
+// The lookup at a hit with footprint (dx, dy) in uv: one trilinear probe, or anisotropic probes
+// along the major axis; parameters blended over all of them and shaded once, or every texel
+// shaded.
 vec3 ndfmipLookup(NdfmipHit hit, vec3 view, vec2 dx, vec2 dy) {
     vec2 size = vec2(textureSize(ndfmipPlanes, 0).xy);
     float lx = length(dx * size);
@@ -101,15 +105,19 @@ vec3 ndfmipLookup(NdfmipHit hit, vec3 view, vec2 dx, vec2 dy) {
     float minor = min(lx, ly);
     int probes = 1;
     if (ndfmipAnisotropy > 1 && minor > 0.0f) probes = clamp(int(ceil(major / minor)), 1, ndfmipAnisotropy);
-    if (probes == 1) return ndfmipProbe(hit, view, hit.uv, (major > 0.0f ? log2(major) : 0.0f) + ndfmipLodBias, 1.0f);
     vec2 axis = lx >= ly ? dx : dy;
-    float lod = log2(major / float(probes)) + ndfmipLodBias;
+    float lod = (probes == 1 ? (major > 0.0f ? log2(major) : 0.0f) : log2(major / float(probes))) + ndfmipLodBias;
+    vec4 p[NDFMIP_LAYERS];
+    for (int k = 0; k < NDFMIP_LAYERS; ++k) p[k] = vec4(0.0f);
+    vec3 albedo = vec3(0.0f);
     vec3 sum = vec3(0.0f);
     for (int i = 0; i < probes; ++i) {
-        float t = (float(i) + 0.5f) / float(probes) - 0.5f;
-        sum += ndfmipProbe(hit, view, hit.uv + t * axis, lod, 1.0f / float(probes));
+        vec2 uv = probes == 1 ? hit.uv : hit.uv + ((float(i) + 0.5f) / float(probes) - 0.5f) * axis;
+        if (ndfmipShadeEachTexel) sum += ndfmipShadeProbeTexels(hit, view, uv, lod, 1.0f / float(probes));
+        else ndfmipAddFiltered(uv, lod, 1.0f / float(probes), p, albedo);
     }
-    return sum;
+    if (ndfmipShadeEachTexel) return sum;
+    return ndfmipShadeLights(p, ndfmipHasAlbedoMap ? ndfmipMaterialAlbedo * albedo : ndfmipMaterialAlbedo, hit, view);
 }
 
 void main() {

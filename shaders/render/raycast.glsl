@@ -88,17 +88,23 @@ NdfmipHit ndfmipIntersect(NdfmipRay ray) {
     if (!(t > 0.0f)) return h;
     vec3 p = ray.origin + t * ray.direction;
     vec3 n = normalize(p - ndfmipCenter);
-    float theta = acos(clamp(n.z, -1.0f, 1.0f));
+    // The frame from n itself, not from sin and cos of the angles (GPUs' trig functions are
+    // approximations; these agree with the CPU's to rounding).
+    float sinTheta = sqrt(n.x * n.x + n.y * n.y);
+    float cosTheta = clamp(n.z, -1.0f, 1.0f);
+    float theta = atan(sinTheta, cosTheta);
     float phi = atan(n.y, n.x);
     if (phi < 0.0f) phi += 2.0f * NDFMIP_PI;
+    float cosPhi = sinTheta > 0.0f ? n.x / sinTheta : 1.0f;
+    float sinPhi = sinTheta > 0.0f ? n.y / sinTheta : 0.0f;
     h.hit = true;
     h.position = p;
     h.uv = vec2(phi / (2.0f * NDFMIP_PI) * ndfmipTiling.x, theta / NDFMIP_PI * ndfmipTiling.y);
     h.normal = n;
-    h.tangent = vec3(-sin(phi), cos(phi), 0.0f);
+    h.tangent = vec3(-sinPhi, cosPhi, 0.0f);
     h.bitangent = cross(h.normal, h.tangent);
-    h.dpdu = vec3(-sin(phi), cos(phi), 0.0f) * (ndfmipRadius * sin(theta) * 2.0f * NDFMIP_PI / ndfmipTiling.x);
-    h.dpdv = vec3(cos(theta) * cos(phi), cos(theta) * sin(phi), -sin(theta)) * (ndfmipRadius * NDFMIP_PI / ndfmipTiling.y);
+    h.dpdu = vec3(-sinPhi, cosPhi, 0.0f) * (ndfmipRadius * sinTheta * 2.0f * NDFMIP_PI / ndfmipTiling.x);
+    h.dpdv = vec3(cosTheta * cosPhi, cosTheta * sinPhi, -sinTheta) * (ndfmipRadius * NDFMIP_PI / ndfmipTiling.y);
     return h;
 }
 
