@@ -15,7 +15,9 @@ namespace ndfmip {
 
 struct GpuRenderStats {
     std::string device;            // "GL_RENDERER, GL_VERSION"
-    std::vector<double> frameMs;   // GPU time of each drawn frame (GL timer queries, no readback)
+    std::vector<double> frameMs;     // GPU time of each drawn frame (GL timer queries, no readback)
+    std::vector<double> frameWallMs; // the same frames on the wall clock, draw to glFinish (llvmpipe's
+                                     // timer queries do not measure its rendering threads)
     double compileMs = 0.0;        // shader compilation and texture upload, wall clock
 };
 

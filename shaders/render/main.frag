@@ -17,9 +17,9 @@ uniform vec3 ndfmipLightColor[NDFMIP_MAX_LIGHTS];
 uniform int ndfmipTaps;
 uniform float ndfmipLodBias;
 uniform int ndfmipAnisotropy;
-uniform bool ndfmipShadeEachTexel;
+uniform int ndfmipShadeEachTexel; // 1: texel shading, 0: parameter blending
 uniform vec2 ndfmipPixelShift;
-uniform bool ndfmipHasAlbedoMap; // its RGB in layer NDFMIP_LAYERS
+uniform int ndfmipHasAlbedoMap; // 1: its RGB in layer NDFMIP_LAYERS (ints: SPIR-V has no bool uniforms)
 
 // The bake's linear planes, one layer each (RGBA), ndfmip's own levels as the mips.
 uniform sampler2DArray ndfmipPlanes;
@@ -59,7 +59,7 @@ ivec2 ndfmipWrap(ivec2 i, ivec2 n) { return ivec2(ndfmipWrap1(i.x, n.x), ndfmipW
 void ndfmipAddFiltered(vec2 uv, float lod, float weight, inout vec4 p[NDFMIP_LAYERS], inout vec3 albedo) {
     lod = clamp(lod, 0.0f, float(ndfmipLevelCount - 1));
     for (int k = 0; k < NDFMIP_LAYERS; ++k) p[k] += weight * textureLod(ndfmipPlanes, vec3(uv, float(k)), lod);
-    if (ndfmipHasAlbedoMap) albedo += weight * textureLod(ndfmipPlanes, vec3(uv, float(NDFMIP_LAYERS)), lod).rgb;
+    if (ndfmipHasAlbedoMap != 0) albedo += weight * textureLod(ndfmipPlanes, vec3(uv, float(NDFMIP_LAYERS)), lod).rgb;
 }
 
 // Texel shading: the eight texels of a trilinear probe at `lod`, each shaded, with weight `weight`.
@@ -87,7 +87,7 @@ vec3 ndfmipShadeProbeTexels(NdfmipHit hit, vec3 view, vec2 uv, float lod, float 
             ivec2 texel = ndfmipWrap(ivec2(x0) + offset, size);
             for (int c = 0; c < NDFMIP_LAYERS; ++c) p[c] = texelFetch(ndfmipPlanes, ivec3(texel, c), k);
             vec3 albedo = ndfmipMaterialAlbedo;
-            if (ndfmipHasAlbedoMap) albedo *= texelFetch(ndfmipPlanes, ivec3(texel, NDFMIP_LAYERS), k).rgb;
+            if (ndfmipHasAlbedoMap != 0) albedo *= texelFetch(ndfmipPlanes, ivec3(texel, NDFMIP_LAYERS), k).rgb;
             sum += (weight * levelWeight * w) * ndfmipShadeLights(p, albedo, hit, view);
         }
     }
@@ -113,11 +113,11 @@ vec3 ndfmipLookup(NdfmipHit hit, vec3 view, vec2 dx, vec2 dy) {
     vec3 sum = vec3(0.0f);
     for (int i = 0; i < probes; ++i) {
         vec2 uv = probes == 1 ? hit.uv : hit.uv + ((float(i) + 0.5f) / float(probes) - 0.5f) * axis;
-        if (ndfmipShadeEachTexel) sum += ndfmipShadeProbeTexels(hit, view, uv, lod, 1.0f / float(probes));
+        if (ndfmipShadeEachTexel != 0) sum += ndfmipShadeProbeTexels(hit, view, uv, lod, 1.0f / float(probes));
         else ndfmipAddFiltered(uv, lod, 1.0f / float(probes), p, albedo);
     }
-    if (ndfmipShadeEachTexel) return sum;
-    return ndfmipShadeLights(p, ndfmipHasAlbedoMap ? ndfmipMaterialAlbedo * albedo : ndfmipMaterialAlbedo, hit, view);
+    if (ndfmipShadeEachTexel != 0) return sum;
+    return ndfmipShadeLights(p, ndfmipHasAlbedoMap != 0 ? ndfmipMaterialAlbedo * albedo : ndfmipMaterialAlbedo, hit, view);
 }
 
 void main() {

@@ -1,7 +1,7 @@
 // Render glue for an engine's normal mipmap with roughness mips: layer 0 = the naive bake's
 // "normal", layer 1 = the roughness (perceptual unless ndfmipRoughnessIsAlpha).
 #define NDFMIP_LAYERS 2
-uniform bool ndfmipRoughnessIsAlpha;
+uniform int ndfmipRoughnessIsAlpha; // 1: alpha, 0: perceptual
 vec3 ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v) {
-    return ndfmipShadeRoughnessMips(ndfmipMaterial, albedo, p[0].xyz, p[1].x, ndfmipRoughnessIsAlpha, l, v);
+    return ndfmipShadeRoughnessMips(ndfmipMaterial, albedo, p[0].xyz, p[1].x, ndfmipRoughnessIsAlpha != 0, l, v);
 }

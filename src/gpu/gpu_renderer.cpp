@@ -289,16 +289,23 @@ Result<Image> renderGpu(const Scene& scene, const RenderTextures& textures, cons
         stats->device = gl->description();
         stats->compileMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
         stats->frameMs.clear();
+        stats->frameWallMs.clear();
     }
     GlQuery query;
     glCreateQueries(GL_TIME_ELAPSED, 1, &query.id);
     for (int f = 0; f < frames; ++f) {
+        const auto frameStart = std::chrono::steady_clock::now();
         glBeginQuery(GL_TIME_ELAPSED, query.id);
         glDrawArrays(GL_TRIANGLES, 0, 3);
         glEndQuery(GL_TIME_ELAPSED);
         GLuint64 nanoseconds = 0;
-        glGetQueryObjectui64v(query.id, GL_QUERY_RESULT, &nanoseconds);
-        if (stats) stats->frameMs.push_back(double(nanoseconds) * 1e-6);
+        glGetQueryObjectui64v(query.id, GL_QUERY_RESULT, &nanoseconds); // waits for the frame
+        glFinish();
+        if (stats) {
+            stats->frameMs.push_back(double(nanoseconds) * 1e-6);
+            stats->frameWallMs.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart).count());
+        }
     }
     std::vector<float> rgba(size_t(width) * size_t(height) * 4);
     glReadnPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, GLsizei(rgba.size() * sizeof(float)), rgba.data());

@@ -28,6 +28,7 @@ struct RenderArgs {
     int anisotropy = 1;
     int frames = 0;
     int order = 7; // sh baked on the fly
+    int lobes = 4; // vmf baked on the fly
     uint64_t seed = 1;
     bool nearest = false;
     FilteringArgs filtering;
@@ -93,6 +94,7 @@ void runRender(const RenderArgs& a) {
         } else {
             BakeOptions bakeOptions;
             bakeOptions.shOrder = a.order;
+            bakeOptions.vmfLobes = a.lobes;
             bakeOptions.albedo = albedo;
             checkBakeMemoryOrFail(scene->normalMap.path, *methodFromString(bakeName), bakeOptions,
                                   textures.normals->width, textures.normals->height);
@@ -142,10 +144,14 @@ void runRender(const RenderArgs& a) {
                 png.empty() ? "" : ", ", png.c_str());
     if (flicker >= 0.0) std::printf("flicker (%d frames): %.5f\n", a.frames, flicker);
     if (a.gpu && !gpuStats.frameMs.empty()) {
-        std::vector<double> ms = gpuStats.frameMs;
-        std::sort(ms.begin(), ms.end());
-        std::printf("gpu: %s: frame %.3f ms (median of %zu, GL timer queries), setup %.0f ms\n",
-                    gpuStats.device.c_str(), ms[ms.size() / 2], ms.size(), gpuStats.compileMs);
+        auto median = [](std::vector<double> ms) {
+            std::sort(ms.begin(), ms.end());
+            return ms[ms.size() / 2];
+        };
+        std::printf("gpu: %s: frame %.3f ms GL timer query, %.3f ms draw to glFinish (medians of %zu), "
+                    "setup %.0f ms\n",
+                    gpuStats.device.c_str(), median(gpuStats.frameMs), median(gpuStats.frameWallMs),
+                    gpuStats.frameMs.size(), gpuStats.compileMs);
     }
 }
 
@@ -163,6 +169,8 @@ void addRenderCommand(CLI::App& app) {
     c->add_flag("--nearest", a->nearest, "the same as --truth box");
     c->add_option("--aniso", a->anisotropy, "methods: anisotropic probes along the footprint (1 = trilinear)")
         ->check(CLI::Range(1, 64))->capture_default_str();
+    c->add_option("--lobes", a->lobes, "vmf baked on the fly: lobes per texel J")
+        ->check(CLI::Range(1, 8))->capture_default_str();
     c->add_option("--order", a->order, "sh baked on the fly: highest band l*")
         ->check(CLI::Range(1, kMaxShOrder))->capture_default_str();
     c->add_option("--bake", a->bake, "use this bake directory instead of baking the scene's map");
