@@ -1,7 +1,7 @@
 # cmake -P: writes OUTPUT, a C++ file holding every file of SOURCES (comma-separated paths
 # relative to ROOT) as a raw string, so the library carries its own shaders wherever it goes.
 string(REPLACE "," ";" SOURCES "${SOURCES}")
-set(text "// Generated from shaders/ by cmake/EmbedShaders.cmake; do not edit.\n#include \"gpu/embedded_shaders.h\"\n\nnamespace ndfmip {\n\nconst std::vector<EmbeddedShader>& embeddedShaders() {\n    static const std::vector<EmbeddedShader> shaders = {\n")
+set(text "// Generated from shaders/ by cmake/EmbedShaders.cmake; do not edit.\n#include \"render/embedded_shaders.h\"\n\nnamespace ndfmip {\n\nconst std::vector<EmbeddedShader>& embeddedShaders() {\n    static const std::vector<EmbeddedShader> shaders = {\n")
 foreach(file ${SOURCES})
     file(READ ${ROOT}/${file} content)
     string(FIND "${content}" ")ndfmip\"" clash)

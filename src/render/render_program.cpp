@@ -1,0 +1,172 @@
+// The GPU renderer's program, API-free (see render_program.h).
+#include "render/render_program.h"
+
+#include "render/embedded_shaders.h"
+
+namespace ndfmip {
+
+namespace {
+
+// The library's files in the order they depend on each other, then the ray caster.
+const char* const kLibraryFiles[] = {"brdf.glsl", "naive.glsl", "toksvig.glsl", "toksvig_lut.glsl",
+                                     "sh.glsl",   "vmf.glsl",   "lean.glsl",    "render/raycast.glsl"};
+
+Result<std::string> embedded(const std::string& path) {
+    for (const EmbeddedShader& s : embeddedShaders())
+        if (s.path == path) return std::string(s.text);
+    return Error{"GPU: no shader file " + path + " in this build"};
+}
+
+void add(std::vector<UniformValue>& u, const std::string& name, int v) { u.push_back({name, true, {float(v)}}); }
+void add(std::vector<UniformValue>& u, const std::string& name, float v) { u.push_back({name, false, {v}}); }
+void add(std::vector<UniformValue>& u, const std::string& name, glm::vec2 v) { u.push_back({name, false, {v.x, v.y}}); }
+void add(std::vector<UniformValue>& u, const std::string& name, glm::vec3 v) {
+    u.push_back({name, false, {v.x, v.y, v.z}});
+}
+
+} // namespace
+
+const char* renderVertexShader() {
+    return R"(// One triangle covering the viewport.
+void main() {
+    vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+    gl_Position = vec4(2.0 * p - 1.0, 0.0, 1.0);
+}
+)";
+}
+
+Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& textures, const std::string& method,
+                                    const RenderOptions& options) {
+    RenderProgram program;
+    if (method == kGroundTruth || method == kExact)
+        return Error{"render --gpu: '" + method + "' is rendered on the CPU only"};
+    program.shader = findShader(method);
+    if (!program.shader)
+        return Error{"render --gpu: unknown method " + quote(method) + " (expected " + renderMethodNames() + ")"};
+    const MethodShader& shader = *program.shader;
+    const Material& m = scene.material;
+    if (m.brdf == Brdf::Tabulated || m.factor) return Error{"render --gpu: tabulated BRDFs are rendered on the CPU only"};
+    if (scene.lights.size() > size_t(kGpuMaxLights))
+        return Error{"render --gpu: at most " + std::to_string(kGpuMaxLights) + " lights, the scene has " +
+                     std::to_string(scene.lights.size())};
+    if (options.spp != 1) return Error{"render --gpu: methods take one sample per pixel (--spp is the ground truth's)"};
+    if (options.taps < 1 || options.taps > 16) return Error{"render --gpu: taps must be in 1 .. 16"};
+    if (options.anisotropy < 1 || options.anisotropy > 64) return Error{"render --gpu: anisotropy must be in 1 .. 64"};
+    if (scene.camera.width < 1 || scene.camera.height < 1) return Error{"render --gpu: the camera's image is empty"};
+    const Bake& bake = textures.bake;
+    if (bake.levels.empty() || bake.method != shader.bake)
+        return Error{"render --gpu: no bake of method '" + std::string(methodName(shader.bake)) + "' to render with"};
+    if (Status ready = shader.prepare(m, textures, options, program.setup); !ready) return Error{ready.error};
+    const ShaderSetup& setup = program.setup;
+    if (shader.bake == Method::Sh && setup.sh.order > kGpuMaxShOrder)
+        return Error{"render --gpu: sh bakes up to order " + std::to_string(kGpuMaxShOrder) + " (this one is " +
+                     std::to_string(setup.sh.order) + ")"};
+
+    // Layers: the linear planes, then the roughness mips (roughness-mips), then the albedo map.
+    auto& layers = program.layers;
+    for (size_t p = 0; p < bake.planes.size(); ++p) {
+        if (!bake.planes[p].linear) continue;
+        if (bake.levels.front()[p]->channels > 4) return Error{"render --gpu: planes of more than 4 channels"};
+        std::vector<const Image*> chain;
+        for (const auto& level : bake.levels) chain.push_back(level[p].get());
+        layers.push_back(chain);
+    }
+    if (method == kRoughnessMips) {
+        if (textures.roughness.size() != bake.levels.size())
+            return Error{"render --gpu: roughness-mips needs a roughness image per level"};
+        std::vector<const Image*> chain;
+        for (const SharedImage& r : textures.roughness) chain.push_back(r.get());
+        layers.push_back(chain);
+    }
+    const int methodLayers = int(layers.size());
+    const bool albedoMap = !textures.albedo.empty();
+    if (albedoMap) {
+        if (textures.albedo.size() < bake.levels.size())
+            return Error{"render --gpu: the albedo map has fewer levels than the bake"};
+        std::vector<const Image*> chain;
+        for (size_t k = 0; k < bake.levels.size(); ++k) chain.push_back(textures.albedo[k].get());
+        layers.push_back(chain);
+    }
+    for (const auto& chain : layers)
+        for (size_t k = 0; k < chain.size(); ++k)
+            if (chain[k]->width != bake.levels[k].front()->width || chain[k]->height != bake.levels[k].front()->height)
+                return Error{"render --gpu: level " + std::to_string(k) + " of a texture differs in size from the bake's"};
+
+    // The fragment shader: defines, the library, the ray caster, the method's glue, the main.
+    std::string defines;
+    if (shader.bake == Method::Sh || shader.bake == Method::Vmf)
+        defines += "#define NDFMIP_LAYERS " + std::to_string(methodLayers) + "\n";
+    if (shader.bake == Method::Vmf) {
+        defines += "#define NDFMIP_LOBES " + std::to_string(setup.vmfLobes) + "\n";
+        if (setup.vmfColors) defines += "#define NDFMIP_LOBE_COLOURS\n";
+    }
+    program.fragmentParts.emplace_back("<defines>", defines);
+    std::vector<std::string> files(std::begin(kLibraryFiles), std::end(kLibraryFiles));
+    files.push_back(shader.glsl);
+    files.push_back("render/main.frag");
+    for (const std::string& file : files) {
+        Result<std::string> text = embedded(file);
+        if (!text) return text.error();
+        program.fragmentParts.emplace_back(file, std::move(text.value()));
+    }
+
+    // Uniforms: camera, object, material, lights, filtering rule, method.
+    auto& u = program.uniforms;
+    const CameraFrame camera = cameraFrame(scene.camera);
+    add(u, "ndfmipCameraType", scene.camera.type == CameraType::Orthographic ? 1 : 0);
+    add(u, "ndfmipEye", camera.eye);
+    add(u, "ndfmipForward", camera.forward);
+    add(u, "ndfmipRight", camera.right);
+    add(u, "ndfmipUp", camera.up);
+    add(u, "ndfmipHalfSize", glm::vec2(camera.halfWidth, camera.halfHeight));
+    add(u, "ndfmipImageSize", glm::vec2(camera.width, camera.height));
+    const Geometry& g = scene.geometry;
+    add(u, "ndfmipGeometryType", g.type == GeometryType::Plane ? 0 : 1);
+    add(u, "ndfmipCenter", g.center);
+    add(u, "ndfmipNormal", g.normal);
+    add(u, "ndfmipTangent", g.tangent);
+    add(u, "ndfmipPlaneSize", g.size);
+    add(u, "ndfmipTiling", g.tiling);
+    add(u, "ndfmipRadius", g.radius);
+    const GlslMaterial material = glslMaterial(m);
+    add(u, "ndfmipMaterial.brdf", material.brdf);
+    add(u, "ndfmipMaterial.exponent", material.exponent);
+    add(u, "ndfmipMaterial.roughness", material.roughness);
+    add(u, "ndfmipMaterial.specular", material.specular);
+    add(u, "ndfmipMaterialAlbedo", m.albedo);
+    add(u, "ndfmipBackground", scene.background);
+    add(u, "ndfmipLightCount", int(scene.lights.size()));
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& light = scene.lights[i];
+        const std::string index = "[" + std::to_string(i) + "]";
+        add(u, "ndfmipLightType" + index, light.type == LightType::Point ? 1 : 0);
+        add(u, "ndfmipLightDirection" + index, light.direction);
+        add(u, "ndfmipLightPosition" + index, light.position);
+        add(u, "ndfmipLightColor" + index, light.color);
+    }
+    add(u, "ndfmipTaps", options.taps);
+    add(u, "ndfmipLodBias", options.lodBias);
+    add(u, "ndfmipAnisotropy", options.anisotropy);
+    add(u, "ndfmipShadeEachTexel", options.shadeFilter == ShadeFilter::Texel ? 1 : 0);
+    add(u, "ndfmipPixelShift", options.pixelShift);
+    add(u, "ndfmipHasAlbedoMap", albedoMap ? 1 : 0);
+    add(u, "ndfmipLevelCount", int(bake.levels.size()));
+    add(u, "ndfmipPlanes", 0);
+    if (method == kToksvigLut) add(u, "ndfmipLut", 1);
+    if (shader.bake == Method::Toksvig && method != kToksvigLut) {
+        add(u, "ndfmipMapping", int(setup.mapping));
+        add(u, "ndfmipVarianceScale", setup.varianceScale);
+    }
+    if (method == kRoughnessMips) add(u, "ndfmipRoughnessIsAlpha", setup.roughnessIsAlpha ? 1 : 0);
+    if (shader.bake == Method::Sh) {
+        add(u, "ndfmipShOrder", setup.sh.order);
+        for (int l = 0; l <= setup.sh.order; ++l) {
+            const std::string index = "[" + std::to_string(l) + "]";
+            add(u, "ndfmipShDiffuse" + index, float(setup.sh.diffuse[size_t(l)]));
+            add(u, "ndfmipShSpecular" + index, float(setup.sh.specular[size_t(l)]));
+        }
+    }
+    return program;
+}
+
+} // namespace ndfmip

@@ -1,0 +1,43 @@
+// What the GPU renderer draws a scene with, independent of the graphics API: the fragment
+// shader's parts (the GLSL library, the ray caster, the method's glue, the main), the bake's
+// planes as texture layers, and every uniform's value. OpenGL (src/gpu/gpu_renderer.cpp) and
+// the report's WebGL2 view (src/report/webgl_view.cpp) both draw from it.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "methods/method_unit.h"
+#include "ndfmip/render.h"
+
+namespace ndfmip {
+
+constexpr int kGpuMaxLights = 16; // NDFMIP_MAX_LIGHTS in shaders/render/main.frag
+constexpr int kGpuMaxShOrder = 10; // NDFMIP_SH_MAX_ORDER in shaders/sh.glsl
+
+struct UniformValue {
+    std::string name;
+    bool integer = false;
+    std::vector<float> values; // 1 to 3 components
+};
+
+struct RenderProgram {
+    const MethodShader* shader = nullptr;
+    ShaderSetup setup;
+    // The fragment shader after its #version line: (file name, text) in order.
+    std::vector<std::pair<std::string, std::string>> fragmentParts;
+    // One layer per linear plane (at most 4 channels), then roughness mips, then the albedo
+    // map: layers[layer][level].
+    std::vector<std::vector<const Image*>> layers;
+    std::vector<UniformValue> uniforms; // the scene's, the rule's and the method's
+};
+
+// The full-screen triangle's vertex stage, after its #version line.
+const char* renderVertexShader();
+
+// Checks that the GPU path can draw `method` (errors, one line, as renderGpu's) and assembles it.
+Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& textures, const std::string& method,
+                                    const RenderOptions& options);
+
+} // namespace ndfmip
