@@ -73,7 +73,9 @@ float ndfmipSpecularCosine(vec3 mu, float kappa, float lobeKappa, vec3 h, vec3 l
     vec3 w = kappa * mu + lobeKappa * h;
     float k = sqrt(dot(w, w));
     if (!(k > 0.0f)) return 0.0f;
-    float meanLength = k < 1e-3f ? k / 3.0f : 1.0f / tanh(k) - 1.0f / k;
+    // coth(k) - 1/k; coth is 1 to float precision beyond k = 20, and some GPUs' tanh overflows
+    // to NaN there (exp(2k) / exp(2k)).
+    float meanLength = k < 1e-3f ? k / 3.0f : (k > 20.0f ? 1.0f : 1.0f / tanh(k)) - 1.0f / k;
     return max(meanLength * dot(w, l) / k, 0.0f);
 }
 

@@ -489,6 +489,7 @@ std::string renderReportHtml(const EvalReport& report) {
                 "Rel. RMSE: geometric mean over maps and BRDF settings (lowest in bold)", true,
                 meanOf(&ReportCase::relRmse, true));
         html += plots(report, d);
+        html += report.liveView;
         html += "<h2>Flicker</h2>";
         html += methodFootprintTable(withTruth, d.footprints,
                                      "Flicker: arithmetic mean over maps and BRDF settings; the "

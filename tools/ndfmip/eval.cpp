@@ -23,6 +23,8 @@
 #include "ndfmip/render.h"
 #include "ndfmip/spherical_harmonics.h"
 #include "ndfmip/tonemap.h"
+#include "render/render_program.h"
+#include "report/webgl_view.h"
 
 namespace ndfmip::cli {
 namespace {
@@ -47,6 +49,7 @@ struct EvalArgs {
     std::vector<float> calibrationRoughness{0.05f, 0.1f, 0.2f, 0.3f, 0.5f};
     std::vector<float> calibrationScales{0.25f, 0.5f, 0.75f, 1.f, 1.5f, 2.f, 3.f, 4.f};
     bool allImages = false;
+    bool webgl = true; // the report's live WebGL2 view of the first map
     float coherence = 0.f; // vmf methods: C of eq. 32
     bool quiet = false;
     bool aligned = false;                 // pixel = one texel of the level, on the texel grid
@@ -222,6 +225,69 @@ struct MapData {
     std::map<std::string, std::vector<SharedImage>> roughness; // external mips by "NAME alpha"
 };
 
+int viewPixels(const MapData& map, int footprint, int maxPixels) {
+    return std::clamp((std::max(map.normals->width, map.normals->height) + footprint - 1) / footprint, 32,
+                      std::max(32, maxPixels));
+}
+
+// The report's WebGL2 view of `map`: its baked methods that the GPU shaders draw, at the
+// footprints >= 2, one plain trilinear lookup per pixel (what WebGL's sampler gives), with the
+// CPU renderer's image of the first for the page's own check. Float data kept under ~32 MB.
+std::string liveViewOf(const MapData& map, const EvalArgs& a, const std::vector<MethodSpec>& specs,
+                       const Material& material, glm::vec2 shift) {
+    WebglView view;
+    view.map = map.name;
+    for (int f : a.footprints)
+        if (f >= 2) view.footprints.push_back(f);
+    if (view.footprints.empty()) return "";
+    const int smallest = *std::min_element(view.footprints.begin(), view.footprints.end());
+    view.baseLevel = std::max(0, int(std::floor(std::log2(double(smallest)))) - 1);
+    view.baseLevel = std::min(view.baseLevel, int(map.pyramid.levels.size()) - 1);
+    RenderOptions plain;
+    plain.taps = 1;
+    plain.lodBias = 0.f;
+    plain.shadeFilter = ShadeFilter::Parameter;
+    const double texels = double(map.normals->width >> view.baseLevel) * double(map.normals->height >> view.baseLevel);
+    double bytes = 0.0;
+    // vMF first: the page checks its first method against the CPU.
+    std::vector<MethodSpec> ordered = specs;
+    std::stable_partition(ordered.begin(), ordered.end(), [](const MethodSpec& m) { return m.render == "vmf"; });
+    for (const MethodSpec& spec : ordered) {
+        if (!spec.baked || spec.render == kToksvigLut || !map.bakes.count(spec.label)) continue;
+        RenderTextures t;
+        t.normals = map.normals;
+        t.bake = map.bakes.at(spec.label);
+        WebglMethod method;
+        method.label = spec.label;
+        bool drawable = true;
+        for (int footprint : view.footprints) {
+            Scene scene = evalScene(map.normals->width, map.normals->height, footprint, viewPixels(map, footprint, a.maxPixels), shift);
+            scene.material = material;
+            Result<RenderProgram> program = renderProgram(scene, t, spec.render, plain);
+            if (!program) {
+                drawable = false;
+                break;
+            }
+            method.uniforms.push_back(program->uniforms);
+            if (footprint == view.footprints.front()) method.program = std::move(program.value());
+        }
+        if (!drawable) continue;
+        const double methodBytes = double(method.program.layers.size()) * texels * 16.0 * 4.0 / 3.0;
+        if (bytes + methodBytes > 32e6) continue;
+        bytes += methodBytes;
+        if (view.methods.empty()) {
+            Scene scene = evalScene(map.normals->width, map.normals->height, view.footprints.front(),
+                                    viewPixels(map, view.footprints.front(), a.maxPixels), shift);
+            scene.material = material;
+            view.reference = renderOrFail(scene, t, spec.render, plain);
+            view.exposureStops = autoExposure(view.reference);
+        }
+        view.methods.push_back(std::move(method));
+    }
+    return webglViewHtml(view);
+}
+
+
 // An --external-roughness row: a peer's perceptual-roughness mips beside the standard normal
 // mipmap, rendered as kRoughnessMips for Beckmann and GGX settings.
 struct ExternalRoughness {
@@ -301,6 +367,12 @@ void runEval(const EvalArgs& a) {
                 if (spec.label == label) return spec.render;
             return std::string("toksvig"); // the calibration's own bake
         };
+
+        if (mapIndex == 0 && a.webgl) {
+            report.liveView = liveViewOf(map, a, specs, settings.front().material, shift);
+            if (!a.quiet && report.liveView.empty())
+                std::fprintf(stderr, "eval: no live view (no footprint >= 2, or no method the GPU shaders draw)\n");
+        }
 
         for (int footprint : a.footprints) {
             const int pixels = std::clamp((std::max(map.normals->width, map.normals->height) + footprint - 1) / footprint,
@@ -503,6 +575,7 @@ void addEvalCommand(CLI::App& app) {
     c->add_option("maps", a->maps, "normal maps")->required()->check(CLI::ExistingFile);
     addInputOptions(c, a->input);
     c->add_option("-o,--output", a->output, "report folder (report.html, report.json)")->required();
+    c->add_flag("!--no-webgl", a->webgl, "leave the live WebGL2 view out of report.html");
     c->add_option("--footprints", a->footprints, "texels per pixel side")->delimiter(',')->capture_default_str();
     c->add_option("--methods", a->methods, "methods to judge")->delimiter(',')->capture_default_str();
     c->add_option("--brdfs", a->brdfs, "lambert, blinnphong, beckmann, ggx")->delimiter(',')->capture_default_str();
