@@ -19,6 +19,7 @@ uniform float ndfmipLodBias;
 uniform int ndfmipAnisotropy;
 uniform int ndfmipShadeEachTexel; // 1: texel shading, 0: parameter blending
 uniform vec2 ndfmipPixelShift;
+uniform int ndfmipShowLevel; // 1: the LOD as false colour instead of shading (ndfmip view)
 uniform int ndfmipHasAlbedoMap; // 1: its RGB in layer NDFMIP_LAYERS (ints: SPIR-V has no bool uniforms)
 
 // The bake's linear planes, one layer each (RGBA), ndfmip's own levels as the mips.
@@ -94,19 +95,40 @@ vec3 ndfmipShadeProbeTexels(NdfmipHit hit, vec3 view, vec2 uv, float lod, float 
     return sum;
 }
 
+// The number of anisotropic probes along the footprint's major axis (as the CPU's filteredTaps).
+int ndfmipProbes(vec2 dx, vec2 dy) {
+    vec2 size = vec2(textureSize(ndfmipPlanes, 0).xy);
+    float lx = length(dx * size);
+    float ly = length(dy * size);
+    float minor = min(lx, ly);
+    if (ndfmipAnisotropy > 1 && minor > 0.0f) return clamp(int(ceil(max(lx, ly) / minor)), 1, ndfmipAnisotropy);
+    return 1;
+}
+
+// Each probe's LOD: log2 of the longer axis in level-0 texels over the probes, plus the bias.
+float ndfmipLod(vec2 dx, vec2 dy, int probes) {
+    vec2 size = vec2(textureSize(ndfmipPlanes, 0).xy);
+    float major = max(length(dx * size), length(dy * size));
+    return (probes == 1 ? (major > 0.0f ? log2(major) : 0.0f) : log2(major / float(probes))) + ndfmipLodBias;
+}
+
+// The viewer's false colour of a LOD: one hue per level, blended between levels.
+vec3 ndfmipLevelColour(float lod) {
+    lod = clamp(lod, 0.0f, float(ndfmipLevelCount - 1));
+    float k = floor(lod);
+    vec3 a = 0.5f + 0.5f * cos(6.2831853f * (k / 7.0f + vec3(0.0f, 0.33f, 0.67f)));
+    vec3 b = 0.5f + 0.5f * cos(6.2831853f * ((k + 1.0f) / 7.0f + vec3(0.0f, 0.33f, 0.67f)));
+    return mix(a, b, lod - k);
+}
+
 // The lookup at a hit with footprint (dx, dy) in uv: one trilinear probe, or anisotropic probes
 // along the major axis; parameters blended over all of them and shaded once, or every texel
 // shaded.
 vec3 ndfmipLookup(NdfmipHit hit, vec3 view, vec2 dx, vec2 dy) {
     vec2 size = vec2(textureSize(ndfmipPlanes, 0).xy);
-    float lx = length(dx * size);
-    float ly = length(dy * size);
-    float major = max(lx, ly);
-    float minor = min(lx, ly);
-    int probes = 1;
-    if (ndfmipAnisotropy > 1 && minor > 0.0f) probes = clamp(int(ceil(major / minor)), 1, ndfmipAnisotropy);
-    vec2 axis = lx >= ly ? dx : dy;
-    float lod = (probes == 1 ? (major > 0.0f ? log2(major) : 0.0f) : log2(major / float(probes))) + ndfmipLodBias;
+    int probes = ndfmipProbes(dx, dy);
+    vec2 axis = length(dx * size) >= length(dy * size) ? dx : dy;
+    float lod = ndfmipLod(dx, dy, probes);
     vec4 p[NDFMIP_LAYERS];
     for (int k = 0; k < NDFMIP_LAYERS; ++k) p[k] = vec4(0.0f);
     vec3 albedo = vec3(0.0f);
@@ -141,7 +163,8 @@ void main() {
             if (view.z <= 0.0f) continue;
             vec2 dx = ndfmipUvOffset(hit, qx + 1.0f, qy) * stepSize;
             vec2 dy = ndfmipUvOffset(hit, qx, qy + 1.0f) * stepSize;
-            sum += ndfmipLookup(hit, view, dx, dy);
+            if (ndfmipShowLevel != 0) sum += ndfmipLevelColour(ndfmipLod(dx, dy, ndfmipProbes(dx, dy)));
+            else sum += ndfmipLookup(hit, view, dx, dy);
         }
     }
     ndfmipColour = vec4(sum * (stepSize * stepSize), 1.0f);
