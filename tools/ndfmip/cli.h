@@ -29,6 +29,7 @@ void addDemoCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
+void addViewCommand(CLI::App& app);
 
 // The options that say how a file's pixels become normals (bake, demo).
 struct InputOptions {

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
     ndfmip::cli::addDemoCommand(app);
     ndfmip::cli::addCompareCommand(app);
     ndfmip::cli::addRenderCommand(app);
+    ndfmip::cli::addViewCommand(app);
     ndfmip::cli::addEvalCommand(app);
     ndfmip::cli::requireFiniteNumbers(app);
     try {
