@@ -97,6 +97,13 @@ struct BakeWriteOptions {
     // c = (n+1)/2 in the source's green convention) and, where the method has roughness,
     // roughness_L<k>.png (perceptual GGX roughness, sqrt(alpha)).
     bool png16 = false;
+    // Engine texture files with every level in DIR/ktx2 and DIR/dds (DX10 header):
+    // normal_bc5 (the unit normal's xy encoded (n+1)/2, green as the source) where the method
+    // stores a normal, roughness_bc4 (perceptual GGX roughness) where it has roughness, and
+    // <plane> for each linear plane (RGBA32F, or RGBA16F with `half`): SH coefficients, vMF
+    // lobes, mean normals, slope moments.
+    bool ktx2 = false;
+    bool dds = false;
     // Planes stored as 16-bit half floats instead of 32-bit floats (half the disk; ~3 decimal
     // digits, enough for SH coefficients and mean normals).
     bool half = false;
@@ -127,7 +134,7 @@ struct LoadedBake {
     std::map<std::string, double> parameters;
     BakeSource source;
     std::string storage = "float";    // "float" or "half"
-    std::vector<std::string> exports; // png16/<name> files
+    std::vector<std::string> exports; // png16/, ktx2/ and dds/<name> files
     std::vector<Image> level;         // planes of the requested level
 };
 

@@ -15,6 +15,7 @@
 #include "io/crash_recovery.h"
 #include "io/input_file.h"
 #include "ndfmip/bake.h"
+#include "ndfmip/texture_container.h"
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
 
@@ -73,6 +74,48 @@ Result<std::vector<std::string>> writePng16(const fs::path& folder, const Bake& 
             if (!s) return Error{s.error};
             names.push_back(name);
         }
+    }
+    return names;
+}
+
+// Writes the ktx2 or dds files (`container` "ktx2" or "dds") into `folder`; returns their names
+// relative to the bake folder.
+Result<std::vector<std::string>> writeContainers(const fs::path& folder, const Bake& bake, bool greenDown, bool half,
+                                                 const std::string& container) {
+    std::error_code ec;
+    fs::create_directory(folder / container, ec);
+    std::vector<std::string> names;
+    auto write = [&](const std::string& stem, const std::vector<const Image*>& levels, TextureFormat format) -> Status {
+        Result<EncodedTexture> texture = encodeTexture(levels, format);
+        if (!texture) return Status::failure(texture.error().message);
+        const std::string name = container + "/" + stem + "." + container;
+        const std::string bytes = container == "ktx2" ? ktx2File(texture.value()) : ddsFile(texture.value());
+        if (Status s = writeFileAtomic((folder / name).string(), bytes); !s) return s;
+        names.push_back(name);
+        return Status::success();
+    };
+    std::vector<Image> owned; // encoded normals and perceptual roughness, per level
+    const int dirPlane = directionPlane(bake), ggx = findPlane(bake.planes, "roughness_ggx");
+    if (dirPlane >= 0) {
+        owned.clear();
+        for (const auto& level : bake.levels) owned.push_back(encodeNormals(*level[dirPlane], greenDown));
+        std::vector<const Image*> levels;
+        for (const Image& image : owned) levels.push_back(&image);
+        if (Status s = write("normal_bc5", levels, TextureFormat::Bc5Unorm); !s) return Error{s.error};
+    }
+    if (ggx >= 0) {
+        owned.clear();
+        for (const auto& level : bake.levels) owned.push_back(perceptual(*level[ggx]));
+        std::vector<const Image*> levels;
+        for (const Image& image : owned) levels.push_back(&image);
+        if (Status s = write("roughness_bc4", levels, TextureFormat::Bc4Unorm); !s) return Error{s.error};
+    }
+    for (size_t p = 0; p < bake.planes.size(); ++p) {
+        if (!bake.planes[p].linear) continue;
+        std::vector<const Image*> levels;
+        for (const auto& level : bake.levels) levels.push_back(level[p].get());
+        if (Status s = write(bake.planes[p].name, levels, half ? TextureFormat::Rgba16F : TextureFormat::Rgba32F); !s)
+            return Error{s.error};
     }
     return names;
 }
@@ -146,7 +189,9 @@ Status checkReplaceable(const fs::path& dir) {
     for (auto it = fs::recursive_directory_iterator(dir, ec);
          !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
         const std::string relative = it->path().lexically_relative(dir).string();
-        if (it->is_directory(ec) && !it->is_symlink(ec) && relative == "png16") continue;
+        if (it->is_directory(ec) && !it->is_symlink(ec) &&
+            (relative == "png16" || relative == "ktx2" || relative == "dds"))
+            continue;
         if (!listed.count(relative))
             return refuse("it holds " + quote(relative) + ", which its manifest does not list");
     }
@@ -230,11 +275,19 @@ Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource&
     }
     json manifest = manifestJson(bake, source);
     manifest["storage"] = options.half ? "half" : "float";
+    json exports = json::object();
     if (options.png16) {
         auto names = writePng16(staging, bake, source.decode.greenDown);
         if (!names) return fail(dirName + ": " + names.error().message);
-        manifest["exports"] = {{"png16", names.value()}};
+        exports["png16"] = names.value();
     }
+    for (const auto& [container, wanted] : {std::pair<std::string, bool>{"ktx2", options.ktx2}, {"dds", options.dds}}) {
+        if (!wanted) continue;
+        auto names = writeContainers(staging, bake, source.decode.greenDown, options.half, container);
+        if (!names) return fail(dirName + ": " + names.error().message);
+        exports[container] = names.value();
+    }
+    if (!exports.empty()) manifest["exports"] = exports;
     // File names need not be UTF-8; JSON must be: invalid bytes are written as U+FFFD.
     const std::string text = manifest.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
     Status s = writeFileAtomic((staging / "manifest.json").string(), text);

@@ -95,7 +95,7 @@ int64_t integerAt(const json& object, const std::string& path, const char* key, 
     return int64_t(x);
 }
 
-// A file of the bake: a plain name inside its folder (or png16/NAME for exports), never a path
+// A file of the bake: a plain name inside its folder (or png16/, ktx2/, dds/NAME for exports), never a path
 // that leads elsewhere.
 bool plainName(const std::string& name) {
     return !name.empty() && name.size() <= 255 && name != "." && name != ".." &&
@@ -240,15 +240,18 @@ void readExports(const json& m, LoadedBake& bake) {
     if (!m.contains("exports")) return;
     const json& exports = objectAt(m, "", "exports");
     for (const auto& [format, list] : exports.items()) {
-        if (format != "png16") fail("unknown export " + quote(at("exports", format)));
-        if (!list.is_array()) fail("'exports.png16' must be an array, not " + shown(list));
+        if (format != "png16" && format != "ktx2" && format != "dds")
+            fail("unknown export " + quote(at("exports", format)));
+        const std::string key = "exports." + format;
+        if (!list.is_array()) fail(quote(key) + " must be an array, not " + shown(list));
+        const std::string folder = format + "/";
         for (size_t i = 0; i < list.size(); ++i) {
-            const std::string path = at("exports.png16", i);
+            const std::string path = at(key, i);
             if (!list[i].is_string())
                 fail(quote(path) + " must be a string, not " + shown(list[i]));
             const std::string name = list[i].get<std::string>();
-            if (name.rfind("png16/", 0) != 0 || !plainName(name.substr(6)))
-                fail(quote(path) + " is " + quote(name) + ", not png16/ and a plain file name");
+            if (name.rfind(folder, 0) != 0 || !plainName(name.substr(folder.size())))
+                fail(quote(path) + " is " + quote(name) + ", not " + folder + " and a plain file name");
             bake.exports.push_back(name);
         }
     }

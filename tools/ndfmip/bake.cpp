@@ -1,4 +1,5 @@
 // ndfmip bake IN --method M -o DIR: per-level parameter images and a manifest.
+#include <set>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -52,7 +53,16 @@ void runBake(const BakeArgs& a) {
     if (a.coherence != 0.f && *method != Method::Vmf) throw Failure("--coherent applies to --method vmf only");
     if (a.lobeBudget != 0.f && *method != Method::Vmf) throw Failure("--lobe-budget applies to --method vmf only");
     if (a.lobeBudget != 0.f && a.coherence != 0.f) throw Failure("--lobe-budget does not apply to coherent lobes");
-    if (a.exportFormat == "png16" && (*method == Method::Sh || *method == Method::Vmf || *method == Method::Lean))
+    std::set<std::string> exports;
+    for (std::string rest = a.exportFormat; !rest.empty();) {
+        const size_t comma = rest.find(',');
+        const std::string format = rest.substr(0, comma);
+        if (format != "png16" && format != "ktx2" && format != "dds" && format != "exr")
+            throw Failure("--export " + quote(format) + ": expected png16, ktx2, dds or exr (comma-separated)");
+        exports.insert(format);
+        rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+    }
+    if (exports.count("png16") && (*method == Method::Sh || *method == Method::Vmf || *method == Method::Lean))
         throw Failure("--export png16 needs a method that stores a normal (naive, toksvig)");
     if (!a.gloss.empty() && a.maxExponent <= 0.f)
         throw Failure("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");
@@ -88,7 +98,9 @@ void runBake(const BakeArgs& a) {
     if (!hash) throw Failure(hash.error().message);
     BakeSource source{a.input, hash.value(), width, height, decode, a.gloss};
     BakeWriteOptions write;
-    write.png16 = a.exportFormat == "png16";
+    write.png16 = exports.count("png16") > 0;
+    write.ktx2 = exports.count("ktx2") > 0;
+    write.dds = exports.count("dds") > 0;
     write.half = a.half;
     Status status = writeBake(a.output, bake, source, write);
     if (!status) throw Failure(status.error);
@@ -148,8 +160,10 @@ void addBakeCommand(CLI::App& app) {
     c->add_option("--base-roughness", args->baseRoughness,
                   "GGX/Beckmann alpha of the material before filtering")
         ->check(CLI::Range(0.f, 1.f))->capture_default_str();
-    c->add_option("--export", args->exportFormat, "also write engine-ready mips: png16")
-        ->check(CLI::IsMember({"png16"}));
+    c->add_option("--export", args->exportFormat,
+                  "also write engine-ready mips, comma-separated: png16 (16-bit PNG per level), ktx2 and dds "
+                  "(normal_bc5, roughness_bc4 and every linear plane, all levels in one file each); exr: the "
+                  "planes, always written");
     c->add_flag("-q,--quiet", args->quiet, "print nothing but errors");
     c->callback([args] { runBake(*args); });
 }

@@ -1,0 +1,45 @@
+// Engine-ready texture files: KTX2 (Khronos) and DDS (with the DX10 header), every level from
+// ndfmip's own pyramid, block-compressed (BC4, BC5) or uncompressed.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "ndfmip/image.h"
+#include "ndfmip/result.h"
+
+namespace ndfmip {
+
+enum class TextureFormat {
+    Rgba32F,   // the method planes, exactly
+    Rgba16F,   // the method planes, half precision
+    R16F,      // one channel (roughness)
+    Rg16Unorm, // two channels in [0, 1] (a normal's xy encoded (n + 1)/2)
+    Bc4Unorm,  // one channel in [0, 1], 4x4 blocks of 8 bytes (stb_dxt)
+    Bc5Unorm,  // two channels in [0, 1], 4x4 blocks of 16 bytes (stb_dxt)
+};
+
+const char* textureFormatName(TextureFormat format); // "rgba32f", ..., "bc5"
+
+// A mip chain encoded in one format: `levels[k]` holds level k's bytes, rows from the top.
+struct EncodedTexture {
+    TextureFormat format = TextureFormat::Rgba32F;
+    int width = 0, height = 0; // level 0
+    std::vector<std::string> levels;
+};
+
+// Encodes `levels` (level 0 first, each half the size of the one before, GPU floor sizes):
+// the first 1, 2 or 4 channels as the format takes them (missing channels are 0); values of the
+// normalised formats are clamped to [0, 1]. BC blocks past an edge repeat the edge texels.
+Result<EncodedTexture> encodeTexture(const std::vector<const Image*>& levels, TextureFormat format);
+
+// The whole file, ready to write: KTX2 (no supercompression; a basic data format descriptor;
+// linear transfer) or DDS with the DX10 header (DXGI format, mip count).
+std::string ktx2File(const EncodedTexture& texture);
+std::string ddsFile(const EncodedTexture& texture);
+
+// DDS with the legacy FourCC header instead of DX10 ('ATI1' for BC4, 'ATI2' for BC5), which
+// older readers (NVIDIA Texture Tools 2, some engines' importers) decode; other formats error.
+Result<std::string> ddsFileLegacy(const EncodedTexture& texture);
+
+} // namespace ndfmip

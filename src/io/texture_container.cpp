@@ -1,0 +1,274 @@
+// KTX2 and DDS files (see texture_container.h). KTX2: Khronos KTX 2.0 specification (header,
+// level index, data format descriptor per the Khronos Data Format specification 1.3); DDS:
+// Microsoft's DDS_HEADER + DDS_HEADER_DXT10.
+#include "ndfmip/texture_container.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+
+#include <Imath/half.h>
+
+extern "C" {
+// Debian's libstb.so holds stb_dxt's block encoders (stb_dxt.h declares them).
+void stb_compress_bc4_block(unsigned char* dest, const unsigned char* src);
+void stb_compress_bc5_block(unsigned char* dest, const unsigned char* src);
+}
+
+namespace ndfmip {
+
+namespace {
+
+struct FormatInfo {
+    TextureFormat format;
+    const char* name;
+    uint32_t vkFormat;   // VkFormat
+    uint32_t dxgiFormat; // DXGI_FORMAT
+    int channels;
+    int bytesPerTexel;   // uncompressed; 0 for block formats
+    int bytesPerBlock;   // block formats
+    int typeSize;        // KTX2: the size of the data type, for endianness conversion
+};
+
+const FormatInfo kFormats[] = {
+    {TextureFormat::Rgba32F, "rgba32f", 109, 2, 4, 16, 0, 4}, // VK_FORMAT_R32G32B32A32_SFLOAT
+    {TextureFormat::Rgba16F, "rgba16f", 97, 10, 4, 8, 0, 2},  // VK_FORMAT_R16G16B16A16_SFLOAT
+    {TextureFormat::R16F, "r16f", 76, 54, 1, 2, 0, 2},        // VK_FORMAT_R16_SFLOAT
+    {TextureFormat::Rg16Unorm, "rg16", 77, 35, 2, 4, 0, 2},   // VK_FORMAT_R16G16_UNORM
+    {TextureFormat::Bc4Unorm, "bc4", 139, 80, 1, 0, 8, 1},    // VK_FORMAT_BC4_UNORM_BLOCK
+    {TextureFormat::Bc5Unorm, "bc5", 141, 83, 2, 0, 16, 1},   // VK_FORMAT_BC5_UNORM_BLOCK
+};
+
+const FormatInfo& info(TextureFormat format) {
+    for (const FormatInfo& f : kFormats)
+        if (f.format == format) return f;
+    return kFormats[0];
+}
+
+bool isBlock(TextureFormat f) { return info(f).bytesPerBlock > 0; }
+
+template <typename T>
+void put(std::string& out, T value) {
+    out.append(reinterpret_cast<const char*>(&value), sizeof value);
+}
+
+template <typename T>
+void putAt(std::string& out, size_t offset, T value) {
+    std::memcpy(&out[offset], &value, sizeof value);
+}
+
+uint8_t unorm8(float v) { return uint8_t(std::clamp(v, 0.f, 1.f) * 255.f + 0.5f); }
+uint16_t unorm16(float v) { return uint16_t(std::clamp(v, 0.f, 1.f) * 65535.f + 0.5f); }
+
+float channel(const Image& image, int x, int y, int c) {
+    return c < image.channels ? image.at(x, y)[c] : 0.f;
+}
+
+std::string encodeLevel(const Image& image, const FormatInfo& f) {
+    std::string out;
+    if (!isBlock(f.format)) {
+        out.reserve(image.texelCount() * size_t(f.bytesPerTexel));
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x)
+                for (int c = 0; c < f.channels; ++c) {
+                    const float v = channel(image, x, y, c);
+                    if (f.format == TextureFormat::Rgba32F) put(out, v);
+                    else if (f.format == TextureFormat::Rg16Unorm) put(out, unorm16(v));
+                    else put(out, Imath::half(v).bits());
+                }
+        return out;
+    }
+    // 4x4 blocks, rows of blocks from the top; texels past an edge repeat the edge.
+    const int bw = (image.width + 3) / 4, bh = (image.height + 3) / 4;
+    unsigned char src[32], block[16];
+    for (int by = 0; by < bh; ++by)
+        for (int bx = 0; bx < bw; ++bx) {
+            for (int j = 0; j < 4; ++j)
+                for (int i = 0; i < 4; ++i) {
+                    const int x = std::min(4 * bx + i, image.width - 1), y = std::min(4 * by + j, image.height - 1);
+                    for (int c = 0; c < f.channels; ++c) src[(4 * j + i) * f.channels + c] = unorm8(channel(image, x, y, c));
+                }
+            if (f.format == TextureFormat::Bc4Unorm) stb_compress_bc4_block(block, src);
+            else stb_compress_bc5_block(block, src);
+            out.append(reinterpret_cast<const char*>(block), size_t(f.bytesPerBlock));
+        }
+    return out;
+}
+
+// The KTX2 basic data format descriptor (Khronos Data Format 1.3, section 5) of a format.
+std::string dataFormatDescriptor(const FormatInfo& f) {
+    std::string samples;
+    auto sample = [&](uint32_t bitOffset, uint32_t bitLength, uint32_t channelType, uint32_t lower, uint32_t upper) {
+        put(samples, uint16_t(bitOffset));
+        put(samples, uint8_t(bitLength - 1));
+        put(samples, uint8_t(channelType));
+        put(samples, uint32_t(0)); // sample positions
+        put(samples, lower);
+        put(samples, upper);
+    };
+    const uint32_t floatSigned = 0x80u | 0x40u; // KHR_DF_SAMPLE_DATATYPE_FLOAT | SIGNED
+    uint8_t model = 1; // KHR_DF_MODEL_RGBSDA
+    uint8_t dims[4] = {0, 0, 0, 0};
+    uint8_t bytesPlane0 = 0;
+    switch (f.format) {
+    case TextureFormat::Rgba32F:
+        for (uint32_t c = 0; c < 4; ++c) sample(32 * c, 32, (c == 3 ? 15u : c) | floatSigned, 0xBF800000u, 0x3F800000u);
+        bytesPlane0 = 16;
+        break;
+    case TextureFormat::Rgba16F:
+        for (uint32_t c = 0; c < 4; ++c) sample(16 * c, 16, (c == 3 ? 15u : c) | floatSigned, 0xBF800000u, 0x3F800000u);
+        bytesPlane0 = 8;
+        break;
+    case TextureFormat::R16F:
+        sample(0, 16, 0u | floatSigned, 0xBF800000u, 0x3F800000u);
+        bytesPlane0 = 2;
+        break;
+    case TextureFormat::Rg16Unorm:
+        sample(0, 16, 0u, 0u, 65535u);
+        sample(16, 16, 1u, 0u, 65535u);
+        bytesPlane0 = 4;
+        break;
+    case TextureFormat::Bc4Unorm:
+        model = 131; // KHR_DF_MODEL_BC4
+        dims[0] = dims[1] = 3;
+        sample(0, 64, 0u, 0u, 0xFFFFFFFFu);
+        bytesPlane0 = 8;
+        break;
+    case TextureFormat::Bc5Unorm:
+        model = 132; // KHR_DF_MODEL_BC5
+        dims[0] = dims[1] = 3;
+        sample(0, 64, 0u, 0u, 0xFFFFFFFFu);
+        sample(64, 64, 1u, 0u, 0xFFFFFFFFu);
+        bytesPlane0 = 16;
+        break;
+    }
+    std::string block;
+    put(block, uint32_t(0));                     // vendorId 0 (Khronos), descriptorType 0 (basic)
+    put(block, uint16_t(2));                     // versionNumber (1.3)
+    put(block, uint16_t(24 + samples.size()));   // descriptorBlockSize
+    put(block, model);
+    put(block, uint8_t(1));                      // colorPrimaries: BT709
+    put(block, uint8_t(1));                      // transferFunction: linear
+    put(block, uint8_t(0));                      // flags: alpha straight
+    block.append(reinterpret_cast<const char*>(dims), 4);
+    const uint8_t planes[8] = {bytesPlane0, 0, 0, 0, 0, 0, 0, 0};
+    block.append(reinterpret_cast<const char*>(planes), 8);
+    block += samples;
+    std::string dfd;
+    put(dfd, uint32_t(4 + block.size())); // dfdTotalSize
+    return dfd + block;
+}
+
+} // namespace
+
+const char* textureFormatName(TextureFormat format) { return info(format).name; }
+
+Result<EncodedTexture> encodeTexture(const std::vector<const Image*>& levels, TextureFormat format) {
+    if (levels.empty() || !levels.front() || levels.front()->empty()) return Error{"texture: no levels to encode"};
+    EncodedTexture t;
+    t.format = format;
+    t.width = levels.front()->width;
+    t.height = levels.front()->height;
+    for (size_t k = 0; k < levels.size(); ++k) {
+        const Image& level = *levels[k];
+        const int w = std::max(t.width >> k, 1), h = std::max(t.height >> k, 1);
+        if (level.width != w || level.height != h)
+            return Error{"texture: level " + std::to_string(k) + " is " + std::to_string(level.width) + "x" +
+                         std::to_string(level.height) + ", the mip rule gives " + std::to_string(w) + "x" +
+                         std::to_string(h)};
+        t.levels.push_back(encodeLevel(level, info(format)));
+    }
+    return t;
+}
+
+std::string ktx2File(const EncodedTexture& t) {
+    const FormatInfo& f = info(t.format);
+    const uint32_t levelCount = uint32_t(t.levels.size());
+    const std::string dfd = dataFormatDescriptor(f);
+    // Header (80 bytes), level index (24 bytes a level), then the DFD, then the levels, smallest
+    // first, each aligned to lcm(texel block size, 4).
+    const size_t indexAt = 80, dfdAt = indexAt + 24 * size_t(levelCount);
+    std::string out;
+    const unsigned char identifier[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
+    out.append(reinterpret_cast<const char*>(identifier), 12);
+    put(out, f.vkFormat);
+    put(out, uint32_t(f.typeSize));
+    put(out, uint32_t(t.width));
+    put(out, uint32_t(t.height));
+    put(out, uint32_t(0)); // pixelDepth
+    put(out, uint32_t(0)); // layerCount
+    put(out, uint32_t(1)); // faceCount
+    put(out, levelCount);
+    put(out, uint32_t(0)); // supercompressionScheme: none
+    put(out, uint32_t(dfdAt));
+    put(out, uint32_t(dfd.size()));
+    put(out, uint32_t(0)); // kvdByteOffset
+    put(out, uint32_t(0)); // kvdByteLength
+    put(out, uint64_t(0)); // sgdByteOffset
+    put(out, uint64_t(0)); // sgdByteLength
+    out.resize(dfdAt, '\0'); // the level index, filled below
+    out += dfd;
+    // lcm(texel block size, 4): every block or texel size here is 2 or a multiple of 4.
+    const size_t blockSize = size_t(isBlock(t.format) ? f.bytesPerBlock : f.bytesPerTexel);
+    const size_t alignment = blockSize % 4 == 0 ? blockSize : 4;
+    std::vector<uint64_t> offsets(levelCount);
+    for (int k = int(levelCount) - 1; k >= 0; --k) {
+        while (out.size() % alignment) out += '\0';
+        offsets[size_t(k)] = out.size();
+        out += t.levels[size_t(k)];
+    }
+    for (uint32_t k = 0; k < levelCount; ++k) {
+        putAt(out, indexAt + 24 * k, offsets[k]);
+        putAt(out, indexAt + 24 * k + 8, uint64_t(t.levels[k].size()));
+        putAt(out, indexAt + 24 * k + 16, uint64_t(t.levels[k].size())); // uncompressedByteLength
+    }
+    return out;
+}
+
+namespace {
+
+std::string ddsHeader(const EncodedTexture& t, const char fourCC[4]) {
+    const FormatInfo& f = info(t.format);
+    std::string out = "DDS ";
+    const bool block = isBlock(t.format);
+    const uint32_t pitchOrLinearSize =
+        block ? uint32_t(((t.width + 3) / 4) * ((t.height + 3) / 4) * f.bytesPerBlock) : uint32_t(t.width * f.bytesPerTexel);
+    put(out, uint32_t(124));                                        // dwSize
+    put(out, uint32_t(0x1 | 0x2 | 0x4 | 0x1000 | 0x20000 | (block ? 0x80000 : 0x8))); // CAPS HEIGHT WIDTH PIXELFORMAT MIPMAPCOUNT, LINEARSIZE or PITCH
+    put(out, uint32_t(t.height));
+    put(out, uint32_t(t.width));
+    put(out, pitchOrLinearSize);
+    put(out, uint32_t(0));                                          // depth
+    put(out, uint32_t(t.levels.size()));                            // mip map count
+    for (int i = 0; i < 11; ++i) put(out, uint32_t(0));             // reserved
+    put(out, uint32_t(32));                                         // pixel format size
+    put(out, uint32_t(0x4));                                        // DDPF_FOURCC
+    out.append(fourCC, 4);
+    for (int i = 0; i < 5; ++i) put(out, uint32_t(0));              // bit count and masks
+    put(out, uint32_t(0x1000 | 0x8 | 0x400000));                   // caps: TEXTURE, COMPLEX, MIPMAP
+    for (int i = 0; i < 4; ++i) put(out, uint32_t(0));              // caps2, caps3, caps4, reserved2
+    return out;
+}
+
+} // namespace
+
+std::string ddsFile(const EncodedTexture& t) {
+    std::string out = ddsHeader(t, "DX10");
+    put(out, info(t.format).dxgiFormat);
+    put(out, uint32_t(3)); // D3D10_RESOURCE_DIMENSION_TEXTURE2D
+    put(out, uint32_t(0)); // misc flags
+    put(out, uint32_t(1)); // array size
+    put(out, uint32_t(0)); // misc flags 2: alpha mode unknown
+    for (const std::string& level : t.levels) out += level;
+    return out;
+}
+
+Result<std::string> ddsFileLegacy(const EncodedTexture& t) {
+    if (t.format != TextureFormat::Bc4Unorm && t.format != TextureFormat::Bc5Unorm)
+        return Error{std::string("dds: no legacy FourCC for ") + textureFormatName(t.format)};
+    std::string out = ddsHeader(t, t.format == TextureFormat::Bc4Unorm ? "ATI1" : "ATI2");
+    for (const std::string& level : t.levels) out += level;
+    return out;
+}
+
+} // namespace ndfmip

@@ -1,0 +1,183 @@
+// KTX2 and DDS files: their structure, and their blocks decoded by readers ndfmip did not
+// write (libnvtt's nvdecompress for DDS; the npm package ktx-parse for KTX2, where installed).
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <glm/glm.hpp>
+#include <gtest/gtest.h>
+
+#include "ndfmip/io.h"
+#include "ndfmip/normal_map.h"
+#include "ndfmip/pyramid.h"
+#include "ndfmip/texture_container.h"
+#include "test_support.h"
+
+namespace ndfmip {
+namespace {
+
+template <typename T>
+T read(const std::string& bytes, size_t at) {
+    T v;
+    std::memcpy(&v, bytes.data() + at, sizeof v);
+    return v;
+}
+
+// Encoded normals (n + 1)/2 of every level: the bundled wall map's (real data, 256x256), or a
+// 64x48 synthetic one.
+std::vector<Image> encodedNormalLevels(bool real = false) {
+    SharedImage normals;
+    if (real) {
+        DecodeOptions decode;
+        decode.greenDown = true;
+        Result<Image> map = loadNormalMap(std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png", decode, nullptr);
+        if (map) normals = std::make_shared<const Image>(std::move(map.value()));
+    }
+    if (!normals) {
+        auto synthetic = std::make_shared<Image>(64, 48, 3);
+        for (int y = 0; y < 48; ++y)
+            for (int x = 0; x < 64; ++x) {
+                const glm::vec3 n =
+                    glm::normalize(glm::vec3(0.6f * std::sin(0.3f * float(x)), 0.5f * std::cos(0.4f * float(y)), 1.f));
+                float* p = synthetic->at(x, y);
+                p[0] = n.x, p[1] = n.y, p[2] = n.z;
+            }
+        normals = synthetic;
+    }
+    const Pyramid pyramid = buildPyramid(normals);
+    std::vector<Image> means{*normals}; // the pyramid's mean normals, level after level
+    for (int k = 1; k < int(pyramid.levels.size()); ++k) means.push_back(averageToLevel(pyramid, means.back(), k));
+    std::vector<Image> levels;
+    for (Image mean : means) {
+        for (size_t i = 0; i < mean.texelCount(); ++i) {
+            float* p = &mean.pixels[3 * i];
+            const float len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+            for (int c = 0; c < 3; ++c) p[c] = 0.5f * (p[c] / len + 1.f);
+        }
+        levels.push_back(std::move(mean));
+    }
+    return levels;
+}
+
+std::vector<const Image*> pointers(const std::vector<Image>& levels) {
+    std::vector<const Image*> out;
+    for (const Image& image : levels) out.push_back(&image);
+    return out;
+}
+
+TEST(TextureContainer, Ktx2HeaderLevelIndexAndDescriptor) {
+    const std::vector<Image> levels = encodedNormalLevels();
+    Result<EncodedTexture> t = encodeTexture(pointers(levels), TextureFormat::Bc5Unorm);
+    ASSERT_TRUE(t) << t.error().message;
+    const std::string file = ktx2File(t.value());
+    ASSERT_EQ(file.compare(0, 12, std::string("\xABKTX 20\xBB\r\n\x1A\n", 12)), 0);
+    EXPECT_EQ(read<uint32_t>(file, 12), 141u); // VK_FORMAT_BC5_UNORM_BLOCK
+    EXPECT_EQ(read<uint32_t>(file, 20), 64u);
+    EXPECT_EQ(read<uint32_t>(file, 24), 48u);
+    const uint32_t levelCount = read<uint32_t>(file, 40);
+    ASSERT_EQ(levelCount, levels.size());
+    for (uint32_t k = 0; k < levelCount; ++k) {
+        const uint64_t offset = read<uint64_t>(file, 80 + 24 * k), length = read<uint64_t>(file, 88 + 24 * k);
+        const int w = std::max(64 >> k, 1), h = std::max(48 >> k, 1);
+        EXPECT_EQ(length, uint64_t(((w + 3) / 4) * ((h + 3) / 4) * 16)) << k;
+        EXPECT_EQ(offset % 16, 0u) << k;
+        ASSERT_LE(offset + length, file.size());
+        EXPECT_EQ(file.compare(offset, length, t->levels[k]), 0);
+    }
+    const uint32_t dfdAt = read<uint32_t>(file, 48), dfdLength = read<uint32_t>(file, 52);
+    EXPECT_EQ(read<uint32_t>(file, dfdAt), dfdLength);
+    EXPECT_EQ(uint8_t(file[dfdAt + 12]), 132); // KHR_DF_MODEL_BC5
+}
+
+// The bar: BC5 normals >= 40 dB and BC4 roughness >= 45 dB on every level, on the bundled
+// real map (stb_dxt's encoder; a synthetic map of 4-texel sines reaches only 37 dB at levels 1-2).
+TEST(TextureContainer, Bc5AndBc4DecodedByNvdecompressKeepEveryLevel) {
+    if (!std::filesystem::exists("/usr/bin/nvdecompress")) GTEST_SKIP() << "nvdecompress (libnvtt-bin) not installed";
+    test::TempDir dir("ndfmip_dds");
+    const std::vector<Image> levels = encodedNormalLevels(true);
+    std::vector<Image> roughness; // one channel: the encoded normal's blue, a smooth field in [0.5, 1]
+    for (const Image& level : levels) {
+        Image r(level.width, level.height, 1);
+        for (size_t i = 0; i < r.texelCount(); ++i) r.pixels[i] = level.pixels[3 * i + 2];
+        roughness.push_back(std::move(r));
+    }
+    const std::pair<TextureFormat, const std::vector<Image>*> cases[] = {{TextureFormat::Bc5Unorm, &levels},
+                                                                          {TextureFormat::Bc4Unorm, &roughness}};
+    for (const auto& [format, source] : cases) {
+        Result<EncodedTexture> all = encodeTexture(pointers(*source), format);
+        ASSERT_TRUE(all);
+        // Every level as its own one-level file (nvdecompress decodes the top level only); the
+        // blocks are the full file's.
+        for (size_t k = 0; k < source->size(); ++k) {
+            EncodedTexture one = all.value();
+            one.width = (*source)[k].width;
+            one.height = (*source)[k].height;
+            one.levels = {all->levels[k]};
+            const std::string dds = dir.file(std::string(textureFormatName(format)) + "_" + std::to_string(k) + ".dds");
+            // The legacy FourCC header: NVIDIA Texture Tools 2 decodes BC4/BC5 only from it (the
+            // blocks are the same as in the DX10 file; its header is checked by nvddsinfo below).
+            Result<std::string> legacy = ddsFileLegacy(one);
+            ASSERT_TRUE(legacy);
+            std::ofstream(dds, std::ios::binary) << legacy.value();
+            const std::string command = "cd " + test::shellArg(dir.path.string()) + " && nvdecompress " + test::shellArg(dds) + " > /dev/null 2>&1";
+            ASSERT_EQ(std::system(command.c_str()), 0) << dds;
+            Result<SourceImage> decoded = loadImage(std::filesystem::path(dds).replace_extension(".tga").string());
+            ASSERT_TRUE(decoded) << decoded.error().message;
+            const Image& d = decoded->image;
+            ASSERT_EQ(d.width, one.width);
+            ASSERT_EQ(d.height, one.height);
+            // PSNR over the channels the format holds (nvdecompress writes BC4 red, BC5 red and green).
+            const int channels = format == TextureFormat::Bc5Unorm ? 2 : 1;
+            double squared = 0.0;
+            for (int y = 0; y < d.height; ++y)
+                for (int x = 0; x < d.width; ++x)
+                    for (int c = 0; c < channels; ++c) {
+                        const double e = double(d.at(x, y)[c]) - double((*source)[k].at(x, y)[c]);
+                        squared += e * e;
+                    }
+            const double psnr = 10.0 * std::log10(1.0 / std::max(squared / double(d.texelCount() * size_t(channels)), 1e-12));
+            EXPECT_GE(psnr, format == TextureFormat::Bc5Unorm ? 40.0 : 45.0) << textureFormatName(format) << " level " << k;
+            std::printf("%s level %zu (%dx%d): %.1f dB\n", textureFormatName(format), k, d.width, d.height, psnr);
+        }
+    }
+}
+
+TEST(TextureContainer, Ktx2ReadBackByKtxParse) {
+    const char* modules = std::getenv("NDFMIP_NODE_MODULES");
+    const std::string path = modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules";
+    if (!std::filesystem::exists("/usr/bin/node") || !std::filesystem::exists(path + "/ktx-parse"))
+        GTEST_SKIP() << "node and the npm package ktx-parse (scripts/setup installs it into .npm) not found";
+    test::TempDir dir("ndfmip_ktx_parse");
+    const std::vector<Image> levels = encodedNormalLevels();
+    for (TextureFormat format : {TextureFormat::Bc5Unorm, TextureFormat::Rgba32F, TextureFormat::Rgba16F,
+                                 TextureFormat::Rg16Unorm}) {
+        Result<EncodedTexture> t = encodeTexture(pointers(levels), format);
+        ASSERT_TRUE(t);
+        const std::string file = dir.file(std::string(textureFormatName(format)) + ".ktx2");
+        std::ofstream(file, std::ios::binary) << ktx2File(t.value());
+        const std::string script = dir.file("read.mjs");
+        std::ofstream(script) << "import { read } from '" << path << "/ktx-parse/dist/index.mjs';\n"
+                              << "import { readFileSync } from 'fs';\n"
+                              << "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
+                              << "console.log(JSON.stringify({format: c.vkFormat, w: c.pixelWidth, h: c.pixelHeight, "
+                                 "levels: c.levels.map(l => l.levelData.byteLength), model: c.dataFormatDescriptor[0].colorModel}));\n";
+        const std::string out = dir.file("out.json");
+        ASSERT_EQ(std::system(("node " + test::shellArg(script) + " " + test::shellArg(file) + " > " + test::shellArg(out) + " 2>&1").c_str()), 0);
+        std::ifstream in(out);
+        const std::string json((std::istreambuf_iterator<char>(in)), {});
+        EXPECT_NE(json.find("\"w\":64,\"h\":48"), std::string::npos) << json;
+        std::string lengths = "[";
+        for (size_t k = 0; k < t->levels.size(); ++k) {
+            if (k) lengths += ',';
+            lengths += std::to_string(t->levels[k].size());
+        }
+        EXPECT_NE(json.find("\"levels\":" + lengths + "]"), std::string::npos) << json;
+    }
+}
+
+} // namespace
+} // namespace ndfmip
