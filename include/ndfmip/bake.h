@@ -45,6 +45,10 @@ int findPlane(const std::vector<PlaneInfo>& planes, const std::string& name);
 
 struct BakeOptions {
     float baseRoughness = 0.f; // alpha of the material before filtering (roughness planes)
+    // toksvig: the material's own alpha per texel (one channel, level-0 sized), in place of
+    // baseRoughness: level k's roughness is sqrt(mean alpha0^2 + c sigma^2) over the texel's
+    // footprint (variances add: the material's lobe widths and the normals' spread).
+    SharedImage roughnessMap;
     int shOrder = 7;           // sh: highest band l* ((l*+1)^2 coefficients), 1 .. kMaxShOrder
     int vmfLobes = 4;          // vmf: lobes per texel J, 1 .. 8
     int vmfMaxIterations = 50; // vmf: EM iterations per texel at most

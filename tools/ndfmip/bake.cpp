@@ -18,6 +18,7 @@ struct BakeArgs {
     InputOptions input_options;
     float maxExponent = 0.f;
     float baseRoughness = 0.f;
+    std::string roughnessMap, roughnessChannel = "r", roughnessEncoding = "perceptual";
     int order = 0; // sh: 0 = the default l* = 7
     int lobes = 0; // vmf: 0 = the default J = 4
     std::string albedo; // vmf: colour per lobe
@@ -44,6 +45,34 @@ void applyGlossOrFail(Image& normals, const BakeArgs& a) {
     applyGlossMap(normals, g, a.maxExponent);
 }
 
+// The material's alpha per texel from a roughness map: one channel of it, perceptual
+// (alpha = p^2, glTF, Unreal, Filament), alpha, or Unity's smoothness (alpha = (1 - s)^2).
+SharedImage loadRoughnessMapOrFail(const BakeArgs& a, int width, int height) {
+    Result<SourceImage> map = loadImage(a.roughnessMap);
+    if (!map) throw Failure(map.error().message);
+    const Image& image = map->image;
+    if (image.width != width || image.height != height)
+        throw Failure(a.roughnessMap + ": roughness map is " + std::to_string(image.width) + "x" +
+                      std::to_string(image.height) + " but the normal map is " + std::to_string(width) + "x" +
+                      std::to_string(height));
+    const int channel = std::string("rgba").find(a.roughnessChannel[0]);
+    if (channel >= image.channels)
+        throw Failure(a.roughnessMap + ": --roughness-channel " + a.roughnessChannel + " but the map has " +
+                      std::to_string(image.channels) + " channel(s)");
+    auto alpha = std::make_shared<Image>(width, height, 1);
+    for (size_t i = 0; i < image.texelCount(); ++i) {
+        const float v = image.pixels[i * size_t(image.channels) + size_t(channel)];
+        if (!std::isfinite(v))
+            throw Failure(a.roughnessMap + ": NaN or infinite value at texel (" + std::to_string(i % size_t(width)) +
+                          ", " + std::to_string(i / size_t(width)) + ")");
+        const float x = std::clamp(v, 0.f, 1.f);
+        alpha->pixels[i] = a.roughnessEncoding == "alpha" ? x
+                           : a.roughnessEncoding == "smoothness" ? (1.f - x) * (1.f - x)
+                                                                 : x * x;
+    }
+    return alpha;
+}
+
 void runBake(const BakeArgs& a) {
     auto method = methodFromString(a.method);
     if (!method) throw Failure("unknown method " + quote(a.method) + " (" + methodNames() + ")");
@@ -64,6 +93,10 @@ void runBake(const BakeArgs& a) {
     }
     if (exports.count("png16") && (*method == Method::Sh || *method == Method::Vmf || *method == Method::Lean))
         throw Failure("--export png16 needs a method that stores a normal (naive, toksvig)");
+    if (!a.roughnessMap.empty() && *method != Method::Toksvig)
+        throw Failure("--roughness-map applies to --method toksvig (its roughness planes)");
+    if (!a.roughnessMap.empty() && a.baseRoughness != 0.f)
+        throw Failure("--roughness-map and --base-roughness both set the material's roughness: give one");
     if (!a.gloss.empty() && a.maxExponent <= 0.f)
         throw Failure("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");
     DecodeOptions decode = a.input_options.resolved();
@@ -87,6 +120,7 @@ void runBake(const BakeArgs& a) {
     options.vmfCoherence = a.coherence;
     options.vmfLobeBudget = a.lobeBudget;
     if (!a.albedo.empty()) options.albedo = loadAlbedoOrFail(a.albedo, width, height);
+    if (!a.roughnessMap.empty()) options.roughnessMap = loadRoughnessMapOrFail(a, width, height);
     if (!a.quiet) options.progress = [](int done, int total) { showProgress("bake: level", done, total); };
     checkBakeMemoryOrFail(a.input, *method, options, width, height);
     Bake bake = bakeMethod(*method, pyramid, options);
@@ -154,6 +188,15 @@ void addBakeCommand(CLI::App& app) {
     c->add_option("--tolerance", args->tolerance, "vmf: relative log-likelihood gain that ends EM")
         ->check(CLI::Range(0.0, 1.0))->capture_default_str();
     addInputOptions(c, args->input_options);
+    c->add_option("--roughness-map", args->roughnessMap,
+                  "toksvig: the material's roughness per texel (same size as the map), combined with the "
+                  "normals' variance at every level");
+    c->add_option("--roughness-channel", args->roughnessChannel, "the roughness map's channel: r, g, b or a")
+        ->check(CLI::IsMember({"r", "g", "b", "a"}))->capture_default_str();
+    c->add_option("--roughness-encoding", args->roughnessEncoding,
+                  "perceptual (alpha = value^2: glTF, Unreal, Filament), alpha, or smoothness (Unity: alpha = "
+                  "(1 - value)^2)")
+        ->check(CLI::IsMember({"perceptual", "alpha", "smoothness"}))->capture_default_str();
     c->add_option("--gloss", args->gloss, "gloss map in [0,1]: s = gloss * S0 (Toksvig eq. 12)");
     c->add_option("--max-exponent", args->maxExponent, "S0, the exponent of gloss 1.0")
         ->check(CLI::Range(1e-3f, 1e6f));

@@ -61,7 +61,8 @@ MethodUnit toksvigUnit() {
                                       planeOf("roughness_ggx", 1, false)};
     };
     u.required = {{"base_roughness", 0, 1, false}};
-    u.bakeBytesPerTexel = [](const BakeOptions&) { return 4.0 * 4.0 / 3.0; };
+    // Roughness planes, and with a roughness map its alpha^2 chain being averaged.
+    u.bakeBytesPerTexel = [](const BakeOptions& o) { return 4.0 * 4.0 / 3.0 + (o.roughnessMap ? 8.0 : 0.0); };
     u.describe = [](const BakeParameters&) { return std::string("toksvig bake"); };
     u.inspect = inspectToksvig;
     u.levelZeroNormal = [](const float* p) { return glm::vec3(p[0], p[1], p[2]); };
