@@ -17,6 +17,8 @@
 
 namespace ndfmip {
 
+struct EnginePreset; // engine_presets.h
+
 enum class Method {
     Naive,   // standard mipmap: mean normal, renormalised
     Toksvig, // mean normal kept unnormalised; |Na| widens the lobe
@@ -108,6 +110,12 @@ struct BakeWriteOptions {
     // lobes, mean normals, slope moments.
     bool ktx2 = false;
     bool dds = false;
+    // An engine preset (engine_presets.h; null: none): the ktx2/dds files also get the engine's
+    // BC5 normal map (its green convention) and its packed material map (RGBA8: roughness or
+    // smoothness, metallic, occlusion in its channels), named <engine>_<file>.
+    const EnginePreset* engine = nullptr;
+    // Per level, one channel each, for the packed map (empty: metallic 0, occlusion 1).
+    std::vector<SharedImage> metallic, occlusion;
     // Planes stored as 16-bit half floats instead of 32-bit floats (half the disk; ~3 decimal
     // digits, enough for SH coefficients and mean normals).
     bool half = false;

@@ -15,6 +15,7 @@ enum class TextureFormat {
     Rgba16F,   // the method planes, half precision
     R16F,      // one channel (roughness)
     Rg16Unorm, // two channels in [0, 1] (a normal's xy encoded (n + 1)/2)
+    Rgba8Unorm, // four channels in [0, 1] (engines' packed material maps)
     Bc4Unorm,  // one channel in [0, 1], 4x4 blocks of 8 bytes (stb_dxt)
     Bc5Unorm,  // two channels in [0, 1], 4x4 blocks of 16 bytes (stb_dxt)
 };

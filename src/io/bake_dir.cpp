@@ -15,6 +15,7 @@
 #include "io/crash_recovery.h"
 #include "io/input_file.h"
 #include "ndfmip/bake.h"
+#include "ndfmip/engine_presets.h"
 #include "ndfmip/texture_container.h"
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
@@ -81,7 +82,7 @@ Result<std::vector<std::string>> writePng16(const fs::path& folder, const Bake& 
 // Writes the ktx2 or dds files (`container` "ktx2" or "dds") into `folder`; returns their names
 // relative to the bake folder.
 Result<std::vector<std::string>> writeContainers(const fs::path& folder, const Bake& bake, bool greenDown, bool half,
-                                                 const std::string& container) {
+                                                 const std::string& container, const BakeWriteOptions& options) {
     std::error_code ec;
     fs::create_directory(folder / container, ec);
     std::vector<std::string> names;
@@ -116,6 +117,42 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
         for (const auto& level : bake.levels) levels.push_back(level[p].get());
         if (Status s = write(bake.planes[p].name, levels, half ? TextureFormat::Rgba16F : TextureFormat::Rgba32F); !s)
             return Error{s.error};
+    }
+    if (const EnginePreset* engine = options.engine; engine && dirPlane >= 0) {
+        const std::string prefix = std::string(engine->name) + "_";
+        owned.clear();
+        for (const auto& level : bake.levels) owned.push_back(encodeNormals(*level[dirPlane], engine->greenDown));
+        std::vector<const Image*> levels;
+        for (const Image& image : owned) levels.push_back(&image);
+        if (Status s = write(prefix + engine->normalFile, levels, TextureFormat::Bc5Unorm); !s) return Error{s.error};
+        if (ggx >= 0) {
+            owned.clear();
+            for (size_t k = 0; k < bake.levels.size(); ++k) {
+                const Image& alpha = *bake.levels[k][ggx];
+                Image packed(alpha.width, alpha.height, 4);
+                for (size_t i = 0; i < alpha.texelCount(); ++i) {
+                    const float roughness = std::sqrt(std::max(alpha.pixels[i], 0.f)); // perceptual
+                    const float metallic = k < options.metallic.size() ? options.metallic[k]->pixels[i] : 0.f;
+                    const float occlusion = k < options.occlusion.size() ? options.occlusion[k]->pixels[i] : 1.f;
+                    for (int c = 0; c < 4; ++c) {
+                        float v = 0.f;
+                        switch (engine->packed[c]) {
+                        case MaterialChannel::Zero: v = 0.f; break;
+                        case MaterialChannel::One: v = 1.f; break;
+                        case MaterialChannel::Roughness: v = roughness; break;
+                        case MaterialChannel::Smoothness: v = 1.f - roughness; break;
+                        case MaterialChannel::Metallic: v = metallic; break;
+                        case MaterialChannel::Occlusion: v = occlusion; break;
+                        }
+                        packed.pixels[4 * i + size_t(c)] = v;
+                    }
+                }
+                owned.push_back(std::move(packed));
+            }
+            levels.clear();
+            for (const Image& image : owned) levels.push_back(&image);
+            if (Status s = write(prefix + engine->packedFile, levels, TextureFormat::Rgba8Unorm); !s) return Error{s.error};
+        }
     }
     return names;
 }
@@ -283,7 +320,7 @@ Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource&
     }
     for (const auto& [container, wanted] : {std::pair<std::string, bool>{"ktx2", options.ktx2}, {"dds", options.dds}}) {
         if (!wanted) continue;
-        auto names = writeContainers(staging, bake, source.decode.greenDown, options.half, container);
+        auto names = writeContainers(staging, bake, source.decode.greenDown, options.half, container, options);
         if (!names) return fail(dirName + ": " + names.error().message);
         exports[container] = names.value();
     }

@@ -35,6 +35,7 @@ const FormatInfo kFormats[] = {
     {TextureFormat::Rgba16F, "rgba16f", 97, 10, 4, 8, 0, 2},  // VK_FORMAT_R16G16B16A16_SFLOAT
     {TextureFormat::R16F, "r16f", 76, 54, 1, 2, 0, 2},        // VK_FORMAT_R16_SFLOAT
     {TextureFormat::Rg16Unorm, "rg16", 77, 35, 2, 4, 0, 2},   // VK_FORMAT_R16G16_UNORM
+    {TextureFormat::Rgba8Unorm, "rgba8", 37, 28, 4, 4, 0, 1}, // VK_FORMAT_R8G8B8A8_UNORM
     {TextureFormat::Bc4Unorm, "bc4", 139, 80, 1, 0, 8, 1},    // VK_FORMAT_BC4_UNORM_BLOCK
     {TextureFormat::Bc5Unorm, "bc5", 141, 83, 2, 0, 16, 1},   // VK_FORMAT_BC5_UNORM_BLOCK
 };
@@ -74,6 +75,7 @@ std::string encodeLevel(const Image& image, const FormatInfo& f) {
                     const float v = channel(image, x, y, c);
                     if (f.format == TextureFormat::Rgba32F) put(out, v);
                     else if (f.format == TextureFormat::Rg16Unorm) put(out, unorm16(v));
+                    else if (f.format == TextureFormat::Rgba8Unorm) put(out, unorm8(v));
                     else put(out, Imath::half(v).bits());
                 }
         return out;
@@ -122,6 +124,10 @@ std::string dataFormatDescriptor(const FormatInfo& f) {
     case TextureFormat::R16F:
         sample(0, 16, 0u | floatSigned, 0xBF800000u, 0x3F800000u);
         bytesPlane0 = 2;
+        break;
+    case TextureFormat::Rgba8Unorm:
+        for (uint32_t c = 0; c < 4; ++c) sample(8 * c, 8, c == 3 ? 15u : c, 0u, 255u);
+        bytesPlane0 = 4;
         break;
     case TextureFormat::Rg16Unorm:
         sample(0, 16, 0u, 0u, 65535u);

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "cli.h"
+#include "ndfmip/engine_presets.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/io.h"
 #include "ndfmip/spherical_harmonics.h"
@@ -19,6 +20,7 @@ struct BakeArgs {
     float maxExponent = 0.f;
     float baseRoughness = 0.f;
     std::string roughnessMap, roughnessChannel = "r", roughnessEncoding = "perceptual";
+    std::string engine, metallicChannel, occlusionChannel; // channels of the roughness map
     int order = 0; // sh: 0 = the default l* = 7
     int lobes = 0; // vmf: 0 = the default J = 4
     std::string albedo; // vmf: colour per lobe
@@ -73,6 +75,37 @@ SharedImage loadRoughnessMapOrFail(const BakeArgs& a, int width, int height) {
     return alpha;
 }
 
+// One channel of the roughness map (a packed material map) as a level-0 image, or null.
+SharedImage materialChannelOrFail(const BakeArgs& a, const std::string& channelName, const char* option, int width,
+                                  int height) {
+    if (channelName.empty()) return nullptr;
+    if (a.roughnessMap.empty()) throw Failure(std::string(option) + " reads a channel of --roughness-map, which is not given");
+    Result<SourceImage> map = loadImage(a.roughnessMap);
+    if (!map) throw Failure(map.error().message);
+    const Image& image = map->image;
+    const int channel = int(std::string("rgba").find(channelName[0]));
+    if (image.width != width || image.height != height || channel >= image.channels)
+        throw Failure(a.roughnessMap + ": " + option + " " + channelName + " but the map is " + std::to_string(image.width) + "x" +
+                      std::to_string(image.height) + " with " + std::to_string(image.channels) + " channel(s)");
+    auto out = std::make_shared<Image>(width, height, 1);
+    for (size_t i = 0; i < image.texelCount(); ++i) {
+        const float v = image.pixels[i * size_t(image.channels) + size_t(channel)];
+        if (!std::isfinite(v)) throw Failure(a.roughnessMap + ": NaN or infinite value in " + std::string(option));
+        out->pixels[i] = std::clamp(v, 0.f, 1.f);
+    }
+    return out;
+}
+
+// The level-0 image's mean over each level's footprints (metallic and occlusion are linear).
+std::vector<SharedImage> chainOf(const Pyramid& pyramid, SharedImage level0) {
+    std::vector<SharedImage> chain;
+    if (!level0) return chain;
+    chain.push_back(level0);
+    for (int k = 1; k < int(pyramid.levels.size()); ++k)
+        chain.push_back(std::make_shared<const Image>(averageToLevel(pyramid, *chain.back(), k)));
+    return chain;
+}
+
 void runBake(const BakeArgs& a) {
     auto method = methodFromString(a.method);
     if (!method) throw Failure("unknown method " + quote(a.method) + " (" + methodNames() + ")");
@@ -90,6 +123,14 @@ void runBake(const BakeArgs& a) {
             throw Failure("--export " + quote(format) + ": expected png16, ktx2, dds or exr (comma-separated)");
         exports.insert(format);
         rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+    }
+    const EnginePreset* engine = nullptr;
+    if (!a.engine.empty()) {
+        engine = findEnginePreset(a.engine);
+        if (!engine) throw Failure("--engine " + quote(a.engine) + ": expected " + enginePresetNames());
+        if (*method != Method::Toksvig && *method != Method::Naive)
+            throw Failure("--engine writes a normal map and a roughness map: --method toksvig (or naive)");
+        if (!exports.count("ktx2") && !exports.count("dds")) exports.insert("ktx2");
     }
     if (exports.count("png16") && (*method == Method::Sh || *method == Method::Vmf || *method == Method::Lean))
         throw Failure("--export png16 needs a method that stores a normal (naive, toksvig)");
@@ -135,6 +176,9 @@ void runBake(const BakeArgs& a) {
     write.png16 = exports.count("png16") > 0;
     write.ktx2 = exports.count("ktx2") > 0;
     write.dds = exports.count("dds") > 0;
+    write.engine = engine;
+    write.metallic = chainOf(pyramid, materialChannelOrFail(a, a.metallicChannel, "--metallic-channel", width, height));
+    write.occlusion = chainOf(pyramid, materialChannelOrFail(a, a.occlusionChannel, "--occlusion-channel", width, height));
     write.half = a.half;
     Status status = writeBake(a.output, bake, source, write);
     if (!status) throw Failure(status.error);
@@ -197,6 +241,14 @@ void addBakeCommand(CLI::App& app) {
                   "perceptual (alpha = value^2: glTF, Unreal, Filament), alpha, or smoothness (Unity: alpha = "
                   "(1 - value)^2)")
         ->check(CLI::IsMember({"perceptual", "alpha", "smoothness"}))->capture_default_str();
+    c->add_option("--engine", args->engine,
+                  "also write an engine's own files (ktx2/dds): its normal map (green convention) and packed material "
+                  "map: " + enginePresetNames() + " (docs/ENGINES.md)");
+    c->add_option("--metallic-channel", args->metallicChannel, "--engine: metallic from this channel of --roughness-map")
+        ->check(CLI::IsMember({"r", "g", "b", "a"}));
+    c->add_option("--occlusion-channel", args->occlusionChannel,
+                  "--engine: ambient occlusion from this channel of --roughness-map")
+        ->check(CLI::IsMember({"r", "g", "b", "a"}));
     c->add_option("--gloss", args->gloss, "gloss map in [0,1]: s = gloss * S0 (Toksvig eq. 12)");
     c->add_option("--max-exponent", args->maxExponent, "S0, the exponent of gloss 1.0")
         ->check(CLI::Range(1e-3f, 1e6f));
