@@ -151,6 +151,11 @@ TEST(TextureContainer, Ktx2ReadBackByKtxParse) {
     const std::string path = modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules";
     if (!std::filesystem::exists("/usr/bin/node") || !std::filesystem::exists(path + "/ktx-parse"))
         GTEST_SKIP() << "node and the npm package ktx-parse (scripts/setup installs it into .npm) not found";
+    // Its ES module: dist/ktx-parse.modern.js in 1.x, dist/index.mjs in 2.x.
+    std::string module;
+    for (const char* candidate : {"/ktx-parse/dist/ktx-parse.modern.js", "/ktx-parse/dist/index.mjs"})
+        if (std::filesystem::exists(path + candidate)) module = path + candidate;
+    ASSERT_FALSE(module.empty()) << "no ES module in " << path << "/ktx-parse/dist";
     test::TempDir dir("ndfmip_ktx_parse");
     const std::vector<Image> levels = encodedNormalLevels();
     for (TextureFormat format : {TextureFormat::Bc5Unorm, TextureFormat::Rgba32F, TextureFormat::Rgba16F,
@@ -160,7 +165,7 @@ TEST(TextureContainer, Ktx2ReadBackByKtxParse) {
         const std::string file = dir.file(std::string(textureFormatName(format)) + ".ktx2");
         std::ofstream(file, std::ios::binary) << ktx2File(t.value());
         const std::string script = dir.file("read.mjs");
-        std::ofstream(script) << "import { read } from '" << path << "/ktx-parse/dist/index.mjs';\n"
+        std::ofstream(script) << "import { read } from '" << module << "';\n"
                               << "import { readFileSync } from 'fs';\n"
                               << "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
                               << "console.log(JSON.stringify({format: c.vkFormat, w: c.pixelWidth, h: c.pixelHeight, "
