@@ -93,7 +93,7 @@ TEST(TextureContainer, Ktx2HeaderLevelIndexAndDescriptor) {
     EXPECT_EQ(uint8_t(file[dfdAt + 12]), 132); // KHR_DF_MODEL_BC5
 }
 
-// The bar: BC5 normals >= 40 dB and BC4 roughness >= 45 dB on every level, on the bundled
+// The bar: BC5 normals >= 40 dB and BC4 roughness >= 45 dB PSNR on every level, on the bundled
 // real map (stb_dxt's encoder; a synthetic map of 4-texel sines reaches only 37 dB at levels 1-2).
 TEST(TextureContainer, Bc5AndBc4DecodedByNvdecompressKeepEveryLevel) {
     if (!std::filesystem::exists("/usr/bin/nvdecompress")) GTEST_SKIP() << "nvdecompress (libnvtt-bin) not installed";
