@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ndfmip/image.h"
@@ -41,6 +42,9 @@ struct EvalReport {
 // The whole report as one HTML document with no external references. All text is escaped;
 // NaN prints as "–" and infinities as "inf".
 std::string renderReportHtml(const EvalReport& report);
+
+// Text as HTML shows it: & < > " ' escaped.
+std::string escapeHtml(std::string_view text);
 
 // Standard base64 (RFC 4648, with '=' padding).
 std::string base64Encode(const std::string& bytes);

@@ -16,13 +16,6 @@
 #include "ndfmip/io.h"
 
 namespace ndfmip {
-namespace {
-
-const char* const kGroundTruth = "groundtruth";
-
-// Fixed colours, one per method (the truth aside) in order of first appearance (Tableau 10).
-const char* const kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
-                                "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"};
 
 std::string escapeHtml(std::string_view text) {
     std::string out;
@@ -50,6 +43,15 @@ std::string escapeHtml(std::string_view text) {
     }
     return out;
 }
+
+namespace {
+
+const char* const kGroundTruth = "groundtruth";
+
+// Fixed colours, one per method (the truth aside) in order of first appearance (Tableau 10).
+const char* const kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
+                                "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"};
+
 
 // `digits` significant digits (or decimals when `fixed`); NaN as an en dash, infinities as
 // "inf" so a diverging method reads as such instead of as printf's "nan".

@@ -29,18 +29,6 @@ std::string levelData(const std::vector<std::vector<const Image*>>& layers, size
     return base64Encode(bytes);
 }
 
-std::string escaped(const std::string& text) {
-    std::string out;
-    for (char c : text) {
-        if (c == '&') out += "&amp;";
-        else if (c == '<') out += "&lt;";
-        else if (c == '>') out += "&gt;";
-        else if (c == '"') out += "&quot;";
-        else out += c;
-    }
-    return out;
-}
-
 nlohmann::json uniformsJson(const std::vector<UniformValue>& uniforms) {
     nlohmann::json out = nlohmann::json::array();
     for (const UniformValue& u : uniforms) out.push_back({{"name", u.name}, {"int", u.integer}, {"v", u.values}});
@@ -207,12 +195,12 @@ std::string webglViewHtml(const WebglView& view) {
     // Inside <script type="application/json">: "</" would end the element.
     for (size_t at = json.find("</"); at != std::string::npos; at = json.find("</", at + 2)) json.replace(at, 2, "<\\/");
 
-    std::string html = "<h2>Live view (WebGL2)</h2><p>" + escaped(view.map) +
+    std::string html = "<h2>Live view (WebGL2)</h2><p>" + escapeHtml(view.map) +
                        " drawn in this browser by ndfmip's GLSL shaders (GLSL ES 3.00), the bake's own levels as "
                        "float mip levels, one trilinear lookup per pixel.</p><p><label>method <select "
                        "id=\"ndfmip-live-method\">";
     for (size_t i = 0; i < view.methods.size(); ++i)
-        html += "<option value=\"" + std::to_string(i) + "\">" + escaped(view.methods[i].label) + "</option>";
+        html += "<option value=\"" + std::to_string(i) + "\">" + escapeHtml(view.methods[i].label) + "</option>";
     html += "</select></label> <label>footprint <select id=\"ndfmip-live-footprint\">";
     for (size_t i = 0; i < view.footprints.size(); ++i)
         html += "<option value=\"" + std::to_string(i) + "\">" + std::to_string(view.footprints[i]) + "</option>";
