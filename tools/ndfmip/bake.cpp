@@ -1,13 +1,16 @@
 // ndfmip bake IN --method M -o DIR: per-level parameter images and a manifest.
-#include <set>
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
+#include <set>
+#include <tuple>
 
 #include "cli.h"
 #include "ndfmip/engine_presets.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/io.h"
+#include "ndfmip/render.h"
 #include "ndfmip/spherical_harmonics.h"
 #include "ndfmip/toksvig.h"
 
@@ -47,9 +50,8 @@ void applyGlossOrFail(Image& normals, const BakeArgs& a) {
     applyGlossMap(normals, g, a.maxExponent);
 }
 
-// The material's alpha per texel from a roughness map: one channel of it, perceptual
-// (alpha = p^2, glTF, Unreal, Filament), alpha, or Unity's smoothness (alpha = (1 - s)^2).
-SharedImage loadRoughnessMapOrFail(const BakeArgs& a, int width, int height) {
+// The roughness map (a packed material map), read once for all the channels taken from it.
+SourceImage loadMaterialMapOrFail(const BakeArgs& a, int width, int height) {
     Result<SourceImage> map = loadImage(a.roughnessMap);
     if (!map) throw Failure(map.error().message);
     const Image& image = map->image;
@@ -57,53 +59,34 @@ SharedImage loadRoughnessMapOrFail(const BakeArgs& a, int width, int height) {
         throw Failure(a.roughnessMap + ": roughness map is " + std::to_string(image.width) + "x" +
                       std::to_string(image.height) + " but the normal map is " + std::to_string(width) + "x" +
                       std::to_string(height));
-    const int channel = std::string("rgba").find(a.roughnessChannel[0]);
-    if (channel >= image.channels)
-        throw Failure(a.roughnessMap + ": --roughness-channel " + a.roughnessChannel + " but the map has " +
-                      std::to_string(image.channels) + " channel(s)");
-    auto alpha = std::make_shared<Image>(width, height, 1);
-    for (size_t i = 0; i < image.texelCount(); ++i) {
-        const float v = image.pixels[i * size_t(image.channels) + size_t(channel)];
-        if (!std::isfinite(v))
-            throw Failure(a.roughnessMap + ": NaN or infinite value at texel (" + std::to_string(i % size_t(width)) +
-                          ", " + std::to_string(i / size_t(width)) + ")");
-        const float x = std::clamp(v, 0.f, 1.f);
-        alpha->pixels[i] = a.roughnessEncoding == "alpha" ? x
-                           : a.roughnessEncoding == "smoothness" ? (1.f - x) * (1.f - x)
-                                                                 : x * x;
-    }
-    return alpha;
+    return std::move(map.value());
 }
 
-// One channel of the roughness map (a packed material map) as a level-0 image, or null.
-SharedImage materialChannelOrFail(const BakeArgs& a, const std::string& channelName, const char* option, int width,
-                                  int height) {
-    if (channelName.empty()) return nullptr;
-    if (a.roughnessMap.empty()) throw Failure(std::string(option) + " reads a channel of --roughness-map, which is not given");
-    Result<SourceImage> map = loadImage(a.roughnessMap);
-    if (!map) throw Failure(map.error().message);
-    const Image& image = map->image;
+// One channel (r, g, b or a) of the material map, clamped to [0, 1]; `option` names it in messages.
+std::shared_ptr<Image> materialChannelOrFail(const BakeArgs& a, const Image& map, const std::string& channelName,
+                                             const char* option) {
     const int channel = int(std::string("rgba").find(channelName[0]));
-    if (image.width != width || image.height != height || channel >= image.channels)
-        throw Failure(a.roughnessMap + ": " + option + " " + channelName + " but the map is " + std::to_string(image.width) + "x" +
-                      std::to_string(image.height) + " with " + std::to_string(image.channels) + " channel(s)");
-    auto out = std::make_shared<Image>(width, height, 1);
-    for (size_t i = 0; i < image.texelCount(); ++i) {
-        const float v = image.pixels[i * size_t(image.channels) + size_t(channel)];
-        if (!std::isfinite(v)) throw Failure(a.roughnessMap + ": NaN or infinite value in " + std::string(option));
+    if (channel >= map.channels)
+        throw Failure(a.roughnessMap + ": " + option + " " + channelName + " but the map has " +
+                      std::to_string(map.channels) + " channel(s)");
+    auto out = std::make_shared<Image>(map.width, map.height, 1);
+    for (size_t i = 0; i < map.texelCount(); ++i) {
+        const float v = map.pixels[i * size_t(map.channels) + size_t(channel)];
+        if (!std::isfinite(v))
+            throw Failure(a.roughnessMap + ": NaN or infinite value at texel (" + std::to_string(i % size_t(map.width)) +
+                          ", " + std::to_string(i / size_t(map.width)) + ") in " + option);
         out->pixels[i] = std::clamp(v, 0.f, 1.f);
     }
     return out;
 }
 
-// The level-0 image's mean over each level's footprints (metallic and occlusion are linear).
-std::vector<SharedImage> chainOf(const Pyramid& pyramid, SharedImage level0) {
-    std::vector<SharedImage> chain;
-    if (!level0) return chain;
-    chain.push_back(level0);
-    for (int k = 1; k < int(pyramid.levels.size()); ++k)
-        chain.push_back(std::make_shared<const Image>(averageToLevel(pyramid, *chain.back(), k)));
-    return chain;
+// The material's alpha per texel: the roughness channel perceptual (alpha = p^2: glTF, Unreal,
+// Filament), alpha, or Unity's smoothness (alpha = (1 - s)^2).
+SharedImage roughnessAlphaOrFail(const BakeArgs& a, const Image& map) {
+    std::shared_ptr<Image> alpha = materialChannelOrFail(a, map, a.roughnessChannel, "--roughness-channel");
+    for (float& x : alpha->pixels)
+        x = a.roughnessEncoding == "alpha" ? x : a.roughnessEncoding == "smoothness" ? (1.f - x) * (1.f - x) : x * x;
+    return alpha;
 }
 
 void runBake(const BakeArgs& a) {
@@ -161,7 +144,11 @@ void runBake(const BakeArgs& a) {
     options.vmfCoherence = a.coherence;
     options.vmfLobeBudget = a.lobeBudget;
     if (!a.albedo.empty()) options.albedo = loadAlbedoOrFail(a.albedo, width, height);
-    if (!a.roughnessMap.empty()) options.roughnessMap = loadRoughnessMapOrFail(a, width, height);
+    std::optional<SourceImage> materialMap;
+    if (!a.roughnessMap.empty()) {
+        materialMap = loadMaterialMapOrFail(a, width, height);
+        options.roughnessMap = roughnessAlphaOrFail(a, materialMap->image);
+    }
     if (!a.quiet) options.progress = [](int done, int total) { showProgress("bake: level", done, total); };
     checkBakeMemoryOrFail(a.input, *method, options, width, height);
     Bake bake = bakeMethod(*method, pyramid, options);
@@ -177,8 +164,15 @@ void runBake(const BakeArgs& a) {
     write.ktx2 = exports.count("ktx2") > 0;
     write.dds = exports.count("dds") > 0;
     write.engine = engine;
-    write.metallic = chainOf(pyramid, materialChannelOrFail(a, a.metallicChannel, "--metallic-channel", width, height));
-    write.occlusion = chainOf(pyramid, materialChannelOrFail(a, a.occlusionChannel, "--occlusion-channel", width, height));
+    // Metallic and occlusion are linear: their mips are footprint means, as an albedo map's.
+    for (const auto& [channel, option, chain] :
+         {std::tuple{&a.metallicChannel, "--metallic-channel", &write.metallic},
+          std::tuple{&a.occlusionChannel, "--occlusion-channel", &write.occlusion}}) {
+        if (channel->empty()) continue;
+        if (!materialMap)
+            throw Failure(std::string(option) + " reads a channel of --roughness-map, which is not given");
+        *chain = albedoMips(pyramid, materialChannelOrFail(a, materialMap->image, *channel, option));
+    }
     write.half = a.half;
     Status status = writeBake(a.output, bake, source, write);
     if (!status) throw Failure(status.error);
