@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "cli.h"
+#include "methods/method_unit.h"
 #include "ndfmip/gpu_render.h"
 #include "ndfmip/io.h"
 #include "ndfmip/render.h"
@@ -63,8 +64,9 @@ void runRender(const RenderArgs& a) {
     if (!scene) throw Failure(scene.error().message);
     const std::string method = a.method.empty() ? scene->method : a.method;
     const bool bakeless = method == kGroundTruth || method == kExact;
-    const std::string bakeName = method == kToksvigLut ? "toksvig" : method == kRoughnessMips ? "naive" : method;
-    if (!bakeless && !methodFromString(bakeName))
+    // The bake a shader reads (toksvig-lut: toksvig's; roughness-mips: naive's), from the method table.
+    const MethodShader* shader = findShader(method);
+    if (!bakeless && !shader)
         throw Failure("unknown method " + quote(method) + " (expected " + renderMethodNames() + ")");
     RenderOptions options;
     options.spp = a.spp > 0 ? a.spp : (method == kGroundTruth ? 64 : 1);
@@ -96,9 +98,9 @@ void runRender(const RenderArgs& a) {
             bakeOptions.shOrder = a.order;
             bakeOptions.vmfLobes = a.lobes;
             bakeOptions.albedo = albedo;
-            checkBakeMemoryOrFail(scene->normalMap.path, *methodFromString(bakeName), bakeOptions,
+            checkBakeMemoryOrFail(scene->normalMap.path, shader->bake, bakeOptions,
                                   textures.normals->width, textures.normals->height);
-            textures.bake = bakeMethod(*methodFromString(bakeName), *pyramid, bakeOptions);
+            textures.bake = bakeMethod(shader->bake, *pyramid, bakeOptions);
         }
     }
     if (albedo) textures.albedo = albedoMips(*pyramid, albedo);
