@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <set>
 
 #include <sys/stat.h>
@@ -79,6 +80,26 @@ Result<std::vector<std::string>> writePng16(const fs::path& folder, const Bake& 
     return names;
 }
 
+// An engine's packed material map at one level from its perceptual roughness, metallic (0
+// without) and occlusion (1 without), channel by channel as the preset lays them out.
+Image packedMaterial(const EnginePreset& engine, const Image& roughness, const Image* metallic, const Image* occlusion) {
+    Image packed(roughness.width, roughness.height, 4);
+    for (size_t i = 0; i < roughness.texelCount(); ++i)
+        for (int c = 0; c < 4; ++c) {
+            float v = 0.f;
+            switch (engine.packed[c]) {
+            case MaterialChannel::Zero: v = 0.f; break;
+            case MaterialChannel::One: v = 1.f; break;
+            case MaterialChannel::Roughness: v = roughness.pixels[i]; break;
+            case MaterialChannel::Smoothness: v = 1.f - roughness.pixels[i]; break;
+            case MaterialChannel::Metallic: v = metallic ? metallic->pixels[i] : 0.f; break;
+            case MaterialChannel::Occlusion: v = occlusion ? occlusion->pixels[i] : 1.f; break;
+            }
+            packed.pixels[4 * i + size_t(c)] = v;
+        }
+    return packed;
+}
+
 // Writes the ktx2 or dds files (`container` "ktx2" or "dds") into `folder`; returns their names
 // relative to the bake folder.
 Result<std::vector<std::string>> writeContainers(const fs::path& folder, const Bake& bake, bool greenDown, bool half,
@@ -95,22 +116,25 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
         names.push_back(name);
         return Status::success();
     };
-    std::vector<Image> owned; // encoded normals and perceptual roughness, per level
+    // A file of images made per level (encoded normals, perceptual roughness, packed maps).
+    auto writeMade = [&](const std::string& stem, const std::function<Image(size_t)>& make, TextureFormat format) {
+        std::vector<Image> owned;
+        for (size_t k = 0; k < bake.levels.size(); ++k) owned.push_back(make(k));
+        std::vector<const Image*> levels;
+        for (const Image& image : owned) levels.push_back(&image);
+        return write(stem, levels, format);
+    };
     const int dirPlane = directionPlane(bake), ggx = findPlane(bake.planes, "roughness_ggx");
-    if (dirPlane >= 0) {
-        owned.clear();
-        for (const auto& level : bake.levels) owned.push_back(encodeNormals(*level[dirPlane], greenDown));
-        std::vector<const Image*> levels;
-        for (const Image& image : owned) levels.push_back(&image);
-        if (Status s = write("normal_bc5", levels, TextureFormat::Bc5Unorm); !s) return Error{s.error};
-    }
-    if (ggx >= 0) {
-        owned.clear();
-        for (const auto& level : bake.levels) owned.push_back(perceptual(*level[ggx]));
-        std::vector<const Image*> levels;
-        for (const Image& image : owned) levels.push_back(&image);
-        if (Status s = write("roughness_bc4", levels, TextureFormat::Bc4Unorm); !s) return Error{s.error};
-    }
+    auto normals = [&](bool down) {
+        return [&bake, dirPlane, down](size_t k) { return encodeNormals(*bake.levels[k][dirPlane], down); };
+    };
+    if (dirPlane >= 0)
+        if (Status s = writeMade("normal_bc5", normals(greenDown), TextureFormat::Bc5Unorm); !s) return Error{s.error};
+    if (ggx >= 0)
+        if (Status s = writeMade("roughness_bc4", [&](size_t k) { return perceptual(*bake.levels[k][ggx]); },
+                                 TextureFormat::Bc4Unorm);
+            !s)
+            return Error{s.error};
     for (size_t p = 0; p < bake.planes.size(); ++p) {
         if (!bake.planes[p].linear) continue;
         std::vector<const Image*> levels;
@@ -120,39 +144,16 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     }
     if (const EnginePreset* engine = options.engine; engine && dirPlane >= 0) {
         const std::string prefix = std::string(engine->name) + "_";
-        owned.clear();
-        for (const auto& level : bake.levels) owned.push_back(encodeNormals(*level[dirPlane], engine->greenDown));
-        std::vector<const Image*> levels;
-        for (const Image& image : owned) levels.push_back(&image);
-        if (Status s = write(prefix + engine->normalFile, levels, TextureFormat::Bc5Unorm); !s) return Error{s.error};
-        if (ggx >= 0) {
-            owned.clear();
-            for (size_t k = 0; k < bake.levels.size(); ++k) {
-                const Image& alpha = *bake.levels[k][ggx];
-                Image packed(alpha.width, alpha.height, 4);
-                for (size_t i = 0; i < alpha.texelCount(); ++i) {
-                    const float roughness = std::sqrt(std::max(alpha.pixels[i], 0.f)); // perceptual
-                    const float metallic = k < options.metallic.size() ? options.metallic[k]->pixels[i] : 0.f;
-                    const float occlusion = k < options.occlusion.size() ? options.occlusion[k]->pixels[i] : 1.f;
-                    for (int c = 0; c < 4; ++c) {
-                        float v = 0.f;
-                        switch (engine->packed[c]) {
-                        case MaterialChannel::Zero: v = 0.f; break;
-                        case MaterialChannel::One: v = 1.f; break;
-                        case MaterialChannel::Roughness: v = roughness; break;
-                        case MaterialChannel::Smoothness: v = 1.f - roughness; break;
-                        case MaterialChannel::Metallic: v = metallic; break;
-                        case MaterialChannel::Occlusion: v = occlusion; break;
-                        }
-                        packed.pixels[4 * i + size_t(c)] = v;
-                    }
-                }
-                owned.push_back(std::move(packed));
-            }
-            levels.clear();
-            for (const Image& image : owned) levels.push_back(&image);
-            if (Status s = write(prefix + engine->packedFile, levels, TextureFormat::Rgba8Unorm); !s) return Error{s.error};
-        }
+        if (Status s = writeMade(prefix + engine->normalFile, normals(engine->greenDown), TextureFormat::Bc5Unorm); !s)
+            return Error{s.error};
+        auto packed = [&](size_t k) {
+            return packedMaterial(*engine, perceptual(*bake.levels[k][ggx]),
+                                  k < options.metallic.size() ? options.metallic[k].get() : nullptr,
+                                  k < options.occlusion.size() ? options.occlusion[k].get() : nullptr);
+        };
+        if (ggx >= 0)
+            if (Status s = writeMade(prefix + engine->packedFile, packed, TextureFormat::Rgba8Unorm); !s)
+                return Error{s.error};
     }
     return names;
 }
