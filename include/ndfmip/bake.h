@@ -14,6 +14,7 @@
 #include "ndfmip/normal_map.h"
 #include "ndfmip/pyramid.h"
 #include "ndfmip/result.h"
+#include "ndfmip/texture_container.h"
 
 namespace ndfmip {
 
@@ -99,17 +100,28 @@ struct BakeSource {
 };
 
 struct BakeWriteOptions {
+    // The planes as float EXRs, one per plane per level: the bake that render, inspect and eval
+    // read. Without them the folder holds only the exports below, and its manifest says
+    // "storage": "none" (readers then refuse it with that reason).
+    bool exr = true;
     // Engine-ready 16-bit PNG mips in DIR/png16: normal_L<k>.png (unit normal, encoded
     // c = (n+1)/2 in the source's green convention) and, where the method has roughness,
     // roughness_L<k>.png (perceptual GGX roughness, sqrt(alpha)).
     bool png16 = false;
     // Engine texture files with every level in DIR/ktx2 and DIR/dds (DX10 header):
-    // normal_bc5 (the unit normal's xy encoded (n+1)/2, green as the source) where the method
-    // stores a normal, roughness_bc4 (perceptual GGX roughness) where it has roughness, and
-    // <plane> for each linear plane (RGBA32F, or RGBA16F with `half`): SH coefficients, vMF
-    // lobes, mean normals, slope moments.
+    // normal_<format> (the unit normal's xy encoded (n+1)/2, green as the source) where the
+    // method stores a normal, roughness_<format> (perceptual GGX roughness) where it has
+    // roughness, and <plane> for each linear plane (RGBA32F, or RGBA16F with `half`): SH
+    // coefficients, vMF lobes, mean normals, slope moments.
     bool ktx2 = false;
     bool dds = false;
+    // Which of those the exports hold (png16 has no planes).
+    bool exportNormal = true, exportRoughness = true, exportPlanes = true;
+    // The normal's format (bc5, rg16 or rgba8: xyz, alpha 1) and the roughness's (bc4 or r16f).
+    TextureFormat normalFormat = TextureFormat::Bc5Unorm;
+    TextureFormat roughnessFormat = TextureFormat::Bc4Unorm;
+    // KTX2 Zstandard supercompression level, 1-22 (0: none).
+    int zstdLevel = 0;
     // An engine preset (engine_presets.h; null: none): the ktx2/dds files also get the engine's
     // BC5 normal map (its green convention) and its packed material map (RGBA8: roughness or
     // smoothness, metallic, occlusion in its channels), named <engine>_<file>.
@@ -145,7 +157,7 @@ struct LoadedBake {
     std::vector<std::vector<std::string>> levelFiles; // [level][plane]: plain names in DIR
     std::map<std::string, double> parameters;
     BakeSource source;
-    std::string storage = "float";    // "float" or "half"
+    std::string storage = "float";    // "float", "half", or "none" (exports only, no planes)
     std::vector<std::string> exports; // png16/, ktx2/ and dds/<name> files
     std::vector<Image> level;         // planes of the requested level
 };

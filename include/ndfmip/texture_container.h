@@ -2,6 +2,7 @@
 // ndfmip's own pyramid, block-compressed (BC4, BC5) or uncompressed.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,10 +35,14 @@ struct EncodedTexture {
 // normalised formats are clamped to [0, 1]. BC blocks past an edge repeat the edge texels.
 Result<EncodedTexture> encodeTexture(const std::vector<const Image*>& levels, TextureFormat format);
 
-// The whole file, ready to write: KTX2 (no supercompression; a basic data format descriptor;
-// linear transfer) or DDS with the DX10 header (DXGI format, mip count).
-std::string ktx2File(const EncodedTexture& texture);
+// The whole file, ready to write: KTX2 (a basic data format descriptor; linear transfer;
+// `zstdLevel` 1-22 supercompresses each level with Zstandard, 0 stores them as they are) or
+// DDS with the DX10 header (DXGI format, mip count).
+Result<std::string> ktx2File(const EncodedTexture& texture, int zstdLevel = 0);
 std::string ddsFile(const EncodedTexture& texture);
+
+// The format named `name` ("rgba32f", ..., "bc5"), if any.
+std::optional<TextureFormat> textureFormatFromName(const std::string& name);
 
 // DDS with the legacy FourCC header instead of DX10 ('ATI1' for BC4, 'ATI2' for BC5), which
 // older readers (NVIDIA Texture Tools 2, some engines' importers) decode; other formats error.

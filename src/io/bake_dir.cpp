@@ -41,13 +41,16 @@ int directionPlane(const Bake& bake) {
     return p >= 0 ? p : findPlane(bake.planes, "mean");
 }
 
-Image encodeNormals(const Image& directions, bool greenDown) {
-    Image out(directions.width, directions.height, 3);
+// Unit normals encoded (n + 1)/2 in 3 channels, or 4 with alpha 1 (for RGBA formats).
+Image encodeNormals(const Image& directions, bool greenDown, int channels = 3) {
+    Image out(directions.width, directions.height, channels);
     for (size_t i = 0; i < directions.texelCount(); ++i) {
         float n[3];
         normalizeOrFlat(&directions.pixels[i * directions.channels], n);
         if (greenDown) n[1] = -n[1];
-        for (int c = 0; c < 3; ++c) out.pixels[3 * i + c] = 0.5f * (n[c] + 1.f);
+        float* texel = &out.pixels[size_t(channels) * i];
+        for (int c = 0; c < 3; ++c) texel[c] = 0.5f * (n[c] + 1.f);
+        if (channels == 4) texel[3] = 1.f;
     }
     return out;
 }
@@ -60,11 +63,12 @@ Image perceptual(const Image& alpha) {
 
 // Writes the png16 files into `folder`; returns their names relative to the bake folder.
 Result<std::vector<std::string>> writePng16(const fs::path& folder, const Bake& bake,
-                                            bool greenDown) {
+                                            bool greenDown, const BakeWriteOptions& options) {
     std::error_code ec;
     fs::create_directory(folder / "png16", ec);
     std::vector<std::string> names;
-    int dirPlane = directionPlane(bake), ggx = findPlane(bake.planes, "roughness_ggx");
+    const int dirPlane = options.exportNormal ? directionPlane(bake) : -1;
+    const int ggx = options.exportRoughness ? findPlane(bake.planes, "roughness_ggx") : -1;
     for (size_t k = 0; k < bake.levels.size(); ++k) {
         std::vector<std::pair<std::string, Image>> files;
         if (dirPlane >= 0)
@@ -111,8 +115,10 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
         Result<EncodedTexture> texture = encodeTexture(levels, format);
         if (!texture) return Status::failure(texture.error().message);
         const std::string name = container + "/" + stem + "." + container;
-        const std::string bytes = container == "ktx2" ? ktx2File(texture.value()) : ddsFile(texture.value());
-        if (Status s = writeFileAtomic((folder / name).string(), bytes); !s) return s;
+        Result<std::string> bytes =
+            container == "ktx2" ? ktx2File(texture.value(), options.zstdLevel) : Result<std::string>(ddsFile(texture.value()));
+        if (!bytes) return Status::failure(bytes.error().message);
+        if (Status s = writeFileAtomic((folder / name).string(), bytes.value()); !s) return s;
         names.push_back(name);
         return Status::success();
     };
@@ -125,18 +131,24 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
         return write(stem, levels, format);
     };
     const int dirPlane = directionPlane(bake), ggx = findPlane(bake.planes, "roughness_ggx");
-    auto normals = [&](bool down) {
-        return [&bake, dirPlane, down](size_t k) { return encodeNormals(*bake.levels[k][dirPlane], down); };
+    auto normals = [&](bool down, TextureFormat format) {
+        const int channels = format == TextureFormat::Rgba8Unorm ? 4 : 3;
+        return [&bake, dirPlane, down, channels](size_t k) {
+            return encodeNormals(*bake.levels[k][dirPlane], down, channels);
+        };
     };
-    if (dirPlane >= 0)
-        if (Status s = writeMade("normal_bc5", normals(greenDown), TextureFormat::Bc5Unorm); !s) return Error{s.error};
-    if (ggx >= 0)
-        if (Status s = writeMade("roughness_bc4", [&](size_t k) { return perceptual(*bake.levels[k][ggx]); },
-                                 TextureFormat::Bc4Unorm);
+    if (dirPlane >= 0 && options.exportNormal)
+        if (Status s = writeMade(std::string("normal_") + textureFormatName(options.normalFormat),
+                                 normals(greenDown, options.normalFormat), options.normalFormat);
+            !s)
+            return Error{s.error};
+    if (ggx >= 0 && options.exportRoughness)
+        if (Status s = writeMade(std::string("roughness_") + textureFormatName(options.roughnessFormat),
+                                 [&](size_t k) { return perceptual(*bake.levels[k][ggx]); }, options.roughnessFormat);
             !s)
             return Error{s.error};
     for (size_t p = 0; p < bake.planes.size(); ++p) {
-        if (!bake.planes[p].linear) continue;
+        if (!bake.planes[p].linear || !options.exportPlanes) continue;
         std::vector<const Image*> levels;
         for (const auto& level : bake.levels) levels.push_back(level[p].get());
         if (Status s = write(bake.planes[p].name, levels, half ? TextureFormat::Rgba16F : TextureFormat::Rgba32F); !s)
@@ -144,7 +156,9 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     }
     if (const EnginePreset* engine = options.engine; engine && dirPlane >= 0) {
         const std::string prefix = std::string(engine->name) + "_";
-        if (Status s = writeMade(prefix + engine->normalFile, normals(engine->greenDown), TextureFormat::Bc5Unorm); !s)
+        if (Status s = writeMade(prefix + engine->normalFile, normals(engine->greenDown, TextureFormat::Bc5Unorm),
+                                 TextureFormat::Bc5Unorm);
+            !s)
             return Error{s.error};
         auto packed = [&](size_t k) {
             return packedMaterial(*engine, perceptual(*bake.levels[k][ggx]),
@@ -158,7 +172,7 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     return names;
 }
 
-json manifestJson(const Bake& bake, const BakeSource& source) {
+json manifestJson(const Bake& bake, const BakeSource& source, bool withPlanes) {
     json planes = json::array();
     for (const PlaneInfo& p : bake.planes)
         planes.push_back({{"name", p.name}, {"channels", p.channels},
@@ -166,7 +180,8 @@ json manifestJson(const Bake& bake, const BakeSource& source) {
     json levels = json::array();
     for (size_t k = 0; k < bake.levels.size(); ++k) {
         json files = json::object();
-        for (const PlaneInfo& p : bake.planes) files[p.name] = planeFile(p, int(k));
+        if (withPlanes)
+            for (const PlaneInfo& p : bake.planes) files[p.name] = planeFile(p, int(k));
         const Image& first = *bake.levels[k].front();
         levels.push_back({{"level", k}, {"width", first.width}, {"height", first.height},
                           {"files", files}});
@@ -273,11 +288,16 @@ Result<Image> readPlane(const fs::path& dir, const LoadedBake& bake, size_t p, i
     return std::move(image->image);
 }
 
+// The manifest of a bake whose planes are to be read: one baked with EXR planes.
 Result<LoadedBake> readManifest(const fs::path& dir) {
     const std::string path = (dir / "manifest.json").string();
     Result<std::string> text = readRegularFile(path, inputLimits().maxTextFileBytes);
     if (!text) return text.error();
-    return parseBakeManifest(text.value(), path);
+    Result<LoadedBake> bake = parseBakeManifest(text.value(), path);
+    if (bake && bake->storage == "none")
+        return Error{dir.string() + ": holds only exported textures (baked with --export without exr); bake "
+                                    "again with exr in --export to render, inspect or evaluate it"};
+    return bake;
 }
 
 } // namespace
@@ -304,18 +324,18 @@ Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource&
         fs::remove_all(staging, ec);
         return Status::failure(message);
     };
-    for (size_t k = 0; k < bake.levels.size(); ++k) {
+    for (size_t k = 0; k < bake.levels.size() && options.exr; ++k) {
         for (size_t p = 0; p < bake.planes.size(); ++p) {
             Status s = saveExr((staging / planeFile(bake.planes[p], int(k))).string(),
                                *bake.levels[k][p], {}, options.half);
             if (!s) return fail(s.error);
         }
     }
-    json manifest = manifestJson(bake, source);
-    manifest["storage"] = options.half ? "half" : "float";
+    json manifest = manifestJson(bake, source, options.exr);
+    manifest["storage"] = !options.exr ? "none" : options.half ? "half" : "float";
     json exports = json::object();
     if (options.png16) {
-        auto names = writePng16(staging, bake, source.decode.greenDown);
+        auto names = writePng16(staging, bake, source.decode.greenDown, options);
         if (!names) return fail(dirName + ": " + names.error().message);
         exports["png16"] = names.value();
     }

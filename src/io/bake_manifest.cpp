@@ -222,8 +222,10 @@ void readLevels(const json& m, LoadedBake& bake) {
         bake.levelSizes.emplace_back(w, h);
         const json& files = objectAt(levels[k], path, "files");
         std::vector<std::string> names;
+        if (bake.storage == "none" && !files.empty())
+            fail(quote(at(path, "files")) + " must be empty: the manifest's storage is \"none\"");
         for (const PlaneInfo& plane : bake.planes)
-            names.push_back(fileAt(files, at(path, "files"), plane.name.c_str()));
+            if (bake.storage != "none") names.push_back(fileAt(files, at(path, "files"), plane.name.c_str()));
         for (const auto& item : files.items())
             if (findPlane(bake.planes, item.key()) < 0)
                 fail(quote(at(at(path, "files"), item.key())) + " names no plane of the bake");
@@ -233,10 +235,13 @@ void readLevels(const json& m, LoadedBake& bake) {
     }
 }
 
-void readExports(const json& m, LoadedBake& bake) {
+void readStorage(const json& m, LoadedBake& bake) {
     bake.storage = m.contains("storage") ? textAt(m, "", "storage") : "float";
-    if (bake.storage != "float" && bake.storage != "half")
-        fail("'storage' must be \"float\" or \"half\", not " + quote(bake.storage));
+    if (bake.storage != "float" && bake.storage != "half" && bake.storage != "none")
+        fail("'storage' must be \"float\", \"half\" or \"none\", not " + quote(bake.storage));
+}
+
+void readExports(const json& m, LoadedBake& bake) {
     if (!m.contains("exports")) return;
     const json& exports = objectAt(m, "", "exports");
     for (const auto& [format, list] : exports.items()) {
@@ -283,6 +288,7 @@ Result<LoadedBake> parseBakeManifest(const std::string& text, const std::string&
         readParameters(m, bake);
         readPlanes(m, bake);
         readSource(m, bake);
+        readStorage(m, bake);
         readLevels(m, bake);
         readExports(m, bake);
     } catch (const ManifestProblem& p) {

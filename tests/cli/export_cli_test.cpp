@@ -5,10 +5,14 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <cmath>
+#include <algorithm>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "ndfmip/io.h"
+#include "ndfmip/texture_container.h"
 #include "test_support.h"
 
 namespace ndfmip {
@@ -25,7 +29,7 @@ TEST(ExportCli, ToksvigWritesNormalRoughnessAndPlaneContainers) {
     test::TempDir dir("ndfmip_export");
     const std::string out = dir.file("wall.bake");
     std::string output;
-    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --green-down --method toksvig --export ktx2,dds,png16 -o " +
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --green-down --method toksvig --export exr,ktx2,dds,png16 -o " +
                            test::shellArg(out), &output),
               0)
         << output;
@@ -74,11 +78,128 @@ TEST(ExportCli, UnknownExportsAndForeignPathsAreRefused) {
                            {"--export", "ktx3"});
     const std::string out = dir.file("wall.bake");
     std::string output;
-    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --export ktx2 -o " + test::shellArg(out), &output), 0) << output;
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --export exr,ktx2 -o " + test::shellArg(out), &output), 0) << output;
     nlohmann::json m = manifestOf(out);
     m["exports"]["ktx2"][0] = "../../etc/passwd";
     std::ofstream(out + "/manifest.json") << m.dump(2);
     test::expectCliRefuses("inspect " + test::shellArg(out) + " --texel 0,0", {"exports.ktx2", "not ktx2/"});
+}
+
+// --export lists exactly what is written: the roughness alone in one KTX2, no EXR planes; the
+// folder is still a bake (a manifest, replaced by the next bake) but readers refuse it by name.
+TEST(ExportCli, OnlyWhatIsAskedForIsWritten) {
+    test::TempDir dir("ndfmip_export_only");
+    const std::string out = dir.file("wall.bake");
+    std::string output;
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --export ktx2 --export-textures roughness --zstd 3 -o " +
+                               test::shellArg(out),
+                           &output),
+              0)
+        << output;
+    std::vector<std::string> files;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(out))
+        if (entry.is_regular_file()) files.push_back(entry.path().lexically_relative(out).string());
+    std::sort(files.begin(), files.end());
+    EXPECT_EQ(files, (std::vector<std::string>{"ktx2/roughness_bc4.ktx2", "manifest.json"}));
+    const nlohmann::json m = manifestOf(out);
+    EXPECT_EQ(m["storage"], "none");
+    EXPECT_TRUE(m["levels"][0]["files"].empty());
+    test::expectCliRefuses("inspect " + test::shellArg(out) + " --texel 0,0", {"only exported textures", "exr"});
+    // Formats by name; the next bake replaces the folder.
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --export dds,ktx2 --export-textures normal,roughness "
+                                                            "--normal-format rg16 --roughness-format r16f -o " +
+                               test::shellArg(out),
+                           &output),
+              0)
+        << output;
+    const auto names = manifestOf(out)["exports"]["dds"].get<std::vector<std::string>>();
+    EXPECT_EQ(names, (std::vector<std::string>{"dds/normal_rg16.dds", "dds/roughness_r16f.dds"}));
+    test::expectCliRefuses("bake " + test::shellArg(kMap) + " --export ktx2 --export-textures albedo -o " +
+                               test::shellArg(dir.file("y")),
+                           {"--export-textures", "albedo"});
+    test::expectCliRefuses("bake " + test::shellArg(kMap) + " --export dds --zstd 3 -o " + test::shellArg(dir.file("y")),
+                           {"--zstd", "ktx2"});
+    EXPECT_FALSE(std::filesystem::exists(dir.file("y")));
+}
+
+// The least squared error any 8-level BC4 block can reach on 16 values (8-bit endpoints,
+// every pair tried): the bar for an encoder on content that BC4 cannot hold exactly.
+double bestBc4SquaredError(const double values[16]) {
+    double best = 1e30;
+    for (int r0 = 1; r0 < 256; ++r0)
+        for (int r1 = 0; r1 < r0; ++r1) {
+            double palette[8] = {double(r0), double(r1)};
+            for (int c = 2; c < 8; ++c) palette[c] = double(((8 - c) * r0 + (c - 1) * r1 + 3) / 7);
+            double total = 0.0;
+            for (int i = 0; i < 16 && total < best; ++i) {
+                double nearest = 1e30;
+                for (double p : palette) nearest = std::min(nearest, (values[i] - p) * (values[i] - p));
+                total += nearest;
+            }
+            best = std::min(best, total);
+        }
+    return best / (255.0 * 255.0);
+}
+
+// The roughness an engine reads back is the bake's float plane: the BC4 DDS decoded by
+// nvdecompress (an independent decoder) against sqrt(alpha) of roughness_ggx, level by level.
+// BC4 holds 8 levels per 4x4 block; where a level's roughness varies more than that within
+// blocks (this map's levels 3-5: the best any BC4 block can do is 43.2-43.4 dB) the bar is
+// that optimum, less 1.5 dB; everywhere at least 40 dB.
+TEST(ExportCli, DecodedBc4RoughnessMatchesTheFloatPlane) {
+    if (!std::filesystem::exists("/usr/bin/nvdecompress")) GTEST_SKIP() << "nvdecompress (libnvtt-bin) not installed";
+    test::TempDir dir("ndfmip_export_rough");
+    const std::string out = dir.file("wall.bake");
+    std::string output;
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --green-down --base-roughness 0.2 --export exr,dds -o " +
+                               test::shellArg(out),
+                           &output),
+              0)
+        << output;
+    std::ifstream in(out + "/dds/roughness_bc4.dds", std::ios::binary);
+    const std::string dds((std::istreambuf_iterator<char>(in)), {});
+    size_t at = 4 + 124 + 20; // magic, DDS_HEADER, DDS_HEADER_DXT10
+    const nlohmann::json m = manifestOf(out);
+    for (size_t k = 0; k < m["levels"].size(); ++k) {
+        const int w = m["levels"][k]["width"], h = m["levels"][k]["height"];
+        const size_t bytes = size_t((w + 3) / 4) * size_t((h + 3) / 4) * 8;
+        ASSERT_LE(at + bytes, dds.size());
+        EncodedTexture one{TextureFormat::Bc4Unorm, w, h, {dds.substr(at, bytes)}};
+        at += bytes;
+        const std::string level = dir.file("r" + std::to_string(k) + ".dds");
+        std::ofstream(level, std::ios::binary) << ddsFileLegacy(one).value();
+        ASSERT_EQ(std::system(("cd " + test::shellArg(dir.path.string()) + " && nvdecompress " + test::shellArg(level) +
+                               " > /dev/null 2>&1")
+                                  .c_str()),
+                  0);
+        Result<SourceImage> decoded = loadImage(dir.file("r" + std::to_string(k) + ".tga"));
+        ASSERT_TRUE(decoded) << decoded.error().message;
+        Result<SourceImage> plane = loadImage(out + "/" + m["levels"][k]["files"]["roughness_ggx"].get<std::string>());
+        ASSERT_TRUE(plane) << plane.error().message;
+        double squared = 0.0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const double e = double(decoded->image.at(x, y)[0]) - std::sqrt(double(plane->image.at(x, y)[0]));
+                squared += e * e;
+            }
+        auto psnr = [&](double total) { return 10.0 * std::log10(1.0 / std::max(total / double(w * h), 1e-12)); };
+        EXPECT_GE(psnr(squared), 40.0) << "level " << k;
+        if (w % 4 == 0 && h % 4 == 0 && w <= 32 && h <= 32) {
+            double optimum = 0.0;
+            for (int by = 0; by < h; by += 4)
+                for (int bx = 0; bx < w; bx += 4) {
+                    double values[16];
+                    for (int i = 0; i < 16; ++i)
+                        values[i] = 255.0 * std::sqrt(double(plane->image.at(bx + i % 4, by + i / 4)[0]));
+                    optimum += bestBc4SquaredError(values);
+                }
+            EXPECT_GE(psnr(squared), psnr(optimum) - 1.5) << "level " << k;
+            std::printf("level %zu (%dx%d): %.1f dB, best 8-level BC4 %.1f dB\n", k, w, h, psnr(squared), psnr(optimum));
+        } else {
+            std::printf("level %zu (%dx%d): %.1f dB\n", k, w, h, psnr(squared));
+        }
+    }
+    EXPECT_EQ(at, dds.size());
 }
 
 } // namespace

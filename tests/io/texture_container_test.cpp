@@ -73,7 +73,7 @@ TEST(TextureContainer, Ktx2HeaderLevelIndexAndDescriptor) {
     const std::vector<Image> levels = encodedNormalLevels();
     Result<EncodedTexture> t = encodeTexture(pointers(levels), TextureFormat::Bc5Unorm);
     ASSERT_TRUE(t) << t.error().message;
-    const std::string file = ktx2File(t.value());
+    const std::string file = ktx2File(t.value()).value();
     ASSERT_EQ(file.compare(0, 12, std::string("\xABKTX 20\xBB\r\n\x1A\n", 12)), 0);
     EXPECT_EQ(read<uint32_t>(file, 12), 141u); // VK_FORMAT_BC5_UNORM_BLOCK
     EXPECT_EQ(read<uint32_t>(file, 20), 64u);
@@ -158,18 +158,21 @@ TEST(TextureContainer, Ktx2ReadBackByKtxParse) {
     ASSERT_FALSE(module.empty()) << "no ES module in " << path << "/ktx-parse/dist";
     test::TempDir dir("ndfmip_ktx_parse");
     const std::vector<Image> levels = encodedNormalLevels();
-    for (TextureFormat format : {TextureFormat::Bc5Unorm, TextureFormat::Rgba32F, TextureFormat::Rgba16F,
-                                 TextureFormat::Rg16Unorm}) {
+    const std::pair<TextureFormat, int> cases[] = {{TextureFormat::Bc5Unorm, 0}, {TextureFormat::Rgba32F, 0},
+                                                   {TextureFormat::Rgba16F, 0}, {TextureFormat::Rg16Unorm, 0},
+                                                   {TextureFormat::Bc5Unorm, 9}, {TextureFormat::Rgba16F, 3}};
+    for (const auto& [format, zstd] : cases) {
         Result<EncodedTexture> t = encodeTexture(pointers(levels), format);
         ASSERT_TRUE(t);
-        const std::string file = dir.file(std::string(textureFormatName(format)) + ".ktx2");
-        std::ofstream(file, std::ios::binary) << ktx2File(t.value());
+        const std::string file = dir.file(std::string(textureFormatName(format)) + std::to_string(zstd) + ".ktx2");
+        std::ofstream(file, std::ios::binary) << ktx2File(t.value(), zstd).value();
         const std::string script = dir.file("read.mjs");
         std::ofstream(script) << "import { read } from '" << module << "';\n"
                               << "import { readFileSync } from 'fs';\n"
                               << "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
                               << "console.log(JSON.stringify({format: c.vkFormat, w: c.pixelWidth, h: c.pixelHeight, "
-                                 "levels: c.levels.map(l => l.levelData.byteLength), model: c.dataFormatDescriptor[0].colorModel}));\n";
+                                 "levels: c.levels.map(l => l.uncompressedByteLength), scheme: c.supercompressionScheme, "
+                                 "model: c.dataFormatDescriptor[0].colorModel}));\n";
         const std::string out = dir.file("out.json");
         ASSERT_EQ(std::system(("node " + test::shellArg(script) + " " + test::shellArg(file) + " > " + test::shellArg(out) + " 2>&1").c_str()), 0);
         std::ifstream in(out);
@@ -181,7 +184,33 @@ TEST(TextureContainer, Ktx2ReadBackByKtxParse) {
             lengths += std::to_string(t->levels[k].size());
         }
         EXPECT_NE(json.find("\"levels\":" + lengths + "]"), std::string::npos) << json;
+        EXPECT_NE(json.find("\"scheme\":" + std::to_string(zstd > 0 ? 2 : 0)), std::string::npos) << json;
     }
+}
+
+// Zstandard supercompression: every level inflated by the zstd tool (an independent decoder)
+// is the uncompressed level; the level index holds both lengths; levels are packed unaligned.
+TEST(TextureContainer, Ktx2ZstdLevelsInflateToTheLevels) {
+    if (std::system("zstd --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "the zstd tool is not installed";
+    test::TempDir dir("ndfmip_ktx_zstd");
+    const std::vector<Image> levels = encodedNormalLevels();
+    Result<EncodedTexture> t = encodeTexture(pointers(levels), TextureFormat::Rgba16F);
+    ASSERT_TRUE(t);
+    const std::string file = ktx2File(t.value(), 19).value();
+    EXPECT_EQ(read<uint32_t>(file, 44), 2u); // supercompressionScheme: Zstandard
+    EXPECT_LT(file.size(), ktx2File(t.value()).value().size());
+    for (uint32_t k = 0; k < t->levels.size(); ++k) {
+        const uint64_t offset = read<uint64_t>(file, 80 + 24 * k), length = read<uint64_t>(file, 88 + 24 * k);
+        EXPECT_EQ(read<uint64_t>(file, 96 + 24 * k), t->levels[k].size());
+        ASSERT_LE(offset + length, file.size());
+        const std::string packed = dir.file("level" + std::to_string(k) + ".zst");
+        std::ofstream(packed, std::ios::binary) << file.substr(offset, length);
+        ASSERT_EQ(std::system(("zstd -q -d -f " + test::shellArg(packed) + " -o " + test::shellArg(packed + ".raw")).c_str()), 0);
+        std::ifstream in(packed + ".raw", std::ios::binary);
+        const std::string raw((std::istreambuf_iterator<char>(in)), {});
+        EXPECT_EQ(raw, t->levels[k]) << "level " << k;
+    }
+    EXPECT_FALSE(ktx2File(t.value(), 23));
 }
 
 } // namespace

@@ -19,6 +19,8 @@ namespace {
 
 struct BakeArgs {
     std::string input, output, method = "toksvig", gloss, exportFormat;
+    std::string exportTextures = "normal,roughness,planes", normalFormat = "bc5", roughnessFormat = "bc4";
+    int zstd = 0;
     InputOptions input_options;
     float maxExponent = 0.f;
     float baseRoughness = 0.f;
@@ -89,6 +91,23 @@ SharedImage roughnessAlphaOrFail(const BakeArgs& a, const Image& map) {
     return alpha;
 }
 
+// A comma-separated list of words from `allowed`.
+std::set<std::string> commaListOrFail(const std::string& list, const char* option, const std::set<std::string>& allowed) {
+    std::set<std::string> words;
+    for (std::string rest = list;;) {
+        const size_t comma = rest.find(',');
+        const std::string word = rest.substr(0, comma);
+        if (!allowed.count(word)) {
+            std::string expected;
+            for (const std::string& w : allowed) expected += (expected.empty() ? "" : ", ") + w;
+            throw Failure(std::string(option) + " " + quote(word) + ": expected " + expected + " (comma-separated)");
+        }
+        words.insert(word);
+        if (comma == std::string::npos) return words;
+        rest = rest.substr(comma + 1);
+    }
+}
+
 void runBake(const BakeArgs& a) {
     auto method = methodFromString(a.method);
     if (!method) throw Failure("unknown method " + quote(a.method) + " (" + methodNames() + ")");
@@ -98,15 +117,12 @@ void runBake(const BakeArgs& a) {
     if (a.coherence != 0.f && *method != Method::Vmf) throw Failure("--coherent applies to --method vmf only");
     if (a.lobeBudget != 0.f && *method != Method::Vmf) throw Failure("--lobe-budget applies to --method vmf only");
     if (a.lobeBudget != 0.f && a.coherence != 0.f) throw Failure("--lobe-budget does not apply to coherent lobes");
-    std::set<std::string> exports;
-    for (std::string rest = a.exportFormat; !rest.empty();) {
-        const size_t comma = rest.find(',');
-        const std::string format = rest.substr(0, comma);
-        if (format != "png16" && format != "ktx2" && format != "dds" && format != "exr")
-            throw Failure("--export " + quote(format) + ": expected png16, ktx2, dds or exr (comma-separated)");
-        exports.insert(format);
-        rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
-    }
+    // Without --export the bake is the EXR planes; with it, exactly what it lists.
+    std::set<std::string> exports =
+        commaListOrFail(a.exportFormat.empty() ? "exr" : a.exportFormat, "--export", {"png16", "ktx2", "dds", "exr"});
+    const std::set<std::string> textures =
+        commaListOrFail(a.exportTextures, "--export-textures", {"normal", "roughness", "planes"});
+    if (a.zstd != 0 && !exports.count("ktx2")) throw Failure("--zstd supercompresses KTX2 files: add ktx2 to --export");
     const EnginePreset* engine = nullptr;
     if (!a.engine.empty()) {
         engine = findEnginePreset(a.engine);
@@ -160,7 +176,14 @@ void runBake(const BakeArgs& a) {
     if (!hash) throw Failure(hash.error().message);
     BakeSource source{a.input, hash.value(), width, height, decode, a.gloss};
     BakeWriteOptions write;
+    write.exr = exports.count("exr") > 0;
     write.png16 = exports.count("png16") > 0;
+    write.exportNormal = textures.count("normal") > 0;
+    write.exportRoughness = textures.count("roughness") > 0;
+    write.exportPlanes = textures.count("planes") > 0;
+    write.normalFormat = *textureFormatFromName(a.normalFormat);
+    write.roughnessFormat = *textureFormatFromName(a.roughnessFormat);
+    write.zstdLevel = a.zstd;
     write.ktx2 = exports.count("ktx2") > 0;
     write.dds = exports.count("dds") > 0;
     write.engine = engine;
@@ -250,9 +273,18 @@ void addBakeCommand(CLI::App& app) {
                   "GGX/Beckmann alpha of the material before filtering")
         ->check(CLI::Range(0.f, 1.f))->capture_default_str();
     c->add_option("--export", args->exportFormat,
-                  "also write engine-ready mips, comma-separated: png16 (16-bit PNG per level), ktx2 and dds "
-                  "(normal_bc5, roughness_bc4 and every linear plane, all levels in one file each); exr: the "
-                  "planes, always written");
+                  "what to write, comma-separated: exr (the planes that render, inspect and eval read; the "
+                  "default), png16 (16-bit PNG per level), ktx2 and dds (normal, roughness and every linear plane, "
+                  "all levels in one file each). Only what is listed is written: e.g. --export ktx2 writes no EXR");
+    c->add_option("--export-textures", args->exportTextures,
+                  "what the png16/ktx2/dds files hold, comma-separated: normal, roughness, planes")
+        ->capture_default_str();
+    c->add_option("--normal-format", args->normalFormat, "the exported normal: bc5, rg16 or rgba8")
+        ->check(CLI::IsMember({"bc5", "rg16", "rgba8"}))->capture_default_str();
+    c->add_option("--roughness-format", args->roughnessFormat, "the exported roughness: bc4 or r16f")
+        ->check(CLI::IsMember({"bc4", "r16f"}))->capture_default_str();
+    c->add_option("--zstd", args->zstd, "ktx2: Zstandard supercompression level 1-22 (0: none)")
+        ->check(CLI::Range(0, 22))->capture_default_str();
     c->add_flag("-q,--quiet", args->quiet, "print nothing but errors");
     c->callback([args] { runBake(*args); });
 }
