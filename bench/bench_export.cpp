@@ -28,7 +28,7 @@ void exportKtx2(benchmark::State& state, ndfmip::TextureFormat roughness, bool n
     for (auto _ : state) {
         const ndfmip::Pyramid pyramid = ndfmip::buildPyramid(map);
         const ndfmip::Bake bake = ndfmip::bakeMethod(ndfmip::Method::Toksvig, pyramid, {});
-        const ndfmip::Status status = ndfmip::writeBake(dir, bake, {"bench", "", map->width, map->height, {}, ""}, write);
+        const ndfmip::Status status = ndfmip::writeBake(dir, bake, {"bench", "", map->width, map->height, {}, "", ""}, write);
         if (!status) state.SkipWithError(status.error.c_str());
     }
     std::filesystem::remove_all(dir);

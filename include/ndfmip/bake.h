@@ -97,6 +97,10 @@ struct BakeSource {
     int width = 0, height = 0;
     DecodeOptions decode;
     std::string gloss; // gloss map path, if one shortened the normals
+    // What the bake was made from and how (the sources' SHA-256s, the options, the version), as
+    // one SHA-256: a later bake with the same key would write the same files, so it may skip.
+    // Written as the manifest's "cache_key" when set.
+    std::string cacheKey;
 };
 
 struct BakeWriteOptions {

@@ -45,7 +45,8 @@ Status savePng(const std::string& path, const Image& image, int bitsPerChannel);
 // Writes bytes to `path` through a temporary file and a rename.
 Status writeFileAtomic(const std::string& path, const std::string& bytes);
 
-// Lower-case hex SHA-256 of a file's bytes.
+// Lower-case hex SHA-256 of a file's bytes, and of bytes in memory.
 Result<std::string> sha256File(const std::string& path);
+std::string sha256Text(const std::string& bytes);
 
 } // namespace ndfmip

@@ -332,6 +332,7 @@ Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource&
         }
     }
     json manifest = manifestJson(bake, source, options.exr);
+    if (!source.cacheKey.empty()) manifest["cache_key"] = source.cacheKey;
     manifest["storage"] = !options.exr ? "none" : options.half ? "half" : "float";
     json exports = json::object();
     if (options.png16) {

@@ -289,6 +289,7 @@ Result<LoadedBake> parseBakeManifest(const std::string& text, const std::string&
         readPlanes(m, bake);
         readSource(m, bake);
         readStorage(m, bake);
+        if (m.contains("cache_key")) bake.source.cacheKey = textAt(m, "", "cache_key");
         readLevels(m, bake);
         readExports(m, bake);
     } catch (const ManifestProblem& p) {

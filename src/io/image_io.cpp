@@ -617,6 +617,20 @@ Status writeFileAtomic(const std::string& path, const std::string& bytes) {
     return Status::success();
 }
 
+namespace {
+
+std::string hexDigest(const unsigned char* digest, unsigned int length) {
+    static const char hex[] = "0123456789abcdef";
+    std::string text;
+    for (unsigned int i = 0; i < length; ++i) {
+        text += hex[digest[i] >> 4];
+        text += hex[digest[i] & 15];
+    }
+    return text;
+}
+
+} // namespace
+
 Result<std::string> sha256File(const std::string& path) {
     Result<int> fd = openRegularFile(path);
     if (!fd) return fd.error();
@@ -638,13 +652,14 @@ Result<std::string> sha256File(const std::string& path) {
     ok = ok && !readError && EVP_DigestFinal_ex(ctx, digest, &length) == 1;
     EVP_MD_CTX_free(ctx);
     if (!ok) return fail(path, readError ? "read error" : "SHA-256 failed");
-    static const char hex[] = "0123456789abcdef";
-    std::string text;
-    for (unsigned int i = 0; i < length; ++i) {
-        text += hex[digest[i] >> 4];
-        text += hex[digest[i] & 15];
-    }
-    return text;
+    return hexDigest(digest, length);
+}
+
+std::string sha256Text(const std::string& bytes) {
+    unsigned char digest[EVP_MAX_MD_SIZE];
+    unsigned int length = 0;
+    EVP_Digest(bytes.data(), bytes.size(), digest, &length, EVP_sha256(), nullptr);
+    return hexDigest(digest, length);
 }
 
 } // namespace ndfmip

@@ -585,12 +585,17 @@ TEST_F(CliBadInput, AbsurdInspectParameters) {
 }
 
 TEST_F(CliBadInput, OutputUnderMissingFolder) {
-    const std::string target = "/nonexistent_dir/sub/out";
-    CliRun r = cli("bake " + shellQuoted(good) + " -o " + target);
-    expectCleanFailure(r, {target, "does not exist"});
-    EXPECT_FALSE(fs::exists("/nonexistent_dir"));
-    expectNothingWritten(tmp.path, out);
+    // bake makes missing parent folders (asset pipelines write out/<kind>/<map>.bake); a
+    // parent that cannot exist (under a file) is refused by name.
+    const std::string made = (tmp.path / "new" / "deeper" / "out.bake").string();
+    CliRun ok = cli("bake " + shellQuoted(good) + " -q -o " + shellQuoted(made));
+    EXPECT_EQ(ok.status, 0) << ok.output;
+    EXPECT_TRUE(fs::exists(made + "/manifest.json"));
+    std::ofstream(tmp.path / "plain_file") << "x";
+    const std::string underFile = (tmp.path / "plain_file" / "sub" / "out").string();
+    expectCleanFailure(cli("bake " + shellQuoted(good) + " -o " + shellQuoted(underFile)), {"plain_file"});
 
+    const std::string target = "/nonexistent_dir/sub/out";
     CliRun lut = cli("lut --exponent 8 -o " + target + ".exr");
     expectCleanFailure(lut, {target + ".exr"});
     EXPECT_FALSE(fs::exists("/nonexistent_dir"));
