@@ -1,4 +1,5 @@
-// glTF in, GLB out: every image and buffer byte kept, every property kept.
+// glTF in, GLB out: every image and buffer byte kept, every property kept, and the texture
+// sharing rule of filterGltf.
 #include <filesystem>
 #include <string>
 
@@ -6,6 +7,7 @@
 
 #include "gltf_test_asset.h"
 #include "io/gltf_asset.h"
+#include "ndfmip/gltf.h"
 #include "ndfmip/io.h"
 #include "test_support.h"
 
@@ -124,6 +126,40 @@ TEST(GltfAsset, BrokenContainersAreOneLineErrors) {
     Result<GltfAsset> cut = readGltf(dir.file("cut.glb"));
     ASSERT_FALSE(cut);
     EXPECT_NE(cut.error().message.find("JSON chunk"), std::string::npos) << cut.error().message;
+}
+
+// A texture that another material reads without a normal map keeps its plain form there; the
+// filtered material reads a copy of it that carries the DDS.
+TEST(GltfFilter, SharedTextureIsCopiedForTheFilteredMaterial) {
+    test::TempDir dir("gltf_shared");
+    test::TestAsset asset = test::quadAsset();
+    asset.json["materials"][1]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 1}};
+    const std::string path =
+        test::writeGlb(dir.path / "in.glb", asset,
+                       {{"image/png", bundledNormalMap()}, {"image/png", materialMapPng()}});
+    Result<GltfFiltered> filtered = filterGltf(path);
+    ASSERT_TRUE(filtered) << filtered.error().message;
+    const test::Glb out = test::parseGlb(filtered->glb);
+    ASSERT_TRUE(out.ok);
+    const auto& textures = out.json["textures"];
+    const auto& wall = out.json["materials"][0];
+    // Texture 1 as it was (material 1 reads it); material 0 reads a copy for both its
+    // metallicRoughness and its occlusion (ORM), with the same sampler and core source.
+    EXPECT_EQ(textures[1], asset.json["textures"][1]);
+    EXPECT_EQ(out.json["materials"][1], asset.json["materials"][1]);
+    const size_t copy =
+        wall["pbrMetallicRoughness"]["metallicRoughnessTexture"]["index"].get<size_t>();
+    EXPECT_GE(copy, 2u);
+    EXPECT_EQ(wall["occlusionTexture"]["index"], copy);
+    EXPECT_EQ(textures[copy]["source"], 1);
+    EXPECT_EQ(textures[copy]["sampler"], 0);
+    EXPECT_TRUE(textures[copy]["extensions"]["MSFT_texture_dds"].contains("source"));
+    // The normal texture, read by two filtered materials as a normal map, is changed in place.
+    EXPECT_EQ(wall["normalTexture"]["index"], 0);
+    EXPECT_TRUE(textures[0]["extensions"]["MSFT_texture_dds"].contains("source"));
+    ASSERT_EQ(filtered->materials.size(), 2u);
+    EXPECT_FALSE(filtered->materials[0].madeRoughnessMap);
+    EXPECT_TRUE(filtered->materials[1].madeRoughnessMap);
 }
 
 } // namespace
