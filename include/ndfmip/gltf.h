@@ -1,0 +1,47 @@
+// glTF assets filtered as a whole: every material's normal texture and metallic-roughness
+// texture get ndfmip's mip chains (Toksvig's variance added to the material's own roughness,
+// level by level), carried as DDS images by MSFT_texture_dds beside the untouched originals,
+// in one GLB. docs/ENGINES.md ("glTF") has the rules and which loaders read what.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "ndfmip/result.h"
+
+namespace ndfmip {
+
+// What happened to one material.
+struct GltfMaterialReport {
+    std::string name; // the material's name, or "material N"
+    int width = 0, height = 0, levels = 0;
+    bool madeRoughnessMap = false; // it had no usable metallicRoughnessTexture: one was made
+    size_t clampedTexels = 0;      // texels whose roughness went above roughnessFactor (G = 1)
+    double milliseconds = 0.0;
+};
+
+struct GltfFiltered {
+    std::string glb; // the whole output file
+    std::vector<GltfMaterialReport> materials;
+    std::vector<std::string> warnings; // one line each, e.g. normals facing into the surface
+};
+
+// Reads `path` (.gltf with its files, or .glb) and filters every material that has a
+// normalTexture. Per material, with n the decoded normal image (glTF's convention: (n + 1)/2,
+// +Y up) and its metallicRoughnessTexture M of the same size (G roughness, B metallic):
+//  - the normal texture gets a BC5 DDS of the pyramid's mean normals, every level;
+//  - M's texture gets an RGBA8 DDS, every level: G = sqrt(alpha_k) / roughnessFactor (at most
+//    1), alpha_k the Toksvig bake's GGX alpha with alpha_0 = (G roughnessFactor)^2 per texel;
+//    R, B and A averaged over each texel's footprint;
+//  - without M (or with roughnessFactor 0, which no texture can raise) a new
+//    metallicRoughnessTexture is made: G = sqrt(alpha_k), R = B = A = 1 (B so metallicFactor
+//    still governs), its core image a PNG of level 0, and roughnessFactor becomes 1.
+// A texture shared with a use that needs other levels is copied for this use. Errors (one
+// line starting with `path`): unreadable asset, no material with a normalTexture, a normal
+// image that is missing, undecodable or no normal map (1 or 2 channels, or more than half its
+// texels more than 10% off unit length or facing into the surface), a metallic-roughness image
+// of another size, texture coordinates or transforms that differ between the two textures.
+Result<GltfFiltered> filterGltf(const std::string& path);
+
+} // namespace ndfmip

@@ -1,0 +1,66 @@
+// ndfmip gltf IN -o OUT.glb: every material's normal and metallic-roughness textures with
+// ndfmip's mip chains (DDS through MSFT_texture_dds), the rest of the asset as it was, one GLB.
+#include <cstdio>
+#include <filesystem>
+
+#include "cli.h"
+#include "ndfmip/gltf.h"
+#include "ndfmip/io.h"
+
+namespace ndfmip::cli {
+namespace {
+
+struct GltfArgs {
+    std::string input, output, engine = "gltf";
+    bool quiet = false;
+};
+
+void runGltf(const GltfArgs& a) {
+    // The output follows glTF's own conventions; other engines' files come from bake --engine.
+    if (a.engine != "gltf")
+        throw Failure("--engine " + quote(a.engine) +
+                      ": ndfmip gltf writes glTF's conventions only (gltf); "
+                      "bake --engine writes other engines' files");
+    if (std::filesystem::path(a.output).extension() != ".glb")
+        throw Failure(a.output + ": the output is a binary glTF: name it .glb");
+    const long long start = nowNanoseconds();
+    Result<GltfFiltered> filtered = filterGltf(a.input);
+    if (!filtered) throw Failure(filtered.error().message);
+    if (!a.quiet)
+        for (const std::string& warning : filtered->warnings)
+            std::fprintf(stderr, "ndfmip: warning: %s\n", warning.c_str());
+    if (Status s = writeFileAtomic(a.output, filtered->glb); !s) throw Failure(s.error);
+    if (a.quiet) return;
+    for (const GltfMaterialReport& m : filtered->materials) {
+        std::string notes;
+        if (m.madeRoughnessMap) notes += "; metallicRoughnessTexture made, roughnessFactor 1";
+        if (m.clampedTexels)
+            notes += "; roughness above roughnessFactor clamped at " +
+                     std::to_string(m.clampedTexels) + " texels";
+        std::printf(
+            "%-16s: %dx%d, %d levels: BC5 normal and RGBA8 metallicRoughness mips (%.1f ms%s)\n",
+            shortened(m.name, 40).c_str(), m.width, m.height, m.levels, m.milliseconds,
+            notes.c_str());
+    }
+    std::printf("-> %s (%zu bytes, %.1f ms)\n", a.output.c_str(), filtered->glb.size(),
+                millisecondsSince(start));
+}
+
+} // namespace
+
+void addGltfCommand(CLI::App& app) {
+    auto args = std::make_shared<GltfArgs>();
+    CLI::App* c = app.add_subcommand(
+        "gltf", "filter every material's normal and metallic-roughness textures of a glTF asset "
+                "into one GLB "
+                "(DDS mips through MSFT_texture_dds, originals kept; docs/ENGINES.md)");
+    c->add_option("input", args->input, "glTF asset: .gltf (with its files) or .glb")->required();
+    c->add_option("-o,--output", args->output, "output .glb (every image and buffer embedded)")
+        ->required();
+    c->add_option("--engine", args->engine, "conventions of the output: gltf only (glTF 2.0's own)")
+        ->capture_default_str();
+    c->add_flag("-q,--quiet", args->quiet, "print nothing but errors");
+    c->callback([args] { runGltf(*args); });
+}
+
+} // namespace ndfmip::cli
