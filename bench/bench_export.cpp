@@ -1,5 +1,5 @@
 // Engine exports: a Toksvig bake written as BC5 normal + BC4 roughness KTX2 files (every level,
-// no EXR planes), from the normals in memory to the files on disk. The command-line job also
+// no EXR planes), from the normals in memory (a real map, tiled) to the files on disk. The command-line job also
 // decodes the PNG; scripts/bench-export times that beside Filament's roughness-prefilter.
 #include <filesystem>
 #include <string>
@@ -16,7 +16,7 @@
 namespace {
 
 void exportKtx2(benchmark::State& state, ndfmip::TextureFormat roughness, bool normal) {
-    const ndfmip::SharedImage& map = ndfmip::bench::syntheticMap(int(state.range(0)));
+    const ndfmip::SharedImage& map = ndfmip::bench::realMap(int(state.range(0)));
     const std::string dir = (std::filesystem::temp_directory_path() /
                              ("ndfmip_bench_export_" + std::to_string(getpid()))).string();
     ndfmip::BakeWriteOptions write;

@@ -44,11 +44,13 @@ int directionPlane(const Bake& bake) {
 // Unit normals encoded (n + 1)/2 in 3 channels, or 4 with alpha 1 (for RGBA formats).
 Image encodeNormals(const Image& directions, bool greenDown, int channels = 3) {
     Image out(directions.width, directions.height, channels);
-    for (size_t i = 0; i < directions.texelCount(); ++i) {
+    const int64_t texels = int64_t(directions.texelCount());
+#pragma omp parallel for schedule(static) if (texels >= 65536)
+    for (int64_t i = 0; i < texels; ++i) {
         float n[3];
-        normalizeOrFlat(&directions.pixels[i * directions.channels], n);
+        normalizeOrFlat(&directions.pixels[size_t(i) * size_t(directions.channels)], n);
         if (greenDown) n[1] = -n[1];
-        float* texel = &out.pixels[size_t(channels) * i];
+        float* texel = &out.pixels[size_t(channels) * size_t(i)];
         for (int c = 0; c < 3; ++c) texel[c] = 0.5f * (n[c] + 1.f);
         if (channels == 4) texel[3] = 1.f;
     }
@@ -57,7 +59,9 @@ Image encodeNormals(const Image& directions, bool greenDown, int channels = 3) {
 
 Image perceptual(const Image& alpha) {
     Image out = alpha;
-    for (float& v : out.pixels) v = std::sqrt(std::max(v, 0.f));
+    const int64_t n = int64_t(out.pixels.size());
+#pragma omp parallel for schedule(static) if (n >= 65536)
+    for (int64_t i = 0; i < n; ++i) out.pixels[size_t(i)] = std::sqrt(std::max(out.pixels[size_t(i)], 0.f));
     return out;
 }
 

@@ -81,8 +81,8 @@ void bc4Palette(int r0, int r1, int palette[8]) {
 }
 
 // The squared error of `values` coded with the nearest palette entries, and those entries. In
-// the 8-level mode the levels are evenly spaced, so the nearest is the rounded position or a
-// neighbour of it.
+// the 8-level mode the levels are evenly spaced (to rounding), so the nearest is one of the two
+// that bracket the value.
 int bc4Error(const unsigned char* values, int stride, const int palette[8], int codes[16]) {
     static constexpr int kCodeAt[8] = {1, 7, 6, 5, 4, 3, 2, 0}; // position from r1 (0) to r0 (7)
     const int r0 = palette[0], r1 = palette[1];
@@ -91,11 +91,11 @@ int bc4Error(const unsigned char* values, int stride, const int palette[8], int 
         const int v = values[i * stride];
         int best = 1 << 30;
         if (r0 > r1) {
-            const int at = std::clamp(((v - r1) * 7 + (r0 - r1) / 2) / (r0 - r1), 0, 7);
-            for (int p = std::max(at - 1, 0); p <= std::min(at + 1, 7); ++p) {
-                const int d = v - palette[kCodeAt[p]];
-                if (d * d < best) best = d * d, codes[i] = kCodeAt[p];
-            }
+            const int below = std::clamp((v - r1) * 7 / (r0 - r1), 0, 6); // levels `below` and `below + 1` bracket v
+            const int d0 = v - palette[kCodeAt[below]], d1 = v - palette[kCodeAt[below + 1]];
+            const bool upper = d1 * d1 < d0 * d0;
+            best = upper ? d1 * d1 : d0 * d0;
+            codes[i] = kCodeAt[below + upper];
         } else {
             for (int c = 0; c < 8; ++c) {
                 const int d = v - palette[c];
@@ -125,10 +125,12 @@ void refineBc4Block(unsigned char* block, const unsigned char* values, int strid
         if (r0 == r1) return;
     }
     std::copy(bestCodes, bestCodes + 16, codes);
-    for (int iteration = 0; iteration < 4 && r0 > r1; ++iteration) {
+    for (int iteration = 0, last = 1 << 30; iteration < 4 && r0 > r1; ++iteration) {
         bc4Palette(r0, r1, palette);
         const int error = bc4Error(values, stride, palette, codes);
         if (error < bestError) bestError = error, best0 = r0, best1 = r1, std::copy(codes, codes + 16, bestCodes);
+        if (error >= last) break; // the fit has settled
+        last = error;
         // value ~ w r0 + (1 - w) r1, w = (8 - c)/7 for interpolant c, 1 for code 0, 0 for code 1.
         double sww = 0, sw1 = 0, s11 = 0, swv = 0, s1v = 0;
         for (int i = 0; i < 16; ++i) {
@@ -137,8 +139,8 @@ void refineBc4Block(unsigned char* block, const unsigned char* values, int strid
         }
         const double det = sww * s11 - sw1 * sw1;
         if (std::abs(det) < 1e-9) break;
-        const int n0 = std::clamp(int(std::lround((swv * s11 - s1v * sw1) / det)), 0, 255);
-        const int n1 = std::clamp(int(std::lround((s1v * sww - swv * sw1) / det)), 0, 255);
+        const int n0 = std::clamp(int((swv * s11 - s1v * sw1) / det + 0.5), 0, 255);
+        const int n1 = std::clamp(int((s1v * sww - swv * sw1) / det + 0.5), 0, 255);
         if (n0 == r0 && n1 == r1) break;
         r0 = n0, r1 = n1;
     }
