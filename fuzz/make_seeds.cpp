@@ -2,6 +2,8 @@
 // format ndfmip reads, cut from the bundled map and from SHARED_DATA's normal and environment
 // maps when that folder exists; the example scenes and BRDF tables; the manifests of one small
 // bake per method. Seeds stay small so that the fuzzers spend their time mutating, not decoding.
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -146,6 +148,53 @@ void tableSeeds(const fs::path& out, const fs::path& repo) {
     writeBytes(dir / "crlf.txt", "theta_d_degrees g\r\n0 0.04\r\n45 0.2\r\n90 1\r\n");
 }
 
+std::string base64(const std::string& bytes) {
+    static const char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+        uint32_t n = uint32_t(uint8_t(bytes[i])) << 16;
+        if (i + 1 < bytes.size()) n |= uint32_t(uint8_t(bytes[i + 1])) << 8;
+        if (i + 2 < bytes.size()) n |= uint32_t(uint8_t(bytes[i + 2]));
+        out += digits[(n >> 18) & 63];
+        out += digits[(n >> 12) & 63];
+        out += i + 1 < bytes.size() ? digits[(n >> 6) & 63] : '=';
+        out += i + 2 < bytes.size() ? digits[n & 63] : '=';
+    }
+    return out;
+}
+
+// A .gltf with its images as data URIs: an 8x8 normal map (a bump) and a metallic-roughness map,
+// two materials sharing them the ways the filter tells apart.
+void gltfSeeds(const fs::path& out) {
+    const fs::path dir = out / "gltf";
+    fs::create_directories(dir);
+    ndfmip::Image normals(8, 8, 3), material(8, 8, 3);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            const float nx = 0.3f * float(x - 4) / 4.f, ny = 0.3f * float(y - 4) / 4.f;
+            const float nz = std::sqrt(1.f - nx * nx - ny * ny);
+            float* n = normals.at(x, y);
+            n[0] = 0.5f * (nx + 1.f), n[1] = 0.5f * (ny + 1.f), n[2] = 0.5f * (nz + 1.f);
+            float* m = material.at(x, y);
+            m[0] = 1.f, m[1] = 0.2f + 0.05f * float(x), m[2] = float(y % 2);
+        }
+    auto uri = [](const ndfmip::Image& image) {
+        ndfmip::Result<std::string> png = ndfmip::encodePng(image, 8);
+        return "data:image/png;base64," + (png ? base64(png.value()) : std::string());
+    };
+    nlohmann::ordered_json asset = {
+        {"asset", {{"version", "2.0"}}},
+        {"images", {{{"uri", uri(normals)}}, {{"uri", uri(material)}}}},
+        {"textures", {{{"source", 0}}, {{"source", 1}}}},
+        {"materials",
+         {{{"name", "a"},
+           {"normalTexture", {{"index", 0}}},
+           {"occlusionTexture", {{"index", 1}}},
+           {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 1}}}, {"roughnessFactor", 0.8}}}},
+          {{"name", "b"}, {"normalTexture", {{"index", 0}, {"scale", 0.5}}}}}}};
+    writeBytes(dir / "two_materials.gltf", asset.dump());
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -159,6 +208,7 @@ int main(int argc, char** argv) {
     sceneSeeds(out, repo);
     manifestSeeds(out);
     tableSeeds(out, repo);
+    gltfSeeds(out);
     std::printf("fuzz_seeds: %s%s\n", out.c_str(),
                 shared.empty() ? " (no shared data: bundled files only)" : "");
     return 0;
