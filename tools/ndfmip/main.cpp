@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     ndfmip::cli::addRenderCommand(app);
     ndfmip::cli::addViewCommand(app);
     ndfmip::cli::addEvalCommand(app);
+    ndfmip::cli::addEnvmapCommand(app);
     ndfmip::cli::requireFiniteNumbers(app);
     try {
         app.parse(argc, argv);
