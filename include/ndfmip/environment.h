@@ -108,8 +108,7 @@ bool lodMappingFromString(const std::string& name, LodMapping& out);
 const char* lodMappingName(LodMapping mapping);
 
 struct PrefilterOptions {
-    int size = 0;   // width of level 0, a power of two >= 8 (0: the map's width rounded up to a
-                    // power of two, at most 1024)
+    int size = 0;   // width of level 0, a power of two >= 8 (0: defaultPrefilterSize)
     int levels = 0; // 1 ... log2(size) - 2 (0: log2(size) - 5, at least 1: 1024 gives 5 levels,
                     // 1024 to 64 wide, like cmgen's 256 to 16 cube faces)
     LodMapping mapping = LodMapping::Filament;
@@ -117,6 +116,10 @@ struct PrefilterOptions {
     int samples = 1024;
     std::function<void(int done, int total)> progress; // after each level, from the calling thread
 };
+
+// PrefilterOptions::size when it is 0: the map's width rounded up to a power of two, within
+// [8, 1024].
+int defaultPrefilterSize(int mapWidth);
 
 struct PrefilteredLevel {
     Image radiance; // (size >> k) x (size >> k) / 2, RGB

@@ -81,9 +81,10 @@ struct PhasedLevel {
     int stride = 1;      // s
     int phaseTexels = 0; // texels per phase
     std::vector<float> texels;
-    const float* phase(int y, int p) const {
-        return texels.data() + (size_t(y) * size_t(stride) + size_t(p)) * size_t(phaseTexels) * 3;
+    size_t offset(int y, int p) const {
+        return (size_t(y) * size_t(stride) + size_t(p)) * size_t(phaseTexels) * 3;
     }
+    const float* phase(int y, int p) const { return texels.data() + offset(y, p); }
 };
 
 PhasedLevel phasedLevel(const Image& level, int outWidth) {
@@ -95,7 +96,7 @@ PhasedLevel phasedLevel(const Image& level, int outWidth) {
     out.texels.resize(size_t(out.height) * size_t(out.stride) * size_t(out.phaseTexels) * 3);
     for (int y = 0; y < out.height; ++y)
         for (int p = 0; p < out.stride; ++p) {
-            float* dst = const_cast<float*>(out.phase(y, p));
+            float* dst = out.texels.data() + out.offset(y, p);
             for (int q = 0; q < out.phaseTexels; ++q) {
                 const float* src = level.at((p + out.stride * q) % level.width, y);
                 std::copy(src, src + 3, dst + 3 * q);
@@ -237,10 +238,13 @@ Image filterLevel(const std::vector<Image>& pyramid, double alpha, int width, in
 
 } // namespace
 
+int defaultPrefilterSize(int mapWidth) {
+    return std::clamp(1 << log2Exact(mapWidth), 8, 1024);
+}
+
 std::vector<PrefilteredLevel> prefilterGgx(const Environment& env,
                                            const PrefilterOptions& options) {
-    const int size =
-        options.size > 0 ? options.size : std::min(1 << log2Exact(env.radiance.width), 1024);
+    const int size = options.size > 0 ? options.size : defaultPrefilterSize(env.radiance.width);
     const int levelCount = options.levels > 0 ? options.levels : std::max(1, log2Exact(size) - 5);
     assert(size >= 8 && (size & (size - 1)) == 0 && levelCount <= log2Exact(size) - 2 &&
            options.samples >= 1);

@@ -125,6 +125,19 @@ TEST_F(EnvmapCli, RefusesAbsurdOptions) {
     }
 }
 
+TEST_F(EnvmapCli, SmallestMapGetsAnEightWideLevel) {
+    Image tiny(4, 2, 3);
+    for (float& v : tiny.pixels) v = 1.f;
+    const std::string small = tmp.file("tiny.exr");
+    ASSERT_TRUE(saveExr(small, tiny));
+    std::string output;
+    ASSERT_EQ(
+        runCli("envmap " + shellArg(small) + quick + " -o " + shellArg(out.string()), &output), 0)
+        << output;
+    const json manifest = json::parse(fileBytes(out / "environment.json"));
+    EXPECT_EQ(manifest["ggx"]["levels"][0]["width"], 8);
+}
+
 TEST_F(EnvmapCli, NeverReplacesAFolderItDidNotWrite) {
     fs::create_directories(out);
     writeBytes(out / "notes.txt", "mine");

@@ -42,7 +42,7 @@ void runEnvmap(const EnvmapArgs& a) {
     Result<Environment> loaded = loadEnvironment(a.input, a.environment, &report);
     if (!loaded) throw Failure(loaded.error().message);
     const Environment& env = loaded.value();
-    prefilter.size = a.size != 0 ? a.size : std::min(1 << log2Of(env.radiance.width), 1024);
+    prefilter.size = a.size != 0 ? a.size : defaultPrefilterSize(env.radiance.width);
     if (a.levels > log2Of(prefilter.size) - 2)
         throw Failure("--levels " + std::to_string(a.levels) + ": a " +
                       std::to_string(prefilter.size) + "-wide level 0 has at most " +
