@@ -151,7 +151,7 @@ class CmgenOracle : public ::testing::Test {
 
 TEST_F(CmgenOracle, ShOfASmoothSkyAgreesToAThousandth) {
     // One function given to both: to us as a 1024 x 512 map, to cmgen as a 128-texel cube cross
-    // it copies texel for texel, so only the projections differ. Measured: 1.2e-5 of L_00 with
+    // it copies texel for texel, so only the projections differ. Measured: 3.6e-5 of L_00 with
     // cmgen's mirror (the cross holds the mirrored sky) and without (--no-mirror). This pins the
     // basis, its order and normalisation, the sign convention and the frame.
     const EnvironmentSh ours = projectEnvironmentSh(mapOf(1024, smoothSky), 8);
@@ -286,8 +286,8 @@ TEST_F(CmgenOracle, PrefilteredLevelsOfTheSharedMaps) {
     // wide. Each is compared with the other at cmgen's texels and with the brute-force integral
     // at 300 directions. Measured (relative RMSE, levels 1 and 2):
     //   ours vs cmgen:        venice 0.082, 0.085   studio 0.223, 0.180
-    //   ours vs brute force:  venice 0.013, 0.006   studio 0.015, 0.031
-    //   cmgen vs brute force: venice 0.079, 0.083   studio 0.272, 0.182
+    //   ours vs brute force:  venice 0.010, 0.006   studio 0.014, 0.031
+    //   cmgen vs brute force: venice 0.076, 0.083   studio 0.263, 0.190
     // so the difference is cmgen's error (at 64 texels its cube reads the sources through few
     // texels). At full size (NDFMIP_CMGEN_FULL=1, scripts/compare-cmgen: the 1k maps, cmgen's
     // default 256 cube and 5 levels, r = 0.134, 0.293, 0.5, 1 for levels 1-4):

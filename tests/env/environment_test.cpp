@@ -176,41 +176,41 @@ TEST(EnvironmentSh, ConstantMapHasOnlyL00) {
 
 TEST(EnvironmentSh, EachBasisFunctionProjectsOntoItself) {
     // The map read as constant per texel is Y_lm up to its texel-centre sampling, an error of
-    // order (l dtheta)^2 / 24: measured at most 2.4e-4 (l = 8) at 512 x 256.
+    // about l (l + 1) dtheta^2 / 24 (4.5e-4 for l = 8 at 512 x 256): measured at most 3.9e-4.
     const int order = 8;
-    for (auto [l, m] : {std::pair{0, 0},
-                        {1, -1},
-                        {1, 0},
-                        {1, 1},
-                        {2, -2},
-                        {3, 2},
-                        {5, -4},
-                        {8, 8},
-                        {8, -7},
-                        {8, 0}}) {
-        const Environment env = mapOf(512, [&](glm::dvec3 d) {
-            return glm::dvec3(evaluateSh(d, order)[size_t(shIndex(l, m))]);
-        });
+    double worst = 0.;
+    for (const int index :
+         {shIndex(0, 0), shIndex(1, -1), shIndex(1, 0), shIndex(1, 1), shIndex(2, -2),
+          shIndex(3, 2), shIndex(5, -4), shIndex(8, 8), shIndex(8, -7), shIndex(8, 0)}) {
+        const Environment env = mapOf(
+            512, [&](glm::dvec3 d) { return glm::dvec3(evaluateSh(d, order)[size_t(index)]); });
         const EnvironmentSh sh = projectEnvironmentSh(env, order);
-        for (int i = 0; i < shCount(order); ++i)
-            EXPECT_NEAR(sh.radiance[size_t(i)].x, i == shIndex(l, m) ? 1. : 0., 4e-4)
-                << "Y_" << l << "," << m << " at " << i;
+        for (int i = 0; i < shCount(order); ++i) {
+            const double error = std::abs(sh.radiance[size_t(i)].x - (i == index ? 1. : 0.));
+            EXPECT_LT(error, 6e-4) << "Y at index " << index << ", coefficient " << i;
+            worst = std::max(worst, error);
+        }
     }
+    std::printf("[ measured ] basis functions projected: largest error %.2e\n", worst);
 }
 
 TEST(EnvironmentSh, ClampedCosineHasTheLambertCoefficients) {
     // max(a.d, 0) = sum_l pi A_l sum_m Y_lm(a) Y_lm(d) (addition theorem), so L_lm = Ahat_l
-    // Y_lm(a).
+    // Y_lm(a); measured within 1.1e-5 at 512 x 256.
     const glm::dvec3 a = glm::normalize(glm::dvec3(1., 2., -0.5));
     const Environment env =
         mapOf(512, [&](glm::dvec3 d) { return glm::dvec3(std::max(glm::dot(a, d), 0.)); });
     const EnvironmentSh sh = projectEnvironmentSh(env, 8);
     const std::vector<double> y = evaluateSh(a, 8), lambert = lambertCoefficients(8);
+    double worst = 0.;
     for (int l = 0; l <= 8; ++l)
-        for (int m = -l; m <= l; ++m)
-            EXPECT_NEAR(sh.radiance[size_t(shIndex(l, m))].x,
-                        M_PI * lambert[size_t(l)] * y[size_t(shIndex(l, m))], 2e-4)
-                << l << " " << m;
+        for (int m = -l; m <= l; ++m) {
+            const double want = M_PI * lambert[size_t(l)] * y[size_t(shIndex(l, m))];
+            const double error = std::abs(sh.radiance[size_t(shIndex(l, m))].x - want);
+            EXPECT_LT(error, 1e-4) << l << " " << m;
+            worst = std::max(worst, error);
+        }
+    std::printf("[ measured ] clamped cosine: largest error %.2e\n", worst);
 }
 
 TEST(EnvironmentSh, RotationAboutYIsApplied) {
@@ -229,7 +229,7 @@ TEST(EnvironmentSh, RotationAboutYIsApplied) {
 TEST(EnvironmentSh, MatchesATexelCentreSumOverTheMap) {
     // Brute force: every texel's radiance times Y_lm at its centre times its solid angle, a sum
     // that differs from the exact texel integrals by the midpoint rule's error; measured
-    // 1.6e-4 of L_00 at 128 x 64 (2.2e-5 and 1.9e-4 on the shared 1k maps).
+    // 2.6e-4 of L_00 at 128 x 64 (2.2e-5 and 1.9e-4 on the shared 1k maps).
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> value(0.f, 4.f);
     Environment env;
@@ -248,9 +248,14 @@ TEST(EnvironmentSh, MatchesATexelCentreSumOverTheMap) {
             for (size_t k = 0; k < y.size(); ++k)
                 sum[k] += equirectTexelSolidAngle(128, 64, j) * y[k] * glm::dvec3(p[0], p[1], p[2]);
         }
+    double worst = 0.;
     for (size_t k = 0; k < y.size(); ++k)
-        for (int c = 0; c < 3; ++c)
-            EXPECT_NEAR(sh.radiance[k][c], sum[k][c], 3e-4 * sh.radiance[0][c]) << k;
+        for (int c = 0; c < 3; ++c) {
+            const double error = std::abs(sh.radiance[k][c] - sum[k][c]) / sh.radiance[0][c];
+            EXPECT_LT(error, 5e-4) << k;
+            worst = std::max(worst, error);
+        }
+    std::printf("[ measured ] texel-centre sum: largest difference %.2e of L00\n", worst);
 }
 
 // ---- GGX prefilter
@@ -386,14 +391,18 @@ glm::dvec2 bruteForceDfg(double mu, double r) {
 }
 
 TEST(Dfg, MatchesBruteForceIntegration) {
-    // Against 2000 x 2000 points, with 65536 samples: measured at most 9e-5 apart. With the
+    // Against 2000 x 2000 points, with 65536 samples: measured at most 7.9e-5 apart. With the
     // table's default 4096 samples the scale is off by up to 3.4e-3 at grazing n.v = 0.05
     // (under 1e-3 from n.v = 0.2 on), with 1024 by 7.8e-3.
     for (auto [mu, r] : {std::pair{0.5, 0.5}, {0.9, 0.3}, {0.2, 0.8}, {1., 1.}, {0.05, 0.6}}) {
         const glm::dvec2 got = dfgIntegral(mu, r, 65536), want = bruteForceDfg(mu, r);
+        const glm::dvec2 table = dfgIntegral(mu, r, 4096);
+        std::printf("[ measured ] DFG at n.v %.2f, r %.1f: 65536 samples off by %.1e %.1e, 4096 by "
+                    "%.1e %.1e\n",
+                    mu, r, std::abs(got.x - want.x), std::abs(got.y - want.y),
+                    std::abs(table.x - want.x), std::abs(table.y - want.y));
         EXPECT_NEAR(got.x, want.x, 3e-4) << mu << " " << r;
         EXPECT_NEAR(got.y, want.y, 3e-4) << mu << " " << r;
-        const glm::dvec2 table = dfgIntegral(mu, r, 4096);
         EXPECT_NEAR(table.x, want.x, 4e-3) << mu << " " << r;
         EXPECT_NEAR(table.y, want.y, 4e-3) << mu << " " << r;
     }
