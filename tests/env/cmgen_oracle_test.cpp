@@ -12,7 +12,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -44,20 +43,26 @@ bool cmgen(const std::string& args) {
     return std::system(("cmgen -q " + args + " >/dev/null 2>&1").c_str()) == 0;
 }
 
-// The coefficients of cmgen's SH text file, "( r, g, b); // Llm" per line, turned into ours by
-// the Condon-Shortley sign (-1)^m.
+// The coefficients of cmgen's SH text file, "( r, g, b); // Llm" per line (bands below 10),
+// turned into ours by the Condon-Shortley sign (-1)^m.
 std::vector<glm::dvec3> readCmgenSh(const std::string& path) {
     std::ifstream in(path);
     std::vector<glm::dvec3> coefficients;
-    const std::regex line(R"(\(\s*(\S+),\s*(\S+),\s*(\S+)\);\s*//\s*L(\d+)(-?\d+))");
     for (std::string text; std::getline(in, text);) {
-        std::smatch m;
-        if (!std::regex_search(text, m, line)) continue;
-        const int l = std::stoi(m[4]), mm = std::stoi(m[5]);
-        EXPECT_EQ(shIndex(l, mm), int(coefficients.size())) << text;
-        const double sign = mm % 2 == 0 ? 1. : -1.;
-        coefficients.push_back(sign *
-                               glm::dvec3(std::stod(m[1]), std::stod(m[2]), std::stod(m[3])));
+        const size_t open = text.find('('), name = text.find("// L");
+        if (open == std::string::npos || name == std::string::npos) continue;
+        glm::dvec3 c;
+        const char* p = text.c_str() + open + 1;
+        for (int i = 0; i < 3; ++i) {
+            char* end = nullptr;
+            c[i] = std::strtod(p, &end);
+            p = end + 1; // past the comma
+        }
+        // "L10" is band 1, m = 0 and "L1-1" band 1, m = -1: the band is one digit (l < 10).
+        const int l = int(text[name + 4] - '0');
+        const int m = int(std::strtol(text.c_str() + name + 5, nullptr, 10));
+        EXPECT_EQ(shIndex(l, m), int(coefficients.size())) << text;
+        coefficients.push_back((m % 2 == 0 ? 1. : -1.) * c);
     }
     return coefficients;
 }
