@@ -290,13 +290,13 @@ TEST_F(CmgenOracle, PrefilteredLevelsOfTheSharedMaps) {
     // at perceptual roughness 0, 0.293, 1 (its lod mapping, ours by default), ours 256, 128, 64
     // wide. Each is compared with the other at cmgen's texels and with the brute-force integral
     // at 300 directions. Measured (relative RMSE, levels 1 and 2):
-    //   ours vs cmgen:        venice 0.082, 0.085   studio 0.223, 0.180
+    //   ours vs cmgen:        venice 0.082, 0.084   studio 0.223, 0.180
     //   ours vs brute force:  venice 0.010, 0.006   studio 0.014, 0.031
     //   cmgen vs brute force: venice 0.076, 0.083   studio 0.263, 0.190
     // so the difference is cmgen's error (at 64 texels its cube reads the sources through few
     // texels). At full size (NDFMIP_CMGEN_FULL=1, scripts/compare-cmgen: the 1k maps, cmgen's
     // default 256 cube and 5 levels, r = 0.134, 0.293, 0.5, 1 for levels 1-4):
-    //   ours vs cmgen:        venice 0.204, 0.053, 0.040, 0.045   studio 0.127, 0.071, 0.054, 0.067
+    //   ours vs cmgen:        venice 0.204, 0.053, 0.040, 0.045   studio 0.127, 0.071, 0.055, 0.067
     //   ours vs brute force:  venice 0.013, 0.006, 0.003, 0.002   studio 0.013, 0.007, 0.006, 0.008
     //   cmgen vs brute force: venice 0.044, 0.049, 0.040, 0.045   studio 0.260, 0.085, 0.052, 0.062
     // (at r = 0.134 "ours vs cmgen" counts every texel around the sun, which the 300 directions

@@ -306,8 +306,8 @@ TEST(GgxPrefilter, RoughnessZeroIsTheSourceResampled) {
 TEST(GgxPrefilter, MatchesBruteForceIntegration) {
     // The default chain of a 512 x 256 sky with a sun 300 times brighter (0.05 rad): levels 512
     // to 64 wide, r = 0, 0.184, 0.423, 1, against the integral over every texel at 120
-    // directions. Measured relative RMSE: r = 0.184 (1024 samples) 0.034, r = 0.423 (2048)
-    // 0.0057, r = 1 (4096) 0.0068; cmgen is 4-26% off on the shared maps (cmgen_oracle_test.cpp).
+    // directions. Measured relative RMSE: r = 0.184 (1024 samples) 0.025, r = 0.423 (2048)
+    // 0.0061, r = 1 (4096) 0.0068; cmgen is 4-26% off on the shared maps (cmgen_oracle_test.cpp).
     // At r = 0.184 the sun's edge texels are read bilinearly, which widens a lobe of a few
     // texels; the error shrinks with the map's resolution (0.7% at r = 0.293 on the 1k maps).
     Environment env = mapOf(512, sunAndSky);
@@ -315,7 +315,7 @@ TEST(GgxPrefilter, MatchesBruteForceIntegration) {
     PrefilterOptions options;
     const auto levels = prefilterGgx(env, options);
     ASSERT_EQ(levels.size(), 4u);
-    for (auto [k, tolerance] : {std::pair{1, 0.06}, {2, 0.012}, {3, 0.012}}) {
+    for (auto [k, tolerance] : {std::pair{1, 0.05}, {2, 0.012}, {3, 0.012}}) {
         const double r = levels[size_t(k)].perceptualRoughness;
         const double error =
             relativeRmseAgainstBruteForce(env, levels[size_t(k)].radiance, r * r, 120);
