@@ -30,6 +30,11 @@ std::filesystem::path sharedNormalMaps() {
     return std::filesystem::is_directory(dir) ? dir : std::filesystem::path();
 }
 
+std::filesystem::path sharedEnvMaps() {
+    auto dir = std::filesystem::path(NDFMIP_SOURCE_DIR) / ".." / "shared" / "data" / "envmaps";
+    return std::filesystem::is_directory(dir) ? dir : std::filesystem::path();
+}
+
 int runCli(const std::string& args, std::string* output) {
     // runCliWithin's marker: the command runs under timeout(1), killed after that many seconds.
     std::string prefix, rest = args;

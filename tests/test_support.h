@@ -25,6 +25,9 @@ struct TempDir {
 // (tests that need it call GTEST_SKIP()).
 std::filesystem::path sharedNormalMaps();
 
+// ../shared/data/envmaps beside the checkout (equirectangular HDR maps), or empty.
+std::filesystem::path sharedEnvMaps();
+
 // Runs the built CLI with `args` (a shell-quoted string); returns the exit status and
 // fills `output` with stdout and stderr together.
 int runCli(const std::string& args, std::string* output);

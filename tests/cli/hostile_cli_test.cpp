@@ -94,6 +94,7 @@ TEST_F(HostileCli, NaNAndInfinityFailEveryFloatOption) {
         {"compare", "compare " + shellArg(map) + " " + shellArg(map)},
         {"render", "render " + shellArg(tmp.file("scene.json")) + " -o " + o},
         {"eval", "eval " + shellArg(map) + " -o " + shellArg(tmp.file("report"))},
+        {"envmap", "envmap " + shellArg(map) + " -o " + shellArg(tmp.file("env"))},
         {"", "lut --exponent 8 -o " + o}, // the options before the subcommand
     };
     size_t checked = 0;
@@ -121,6 +122,7 @@ TEST_F(HostileCli, NaNAndInfinityFailEveryFloatOption) {
     EXPECT_FALSE(fs::exists(tmp.path / "o.exr"));
     EXPECT_FALSE(fs::exists(out.string() + "2"));
     EXPECT_FALSE(fs::exists(tmp.path / "report"));
+    EXPECT_FALSE(fs::exists(tmp.path / "env"));
 }
 
 TEST_F(HostileCli, SpecialFilesAsInputsFailAtOnce) {

@@ -31,6 +31,7 @@ void addRenderCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);
 void addGltfCommand(CLI::App& app);
+void addEnvmapCommand(CLI::App& app);
 
 // The options that say how a file's pixels become normals (bake, demo).
 struct InputOptions {

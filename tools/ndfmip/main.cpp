@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
     ndfmip::cli::addViewCommand(app);
     ndfmip::cli::addEvalCommand(app);
     ndfmip::cli::addGltfCommand(app);
+    ndfmip::cli::addEnvmapCommand(app);
     ndfmip::cli::requireFiniteNumbers(app);
     try {
         app.parse(argc, argv);

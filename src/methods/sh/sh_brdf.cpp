@@ -2,6 +2,7 @@
 // docs/SPHERICAL_HARMONICS.md).
 #include "ndfmip/sh_brdf.h"
 
+#include "core/quadrature.h"
 #include "io/input_file.h"
 #include "ndfmip/limits.h"
 
@@ -19,29 +20,6 @@ namespace ndfmip {
 namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
-
-// Gauss-Legendre nodes and weights on [-1, 1], Newton on P_n from Chebyshev-like starts.
-void gaussLegendre(int n, std::vector<double>& x, std::vector<double>& w) {
-    x.resize(n);
-    w.resize(n);
-    for (int i = 0; i < n; ++i) {
-        double z = std::cos(kPiD * (i + 0.75) / (n + 0.5)), derivative = 1.0;
-        for (int iteration = 0; iteration < 100; ++iteration) {
-            double p0 = 1.0, p1 = z;
-            for (int k = 2; k <= n; ++k) {
-                double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            derivative = n * (z * p1 - p0) / (z * z - 1.0);
-            double step = p1 / derivative;
-            z -= step;
-            if (std::fabs(step) < 1e-16) break;
-        }
-        x[i] = z;
-        w[i] = 2.0 / ((1.0 - z * z) * derivative * derivative);
-    }
-}
 
 // Panel ends in theta over [0, pi]; see projectTransfer.
 std::vector<double> panelEnds(int order, const std::vector<double>& breaks) {

@@ -1,0 +1,192 @@
+// The environment folder (environment.h): sh.json, ggx_L<k>.exr, dfg.exr and environment.json,
+// staged beside the folder and swapped in at the end like a bake (bake_dir.cpp).
+#include <filesystem>
+#include <set>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "io/crash_recovery.h"
+#include "io/input_file.h"
+#include "ndfmip/environment.h"
+#include "ndfmip/io.h"
+#include "ndfmip/limits.h"
+#include "ndfmip/spherical_harmonics.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace ndfmip {
+namespace {
+
+const char* kManifest = "environment.json";
+const char* kFrame =
+    "right-handed, +Y up; texel (u, v) (u to the right, v down from the top row, in [0, 1]) "
+    "looks along d = (-cos(lat) sin(phi), sin(lat), cos(lat) cos(phi)), phi = 2 pi (u - 1/2), "
+    "lat = pi (1/2 - v): the image centre is +Z, u = 1/4 is +X (Filament cmgen's frame)";
+
+std::string levelFile(size_t k) {
+    return "ggx_L" + std::to_string(k) + ".exr";
+}
+
+// Coefficients per band: band l is 2l + 1 RGB triples, m = -l ... l.
+json bands(const std::vector<glm::dvec3>& c, int order) {
+    json out = json::array();
+    for (int l = 0; l <= order; ++l) {
+        json band = json::array();
+        for (int m = -l; m <= l; ++m) {
+            const glm::dvec3& v = c[size_t(shIndex(l, m))];
+            band.push_back({v.x, v.y, v.z});
+        }
+        out.push_back(band);
+    }
+    return out;
+}
+
+json shJson(const EnvironmentSh& sh) {
+    return {
+        {"tool", "ndfmip"},
+        {"version", NDFMIP_VERSION},
+        {"order", sh.order},
+        {"basis",
+         "real orthonormal Y_lm without the Condon-Shortley phase (Y_1,-1 = c y, Y_1,0 = c z, "
+         "Y_1,1 = c x, c = sqrt(3 / (4 pi))); ndfmip/spherical_harmonics.h"},
+        {"frame", kFrame},
+        {"layout", "band l is a list of 2l + 1 [r, g, b] for m = -l ... l"},
+        {"radiance", bands(sh.radiance, sh.order)},
+        {"irradiance_description",
+         "E_lm = lambert[l] * radiance_lm: irradiance E(n) = sum E_lm Y_lm(n); a "
+         "Lambertian surface of albedo a reflects a E(n) / pi"},
+        {"irradiance", bands(sh.irradiance, sh.order)},
+        {"lambert", sh.lambert},
+    };
+}
+
+json manifestJson(const EnvironmentBake& bake, const EnvironmentSource& source, bool half) {
+    json levels = json::array();
+    for (size_t k = 0; k < bake.levels.size(); ++k) {
+        const PrefilteredLevel& level = bake.levels[k];
+        const double r = level.perceptualRoughness;
+        levels.push_back({{"level", k},
+                          {"file", levelFile(k)},
+                          {"width", level.radiance.width},
+                          {"height", level.radiance.height},
+                          {"perceptual_roughness", r},
+                          {"alpha", r * r},
+                          {"samples", level.samples}});
+    }
+    const bool filament = bake.mapping == LodMapping::Filament;
+    return {
+        {"tool", "ndfmip"},
+        {"version", NDFMIP_VERSION},
+        {"kind", "environment"},
+        {"source",
+         {{"path", source.path},
+          {"sha256", source.sha256},
+          {"width", source.width},
+          {"height", source.height},
+          {"intensity", source.options.intensity},
+          {"rotation_degrees", source.options.rotationDegrees}}},
+        {"frame", kFrame},
+        {"storage", half ? "half" : "float"},
+        {"sh", "sh.json"},
+        {"ggx",
+         {{"description", "radiance convolved with GGX D(h) <n.l> about r (split sum, n = v = r), "
+                          "equirectangular RGB per level"},
+          {"lod_mapping", lodMappingName(bake.mapping)},
+          {"lod_to_roughness", filament
+                                   ? "r = 1 - sqrt(1 - lod), lod = r (2 - r) = k / (levels - 1)"
+                                   : "r = lod = k / (levels - 1)"},
+          {"levels", levels}}},
+        {"dfg",
+         {{"file", "dfg.exr"},
+          {"size", bake.dfg.width},
+          {"samples", bake.dfgSamples},
+          {"x", "n.v = (x + 0.5) / size"},
+          {"y", "perceptual roughness = (y + 0.5) / size, top row first"},
+          {"channels",
+           {{"R", "scale: multiplies f0"},
+            {"G", "bias: multiplies f90"},
+            {"B", "scale + bias: directional albedo with F = 1"}}},
+          {"brdf", "GGX, height-correlated Smith masking, Schlick Fresnel"}}},
+    };
+}
+
+// Whether `dir` may be replaced: empty, or an earlier environment folder holding only the files
+// its manifest lists. Anything else is someone's work and is never deleted.
+Status checkReplaceable(const fs::path& dir) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec))
+        return Status::failure(dir.string() + ": exists and is not a directory");
+    if (fs::is_empty(dir, ec)) return Status::success();
+    auto refuse = [&](const std::string& why) {
+        return Status::failure(dir.string() + ": exists and is not an ndfmip environment folder (" +
+                               why + "); not replacing it");
+    };
+    Result<std::string> text =
+        readRegularFile((dir / kManifest).string(), inputLimits().maxTextFileBytes);
+    if (!text) return refuse(std::string("no readable ") + kManifest);
+    json m = json::parse(text.value(), nullptr, /*allow_exceptions=*/false);
+    if (!m.is_object() || m.value("tool", "") != "ndfmip" || m.value("kind", "") != "environment")
+        return refuse(std::string("its ") + kManifest + " is not an ndfmip environment manifest");
+    std::set<std::string> listed{kManifest, "sh.json", "dfg.exr"};
+    if (m.contains("ggx") && m["ggx"].is_object() && m["ggx"].contains("levels") &&
+        m["ggx"]["levels"].is_array())
+        for (const json& level : m["ggx"]["levels"])
+            if (level.is_object() && level.contains("file") && level["file"].is_string())
+                listed.insert(level["file"].get<std::string>());
+    for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator();
+         it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (!listed.count(name) || !it->is_regular_file(ec))
+            return refuse("it holds " + quote(name) + ", which its manifest does not list");
+    }
+    if (ec) return refuse("cannot list it: " + ec.message());
+    return Status::success();
+}
+
+} // namespace
+
+Status writeEnvironment(const std::string& dirName, const EnvironmentBake& bake,
+                        const EnvironmentSource& source, bool half) {
+    fs::path dir = fs::path(dirName).lexically_normal();
+    if (dir.filename().empty()) dir = dir.parent_path();
+    std::error_code ec;
+    const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
+    if (!fs::is_directory(parent, ec))
+        return Status::failure(dirName + ": parent folder " + parent.string() +
+                               (fs::exists(parent, ec) ? " is not a folder" : " does not exist"));
+    recoverFolderLeftovers(dir);
+    if (fs::exists(dir, ec))
+        if (Status s = checkReplaceable(dir); !s) return s;
+    const fs::path staging = dir.string() + ".partial-" + std::to_string(getpid());
+    fs::remove_all(staging, ec);
+    if (!fs::create_directory(staging, ec))
+        return Status::failure(dirName + ": cannot write (" + ec.message() + ")");
+    auto fail = [&](const std::string& message) {
+        fs::remove_all(staging, ec);
+        return Status::failure(message);
+    };
+    for (size_t k = 0; k < bake.levels.size(); ++k)
+        if (Status s =
+                saveExr((staging / levelFile(k)).string(), bake.levels[k].radiance, {}, half);
+            !s)
+            return fail(s.error);
+    if (Status s = saveExr((staging / "dfg.exr").string(), bake.dfg, {}, half); !s)
+        return fail(s.error);
+    if (Status s = writeFileAtomic((staging / "sh.json").string(), shJson(bake.sh).dump(2) + "\n");
+        !s)
+        return fail(s.error);
+    const std::string manifest =
+        manifestJson(bake, source, half).dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+    if (Status s = writeFileAtomic((staging / kManifest).string(), manifest); !s)
+        return fail(s.error);
+    // Checked again at the last moment: files may have been added meanwhile.
+    if (fs::exists(dir, ec))
+        if (Status s = checkReplaceable(dir); !s) return fail(s.error);
+    if (Status s = replaceFolder(staging, dir); !s) return fail(s.error);
+    return Status::success();
+}
+
+} // namespace ndfmip

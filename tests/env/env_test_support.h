@@ -1,0 +1,105 @@
+// Helpers shared by the environment tests: maps of a function, and the split-sum integral by
+// brute force over every texel (the reference the prefilter is measured against).
+#pragma once
+
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "ndfmip/environment.h"
+
+namespace ndfmip::envtest {
+
+using Radiance = std::function<glm::dvec3(glm::dvec3)>;
+
+// A width x width/2 map of f at the texel centres.
+inline Environment mapOf(int width, const Radiance& f) {
+    Environment env;
+    env.radiance = Image(width, width / 2, 3);
+    for (int y = 0; y < width / 2; ++y)
+        for (int x = 0; x < width; ++x) {
+            const glm::dvec3 c = f(equirectDirection((x + 0.5) / width, (y + 0.5) / (width / 2)));
+            float* p = env.radiance.at(x, y);
+            for (int i = 0; i < 3; ++i) p[i] = float(c[i]);
+        }
+    return env;
+}
+
+// Point i of `count` spread evenly over the sphere (a Fibonacci spiral).
+inline glm::dvec3 spiralDirection(int i, int count) {
+    const double z = 1. - 2. * (i + 0.5) / count, phi = i * 2.399963229728653,
+                 s = std::sqrt(1. - z * z);
+    return {s * std::cos(phi), z, s * std::sin(phi)};
+}
+
+// The split-sum level LD(r) = sum L D(h) <r.l> / sum D(h) <r.l> over every texel of the map
+// read as constant per texel, as the prefilter reads it.
+class BruteForceGgx {
+  public:
+    explicit BruteForceGgx(const Environment& env) : env_(env) {
+        const Image& m = env.radiance;
+        for (int y = 0; y < m.height; ++y)
+            for (int x = 0; x < m.width; ++x)
+                directions_.push_back(rotateAboutY(
+                    equirectDirection((x + 0.5) / m.width, (y + 0.5) / m.height), env.rotation));
+    }
+
+    glm::dvec3 operator()(glm::dvec3 r, double alpha) const {
+        const Image& m = env_.radiance;
+        const double a2 = alpha * alpha;
+        glm::dvec3 sum(0.);
+        double weights = 0.;
+        for (int y = 0; y < m.height; ++y) {
+            const double omega = equirectTexelSolidAngle(m.width, m.height, y);
+            for (int x = 0; x < m.width; ++x) {
+                const glm::dvec3& l = directions_[size_t(y) * size_t(m.width) + size_t(x)];
+                const double nl = glm::dot(r, l);
+                if (nl <= 0.) continue;
+                const glm::dvec3 h = l + r;
+                const double nh2 = glm::dot(r, h) * glm::dot(r, h) / glm::dot(h, h);
+                const double f = nh2 * (a2 - 1.) + 1.;
+                const double w = a2 / (M_PI * f * f) * nl * omega;
+                const float* p = m.at(x, y);
+                sum += w * glm::dvec3(p[0], p[1], p[2]);
+                weights += w;
+            }
+        }
+        return sum / weights;
+    }
+
+  private:
+    const Environment& env_;
+    std::vector<glm::dvec3> directions_;
+};
+
+// Relative RMSE (all channels together) of `lookup(r)` against the brute-force level at `count`
+// spiral directions.
+inline double relativeRmseAgainstBruteForce(const Environment& env, double alpha, int count,
+                                            const std::function<glm::dvec3(glm::dvec3)>& lookup) {
+    const BruteForceGgx truthOf(env);
+    double error = 0., norm = 0.;
+#pragma omp parallel for reduction(+ : error, norm) schedule(dynamic, 1)
+    for (int i = 0; i < count; ++i) {
+        const glm::dvec3 r = spiralDirection(i, count);
+        const glm::dvec3 truth = truthOf(r, alpha), got = lookup(r);
+        for (int c = 0; c < 3; ++c) {
+            error += (got[c] - truth[c]) * (got[c] - truth[c]);
+            norm += truth[c] * truth[c];
+        }
+    }
+    return std::sqrt(error / norm);
+}
+
+// The same for an equirectangular level, read bilinearly.
+inline double relativeRmseAgainstBruteForce(const Environment& env, const Image& level,
+                                            double alpha, int count) {
+    return relativeRmseAgainstBruteForce(env, alpha, count, [&](glm::dvec3 r) {
+        float got[3];
+        sampleEquirect(level, r, got);
+        return glm::dvec3(got[0], got[1], got[2]);
+    });
+}
+
+} // namespace ndfmip::envtest

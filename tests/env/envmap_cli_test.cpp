@@ -1,0 +1,150 @@
+// ndfmip envmap: the folder it writes, and bad input (missing, corrupt, NaN, wrong shape, absurd
+// options) refused with one line, a non-zero status and nothing written.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "ndfmip/environment.h"
+#include "ndfmip/io.h"
+#include "ndfmip/spherical_harmonics.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace ndfmip::test {
+namespace {
+
+class EnvmapCli : public ::testing::Test {
+  protected:
+    TempDir tmp{"envmap_cli"};
+    std::string map = tmp.file("sky.exr");
+    fs::path out = tmp.path / "env";
+    // Small and quick: few samples, an 8 x 8 table and, unless `extra` says otherwise, GGX levels
+    // 32 and 16 wide.
+    std::string quick = " -q --samples 16 --dfg-size 8 --dfg-samples 16";
+
+    void SetUp() override {
+        Image sky(64, 32, 3);
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 64; ++x)
+                for (int c = 0; c < 3; ++c)
+                    sky.at(x, y)[c] = 0.1f * float(c + 1) + (x == 16 && y == 10 ? 50.f : 0.f);
+        ASSERT_TRUE(saveExr(map, sky));
+    }
+
+    std::string envmapArgs(const std::string& input, const std::string& extra = "") const {
+        std::string sizes;
+        if (extra.find("--size") == std::string::npos) sizes += " --size 32";
+        if (extra.find("--levels") == std::string::npos) sizes += " --levels 2";
+        return "envmap " + shellArg(input) + quick + sizes + " " + extra + " -o " +
+               shellArg(out.string());
+    }
+
+    void expectNothingWritten() {
+        EXPECT_FALSE(fs::exists(out));
+        EXPECT_TRUE(leftovers(tmp.path).empty());
+    }
+};
+
+TEST_F(EnvmapCli, WritesShLevelsTableAndManifest) {
+    std::string output;
+    ASSERT_EQ(runCli(envmapArgs(map, "--sh-order 3 --rotation 90 --intensity 2"), &output), 0)
+        << output;
+    for (const char* file : {"environment.json", "sh.json", "ggx_L0.exr", "ggx_L1.exr", "dfg.exr"})
+        EXPECT_TRUE(fs::is_regular_file(out / file)) << file;
+    const json manifest = json::parse(fileBytes(out / "environment.json"));
+    EXPECT_EQ(manifest["kind"], "environment");
+    EXPECT_EQ(manifest["source"]["rotation_degrees"], 90.);
+    ASSERT_EQ(manifest["ggx"]["levels"].size(), 2u);
+    EXPECT_EQ(manifest["ggx"]["levels"][1]["perceptual_roughness"], 1.);
+    EXPECT_EQ(manifest["ggx"]["levels"][1]["width"], 16);
+    EXPECT_EQ(manifest["ggx"]["lod_mapping"], "filament");
+    const json sh = json::parse(fileBytes(out / "sh.json"));
+    ASSERT_EQ(sh["order"], 3);
+    ASSERT_EQ(sh["radiance"].size(), 4u);
+    EXPECT_EQ(sh["radiance"][3].size(), 7u);
+    // The file's numbers are the library's, scaled by --intensity.
+    EnvironmentOptions options{2.f, 90.f};
+    const EnvironmentSh want = projectEnvironmentSh(loadEnvironment(map, options).value(), 3);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_DOUBLE_EQ(sh["radiance"][2][1][c].get<double>(),
+                         want.radiance[size_t(shIndex(2, -1))][c]);
+        EXPECT_DOUBLE_EQ(sh["irradiance"][1][2][c].get<double>(),
+                         want.irradiance[size_t(shIndex(1, 1))][c]);
+    }
+    Result<SourceImage> dfg = loadImage((out / "dfg.exr").string());
+    ASSERT_TRUE(dfg.ok());
+    EXPECT_EQ(dfg->image.width, 8);
+    EXPECT_EQ(dfg->image.channels, 3);
+    // Run again: an earlier environment folder is replaced.
+    ASSERT_EQ(runCli(envmapArgs(map, "--levels 1"), &output), 0) << output;
+    EXPECT_FALSE(fs::exists(out / "ggx_L1.exr"));
+    EXPECT_TRUE(leftovers(tmp.path).empty());
+}
+
+TEST_F(EnvmapCli, RefusesBadInputWithOneLine) {
+    expectCliRefuses(envmapArgs(tmp.file("missing.hdr")), {"missing.hdr"});
+    expectNothingWritten();
+
+    // A Radiance header whose scanlines stop early.
+    const std::string corrupt = tmp.file("corrupt.hdr");
+    writeBytes(corrupt, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 32 +X 64\n\x02\x02\x00\x40\x80");
+    expectCliRefuses(envmapArgs(corrupt), {"corrupt.hdr"});
+    expectNothingWritten();
+
+    Image nan(64, 32, 3);
+    nan.at(7, 3)[2] = std::nanf("");
+    const std::string nanMap = tmp.file("nan.exr");
+    ASSERT_TRUE(saveExr(nanMap, nan));
+    expectCliRefuses(envmapArgs(nanMap), {"nan.exr", "texel (7, 3)", "not a finite number"});
+    expectNothingWritten();
+
+    const std::string square = tmp.file("square.exr");
+    ASSERT_TRUE(saveExr(square, Image(32, 32, 3)));
+    expectCliRefuses(envmapArgs(square), {"square.exr", "32x32", "twice its height"});
+    expectNothingWritten();
+}
+
+TEST_F(EnvmapCli, RefusesAbsurdOptions) {
+    const std::pair<std::string, std::string> cases[] = {
+        {"--intensity -1", "--intensity"},    {"--intensity 0", "--intensity"},
+        {"--intensity nan", "--intensity"},   {"--rotation 1000", "--rotation"},
+        {"--sh-order 99", "--sh-order"},      {"--sh-order -1", "--sh-order"},
+        {"--size 100", "power of two"},       {"--size 2", "--size"},
+        {"--levels 9", "--levels"},           {"--samples 0", "--samples"},
+        {"--lod-mapping unreal", "unreal"},   {"--dfg-size 3", "--dfg-size"},
+        {"--dfg-samples 0", "--dfg-samples"},
+    };
+    for (const auto& [options, mention] : cases) {
+        expectCliRefuses(envmapArgs(map, options), {mention});
+        expectNothingWritten();
+    }
+}
+
+TEST_F(EnvmapCli, SmallestMapGetsAnEightWideLevel) {
+    Image tiny(4, 2, 3);
+    for (float& v : tiny.pixels) v = 1.f;
+    const std::string small = tmp.file("tiny.exr");
+    ASSERT_TRUE(saveExr(small, tiny));
+    std::string output;
+    ASSERT_EQ(
+        runCli("envmap " + shellArg(small) + quick + " -o " + shellArg(out.string()), &output), 0)
+        << output;
+    const json manifest = json::parse(fileBytes(out / "environment.json"));
+    EXPECT_EQ(manifest["ggx"]["levels"][0]["width"], 8);
+}
+
+TEST_F(EnvmapCli, NeverReplacesAFolderItDidNotWrite) {
+    fs::create_directories(out);
+    writeBytes(out / "notes.txt", "mine");
+    expectCliRefuses(envmapArgs(map), {"not an ndfmip environment folder"});
+    EXPECT_EQ(fileBytes(out / "notes.txt"), "mine");
+    EXPECT_TRUE(leftovers(tmp.path).empty());
+}
+
+} // namespace
+} // namespace ndfmip::test
