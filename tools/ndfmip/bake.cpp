@@ -266,7 +266,9 @@ void runBake(const BakeArgs& args) {
     const bool bar = !args.quiet && !args.json && isatty(2);
     const long long start = nowNanoseconds();
     const int workers = std::max(1, std::min(args.jobs, int(jobs.size())));
-    const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+    // The cores this process may use: OMP_NUM_THREADS, else the CPUs of its affinity mask (a
+    // Slurm or container cpuset), not every core of the machine.
+    const int cores = std::max(1, omp_get_max_threads());
     auto work = [&] {
         omp_set_num_threads(std::max(1, cores / workers)); // the maps share the cores
         for (size_t i; (i = next++) < jobs.size();) {
