@@ -106,18 +106,21 @@ SharedImage ownImage(const py::array_t<float, py::array::c_style>& array) {
     return image;
 }
 
+// A copy of the array's pixels in a library image. Call with the GIL held.
+Image copyToImage(const py::array_t<float, py::array::c_style>& array) {
+    const int channels = array.ndim() == 3 ? int(array.shape(2)) : 1;
+    Image image(int(array.shape(1)), int(array.shape(0)), channels, Image::Uninitialized{});
+    py::gil_scoped_release release;
+    std::memcpy(image.pixels.data(), array.data(), image.pixels.size() * sizeof(float));
+    return image;
+}
+
 // The array as a library image: ndfmip's own without a copy, any other copied once (the
 // library's images own their aligned storage). Call with the GIL held.
 SharedImage toImage(py::handle object, const std::string& what, int minChannels, int maxChannels) {
     auto array = floatArray(object, what, minChannels, maxChannels);
     if (SharedImage own = ownImage(array)) return own;
-    const int channels = array.ndim() == 3 ? int(array.shape(2)) : 1;
-    auto image = std::make_shared<Image>(int(array.shape(1)), int(array.shape(0)), channels, Image::Uninitialized{});
-    {
-        py::gil_scoped_release release;
-        std::memcpy(image->pixels.data(), array.data(), image->pixels.size() * sizeof(float));
-    }
-    return image;
+    return std::make_shared<const Image>(copyToImage(array));
 }
 
 bool isPath(py::handle object) {
@@ -156,8 +159,8 @@ py::array decode(const std::string& path, bool greenDown, bool twoChannel, bool 
 py::array normalsFromArray(py::handle array, bool greenDown, bool twoChannel, bool signedValues,
                            std::optional<float> height, bool clamp) {
     const DecodeOptions d = decodeOptions(greenDown, twoChannel, signedValues, height, clamp);
-    SharedImage image = toImage(array, "array", 1, 4);
-    SourceImage source{*image, 32, true, "array"};
+    // Decoding writes new normals, so the raw values are read from one copy.
+    SourceImage source{copyToImage(floatArray(array, "array", 1, 4)), 32, true, "array"};
     Result<Image> normals = Error{};
     {
         py::gil_scoped_release release;

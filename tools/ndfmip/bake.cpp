@@ -1,9 +1,14 @@
-// ndfmip bake IN --method M -o DIR: per-level parameter images and a manifest.
+// ndfmip bake IN --method M -o DIR: per-level parameter images and a manifest (bake_file.h),
+// for one map or many (folders, globs, --jobs, shards).
+#include <algorithm>
 #include <atomic>
-#include <cmath>
+#include <cctype>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include <glob.h>
@@ -11,22 +16,12 @@
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
-#include <cstdio>
-#include <memory>
-#include <optional>
-#include <set>
-#include <tuple>
 
 #include "cli.h"
-#include "io/input_file.h"
-#include "ndfmip/limits.h"
-#include "ndfmip/engine_presets.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/bake_file.h"
-#include "ndfmip/io.h"
-#include "ndfmip/render.h"
+#include "ndfmip/engine_presets.h"
 #include "ndfmip/spherical_harmonics.h"
-#include "ndfmip/toksvig.h"
 
 namespace ndfmip::cli {
 namespace {
