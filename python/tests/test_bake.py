@@ -100,3 +100,20 @@ def test_bake_options_reach_the_library():
     level = coloured.level(2)
     weights = level["lobe0"][..., 0:1] + level["lobe1"][..., 0:1]
     assert np.allclose(level["color0"] + level["color1"], 0.5 * weights, atol=1e-5)
+
+
+def test_normals_from_array_decodes_as_the_file_does():
+    raw = ndfmip.load_image(BUNDLED_MAP)
+    assert raw.dtype == np.float32 and raw.max() <= 1.0
+    for options in ({}, {"green_down": True}, {"two_channel": True}, {"height": 2.0, "clamp": True}):
+        assert np.array_equal(ndfmip.normals_from_array(raw, **options), ndfmip.decode(BUNDLED_MAP, **options)), options
+
+
+def test_limits_refuse_large_maps_until_raised():
+    ndfmip.set_limits(max_pixels=128 * 128)
+    try:
+        with pytest.raises(ndfmip.Error, match="pyramidwall_256.png"):
+            ndfmip.decode(BUNDLED_MAP)
+    finally:
+        ndfmip.set_limits(max_pixels=1 << 28)
+    assert ndfmip.decode(BUNDLED_MAP).shape == (256, 256, 3)
