@@ -1,6 +1,7 @@
 // What a render reads besides the scene: the normal map, the albedo and its mips, the bake
 // (from a folder or made on the fly). Shared by `ndfmip render` and the Python module.
 #include <cmath>
+#include <cstdio>
 #include <optional>
 
 #include "methods/method_unit.h"
