@@ -176,6 +176,12 @@ Result<LoadedBake> parseBakeManifest(const std::string& json, const std::string&
 // level's size, the plane's channel count and finite values.
 Result<LoadedBake> readBake(const std::string& dir, int level);
 
+// One texel (x, y) of `level` of a bake read by readBake at that level, as compact JSON text:
+// method, level, texel, its level-0 footprint and the method's own keys (docs/METHODS.md; with
+// `exponent`, Toksvig's factor for that Blinn-Phong exponent). Errors start with `name`.
+Result<std::string> inspectTexel(const LoadedBake& bake, const std::string& name, int level, int x, int y,
+                                 std::optional<float> exponent = std::nullopt);
+
 // Every level of a bake, back in memory, with the same checks; refused before loading when the
 // planes of every level together would exceed the input limits' memory.
 Result<Bake> loadBake(const std::string& dir);

@@ -3,7 +3,14 @@
 // covers (Han et al. eq. 8), and the method shades the texel's own stored parameters.
 #pragma once
 
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "ndfmip/bake.h"
+#include "ndfmip/html_report.h"
 #include "ndfmip/pyramid.h"
 #include "ndfmip/shading.h"
 
@@ -29,5 +36,53 @@ ErrorStats compareToTruth(const Image& image, const Image& truth);
 // The same pooled over several image/truth pairs (e.g. one per light): every pixel of every pair
 // counts once, so a pair whose truth is near zero cannot dominate a ratio.
 ErrorStats compareToTruth(const std::vector<Image>& images, const std::vector<Image>& truths);
+
+// ---- The evaluation of `ndfmip eval` ---------------------------------------------------------
+// Every map rendered from straight above at each footprint (texels per pixel side), with every
+// method and as the ground truth, for every material setting; docs/RENDERING.md. The defaults
+// are the command's (its option names in brackets).
+struct EvalOptions {
+    std::vector<std::string> maps;
+    DecodeOptions decode;
+    std::string output; // folder for report.json and report.html; empty: nothing written
+    std::vector<int> footprints{1, 4, 16, 64};
+    // naive, toksvig, toksvig-lut, sh[:ORDER], vmf[:LOBES[:BUDGET]], lean, exact
+    std::vector<std::string> methods{"naive", "toksvig", "toksvig-lut", "sh:2", "sh:4", "sh:7", "sh:10",
+                                     "vmf:1", "vmf:2", "vmf:4", "vmf:6", "vmf:8", "exact"};
+    std::vector<std::string> brdfs{"blinnphong", "ggx"};
+    std::vector<float> exponents{8.f, 32.f, 128.f, 512.f}; // Blinn-Phong
+    std::vector<float> roughness{0.1f, 0.3f};              // Beckmann / GGX alpha
+    int maxPixels = 128; // --pixels: largest image side
+    int spp = 0;         // ground-truth samples per pixel; 0: max(64, footprint^2), at most 1024
+    int frames = 8;      // flicker frames (0: none)
+    uint64_t seed = 1;
+    bool calibrate = false; // also the engines' roughness mappings on GGX
+    std::vector<float> calibrationRoughness{0.05f, 0.1f, 0.2f, 0.3f, 0.5f};
+    std::vector<float> calibrationScales{0.25f, 0.5f, 0.75f, 1.f, 1.5f, 2.f, 3.f, 4.f};
+    bool allImages = false;
+    bool webgl = true;     // the report's live WebGL2 view of the first map
+    float coherence = 0.f; // vmf methods: C of eq. 32
+    bool aligned = false;  // each pixel exactly one texel of a level
+    std::vector<float> offset{0.31f, 0.17f}; // the pixel grid's shift from the texel grid, in pixels
+    std::vector<std::string> externalRoughness; // NAME=PATTERN
+    std::string externalEncoding = "perceptual"; // or alpha
+    std::string truth = "box";                   // or bilinear
+    std::optional<int> taps;      // unset: 1 when aligned, else RenderOptions' default
+    std::optional<float> lodBias; // unset: 0 when aligned, else RenderOptions' default
+    std::string lobeFilter = "texel"; // or parameter
+    std::function<void(const std::string&)> log; // a progress line per map
+    std::function<void(const std::string& map, const DecodeReport&)> decoded;
+};
+
+struct EvalResult {
+    std::string json;              // report.json's text
+    std::vector<ReportCase> cases; // every case, as in the report
+    std::string calibrationBest;   // with calibrate: the mapping with the lowest error
+    double seconds = 0.0;
+};
+
+// Runs the evaluation; writes report.json and report.html into options.output when it is set.
+// Errors are one line naming the option or file.
+Result<EvalResult> evaluateMaps(const EvalOptions& options);
 
 } // namespace ndfmip

@@ -98,6 +98,27 @@ struct RenderTextures {
 // The albedo's mips, averaged with the normal map's pyramid footprints (linear, like Na).
 std::vector<SharedImage> albedoMips(const Pyramid& pyramid, SharedImage albedo);
 
+// An albedo (colour) map file as linear RGB, 3 channels: 8/16-bit files are sRGB-decoded, EXR is
+// taken as linear. An error unless it has `width` x `height` texels, 3 or 4 channels and finite values.
+Result<SharedImage> loadAlbedo(const std::string& path, int width, int height);
+
+// How `ndfmip render` gets a scene's textures for `method` (a name render() takes).
+struct SceneTextureOptions {
+    std::string bakeDir; // a bake folder to draw; empty: the scene's, or else baked on the fly
+    int shOrder = 7;     // sh baked on the fly
+    int vmfLobes = 4;    // vmf baked on the fly
+    std::function<void(const DecodeReport&)> decoded; // once the normal map is decoded (warnings)
+};
+
+// The scene's normal map (decoded as the scene says), its albedo map and mips, and for a method
+// its bake: read from the bake folder, or baked with `options` within the memory limit.
+Result<RenderTextures> loadSceneTextures(const Scene& scene, const std::string& method,
+                                         const SceneTextureOptions& options);
+
+// RenderOptions within the ranges the command line allows (spp, anisotropy, taps, LOD bias, the
+// variance scale); the first problem as one line naming the option.
+Status checkRenderOptions(const RenderOptions& options);
+
 // Renders `scene` with `method` (a method name, kToksvigLut, kExact or kGroundTruth); RGB
 // radiance, 3 channels. Errors: unknown method, a bake of another method or size, a view that
 // kExact cannot handle.

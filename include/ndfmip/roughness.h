@@ -10,6 +10,8 @@
 // the same peak 1/(pi alpha^2) and agree near it. docs/METHODS.md has the details.
 #pragma once
 
+#include <string>
+
 #include <glm/glm.hpp>
 
 #include "ndfmip/toksvig.h"
@@ -44,6 +46,10 @@ enum class RoughnessMapping {
 };
 
 inline float vmfKappaFromLength(float r) { return glsl().ndfmipKappaFromLength(r); }
+
+// "ours", "hdrp", "filament", "godot", "unreal"; and back (false for any other name).
+const char* roughnessMappingName(RoughnessMapping mapping);
+bool roughnessMappingFromString(const std::string& name, RoughnessMapping& out);
 
 inline float mappedRoughness(RoughnessMapping mapping, float r, float alpha,
                              float scale = kVarianceScale) {

@@ -1,9 +1,14 @@
-// ndfmip bake IN --method M -o DIR: per-level parameter images and a manifest.
+// ndfmip bake IN --method M -o DIR: per-level parameter images and a manifest (bake_file.h),
+// for one map or many (folders, globs, --jobs, shards).
+#include <algorithm>
 #include <atomic>
-#include <cmath>
+#include <cctype>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include <glob.h>
@@ -11,21 +16,12 @@
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
-#include <cstdio>
-#include <memory>
-#include <optional>
-#include <set>
-#include <tuple>
 
 #include "cli.h"
-#include "io/input_file.h"
-#include "ndfmip/limits.h"
-#include "ndfmip/engine_presets.h"
 #include "ndfmip/bake.h"
-#include "ndfmip/io.h"
-#include "ndfmip/render.h"
+#include "ndfmip/bake_file.h"
+#include "ndfmip/engine_presets.h"
 #include "ndfmip/spherical_harmonics.h"
-#include "ndfmip/toksvig.h"
 
 namespace ndfmip::cli {
 namespace {
@@ -57,146 +53,35 @@ struct BakeArgs {
     int shards = 0;
 };
 
-void applyGlossOrFail(Image& normals, const BakeArgs& a) {
-    Result<SourceImage> gloss = loadImage(a.gloss);
-    if (!gloss) throw Failure(gloss.error().message);
-    const Image& g = gloss->image;
-    if (g.width != normals.width || g.height != normals.height)
-        throw Failure(a.gloss + ": gloss map is " + std::to_string(g.width) + "x" +
-                      std::to_string(g.height) + " but the normal map is " +
-                      std::to_string(normals.width) + "x" + std::to_string(normals.height));
-    for (size_t i = 0; i < g.texelCount(); ++i)
-        if (!std::isfinite(g.pixels[i * g.channels]))
-            throw Failure(a.gloss + ": NaN or infinite gloss value at texel (" +
-                          std::to_string(i % g.width) + ", " + std::to_string(i / g.width) + ")");
-    applyGlossMap(normals, g, a.maxExponent);
-}
-
-// The roughness map (a packed material map), read once for all the channels taken from it.
-SourceImage loadMaterialMapOrFail(const BakeArgs& a, int width, int height) {
-    Result<SourceImage> map = loadImage(a.roughnessMap);
-    if (!map) throw Failure(map.error().message);
-    const Image& image = map->image;
-    if (image.width != width || image.height != height)
-        throw Failure(a.roughnessMap + ": roughness map is " + std::to_string(image.width) + "x" +
-                      std::to_string(image.height) + " but the normal map is " + std::to_string(width) + "x" +
-                      std::to_string(height));
-    return std::move(map.value());
-}
-
-// One channel (r, g, b or a) of the material map, clamped to [0, 1]; `option` names it in messages.
-std::shared_ptr<Image> materialChannelOrFail(const BakeArgs& a, const Image& map, const std::string& channelName,
-                                             const char* option) {
-    const int channel = int(std::string("rgba").find(channelName[0]));
-    if (channel >= map.channels)
-        throw Failure(a.roughnessMap + ": " + option + " " + channelName + " but the map has " +
-                      std::to_string(map.channels) + " channel(s)");
-    auto out = std::make_shared<Image>(map.width, map.height, 1);
-    for (size_t i = 0; i < map.texelCount(); ++i) {
-        const float v = map.pixels[i * size_t(map.channels) + size_t(channel)];
-        if (!std::isfinite(v))
-            throw Failure(a.roughnessMap + ": NaN or infinite value at texel (" + std::to_string(i % size_t(map.width)) +
-                          ", " + std::to_string(i / size_t(map.width)) + ") in " + option);
-        out->pixels[i] = std::clamp(v, 0.f, 1.f);
-    }
-    return out;
-}
-
-// The material's alpha per texel: the roughness channel perceptual (alpha = p^2: glTF, Unreal,
-// Filament), alpha, or Unity's smoothness (alpha = (1 - s)^2).
-SharedImage roughnessAlphaOrFail(const BakeArgs& a, const Image& map) {
-    std::shared_ptr<Image> alpha = materialChannelOrFail(a, map, a.roughnessChannel, "--roughness-channel");
-    for (float& x : alpha->pixels)
-        x = a.roughnessEncoding == "alpha" ? x : a.roughnessEncoding == "smoothness" ? (1.f - x) * (1.f - x) : x * x;
-    return alpha;
-}
-
-// A comma-separated list of words from `allowed`.
-std::set<std::string> commaListOrFail(const std::string& list, const char* option, const std::set<std::string>& allowed) {
-    std::set<std::string> words;
-    for (std::string rest = list;;) {
-        const size_t comma = rest.find(',');
-        const std::string word = rest.substr(0, comma);
-        if (!allowed.count(word)) {
-            std::string expected;
-            for (const std::string& w : allowed) expected += (expected.empty() ? "" : ", ") + w;
-            throw Failure(std::string(option) + " " + quote(word) + ": expected " + expected + " (comma-separated)");
-        }
-        words.insert(word);
-        if (comma == std::string::npos) return words;
-        rest = rest.substr(comma + 1);
-    }
-}
-
-// The options' checks that do not depend on the map; throws on the first problem.
-void checkBakeOptionsOrFail(const BakeArgs& a) {
-    auto method = methodFromString(a.method);
-    if (!method) throw Failure("unknown method " + quote(a.method) + " (" + methodNames() + ")");
-    if (a.order != 0 && *method != Method::Sh) throw Failure("--order applies to --method sh only");
-    if (a.lobes != 0 && *method != Method::Vmf) throw Failure("--lobes applies to --method vmf only");
-    if (!a.albedo.empty() && *method != Method::Vmf) throw Failure("--albedo applies to --method vmf only");
-    if (a.coherence != 0.f && *method != Method::Vmf) throw Failure("--coherent applies to --method vmf only");
-    if (a.lobeBudget != 0.f && *method != Method::Vmf) throw Failure("--lobe-budget applies to --method vmf only");
-    if (a.lobeBudget != 0.f && a.coherence != 0.f) throw Failure("--lobe-budget does not apply to coherent lobes");
-    // Without --export the bake is the EXR planes; with it, exactly what it lists.
-    std::set<std::string> exports =
-        commaListOrFail(a.exportFormat.empty() ? "exr" : a.exportFormat, "--export", {"png16", "ktx2", "dds", "exr"});
-    const std::set<std::string> textures =
-        commaListOrFail(a.exportTextures, "--export-textures", {"normal", "roughness", "planes"});
-    if (a.zstd != 0 && !exports.count("ktx2")) throw Failure("--zstd supercompresses KTX2 files: add ktx2 to --export");
-    const EnginePreset* engine = nullptr;
-    if (!a.engine.empty()) {
-        engine = findEnginePreset(a.engine);
-        if (!engine) throw Failure("--engine " + quote(a.engine) + ": expected " + enginePresetNames());
-        if (*method != Method::Toksvig && *method != Method::Naive)
-            throw Failure("--engine writes a normal map and a roughness map: --method toksvig (or naive)");
-        if (!exports.count("ktx2") && !exports.count("dds")) exports.insert("ktx2");
-    }
-    if (exports.count("png16") && (*method == Method::Sh || *method == Method::Vmf || *method == Method::Lean))
-        throw Failure("--export png16 needs a method that stores a normal (naive, toksvig)");
-    if (!a.roughnessMap.empty() && *method != Method::Toksvig)
-        throw Failure("--roughness-map applies to --method toksvig (its roughness planes)");
-    if (!a.roughnessMap.empty() && a.baseRoughness != 0.f)
-        throw Failure("--roughness-map and --base-roughness both set the material's roughness: give one");
-    if (!a.gloss.empty() && a.maxExponent <= 0.f)
-        throw Failure("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");
-}
-
-// Everything that decides a bake's files besides the map itself, as canonical JSON: two runs
-// with the same text, the same sources and the same version write the same files.
-std::string optionsText(const BakeArgs& a) {
-    const DecodeOptions d = a.input_options.resolved();
-    const nlohmann::json options = {
-        {"method", a.method}, {"order", a.order}, {"lobes", a.lobes}, {"coherent", a.coherence},
-        {"lobe_budget", a.lobeBudget}, {"max_iterations", a.maxIterations}, {"tolerance", a.tolerance},
-        {"half", a.half}, {"max_exponent", a.maxExponent}, {"base_roughness", a.baseRoughness},
-        {"roughness_channel", a.roughnessChannel}, {"roughness_encoding", a.roughnessEncoding},
-        {"engine", a.engine}, {"metallic_channel", a.metallicChannel}, {"occlusion_channel", a.occlusionChannel},
-        {"export", a.exportFormat}, {"export_textures", a.exportTextures}, {"normal_format", a.normalFormat},
-        {"roughness_format", a.roughnessFormat}, {"zstd", a.zstd},
-        {"green_down", d.greenDown}, {"two_channel", d.twoChannel}, {"signed", d.signedValues},
-        {"height", d.height}, {"height_scale", d.heightScale}, {"clamp", d.address == AddressMode::Clamp}};
-    return options.dump();
-}
-
-// The bake's cache key: SHA-256 over the version, the options and every source file's SHA-256.
-std::string cacheKeyOrFail(const BakeArgs& a, const std::string& sourceHash) {
-    std::string text = std::string("ndfmip ") + NDFMIP_VERSION + "\n" + optionsText(a) + "\nsource " + sourceHash;
-    for (const auto& [name, path] : {std::pair{"gloss", &a.gloss}, {"albedo", &a.albedo}, {"roughness_map", &a.roughnessMap}})
-        if (!path->empty()) {
-            Result<std::string> hash = sha256File(*path);
-            if (!hash) throw Failure(hash.error().message);
-            text += std::string("\n") + name + " " + hash.value();
-        }
-    return sha256Text(text);
-}
-
-// Whether DIR holds a bake with this cache key (any problem reading it: no).
-bool upToDate(const std::string& dir, const std::string& key) {
-    Result<std::string> text = readRegularFile(dir + "/manifest.json", inputLimits().maxTextFileBytes);
-    if (!text) return false;
-    Result<LoadedBake> bake = parseBakeManifest(text.value(), dir);
-    return bake && bake->source.cacheKey == key;
+// The command's options for the library's bake of one map (bake_file.h).
+BakeFileOptions fileOptions(const BakeArgs& a) {
+    BakeFileOptions o;
+    o.method = a.method;
+    o.decode = a.input_options.resolved();
+    o.order = a.order;
+    o.lobes = a.lobes;
+    o.albedo = a.albedo;
+    o.coherence = a.coherence;
+    o.lobeBudget = a.lobeBudget;
+    o.maxIterations = a.maxIterations;
+    o.tolerance = a.tolerance;
+    o.half = a.half;
+    o.gloss = a.gloss;
+    o.maxExponent = a.maxExponent;
+    o.baseRoughness = a.baseRoughness;
+    o.roughnessMap = a.roughnessMap;
+    o.roughnessChannel = a.roughnessChannel;
+    o.roughnessEncoding = a.roughnessEncoding;
+    o.engine = a.engine;
+    o.metallicChannel = a.metallicChannel;
+    o.occlusionChannel = a.occlusionChannel;
+    o.exportFormat = a.exportFormat;
+    o.exportTextures = a.exportTextures;
+    o.normalFormat = a.normalFormat;
+    o.roughnessFormat = a.roughnessFormat;
+    o.zstd = a.zstd;
+    o.force = a.force;
+    return o;
 }
 
 enum class MapStatus { Baked, Skipped };
@@ -204,99 +89,29 @@ enum class MapStatus { Baked, Skipped };
 // Bakes a.input into a.output (parent folders created); skips it when a.output already holds a
 // bake with the same cache key, unless --force. Throws Failure on a problem with this map.
 MapStatus bakeOne(const BakeArgs& a) {
-    const auto method = methodFromString(a.method);
-    std::set<std::string> exports =
-        commaListOrFail(a.exportFormat.empty() ? "exr" : a.exportFormat, "--export", {"png16", "ktx2", "dds", "exr"});
-    const std::set<std::string> textures =
-        commaListOrFail(a.exportTextures, "--export-textures", {"normal", "roughness", "planes"});
-    const EnginePreset* engine = a.engine.empty() ? nullptr : findEnginePreset(a.engine);
-    if (engine && !exports.count("ktx2") && !exports.count("dds")) exports.insert("ktx2");
-    DecodeOptions decode = a.input_options.resolved();
-    recoverInterruptedBake(a.output);
-    Result<std::string> hash = sha256File(a.input);
-    if (!hash) throw Failure(hash.error().message);
-    const std::string key = cacheKeyOrFail(a, hash.value());
-    if (!a.force && upToDate(a.output, key)) return MapStatus::Skipped;
-    {
-        std::error_code ec;
-        const std::filesystem::path parent = std::filesystem::path(a.output).lexically_normal().parent_path();
-        // Only a missing folder is made (writeBake names a parent that is a file). Another map of
-        // the batch may create it at the same moment: what counts is that it exists.
-        if (!parent.empty() && !std::filesystem::exists(parent, ec) && !std::filesystem::create_directories(parent, ec) &&
-            !std::filesystem::is_directory(parent, ec))
-            throw Failure(a.output + ": cannot create the folder " + parent.string() + " (" + ec.message() + ")");
+    BakeFileOptions options = fileOptions(a);
+    if (!a.quiet) {
+        options.progress = [](int done, int total) { showProgress("bake: level", done, total); };
+        options.decoded = [&](const DecodeReport& report) { warnAboutDecode(a.input, report); };
     }
-
-    long long start = nowNanoseconds();
-    DecodeReport report;
-    Image normals = loadNormalsOrFail(a.input, decode, a.quiet, &report);
-    if (!a.gloss.empty()) applyGlossOrFail(normals, a);
-    double decodeMs = millisecondsSince(start);
-
-    start = nowNanoseconds();
-    const int width = normals.width, height = normals.height;
-    Pyramid pyramid = buildPyramid(std::make_shared<const Image>(std::move(normals)));
-    BakeOptions options;
-    options.baseRoughness = a.baseRoughness;
-    if (a.order != 0) options.shOrder = a.order;
-    if (a.lobes != 0) options.vmfLobes = a.lobes;
-    options.vmfMaxIterations = a.maxIterations;
-    options.vmfTolerance = a.tolerance;
-    options.vmfCoherence = a.coherence;
-    options.vmfLobeBudget = a.lobeBudget;
-    if (!a.albedo.empty()) options.albedo = loadAlbedoOrFail(a.albedo, width, height);
-    std::optional<SourceImage> materialMap;
-    if (!a.roughnessMap.empty()) {
-        materialMap = loadMaterialMapOrFail(a, width, height);
-        options.roughnessMap = roughnessAlphaOrFail(a, materialMap->image);
-    }
-    if (!a.quiet) options.progress = [](int done, int total) { showProgress("bake: level", done, total); };
-    checkBakeMemoryOrFail(a.input, *method, options, width, height);
-    Bake bake = bakeMethod(*method, pyramid, options);
-    if (!a.gloss.empty()) bake.parameters["max_exponent"] = a.maxExponent;
-    double bakeMs = millisecondsSince(start);
-
-    start = nowNanoseconds();
-    BakeSource source{a.input, hash.value(), width, height, decode, a.gloss, key};
-    BakeWriteOptions write;
-    write.exr = exports.count("exr") > 0;
-    write.png16 = exports.count("png16") > 0;
-    write.exportNormal = textures.count("normal") > 0;
-    write.exportRoughness = textures.count("roughness") > 0;
-    write.exportPlanes = textures.count("planes") > 0;
-    write.normalFormat = *textureFormatFromName(a.normalFormat);
-    write.roughnessFormat = *textureFormatFromName(a.roughnessFormat);
-    write.zstdLevel = a.zstd;
-    write.ktx2 = exports.count("ktx2") > 0;
-    write.dds = exports.count("dds") > 0;
-    write.engine = engine;
-    // Metallic and occlusion are linear: their mips are footprint means, as an albedo map's.
-    for (const auto& [channel, option, chain] :
-         {std::tuple{&a.metallicChannel, "--metallic-channel", &write.metallic},
-          std::tuple{&a.occlusionChannel, "--occlusion-channel", &write.occlusion}}) {
-        if (channel->empty()) continue;
-        if (!materialMap)
-            throw Failure(std::string(option) + " reads a channel of --roughness-map, which is not given");
-        *chain = albedoMips(pyramid, materialChannelOrFail(a, materialMap->image, *channel, option));
-    }
-    write.half = a.half;
-    Status status = writeBake(a.output, bake, source, write);
-    if (!status) throw Failure(status.error);
-    double writeMs = millisecondsSince(start);
-
+    Result<BakeFileReport> baked = bakeFile(a.input, a.output, options);
+    if (!baked) throw Failure(baked.error().message);
+    const BakeFileReport& r = baked.value();
+    if (r.skipped) return MapStatus::Skipped;
+    const Bake bake{r.method, {}, {}, r.parameters}; // the parameters, for the summary lines
     if (!a.quiet) {
         std::printf("%-8s: %dx%d, %zu levels -> %s (decode %.1f ms, bake %.1f ms, write %.1f ms; "
                     "%zu normals more than 10%% off unit length)\n",
-                    methodName(*method), width, height, bake.levels.size(), a.output.c_str(),
-                    decodeMs, bakeMs, writeMs, report.offUnitLength);
-        if (*method == Method::Vmf)
+                    methodName(r.method), r.width, r.height, r.levels, a.output.c_str(),
+                    r.decodeMs, r.bakeMs, r.writeMs, r.decode.offUnitLength);
+        if (r.method == Method::Vmf)
             std::printf("vmf     : J = %d lobes (%.2f used per texel on average), EM iterations per texel %.2f on "
                         "average, %g at most, %g texels stopped at --max-iterations; lobe mismatch %.2f degrees "
                         "(coherence %g)\n",
                         bakeVmfLobes(bake), bake.parameters.at("mean_lobes"), bake.parameters.at("em_mean_iterations"),
                         bake.parameters.at("em_most_iterations"), bake.parameters.at("em_not_converged"),
                         bake.parameters.at("lobe_mismatch_degrees"), bake.parameters.at("coherence"));
-        if (*method == Method::Sh) {
+        if (r.method == Method::Sh) {
             const int order = bakeShOrder(bake);
             const int planes = shPlaneCount(order);
             std::printf("sh      : l* = %d, %d coefficients in %d planes: %d bytes per texel of level 0 "
@@ -412,7 +227,7 @@ struct MapResult {
 };
 
 void runBake(const BakeArgs& args) {
-    checkBakeOptionsOrFail(args);
+    if (Status s = checkBakeFileOptions(fileOptions(args)); !s) throw Failure(s.error);
     bool expanded = false; // a folder or a glob: many maps, whatever their number
     const std::vector<std::string> inputs = expandInputsOrFail(args.inputs, &expanded);
     const bool pattern = args.output.find('{') != std::string::npos;
@@ -446,7 +261,9 @@ void runBake(const BakeArgs& args) {
     const bool bar = !args.quiet && !args.json && isatty(2);
     const long long start = nowNanoseconds();
     const int workers = std::max(1, std::min(args.jobs, int(jobs.size())));
-    const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+    // The cores this process may use: OMP_NUM_THREADS, else the CPUs of its affinity mask (a
+    // Slurm or container cpuset), not every core of the machine.
+    const int cores = std::max(1, omp_get_max_threads());
     auto work = [&] {
         omp_set_num_threads(std::max(1, cores / workers)); // the maps share the cores
         for (size_t i; (i = next++) < jobs.size();) {

@@ -55,6 +55,9 @@ struct FilteringArgs {
 };
 void addFilteringOptions(CLI::App* command, FilteringArgs& args);
 
+// Warns on stderr about suspicious normals that decoding found in `path`.
+void warnAboutDecode(const std::string& path, const DecodeReport& report);
+
 // Loads and decodes a normal map, warns on stderr about suspicious normals, throws on error.
 Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bool quiet,
                         DecodeReport* report = nullptr);
@@ -63,17 +66,8 @@ Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bo
 // as linear. Throws unless it has `width` x `height` texels and 3 or 4 channels.
 SharedImage loadAlbedoOrFail(const std::string& path, int width, int height);
 
-// A mip chain of perceptual roughness written by any tool, one file per level: `pattern` with
-// {level} replaced by 0, 1, ... and each {key} of `fields` by its value. Level k must have
-// sizes[k] texels; the first channel is kept (8/16-bit files as stored, 0..1, no sRGB decoding,
-// as roughness maps are linear data). Throws on a missing level, a size or a NaN.
-std::vector<SharedImage> loadRoughnessMipsOrFail(const std::string& pattern,
-                                                 const std::vector<std::pair<int, int>>& sizes,
-                                                 const std::vector<std::pair<std::string, std::string>>& fields);
-
 // ours, hdrp, filament, godot or unreal (roughness.h); throws on anything else.
 RoughnessMapping roughnessMappingOrFail(const std::string& name);
-const char* roughnessMappingName(RoughnessMapping mapping);
 
 // Adds a finite-number check to every floating-point option of `app` and its subcommands, so
 // "nan" and "inf" fail like any other out-of-range value (CLI::Range lets NaN through, and

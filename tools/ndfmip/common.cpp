@@ -36,26 +36,27 @@ void addInputOptions(CLI::App* command, InputOptions& o) {
     command->add_flag("--clamp", o.clamp, "the map does not tile (default: wrap)");
 }
 
+void warnAboutDecode(const std::string& path, const DecodeReport& report) {
+    auto percent = [&](size_t n) { return 100.0 * double(n) / double(report.texels); };
+    if (report.offUnitLength * 20 > report.texels)
+        std::fprintf(stderr,
+                     "ndfmip: warning: %s: %.1f%% of the normals are far from unit length "
+                     "(wrong convention, or not a normal map?)\n",
+                     path.c_str(), percent(report.offUnitLength));
+    if (report.degenerate)
+        std::fprintf(stderr, "ndfmip: warning: %s: %zu zero-length normals replaced by (0,0,1)\n", path.c_str(),
+                     report.degenerate);
+    if (report.facingDown)
+        std::fprintf(stderr, "ndfmip: warning: %s: %zu normals face away from the surface (z < 0)\n", path.c_str(),
+                     report.facingDown);
+}
+
 Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bool quiet,
                         DecodeReport* reportOut) {
     DecodeReport report;
     Result<Image> normals = loadNormalMap(path, decode, &report);
     if (!normals) throw Failure(normals.error().message);
-    if (!quiet) {
-        auto percent = [&](size_t n) { return 100.0 * double(n) / double(report.texels); };
-
-        if (report.offUnitLength * 20 > report.texels)
-            std::fprintf(stderr,
-                         "ndfmip: warning: %s: %.1f%% of the normals are far from unit length "
-                         "(wrong convention, or not a normal map?)\n",
-                         path.c_str(), percent(report.offUnitLength));
-        if (report.degenerate)
-            std::fprintf(stderr, "ndfmip: warning: %s: %zu zero-length normals replaced by (0,0,1)\n",
-                         path.c_str(), report.degenerate);
-        if (report.facingDown)
-            std::fprintf(stderr, "ndfmip: warning: %s: %zu normals face away from the surface (z < 0)\n",
-                         path.c_str(), report.facingDown);
-    }
+    if (!quiet) warnAboutDecode(path, report);
     if (reportOut) *reportOut = report;
     return std::move(normals.value());
 }
@@ -113,30 +114,10 @@ void showProgress(const char* label, int done, int total) {
     std::fflush(stderr);
 }
 
-namespace {
-const std::pair<const char*, RoughnessMapping> kMappings[] = {
-    {"ours", RoughnessMapping::Ours},         {"hdrp", RoughnessMapping::Hdrp},
-    {"filament", RoughnessMapping::Filament}, {"godot", RoughnessMapping::Godot},
-    {"unreal", RoughnessMapping::Unreal},
-};
-} // namespace
-
 SharedImage loadAlbedoOrFail(const std::string& path, int width, int height) {
-    Result<SourceImage> source = loadImage(path);
-    if (!source) throw Failure(source.error().message);
-    const Image& image = source->image;
-    Status size = checkAlbedoSize(image, width, height, path);
-    if (!size) throw Failure(size.error);
-    Image rgb(image.width, image.height, 3);
-    for (size_t i = 0; i < image.texelCount(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            float v = image.pixels[i * image.channels + c];
-            if (!std::isfinite(v)) throw Failure(path + ": NaN or infinite albedo value");
-            // The sRGB transfer function (IEC 61966-2-1) for integer files.
-            if (!source->isFloat) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-            rgb.pixels[3 * i + c] = std::max(v, 0.f);
-        }
-    return std::make_shared<const Image>(std::move(rgb));
+    Result<SharedImage> albedo = loadAlbedo(path, width, height);
+    if (!albedo) throw Failure(albedo.error().message);
+    return albedo.value();
 }
 
 FilteringArgs::FilteringArgs()
@@ -166,50 +147,11 @@ void addFilteringOptions(CLI::App* c, FilteringArgs& a) {
         ->capture_default_str();
 }
 
-std::vector<SharedImage> loadRoughnessMipsOrFail(const std::string& pattern,
-                                                 const std::vector<std::pair<int, int>>& sizes,
-                                                 const std::vector<std::pair<std::string, std::string>>& fields) {
-    auto substitute = [](std::string text, const std::string& key, const std::string& value) {
-        const std::string token = "{" + key + "}";
-        for (size_t at = text.find(token); at != std::string::npos; at = text.find(token, at + value.size()))
-            text.replace(at, token.size(), value);
-        return text;
-    };
-    if (pattern.find("{level}") == std::string::npos)
-        throw Failure("roughness mips " + quote(pattern) + ": the pattern has no {level}");
-    std::vector<SharedImage> levels;
-    for (size_t k = 0; k < sizes.size(); ++k) {
-        std::string path = substitute(pattern, "level", std::to_string(k));
-        for (const auto& [key, value] : fields) path = substitute(path, key, value);
-        Result<SourceImage> source = loadImage(path);
-        if (!source) throw Failure(source.error().message);
-        const Image& image = source->image;
-        if (image.width != sizes[k].first || image.height != sizes[k].second)
-            throw Failure(path + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-                          ", but mip level " + std::to_string(k) + " is " + std::to_string(sizes[k].first) + "x" +
-                          std::to_string(sizes[k].second));
-        Image r(image.width, image.height, 1);
-        for (size_t i = 0; i < image.texelCount(); ++i) {
-            const float v = image.pixels[i * image.channels];
-            if (!std::isfinite(v)) throw Failure(path + ": NaN or infinite roughness");
-            r.pixels[i] = std::clamp(v, 0.f, 1.f);
-        }
-        levels.push_back(std::make_shared<const Image>(std::move(r)));
-    }
-    return levels;
-}
-
 RoughnessMapping roughnessMappingOrFail(const std::string& name) {
-    for (const auto& [n, m] : kMappings)
-        if (name == n) return m;
-    throw Failure("unknown roughness mapping " + quote(name) +
-                  " (expected ours, hdrp, filament, godot, unreal)");
-}
-
-const char* roughnessMappingName(RoughnessMapping mapping) {
-    for (const auto& [n, m] : kMappings)
-        if (m == mapping) return n;
-    return "?";
+    RoughnessMapping mapping;
+    if (!roughnessMappingFromString(name, mapping))
+        throw Failure("unknown roughness mapping " + quote(name) + " (expected ours, hdrp, filament, godot, unreal)");
+    return mapping;
 }
 
 long long nowNanoseconds() {

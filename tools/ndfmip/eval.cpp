@@ -1,579 +1,68 @@
-// ndfmip eval MAP... -o DIR: renders every map at several view distances with every method
-// and with the supersampled ground truth, and writes DIR/report.json (every number) and
-// DIR/report.html (tables, plots, images; one self-contained file).
-//
-// Each case is a top-down orthographic view of the map tiled over a plane, so that one pixel
-// covers `footprint` x `footprint` texels; the pixel grid is offset from the texel grid by a
-// fraction of a pixel so that filtering falls between texels and levels as it does in a real
-// view. One directional light, 25 degrees off the normal.
-#include <algorithm>
-#include <cstdlib>
+// ndfmip eval MAP... -o DIR: every map rendered at several view distances with every method
+// and with the ground truth (evaluateMaps, evaluate.h), written as DIR/report.json (every
+// number) and DIR/report.html (tables, plots, images; one self-contained file), with a summary
+// table on stdout.
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <memory>
 
-#include <nlohmann/json.hpp>
-
 #include "cli.h"
-#include "ndfmip/compare.h"
-#include "ndfmip/html_report.h"
-#include "ndfmip/io.h"
-#include "ndfmip/render.h"
-#include "ndfmip/spherical_harmonics.h"
-#include "ndfmip/tonemap.h"
-#include "render/render_program.h"
-#include "report/webgl_view.h"
+#include "ndfmip/evaluate.h"
 
 namespace ndfmip::cli {
 namespace {
 
-using json = nlohmann::json;
-
 struct EvalArgs {
-    std::vector<std::string> maps;
+    EvalOptions options;
     InputOptions input;
-    std::string output;
-    std::vector<int> footprints{1, 4, 16, 64};
-    std::vector<std::string> methods{"naive", "toksvig", "toksvig-lut", "sh:2", "sh:4", "sh:7", "sh:10",
-                                     "vmf:1", "vmf:2", "vmf:4", "vmf:6", "vmf:8", "exact"};
-    std::vector<std::string> brdfs{"blinnphong", "ggx"};
-    std::vector<float> exponents{8.f, 32.f, 128.f, 512.f};
-    std::vector<float> roughness{0.1f, 0.3f};
-    int maxPixels = 128;
-    int spp = 0; // 0: max(64, footprint^2), at most 1024
-    int frames = 8;
-    uint64_t seed = 1;
-    bool calibrate = false;
-    std::vector<float> calibrationRoughness{0.05f, 0.1f, 0.2f, 0.3f, 0.5f};
-    std::vector<float> calibrationScales{0.25f, 0.5f, 0.75f, 1.f, 1.5f, 2.f, 3.f, 4.f};
-    bool allImages = false;
-    bool webgl = true; // the report's live WebGL2 view of the first map
-    float coherence = 0.f; // vmf methods: C of eq. 32
-    bool quiet = false;
-    bool aligned = false;                 // pixel = one texel of the level, on the texel grid
-    std::vector<float> offset{0.31f, 0.17f}; // the pixel grid's shift from the texel grid, in pixels
-    std::vector<std::string> externalRoughness; // NAME=PATTERN
-    std::string externalEncoding = "perceptual"; // or alpha
     FilteringArgs filtering;
+    bool quiet = false;
 };
 
-// One material setting of the matrix.
-struct Setting {
-    Material material;
-    std::string brdf;
-    float exponent = 0.f, roughness = 0.f;
-    std::string label() const {
-        char text[64];
-        if (material.brdf == Brdf::BlinnPhong) std::snprintf(text, sizeof text, "%s s=%g", brdf.c_str(), exponent);
-        else if (material.brdf == Brdf::Lambert) std::snprintf(text, sizeof text, "%s", brdf.c_str());
-        else std::snprintf(text, sizeof text, "%s alpha=%g", brdf.c_str(), roughness);
-        return text;
+void runEval(EvalOptions o, const EvalArgs& a) {
+    o.decode = a.input.resolved();
+    o.truth = a.filtering.truth;
+    o.lobeFilter = a.filtering.lobeFilter;
+    if (!a.quiet) {
+        o.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+        o.decoded = [](const std::string& map, const DecodeReport& report) { warnAboutDecode(map, report); };
     }
-};
-
-Setting makeSetting(Brdf brdf, float exponent, float roughness) {
-    Setting s;
-    s.brdf = brdfName(brdf);
-    s.material.brdf = brdf;
-    if (brdf == Brdf::Lambert) {
-        s.material.albedo = glm::vec3(1.f);
-        s.material.specular = glm::vec3(0.f);
-    } else {
-        s.material.albedo = glm::vec3(0.f);
-        s.material.specular = glm::vec3(1.f);
-    }
-    if (brdf == Brdf::BlinnPhong) s.material.exponent = s.exponent = exponent;
-    if (brdf == Brdf::Beckmann || brdf == Brdf::Ggx) s.material.roughness = s.roughness = roughness;
-    return s;
-}
-
-std::vector<Setting> settingsOf(const EvalArgs& a) {
-    std::vector<Setting> out;
-    for (const std::string& name : a.brdfs) {
-        Brdf brdf;
-        if (!brdfFromString(name, brdf))
-            throw Failure("--brdfs: unknown BRDF " + quote(name) + " (expected lambert, blinnphong, beckmann, ggx)");
-        if (brdf == Brdf::Lambert) out.push_back(makeSetting(brdf, 0.f, 0.f));
-        if (brdf == Brdf::BlinnPhong)
-            for (float s : a.exponents) out.push_back(makeSetting(brdf, s, 0.f));
-        if (brdf == Brdf::Beckmann || brdf == Brdf::Ggx)
-            for (float r : a.roughness) out.push_back(makeSetting(brdf, 0.f, r));
-    }
-    return out;
-}
-
-// The view of one footprint: world units are maps (1 unit = the map's width in texels, on
-// both axes), the camera looks straight down, `pixels` pixels square.
-Scene evalScene(int mapWidth, int mapHeight, int footprint, int pixels, glm::vec2 shift) {
-    Scene s;
-    const float pixelWorld = float(footprint) / float(mapWidth);
-    const float viewWorld = pixelWorld * float(pixels);
-    // `shift` pixels off the texel grid, the same for every footprint.
-    const glm::vec3 offset(shift.x * pixelWorld, shift.y * pixelWorld, 0.f);
-    s.camera.type = CameraType::Orthographic;
-    s.camera.eye = glm::vec3(0.f, 0.f, 10.f) + offset;
-    s.camera.target = offset;
-    s.camera.up = {0.f, 1.f, 0.f};
-    s.camera.orthoHeight = viewWorld;
-    s.camera.width = s.camera.height = pixels;
-    const float size = 2.f * std::ceil(0.5f * viewWorld + 1.f);
-    s.geometry.size = {size, size};
-    s.geometry.tiling = {size, size * float(mapWidth) / float(mapHeight)};
-    const float polar = glm::radians(25.f), azimuth = glm::radians(30.f);
-    Light light;
-    light.direction = {std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar)};
-    s.lights = {light};
-    return s;
-}
-
-Image renderOrFail(const Scene& scene, const RenderTextures& t, const std::string& method,
-                   const RenderOptions& o) {
-    Result<Image> image = render(scene, t, method, o);
-    if (!image) throw Failure(image.error().message);
-    return std::move(image.value());
-}
-
-double percentileLuminance(const Image& image, double q) {
-    std::vector<float> values(image.texelCount());
-    for (size_t i = 0; i < values.size(); ++i) {
-        const float* p = &image.pixels[i * image.channels];
-        values[i] = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
-    }
-    if (values.empty()) return 0.0;
-    size_t k = std::min(values.size() - 1, size_t(q * double(values.size())));
-    std::nth_element(values.begin(), values.begin() + long(k), values.end());
-    return values[k];
-}
-
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
-json caseJson(const ReportCase& c) {
-    return {{"map", c.map},       {"footprint", c.footprint}, {"method", c.method},
-            {"brdf", c.brdf},     {"exponent", c.exponent},   {"roughness", c.roughness},
-            {"rel_rmse", number(c.relRmse)}, {"rmse", number(c.rmse)}, {"psnr", number(c.psnr)},
-            {"energy_ratio", number(c.energyRatio)}, {"flicker", number(c.flicker)}};
-}
-
-// Frames of one view shifted by sub-pixel amounts; their flicker.
-double flickerOf(const Scene& scene, const RenderTextures& t, const std::string& method, RenderOptions o,
-                 int frames) {
-    if (frames < 2) return std::nan("");
-    std::vector<Image> images;
-    for (glm::vec2 shift : flickerShifts(frames)) {
-        o.pixelShift = shift;
-        images.push_back(renderOrFail(scene, t, method, o));
-    }
-    return temporalFlicker(images);
-}
-
-// A method as the matrix names it: "sh:L" is sh baked at order L ("sh" alone: 7), "vmf:J" is vmf
-// with J lobes ("vmf" alone: 4).
-struct MethodSpec {
-    std::string label;  // as in the report
-    std::string render; // the name render() takes
-    Method method;      // the bake it shades (exact: none)
-    BakeOptions options;
-    bool baked = true;
-};
-
-MethodSpec methodSpec(const std::string& label) {
-    if (label == kExact) return {label, kExact, Method::Naive, {}, false};
-    if (label == kToksvigLut) return {label, kToksvigLut, Method::Toksvig, {}, true};
-    MethodSpec spec{label, "", Method::Naive, {}, true};
-    std::string name = label, order;
-    if (size_t colon = label.find(':'); colon != std::string::npos) {
-        name = label.substr(0, colon);
-        order = label.substr(colon + 1);
-    }
-    auto method = methodFromString(name);
-    if (!method)
-        throw Failure("--methods: unknown method " + quote(label) +
-                      " (expected naive, toksvig, toksvig-lut, sh[:ORDER], vmf[:LOBES[:BUDGET]], lean, exact)");
-    spec.method = *method;
-    spec.render = methodName(*method);
-    if (!order.empty()) {
-        // vmf:J or vmf:J:BUDGET (lobes by error budget).
-        std::string budget;
-        if (size_t colon = order.find(':'); colon != std::string::npos) {
-            budget = order.substr(colon + 1);
-            order = order.substr(0, colon);
-        }
-        char* end = nullptr;
-        long l = std::strtol(order.c_str(), &end, 10);
-        const bool sh = *method == Method::Sh, vmf = *method == Method::Vmf;
-        const long most = sh ? kMaxShOrder : 8;
-        char* budgetEnd = nullptr;
-        const float b = budget.empty() ? 0.f : std::strtof(budget.c_str(), &budgetEnd);
-        const bool budgetOk = budget.empty() || (vmf && *budgetEnd == '\0' && b >= 0.f && b <= 10.f);
-        if ((!sh && !vmf) || *end != '\0' || l < 1 || l > most || !budgetOk)
-            throw Failure("--methods: " + quote(label) + ": sh takes an order 1 .. " + std::to_string(kMaxShOrder) +
-                          ", vmf a lobe count 1 .. 8 and optionally :BUDGET (0 .. 10), other methods nothing");
-        if (sh) spec.options.shOrder = int(l);
-        if (vmf) spec.options.vmfLobes = int(l);
-        spec.options.vmfLobeBudget = b;
-    }
-    return spec;
-}
-
-struct MapData {
-    std::string name;
-    SharedImage normals;
-    Pyramid pyramid;
-    std::map<std::string, Bake> bakes; // by label
-    std::map<std::string, std::vector<SharedImage>> roughness; // external mips by "NAME alpha"
-};
-
-int viewPixels(const MapData& map, int footprint, int maxPixels) {
-    return std::clamp((std::max(map.normals->width, map.normals->height) + footprint - 1) / footprint, 32,
-                      std::max(32, maxPixels));
-}
-
-// The report's WebGL2 view of `map`: its baked methods that the GPU shaders draw, at the
-// footprints >= 2, one plain trilinear lookup per pixel (what WebGL's sampler gives), with the
-// CPU renderer's image of the first for the page's own check. Float data kept under ~32 MB.
-std::string liveViewOf(const MapData& map, const EvalArgs& a, const std::vector<MethodSpec>& specs,
-                       const Material& material, glm::vec2 shift) {
-    WebglView view;
-    view.map = map.name;
-    for (int f : a.footprints)
-        if (f >= 2) view.footprints.push_back(f);
-    if (view.footprints.empty()) return "";
-    const int smallest = *std::min_element(view.footprints.begin(), view.footprints.end());
-    view.baseLevel = std::max(0, int(std::floor(std::log2(double(smallest)))) - 1);
-    view.baseLevel = std::min(view.baseLevel, int(map.pyramid.levels.size()) - 1);
-    RenderOptions plain;
-    plain.taps = 1;
-    plain.lodBias = 0.f;
-    plain.shadeFilter = ShadeFilter::Parameter;
-    const double texels = double(map.normals->width >> view.baseLevel) * double(map.normals->height >> view.baseLevel);
-    double bytes = 0.0;
-    // vMF first: the page checks its first method against the CPU.
-    std::vector<MethodSpec> ordered = specs;
-    std::stable_partition(ordered.begin(), ordered.end(), [](const MethodSpec& m) { return m.render == "vmf"; });
-    for (const MethodSpec& spec : ordered) {
-        if (!spec.baked || spec.render == kToksvigLut || !map.bakes.count(spec.label)) continue;
-        RenderTextures t;
-        t.normals = map.normals;
-        t.bake = map.bakes.at(spec.label);
-        WebglMethod method;
-        method.label = spec.label;
-        bool drawable = true;
-        for (int footprint : view.footprints) {
-            Scene scene = evalScene(map.normals->width, map.normals->height, footprint, viewPixels(map, footprint, a.maxPixels), shift);
-            scene.material = material;
-            Result<RenderProgram> program = renderProgram(scene, t, spec.render, plain);
-            if (!program) {
-                drawable = false;
-                break;
-            }
-            method.uniforms.push_back(program->uniforms);
-            if (footprint == view.footprints.front()) method.program = std::move(program.value());
-        }
-        if (!drawable) continue;
-        const double methodBytes = double(method.program.layers.size()) * texels * 16.0 * 4.0 / 3.0;
-        if (bytes + methodBytes > 32e6) continue;
-        bytes += methodBytes;
-        if (view.methods.empty()) {
-            Scene scene = evalScene(map.normals->width, map.normals->height, view.footprints.front(),
-                                    viewPixels(map, view.footprints.front(), a.maxPixels), shift);
-            scene.material = material;
-            view.reference = renderOrFail(scene, t, spec.render, plain);
-            view.exposureStops = autoExposure(view.reference);
-        }
-        view.methods.push_back(std::move(method));
-    }
-    return webglViewHtml(view);
-}
-
-
-// An --external-roughness row: a peer's perceptual-roughness mips beside the standard normal
-// mipmap, rendered as kRoughnessMips for Beckmann and GGX settings.
-struct ExternalRoughness {
-    std::string name, pattern;
-};
-
-std::vector<ExternalRoughness> externalRows(const std::vector<std::string>& specs) {
-    std::vector<ExternalRoughness> rows;
-    for (const std::string& spec : specs) {
-        const size_t eq = spec.find('=');
-        if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size())
-            throw Failure("--external-roughness: " + quote(spec) + " is not NAME=PATTERN");
-        if (spec.find("{level}", eq) == std::string::npos)
-            throw Failure("--external-roughness: " + quote(spec) + ": the pattern has no {level}");
-        rows.push_back({spec.substr(0, eq), spec.substr(eq + 1)});
-    }
-    return rows;
-}
-
-void runEval(const EvalArgs& a) {
-    const std::vector<Setting> settings = settingsOf(a);
-    const std::vector<ExternalRoughness> externals = externalRows(a.externalRoughness);
-    if (a.externalEncoding != "perceptual" && a.externalEncoding != "alpha")
-        throw Failure("--external-encoding: " + quote(a.externalEncoding) + " is not perceptual or alpha");
-    RenderOptions filtering;
-    a.filtering.apply(filtering);
-    const TruthFilter truthFilter = filtering.truth;
-    if (a.offset.size() != 2 || !std::isfinite(a.offset[0]) || !std::isfinite(a.offset[1]))
-        throw Failure("--offset: two finite numbers X,Y expected");
-    // Aligned: each pixel exactly one texel of a level, so every method reads that one texel.
-    const glm::vec2 shift = a.aligned ? glm::vec2(0.f) : glm::vec2(a.offset[0], a.offset[1]);
-    if (a.aligned)
-        for (int f : a.footprints)
-            if ((f & (f - 1)) != 0)
-                throw Failure("--aligned: footprint " + std::to_string(f) + " is not a power of two (one texel of a level)");
-    std::vector<MethodSpec> specs;
-    for (const std::string& m : a.methods) specs.push_back(methodSpec(m));
-    for (MethodSpec& spec : specs) spec.options.vmfCoherence = a.coherence;
-    for (int f : a.footprints)
-        if (f < 1 || f > 4096) throw Failure("--footprints: " + std::to_string(f) + " is not in 1 .. 4096");
-    const DecodeOptions decode = a.input.resolved();
-
-    EvalReport report;
-    report.title = "ndfmip evaluation";
-    json cases = json::array();
-    json calibration = json::array();
-    // Sum of log relative RMSE and count per calibration candidate, over every calibration case.
-    std::map<std::string, std::pair<double, int>> candidateError;
-    const long long start = nowNanoseconds();
-
-    for (size_t mapIndex = 0; mapIndex < a.maps.size(); ++mapIndex) {
-        MapData map;
-        map.name = std::filesystem::path(a.maps[mapIndex]).filename().string();
-        map.normals = std::make_shared<const Image>(loadNormalsOrFail(a.maps[mapIndex], decode, a.quiet));
-        map.pyramid = buildPyramid(map.normals);
-        for (const MethodSpec& spec : specs)
-            if (spec.baked)
-                checkBakeMemoryOrFail(a.maps[mapIndex], spec.method, spec.options, map.normals->width,
-                                      map.normals->height);
-        for (const MethodSpec& spec : specs)
-            if (spec.baked) map.bakes[spec.label] = bakeMethod(spec.method, map.pyramid, spec.options);
-        if (!externals.empty()) map.bakes["naive (external roughness)"] = bakeMethod(Method::Naive, map.pyramid, {});
-        if (a.calibrate && map.bakes.count("toksvig") == 0)
-            map.bakes["toksvig"] = bakeMethod(Method::Toksvig, map.pyramid, {});
-        if (!a.quiet)
-            std::fprintf(stderr, "eval: %s (%zu/%zu), %dx%d\n", map.name.c_str(), mapIndex + 1, a.maps.size(),
-                         map.normals->width, map.normals->height);
-        auto textures = [&](const std::string& label) {
-            RenderTextures t;
-            t.normals = map.normals;
-            if (map.bakes.count(label)) t.bake = map.bakes.at(label);
-            return t;
-        };
-        auto renderName = [&](const std::string& label) {
-            if (label == kGroundTruth) return label;
-            for (const MethodSpec& spec : specs)
-                if (spec.label == label) return spec.render;
-            return std::string("toksvig"); // the calibration's own bake
-        };
-
-        if (mapIndex == 0 && a.webgl) {
-            report.liveView = liveViewOf(map, a, specs, settings.front().material, shift);
-            if (!a.quiet && report.liveView.empty())
-                std::fprintf(stderr, "eval: no live view (no footprint >= 2, or no method the GPU shaders draw)\n");
-        }
-
-        for (int footprint : a.footprints) {
-            const int pixels = std::clamp((std::max(map.normals->width, map.normals->height) + footprint - 1) / footprint,
-                                          32, std::max(32, a.maxPixels));
-            Scene scene = evalScene(map.normals->width, map.normals->height, footprint, pixels, shift);
-            RenderOptions truthOptions;
-            truthOptions.seed = a.seed;
-            truthOptions.spp = a.spp > 0 ? a.spp : std::clamp(footprint * footprint, 64, 1024);
-            truthOptions.truth = truthFilter;
-            RenderOptions methodOptions = filtering;
-            methodOptions.seed = a.seed;
-
-            for (const Setting& setting : settings) {
-                scene.material = setting.material;
-                const Image truth = renderOrFail(scene, textures(kGroundTruth), kGroundTruth, truthOptions);
-                ReportCase truthCase{map.name, kGroundTruth, setting.brdf, footprint, setting.exponent,
-                                     setting.roughness, 0, 0, std::numeric_limits<double>::infinity(), 1,
-                                     flickerOf(scene, textures(kGroundTruth), kGroundTruth, truthOptions, a.frames)};
-                report.cases.push_back(truthCase);
-                cases.push_back(caseJson(truthCase));
-
-                const bool showcase = a.allImages || setting.label() == settings.front().label() ||
-                                      (setting.brdf == "blinnphong" && setting.exponent == 32.f) ||
-                                      (setting.brdf == "ggx" && setting.roughness == a.roughness.front());
-                ReportGroup group;
-                const float stops = autoExposure(truth);
-                const float errorScale = float(0.5 * percentileLuminance(truth, 0.99));
-                if (showcase) {
-                    char title[256];
-                    std::snprintf(title, sizeof title, "%s, footprint %d, %s", map.name.c_str(), footprint,
-                                  setting.label().c_str());
-                    group.title = title;
-                    group.images.push_back({"ground truth", toneMap(truth, stops)});
-                }
-                for (const std::string& method : a.methods) {
-                    // Toksvig's table is for Blinn-Phong only.
-                    if (method == kToksvigLut && setting.material.brdf != Brdf::BlinnPhong) continue;
-                    const Image image = renderOrFail(scene, textures(method), renderName(method), methodOptions);
-                    Result<ImageComparison> cmp = compareImages(image, truth);
-                    if (!cmp) throw Failure(cmp.error().message);
-                    ReportCase c{map.name, method, setting.brdf, footprint, setting.exponent, setting.roughness,
-                                 cmp->relativeRmse, cmp->rmse, cmp->psnr, cmp->energyRatio,
-                                 flickerOf(scene, textures(method), renderName(method), methodOptions, a.frames)};
-                    report.cases.push_back(c);
-                    cases.push_back(caseJson(c));
-                    if (showcase) {
-                        group.images.push_back({method, toneMap(image, stops)});
-                        group.images.push_back({method + " error", errorImage(image, truth, errorScale > 0 ? errorScale : 0.f)});
-                    }
-                }
-                for (const ExternalRoughness& row : externals) {
-                    if (setting.material.brdf != Brdf::Ggx && setting.material.brdf != Brdf::Beckmann) continue;
-                    char alpha[32];
-                    std::snprintf(alpha, sizeof alpha, "%g", setting.roughness);
-                    const std::string key = row.name + " " + alpha;
-                    RenderTextures t;
-                    t.normals = map.normals;
-                    t.bake = map.bakes.at("naive (external roughness)");
-                    if (!map.roughness.count(key)) {
-                        std::vector<std::pair<int, int>> sizes;
-                        for (const auto& level : t.bake.levels) sizes.emplace_back(level[0]->width, level[0]->height);
-                        map.roughness[key] = loadRoughnessMipsOrFail(
-                            row.pattern, sizes,
-                            {{"stem", std::filesystem::path(map.name).stem().string()}, {"roughness", alpha}});
-                    }
-                    t.roughness = map.roughness.at(key);
-                    t.roughnessIsAlpha = a.externalEncoding == "alpha";
-                    const Image image = renderOrFail(scene, t, kRoughnessMips, methodOptions);
-                    Result<ImageComparison> cmp = compareImages(image, truth);
-                    if (!cmp) throw Failure(cmp.error().message);
-                    ReportCase c{map.name, row.name, setting.brdf, footprint, setting.exponent, setting.roughness,
-                                 cmp->relativeRmse, cmp->rmse, cmp->psnr, cmp->energyRatio,
-                                 flickerOf(scene, t, kRoughnessMips, methodOptions, a.frames)};
-                    report.cases.push_back(c);
-                    cases.push_back(caseJson(c));
-                    if (showcase) {
-                        group.images.push_back({row.name, toneMap(image, stops)});
-                        group.images.push_back({row.name + " error", errorImage(image, truth, errorScale > 0 ? errorScale : 0.f)});
-                    }
-                }
-                if (showcase) report.groups.push_back(std::move(group));
-            }
-
-            if (!a.calibrate) continue;
-            // GGX with each shipped roughness mapping, and ours with every candidate constant.
-            for (float alpha : a.calibrationRoughness) {
-                scene.material = makeSetting(Brdf::Ggx, 0.f, alpha).material;
-                const Image truth = renderOrFail(scene, textures(kGroundTruth), kGroundTruth, truthOptions);
-                auto record = [&](const std::string& name, RoughnessMapping mapping, float scale) {
-                    RenderOptions o = methodOptions;
-                    o.roughnessMapping = mapping;
-                    o.varianceScale = scale;
-                    const Image image = renderOrFail(scene, textures("toksvig"), "toksvig", o);
-                    Result<ImageComparison> cmp = compareImages(image, truth);
-                    if (!cmp) throw Failure(cmp.error().message);
-                    calibration.push_back({{"map", map.name}, {"footprint", footprint}, {"roughness", alpha},
-                                           {"mapping", name}, {"rel_rmse", number(cmp->relativeRmse)},
-                                           {"energy_ratio", number(cmp->energyRatio)}});
-                    // Geometric mean: errors differ by orders of magnitude between alphas.
-                    auto& [logSum, count] = candidateError[name];
-                    if (cmp->relativeRmse > 0 && std::isfinite(cmp->relativeRmse)) {
-                        logSum += std::log(cmp->relativeRmse);
-                        ++count;
-                    }
-                };
-                for (RoughnessMapping m : {RoughnessMapping::Ours, RoughnessMapping::Hdrp, RoughnessMapping::Filament,
-                                           RoughnessMapping::Godot, RoughnessMapping::Unreal})
-                    record(roughnessMappingName(m), m, kVarianceScale);
-                for (float c : a.calibrationScales) {
-                    char name[32];
-                    std::snprintf(name, sizeof name, "c=%g", c);
-                    record(name, RoughnessMapping::Ours, c);
-                }
-            }
-        }
-    }
-
-    json root;
-    root["version"] = NDFMIP_VERSION;
-    root["maps"] = a.maps;
-    root["setup"] = {{"view", "orthographic, straight down"}, {"light", "directional, 25 deg off the normal"},
-                     {"footprints", a.footprints}, {"methods", a.methods}, {"frames", a.frames},
-                     {"truth", a.filtering.truth},
-                     {"truth_spp", truthFilter == TruthFilter::Box ? json("exact integral, no samples")
-                                   : a.spp > 0 ? json(a.spp) : json("max(64, footprint^2), at most 1024")},
-                     {"aligned", a.aligned}, {"offset", {shift.x, shift.y}},
-                     {"taps", a.filtering.taps}, {"lod_bias", a.filtering.lodBias},
-                     {"lobe_filter", a.filtering.lobeFilter},
-                     {"seed", a.seed}};
-    root["cases"] = cases;
-    if (a.calibrate) {
-        json summary = json::object();
-        std::string best;
-        double bestError = std::numeric_limits<double>::infinity();
-        for (const auto& [name, value] : candidateError) {
-            double mean = std::exp(value.first / std::max(1, value.second));
-            summary[name] = mean;
-            if (mean < bestError) bestError = mean, best = name;
-        }
-        root["calibration"] = {{"cases", calibration}, {"mean_rel_rmse", summary}, {"best", best}};
-        report.notes.push_back("Roughness calibration (GGX, geometric mean of the relative RMSE over maps, "
-                               "footprints and base roughness): best is " + best + ".");
-    }
-
-    std::error_code ec;
-    std::filesystem::create_directories(a.output, ec);
-    if (ec) throw Failure(a.output + ": cannot create (" + ec.message() + ")");
-    char view[160];
-    std::snprintf(view, sizeof view, a.aligned ? "on the texel grid (aligned: each pixel one texel of a level)"
-                                               : "offset from the texel grid by (%g, %g) pixels", shift.x, shift.y);
-    const std::string truthText =
-        truthFilter == TruthFilter::Box
-            ? "the box surface of the finest normals (each texel's normal over its square, what the mip levels "
-              "average), integrated exactly over each pixel"
-            : "stratified supersampling of the bilinear, renormalised surface of the finest normals, "
-              "max(64, footprint^2) samples per pixel up to 1024";
-    char filter[160];
-    std::snprintf(filter, sizeof filter, "%d x %d sub-samples per pixel, LOD bias %g, %s filtering",
-                  a.filtering.taps, a.filtering.taps, a.filtering.lodBias, a.filtering.lobeFilter.c_str());
-    report.notes.insert(report.notes.begin(),
-        "Each case: a top-down orthographic view of the map tiled on a plane, one pixel covering footprint x "
-        "footprint texels, " + std::string(view) + "; one directional light 25 degrees off the normal. Ground "
-        "truth: " + truthText + ". Methods: trilinear filtering, " + filter + "; 'exact' shades each texel "
-        "read as the exact mean over its normals (the floor of any per-texel NDF). Flicker: mean over pixels "
-        "of temporal std / mean over " + std::to_string(a.frames) + " sub-pixel-shifted frames.");
-    Status s = writeFileAtomic(a.output + "/report.json", root.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
-    if (!s) throw Failure(s.error);
-    s = writeFileAtomic(a.output + "/report.html", renderReportHtml(report));
-    if (!s) throw Failure(s.error);
+    Result<EvalResult> result = evaluateMaps(o);
+    if (!result) throw Failure(result.error().message);
+    const std::vector<ReportCase>& cases = result->cases;
 
     // Summary on stdout: geometric mean of the relative RMSE per method and footprint (errors
     // differ by orders of magnitude between settings).
     std::printf("%-12s", "footprint");
-    for (int f : a.footprints) std::printf(" %9d", f);
+    for (int f : o.footprints) std::printf(" %9d", f);
     std::printf("   (geometric mean of rel. RMSE over maps and settings)\n");
-    std::vector<std::string> rows = a.methods;
-    for (const ExternalRoughness& row : externals) rows.push_back(row.name);
+    std::vector<std::string> rows = o.methods;
+    for (const std::string& spec : o.externalRoughness) rows.push_back(spec.substr(0, spec.find('=')));
     for (const std::string& method : rows) {
         std::printf("%-12s", method.c_str());
-        for (int f : a.footprints) {
+        for (int f : o.footprints) {
             double logSum = 0;
             int n = 0;
-            for (const ReportCase& c : report.cases)
+            for (const ReportCase& c : cases)
                 if (c.method == method && c.footprint == f && c.relRmse > 0 && std::isfinite(c.relRmse))
                     logSum += std::log(c.relRmse), ++n;
             std::printf(" %9.4f", n ? std::exp(logSum / n) : 0.0);
         }
         std::printf("\n");
     }
-    if (a.calibrate) std::printf("calibration best: %s\n", root["calibration"]["best"].get<std::string>().c_str());
-    std::printf("eval: %zu cases in %.1f s -> %s/report.html, %s/report.json\n", report.cases.size(),
-                millisecondsSince(start) * 1e-3, a.output.c_str(), a.output.c_str());
+    if (o.calibrate) std::printf("calibration best: %s\n", result->calibrationBest.c_str());
+    std::printf("eval: %zu cases in %.1f s -> %s/report.html, %s/report.json\n", cases.size(), result->seconds,
+                o.output.c_str(), o.output.c_str());
 }
 
 } // namespace
 
 void addEvalCommand(CLI::App& app) {
-    auto a = std::make_shared<EvalArgs>();
+    auto args = std::make_shared<EvalArgs>();
+    EvalOptions* a = &args->options;
     CLI::App* c = app.add_subcommand("eval", "judge every method against the supersampled ground truth; HTML + JSON report");
     c->add_option("maps", a->maps, "normal maps")->required()->check(CLI::ExistingFile);
-    addInputOptions(c, a->input);
+    addInputOptions(c, args->input);
     c->add_option("-o,--output", a->output, "report folder (report.html, report.json)")->required();
     c->add_flag("!--no-webgl", a->webgl, "leave the live WebGL2 view out of report.html");
     c->add_option("--footprints", a->footprints, "texels per pixel side")->delimiter(',')->capture_default_str();
@@ -600,7 +89,7 @@ void addEvalCommand(CLI::App& app) {
                 "--taps 1 --lod-bias 0 unless given): only the representation error is left");
     c->add_option("--offset", a->offset, "the pixel grid's shift from the texel grid, in pixels")
         ->delimiter(',')->expected(2)->capture_default_str();
-    addFilteringOptions(c, a->filtering);
+    addFilteringOptions(c, args->filtering);
     c->add_option("--external-roughness", a->externalRoughness,
                   "NAME=PATTERN: another tool's perceptual-roughness mips (one file per level; PATTERN with "
                   "{level}, {stem} of the map, {roughness} the base alpha) beside the standard normal mipmap, "
@@ -608,12 +97,13 @@ void addEvalCommand(CLI::App& app) {
     c->add_option("--external-encoding", a->externalEncoding,
                   "what the external roughness files store: perceptual (alpha = value^2) or alpha")
         ->capture_default_str();
-    c->add_flag("-q,--quiet", a->quiet, "no progress or warnings");
-    c->callback([a, c] {
-        EvalArgs args = *a;
-        if (args.aligned && c->count("--taps") == 0) args.filtering.taps = 1;
-        if (args.aligned && c->count("--lod-bias") == 0) args.filtering.lodBias = 0.f;
-        runEval(args);
+    c->add_flag("-q,--quiet", args->quiet, "no progress or warnings");
+    c->callback([args, c] {
+        EvalOptions o = args->options;
+        // Aligned views take one plain lookup per pixel unless the filtering rule is given.
+        if (c->count("--taps") != 0 || !o.aligned) o.taps = args->filtering.taps;
+        if (c->count("--lod-bias") != 0 || !o.aligned) o.lodBias = args->filtering.lodBias;
+        runEval(std::move(o), *args);
     });
 }
 

@@ -102,23 +102,11 @@ void runInspect(const InspectArgs& a) {
         throw Failure(a.dir + ": texel " + quote(a.texel) + " outside level " +
                       std::to_string(a.level) + " (" + std::to_string(w) + "x" + std::to_string(h) +
                       ")");
-    Footprint f = footprintOf(bake.source.width, bake.source.height, a.level, x, y);
-    nlohmann::json out = {
-        {"method", methodName(bake.method)},
-        {"level", a.level},
-        {"texel", {x, y}},
-        {"footprint", {{"x0", f.x0}, {"x1", f.x1}, {"y0", f.y0}, {"y1", f.y1}, {"count", f.count()}}},
-    };
-    InspectOptions options;
-    options.hasExponent = a.exponent.has_value();
-    options.exponent = a.exponent.value_or(0.f);
-    try {
-        methodUnit(bake.method).inspect(out, bake, x, y, options);
-    } catch (const std::runtime_error& e) {
-        throw Failure(a.dir + ": " + e.what());
-    }
+    Result<std::string> text = inspectTexel(bake, a.dir, a.level, x, y, a.exponent);
+    if (!text) throw Failure(text.error().message);
+    nlohmann::json out = nlohmann::json::parse(text.value());
     if (!a.ndf.empty()) {
-        writeNdfImage(a, bake, x, y, f);
+        writeNdfImage(a, bake, x, y, footprintOf(bake.source.width, bake.source.height, a.level, x, y));
         out["ndf_image"] = a.ndf;
     }
     std::printf("%s\n", out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());

@@ -78,32 +78,14 @@ void runRender(const RenderArgs& a) {
     if (!a.quiet) options.progress = [](int done, int total) { showProgress("render", done, total); };
 
     const long long start = nowNanoseconds();
-    RenderTextures textures;
-    textures.normals = std::make_shared<const Image>(
-        loadNormalsOrFail(scene->normalMap.path, scene->normalMap.decode, a.quiet));
-    const std::string bakeDir = a.bake.empty() ? scene->bakeDir : a.bake;
-    SharedImage albedo;
-    if (!scene->albedoMap.empty())
-        albedo = loadAlbedoOrFail(scene->albedoMap, textures.normals->width, textures.normals->height);
-    // Needed to bake on the fly and for the albedo's mips.
-    std::optional<Pyramid> pyramid;
-    if ((!bakeless && bakeDir.empty()) || albedo) pyramid = buildPyramid(textures.normals);
-    if (!bakeless) {
-        if (!bakeDir.empty()) {
-            Result<Bake> bake = loadBake(bakeDir);
-            if (!bake) throw Failure(bake.error().message);
-            textures.bake = std::move(bake.value());
-        } else {
-            BakeOptions bakeOptions;
-            bakeOptions.shOrder = a.order;
-            bakeOptions.vmfLobes = a.lobes;
-            bakeOptions.albedo = albedo;
-            checkBakeMemoryOrFail(scene->normalMap.path, shader->bake, bakeOptions,
-                                  textures.normals->width, textures.normals->height);
-            textures.bake = bakeMethod(shader->bake, *pyramid, bakeOptions);
-        }
-    }
-    if (albedo) textures.albedo = albedoMips(*pyramid, albedo);
+    SceneTextureOptions load;
+    load.bakeDir = a.bake;
+    load.shOrder = a.order;
+    load.vmfLobes = a.lobes;
+    if (!a.quiet) load.decoded = [&](const DecodeReport& report) { warnAboutDecode(scene->normalMap.path, report); };
+    Result<RenderTextures> loaded = loadSceneTextures(scene.value(), method, load);
+    if (!loaded) throw Failure(loaded.error().message);
+    const RenderTextures& textures = loaded.value();
     if (!a.quiet && textures.bake.method == Method::Sh && method == "sh")
         warnAboutShTruncation(scene->material, bakeShOrder(textures.bake));
     const double loadMs = millisecondsSince(start);

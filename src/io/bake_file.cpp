@@ -1,0 +1,387 @@
+// A map file baked into a bake folder, as `ndfmip bake` does it: checks, cache key, decode,
+// extra maps, bake, write. Problems deep inside throw BakeProblem, caught at the boundary.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <set>
+#include <tuple>
+
+#include <nlohmann/json.hpp>
+
+#include "io/input_file.h"
+#include "ndfmip/bake_file.h"
+#include "ndfmip/engine_presets.h"
+#include "ndfmip/io.h"
+#include "ndfmip/limits.h"
+#include "ndfmip/render.h"
+#include "ndfmip/spherical_harmonics.h"
+#include "ndfmip/toksvig.h"
+#include "ndfmip/vmf.h"
+
+namespace ndfmip {
+namespace {
+
+struct BakeProblem {
+    std::string message;
+};
+
+[[noreturn]] void fail(std::string message) { throw BakeProblem{std::move(message)}; }
+
+long long nowNanoseconds() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+
+double millisecondsSince(long long start) { return double(nowNanoseconds() - start) * 1e-6; }
+
+// A comma-separated list of words from `allowed`.
+std::set<std::string> commaList(const std::string& list, const char* option, const std::set<std::string>& allowed) {
+    std::set<std::string> words;
+    for (std::string rest = list;;) {
+        const size_t comma = rest.find(',');
+        const std::string word = rest.substr(0, comma);
+        if (!allowed.count(word)) {
+            std::string expected;
+            for (const std::string& w : allowed) expected += (expected.empty() ? "" : ", ") + w;
+            fail(std::string(option) + " " + quote(word) + ": expected " + expected + " (comma-separated)");
+        }
+        words.insert(word);
+        if (comma == std::string::npos) return words;
+        rest = rest.substr(comma + 1);
+    }
+}
+
+std::set<std::string> exportsOf(const BakeFileOptions& o) {
+    std::set<std::string> exports =
+        commaList(o.exportFormat.empty() ? "exr" : o.exportFormat, "--export", {"png16", "ktx2", "dds", "exr"});
+    // An engine's files are KTX2 or DDS: KTX2 unless one of them is asked for.
+    if (!o.engine.empty() && !exports.count("ktx2") && !exports.count("dds")) exports.insert("ktx2");
+    return exports;
+}
+
+std::string number(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    return text;
+}
+
+// `value` within [lo, hi] (NaN is not), or a problem naming the option.
+void requireRange(const char* option, double value, double lo, double hi) {
+    if (!(value >= lo && value <= hi))
+        fail(std::string(option) + " " + number(value) + ": expected " + number(lo) + " .. " + number(hi));
+}
+
+void requireOneOf(const char* option, const std::string& value, const std::set<std::string>& allowed) {
+    if (allowed.count(value)) return;
+    std::string expected;
+    for (const std::string& w : allowed) expected += (expected.empty() ? "" : ", ") + w;
+    fail(std::string(option) + " " + quote(value) + ": expected " + expected);
+}
+
+void checkFileOptions(const BakeFileOptions& a) {
+    auto method = methodFromString(a.method);
+    if (!method) fail("unknown method " + quote(a.method) + " (" + methodNames() + ")");
+    // The ranges the command line's parser holds its options to, for callers without it.
+    if (a.order != 0) requireRange("--order", a.order, 1, kMaxShOrder);
+    if (a.lobes != 0) requireRange("--lobes", a.lobes, 1, 8);
+    requireRange("--coherent", a.coherence, 0.0, 1e6);
+    requireRange("--lobe-budget", a.lobeBudget, 0.0, 10.0);
+    requireRange("--max-iterations", a.maxIterations, 1, 10000);
+    requireRange("--tolerance", a.tolerance, 0.0, 1.0);
+    requireRange("--base-roughness", a.baseRoughness, 0.0, 1.0);
+    if (a.maxExponent != 0.f) requireRange("--max-exponent", a.maxExponent, 1e-3, 1e6);
+    if (a.decode.height) requireRange("--height", a.decode.heightScale, 1e-6, 1e6);
+    requireRange("--zstd", a.zstd, 0, 22);
+    requireOneOf("--roughness-channel", a.roughnessChannel, {"r", "g", "b", "a"});
+    requireOneOf("--roughness-encoding", a.roughnessEncoding, {"perceptual", "alpha", "smoothness"});
+    if (!a.metallicChannel.empty()) requireOneOf("--metallic-channel", a.metallicChannel, {"r", "g", "b", "a"});
+    if (!a.occlusionChannel.empty()) requireOneOf("--occlusion-channel", a.occlusionChannel, {"r", "g", "b", "a"});
+    requireOneOf("--normal-format", a.normalFormat, {"bc5", "rg16", "rgba8"});
+    requireOneOf("--roughness-format", a.roughnessFormat, {"bc4", "r16f"});
+
+    if (a.order != 0 && *method != Method::Sh) fail("--order applies to --method sh only");
+    if (a.lobes != 0 && *method != Method::Vmf) fail("--lobes applies to --method vmf only");
+    if (!a.albedo.empty() && *method != Method::Vmf) fail("--albedo applies to --method vmf only");
+    if (a.coherence != 0.f && *method != Method::Vmf) fail("--coherent applies to --method vmf only");
+    if (a.lobeBudget != 0.f && *method != Method::Vmf) fail("--lobe-budget applies to --method vmf only");
+    if (a.lobeBudget != 0.f && a.coherence != 0.f) fail("--lobe-budget does not apply to coherent lobes");
+    // Without --export the bake is the EXR planes; with it, exactly what it lists.
+    std::set<std::string> exports =
+        commaList(a.exportFormat.empty() ? "exr" : a.exportFormat, "--export", {"png16", "ktx2", "dds", "exr"});
+    commaList(a.exportTextures, "--export-textures", {"normal", "roughness", "planes"});
+    if (a.zstd != 0 && !exports.count("ktx2")) fail("--zstd supercompresses KTX2 files: add ktx2 to --export");
+    if (!a.engine.empty()) {
+        if (!findEnginePreset(a.engine)) fail("--engine " + quote(a.engine) + ": expected " + enginePresetNames());
+        if (*method != Method::Toksvig && *method != Method::Naive)
+            fail("--engine writes a normal map and a roughness map: --method toksvig (or naive)");
+        if (!exports.count("ktx2") && !exports.count("dds")) exports.insert("ktx2");
+    }
+    if (exports.count("png16") && (*method == Method::Sh || *method == Method::Vmf || *method == Method::Lean))
+        fail("--export png16 needs a method that stores a normal (naive, toksvig)");
+    if (!a.roughnessMap.empty() && *method != Method::Toksvig)
+        fail("--roughness-map applies to --method toksvig (its roughness planes)");
+    if (!a.roughnessMap.empty() && a.baseRoughness != 0.f)
+        fail("--roughness-map and --base-roughness both set the material's roughness: give one");
+    if (!a.gloss.empty() && a.maxExponent <= 0.f) fail("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");
+}
+
+BakeWriteOptions writeOptionsOf(const BakeFileOptions& a) {
+    const std::set<std::string> exports = exportsOf(a);
+    const std::set<std::string> textures =
+        commaList(a.exportTextures, "--export-textures", {"normal", "roughness", "planes"});
+    BakeWriteOptions write;
+    write.exr = exports.count("exr") > 0;
+    write.png16 = exports.count("png16") > 0;
+    write.exportNormal = textures.count("normal") > 0;
+    write.exportRoughness = textures.count("roughness") > 0;
+    write.exportPlanes = textures.count("planes") > 0;
+    write.normalFormat = *textureFormatFromName(a.normalFormat);
+    write.roughnessFormat = *textureFormatFromName(a.roughnessFormat);
+    write.zstdLevel = a.zstd;
+    write.ktx2 = exports.count("ktx2") > 0;
+    write.dds = exports.count("dds") > 0;
+    write.engine = a.engine.empty() ? nullptr : findEnginePreset(a.engine);
+    write.half = a.half;
+    return write;
+}
+
+// Everything that decides a bake's files besides the map itself, as canonical JSON: two runs
+// with the same text, the same sources and the same version write the same files.
+std::string optionsText(const BakeFileOptions& a) {
+    const DecodeOptions& d = a.decode;
+    const nlohmann::json options = {
+        {"method", a.method}, {"order", a.order}, {"lobes", a.lobes}, {"coherent", a.coherence},
+        {"lobe_budget", a.lobeBudget}, {"max_iterations", a.maxIterations}, {"tolerance", a.tolerance},
+        {"half", a.half}, {"max_exponent", a.maxExponent}, {"base_roughness", a.baseRoughness},
+        {"roughness_channel", a.roughnessChannel}, {"roughness_encoding", a.roughnessEncoding},
+        {"engine", a.engine}, {"metallic_channel", a.metallicChannel}, {"occlusion_channel", a.occlusionChannel},
+        {"export", a.exportFormat}, {"export_textures", a.exportTextures}, {"normal_format", a.normalFormat},
+        {"roughness_format", a.roughnessFormat}, {"zstd", a.zstd},
+        {"green_down", d.greenDown}, {"two_channel", d.twoChannel}, {"signed", d.signedValues},
+        {"height", d.height}, {"height_scale", d.heightScale}, {"clamp", d.address == AddressMode::Clamp}};
+    return options.dump();
+}
+
+std::string cacheKeyOf(const BakeFileOptions& a, const std::string& sourceHash) {
+    std::string text = std::string("ndfmip ") + NDFMIP_VERSION + "\n" + optionsText(a) + "\nsource " + sourceHash;
+    for (const auto& [name, path] : {std::pair{"gloss", &a.gloss}, {"albedo", &a.albedo}, {"roughness_map", &a.roughnessMap}})
+        if (!path->empty()) {
+            Result<std::string> hash = sha256File(*path);
+            if (!hash) fail(hash.error().message);
+            text += std::string("\n") + name + " " + hash.value();
+        }
+    return sha256Text(text);
+}
+
+void applyGloss(Image& normals, const BakeFileOptions& a) {
+    Result<SourceImage> gloss = loadImage(a.gloss);
+    if (!gloss) fail(gloss.error().message);
+    const Image& g = gloss->image;
+    if (g.width != normals.width || g.height != normals.height)
+        fail(a.gloss + ": gloss map is " + std::to_string(g.width) + "x" + std::to_string(g.height) +
+             " but the normal map is " + std::to_string(normals.width) + "x" + std::to_string(normals.height));
+    for (size_t i = 0; i < g.texelCount(); ++i)
+        if (!std::isfinite(g.pixels[i * g.channels]))
+            fail(a.gloss + ": NaN or infinite gloss value at texel (" + std::to_string(i % g.width) + ", " +
+                 std::to_string(i / g.width) + ")");
+    applyGlossMap(normals, g, a.maxExponent);
+}
+
+// The roughness map (a packed material map), read once for all the channels taken from it.
+SourceImage loadMaterialMap(const BakeFileOptions& a, int width, int height) {
+    Result<SourceImage> map = loadImage(a.roughnessMap);
+    if (!map) fail(map.error().message);
+    const Image& image = map->image;
+    if (image.width != width || image.height != height)
+        fail(a.roughnessMap + ": roughness map is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+             " but the normal map is " + std::to_string(width) + "x" + std::to_string(height));
+    return std::move(map.value());
+}
+
+// One channel (r, g, b or a) of the material map, clamped to [0, 1]; `option` names it in messages.
+std::shared_ptr<Image> materialChannel(const BakeFileOptions& a, const Image& map, const std::string& channelName,
+                                       const char* option) {
+    const int channel = int(std::string("rgba").find(channelName[0]));
+    if (channel >= map.channels)
+        fail(a.roughnessMap + ": " + option + " " + channelName + " but the map has " + std::to_string(map.channels) +
+             " channel(s)");
+    auto out = std::make_shared<Image>(map.width, map.height, 1);
+    for (size_t i = 0; i < map.texelCount(); ++i) {
+        const float v = map.pixels[i * size_t(map.channels) + size_t(channel)];
+        if (!std::isfinite(v))
+            fail(a.roughnessMap + ": NaN or infinite value at texel (" + std::to_string(i % size_t(map.width)) + ", " +
+                 std::to_string(i / size_t(map.width)) + ") in " + option);
+        out->pixels[i] = std::clamp(v, 0.f, 1.f);
+    }
+    return out;
+}
+
+// The material's alpha per texel: the roughness channel perceptual (alpha = p^2: glTF, Unreal,
+// Filament), alpha, or Unity's smoothness (alpha = (1 - s)^2).
+SharedImage roughnessAlpha(const BakeFileOptions& a, const Image& map) {
+    std::shared_ptr<Image> alpha = materialChannel(a, map, a.roughnessChannel, "--roughness-channel");
+    for (float& x : alpha->pixels)
+        x = a.roughnessEncoding == "alpha" ? x : a.roughnessEncoding == "smoothness" ? (1.f - x) * (1.f - x) : x * x;
+    return alpha;
+}
+
+BakeFileReport bakeOrThrow(const std::string& input, const std::string& output, const BakeFileOptions& a) {
+    checkFileOptions(a);
+    const Method method = *methodFromString(a.method);
+    BakeWriteOptions write = writeOptionsOf(a);
+    recoverInterruptedBake(output);
+    Result<std::string> hash = sha256File(input);
+    if (!hash) fail(hash.error().message);
+    BakeFileReport report;
+    report.method = method;
+    report.cacheKey = cacheKeyOf(a, hash.value());
+    if (!a.force && bakeUpToDate(output, report.cacheKey)) {
+        report.skipped = true;
+        return report;
+    }
+    {
+        std::error_code ec;
+        const std::filesystem::path parent = std::filesystem::path(output).lexically_normal().parent_path();
+        // Only a missing folder is made (writeBake names a parent that is a file). Another map of
+        // a batch may create it at the same moment: what counts is that it exists.
+        if (!parent.empty() && !std::filesystem::exists(parent, ec) && !std::filesystem::create_directories(parent, ec) &&
+            !std::filesystem::is_directory(parent, ec))
+            fail(output + ": cannot create the folder " + parent.string() + " (" + ec.message() + ")");
+    }
+
+    long long start = nowNanoseconds();
+    Result<Image> decoded = loadNormalMap(input, a.decode, &report.decode);
+    if (!decoded) fail(decoded.error().message);
+    if (a.decoded) a.decoded(report.decode);
+    Image normals = std::move(decoded.value());
+    if (!a.gloss.empty()) applyGloss(normals, a);
+    report.decodeMs = millisecondsSince(start);
+
+    start = nowNanoseconds();
+    const int width = normals.width, height = normals.height;
+    Pyramid pyramid = buildPyramid(std::make_shared<const Image>(std::move(normals)));
+    BakeOptions options;
+    options.baseRoughness = a.baseRoughness;
+    if (a.order != 0) options.shOrder = a.order;
+    if (a.lobes != 0) options.vmfLobes = a.lobes;
+    options.vmfMaxIterations = a.maxIterations;
+    options.vmfTolerance = a.tolerance;
+    options.vmfCoherence = a.coherence;
+    options.vmfLobeBudget = a.lobeBudget;
+    if (!a.albedo.empty()) {
+        Result<SharedImage> albedo = loadAlbedo(a.albedo, width, height);
+        if (!albedo) fail(albedo.error().message);
+        options.albedo = albedo.value();
+    }
+    std::optional<SourceImage> materialMap;
+    if (!a.roughnessMap.empty()) {
+        materialMap = loadMaterialMap(a, width, height);
+        options.roughnessMap = roughnessAlpha(a, materialMap->image);
+    }
+    options.progress = a.progress;
+    if (Status s = checkBakeMemory(input, method, options, width, height); !s) fail(s.error);
+    Bake bake = bakeMethod(method, pyramid, options);
+    if (!a.gloss.empty()) bake.parameters["max_exponent"] = a.maxExponent;
+    report.bakeMs = millisecondsSince(start);
+
+    start = nowNanoseconds();
+    BakeSource source{input, hash.value(), width, height, a.decode, a.gloss, report.cacheKey};
+    // Metallic and occlusion are linear: their mips are footprint means, as an albedo map's.
+    for (const auto& [channel, option, chain] :
+         {std::tuple{&a.metallicChannel, "--metallic-channel", &write.metallic},
+          std::tuple{&a.occlusionChannel, "--occlusion-channel", &write.occlusion}}) {
+        if (channel->empty()) continue;
+        if (!materialMap) fail(std::string(option) + " reads a channel of --roughness-map, which is not given");
+        *chain = albedoMips(pyramid, materialChannel(a, materialMap->image, *channel, option));
+    }
+    if (Status s = writeBake(output, bake, source, write); !s) fail(s.error);
+    report.writeMs = millisecondsSince(start);
+    report.width = width;
+    report.height = height;
+    report.levels = bake.levels.size();
+    report.parameters = bake.parameters;
+    return report;
+}
+
+} // namespace
+
+Status checkBakeFileOptions(const BakeFileOptions& options) {
+    try {
+        checkFileOptions(options);
+        return Status::success();
+    } catch (const BakeProblem& p) {
+        return Status::failure(p.message);
+    }
+}
+
+Result<BakeWriteOptions> bakeWriteOptions(const BakeFileOptions& options) {
+    try {
+        checkFileOptions(options);
+        return writeOptionsOf(options);
+    } catch (const BakeProblem& p) {
+        return Error{p.message};
+    }
+}
+
+Result<std::string> bakeCacheKey(const BakeFileOptions& options, const std::string& sourceSha256) {
+    try {
+        return cacheKeyOf(options, sourceSha256);
+    } catch (const BakeProblem& p) {
+        return Error{p.message};
+    }
+}
+
+bool bakeUpToDate(const std::string& dir, const std::string& cacheKey) {
+    Result<std::string> text = readRegularFile(dir + "/manifest.json", inputLimits().maxTextFileBytes);
+    if (!text) return false;
+    Result<LoadedBake> bake = parseBakeManifest(text.value(), dir);
+    return bake && bake->source.cacheKey == cacheKey;
+}
+
+Result<BakeFileReport> bakeFile(const std::string& input, const std::string& output, const BakeFileOptions& options) {
+    try {
+        return bakeOrThrow(input, output, options);
+    } catch (const BakeProblem& p) {
+        return Error{p.message};
+    }
+}
+
+Status checkBakeOptions(Method method, const BakeOptions& o, int width, int height) {
+    try {
+        if (method == Method::Sh) requireRange("order", o.shOrder, 1, kMaxShOrder);
+        if (method == Method::Vmf) requireRange("lobes", o.vmfLobes, 1, 8);
+        requireRange("max_iterations", o.vmfMaxIterations, 1, 10000);
+        requireRange("tolerance", o.vmfTolerance, 0.0, 1.0);
+        requireRange("coherent", o.vmfCoherence, 0.0, 1e6);
+        requireRange("lobe_budget", o.vmfLobeBudget, 0.0, 10.0);
+        requireRange("base_roughness", o.baseRoughness, 0.0, 1.0);
+        if (o.vmfLobeBudget != 0.f && o.vmfCoherence != 0.f) fail("lobe_budget does not apply to coherent lobes");
+        if (o.roughnessMap) {
+            const Image& r = *o.roughnessMap;
+            if (method != Method::Toksvig) fail("roughness: applies to method toksvig (its roughness planes)");
+            if (r.width != width || r.height != height || r.channels != 1)
+                fail("roughness: " + std::to_string(r.width) + "x" + std::to_string(r.height) + "x" +
+                     std::to_string(r.channels) + " but the normal map is " + std::to_string(width) + "x" +
+                     std::to_string(height) + " (one channel of alpha expected)");
+            for (size_t i = 0; i < r.pixels.size(); ++i)
+                if (!(r.pixels[i] >= 0.f && r.pixels[i] <= 1.f))
+                    fail("roughness: value " + number(r.pixels[i]) + " at texel (" + std::to_string(i % size_t(width)) +
+                         ", " + std::to_string(i / size_t(width)) + ") is not in 0 .. 1");
+        }
+        if (o.albedo) {
+            if (method != Method::Vmf) fail("albedo: applies to method vmf only");
+            if (Status s = checkAlbedoSize(*o.albedo, width, height, "albedo"); !s) fail(s.error);
+            for (float v : o.albedo->pixels)
+                if (!(v >= 0.f) || !std::isfinite(v)) fail("albedo: NaN, infinite or negative value");
+        }
+        return checkBakeMemory("bake", method, o, width, height);
+    } catch (const BakeProblem& p) {
+        return Status::failure(p.message);
+    }
+}
+
+} // namespace ndfmip
