@@ -1,7 +1,6 @@
 // A map file baked into a bake folder, as `ndfmip bake` does it: checks, cache key, decode,
 // extra maps, bake, write. Problems deep inside throw BakeProblem, caught at the boundary.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/input_file.h"
+#include "core/clock.h"
 #include "ndfmip/bake_file.h"
 #include "ndfmip/engine_presets.h"
 #include "ndfmip/io.h"
@@ -29,14 +29,6 @@ struct BakeProblem {
 };
 
 [[noreturn]] void fail(std::string message) { throw BakeProblem{std::move(message)}; }
-
-long long nowNanoseconds() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-}
-
-double millisecondsSince(long long start) { return double(nowNanoseconds() - start) * 1e-6; }
 
 // A comma-separated list of words from `allowed`.
 std::set<std::string> commaList(const std::string& list, const char* option, const std::set<std::string>& allowed) {

@@ -6,7 +6,6 @@
 // fraction of a pixel so that filtering falls between texels and levels as it does in a real
 // view. One directional light, 25 degrees off the normal.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/clock.h"
 #include "ndfmip/compare.h"
 #include "ndfmip/evaluate.h"
 #include "ndfmip/html_report.h"
@@ -38,14 +38,6 @@ struct EvalProblem {
 };
 
 [[noreturn]] void fail(std::string message) { throw EvalProblem{std::move(message)}; }
-
-long long nowNanoseconds() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-}
-
-double millisecondsSince(long long start) { return double(nowNanoseconds() - start) * 1e-6; }
 
 // The ranges the command line's parser holds the options to, for callers without it.
 void checkRanges(const EvalOptions& a) {

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "core/clock.h" // nowNanoseconds, millisecondsSince
 #include "ndfmip/bake.h"
 #include "ndfmip/normal_map.h"
 #include "ndfmip/roughness.h"
@@ -84,8 +85,5 @@ void checkBakeMemoryOrFail(const std::string& name, Method method, const BakeOpt
 // A short "\r<label> k/n" progress line on stderr when it is a terminal.
 void showProgress(const char* label, int done, int total);
 
-// Milliseconds since `start`.
-double millisecondsSince(long long startNanoseconds);
-long long nowNanoseconds();
 
 } // namespace ndfmip::cli

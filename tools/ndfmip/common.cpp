@@ -1,4 +1,3 @@
-#include <chrono>
 #include <cstdio>
 #include <unistd.h>
 
@@ -153,13 +152,5 @@ RoughnessMapping roughnessMappingOrFail(const std::string& name) {
         throw Failure("unknown roughness mapping " + quote(name) + " (expected ours, hdrp, filament, godot, unreal)");
     return mapping;
 }
-
-long long nowNanoseconds() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-}
-
-double millisecondsSince(long long start) { return double(nowNanoseconds() - start) * 1e-6; }
 
 } // namespace ndfmip::cli
