@@ -9,7 +9,6 @@
 #include <set>
 
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -256,12 +255,6 @@ Status checkReplaceable(const fs::path& dir) {
     return Status::success();
 }
 
-// The folder a bake writes to, without a trailing separator.
-fs::path bakeFolder(const std::string& dirName) {
-    fs::path dir = fs::path(dirName).lexically_normal();
-    if (dir.filename().empty()) dir = dir.parent_path();
-    return dir;
-}
 
 std::string planeName(const LoadedBake& bake, size_t p, int level) {
     return "plane '" + bake.planes[p].name + "' of level " + std::to_string(level);
@@ -306,61 +299,38 @@ Result<LoadedBake> readManifest(const fs::path& dir) {
 
 } // namespace
 
-void recoverInterruptedBake(const std::string& dir) { recoverFolderLeftovers(bakeFolder(dir)); }
+void recoverInterruptedBake(const std::string& dir) { recoverFolderLeftovers(folderPath(dir)); }
 
 Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource& source,
                  const BakeWriteOptions& options) {
-    const fs::path dir = bakeFolder(dirName);
-    std::error_code ec;
-    fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
-    if (!fs::is_directory(parent, ec))
-        return Status::failure(dirName + ": parent folder " + parent.string() +
-                               (fs::exists(parent, ec) ? " is not a folder" : " does not exist"));
-    recoverFolderLeftovers(dir);
-    if (fs::exists(dir, ec))
-        if (Status s = checkReplaceable(dir); !s) return s;
-    fs::path staging = dir.string() + ".partial-" + std::to_string(getpid());
-    fs::remove_all(staging, ec);
-    if (!fs::create_directory(staging, ec))
-        return Status::failure(dirName + ": cannot write (" + ec.message() + ")");
-
-    auto fail = [&](const std::string& message) {
-        fs::remove_all(staging, ec);
-        return Status::failure(message);
-    };
-    for (size_t k = 0; k < bake.levels.size() && options.exr; ++k) {
-        for (size_t p = 0; p < bake.planes.size(); ++p) {
-            Status s = saveExr((staging / planeFile(bake.planes[p], int(k))).string(),
-                               *bake.levels[k][p], {}, options.half);
-            if (!s) return fail(s.error);
+    return writeFolderWhole(dirName, checkReplaceable, [&](const fs::path& staging) -> Status {
+        for (size_t k = 0; k < bake.levels.size() && options.exr; ++k)
+            for (size_t p = 0; p < bake.planes.size(); ++p)
+                if (Status s = saveExr((staging / planeFile(bake.planes[p], int(k))).string(), *bake.levels[k][p], {},
+                                       options.half);
+                    !s)
+                    return s;
+        json manifest = manifestJson(bake, source, options.exr);
+        if (!source.cacheKey.empty()) manifest["cache_key"] = source.cacheKey;
+        manifest["storage"] = !options.exr ? "none" : options.half ? "half" : "float";
+        json exports = json::object();
+        if (options.png16) {
+            auto names = writePng16(staging, bake, source.decode.greenDown, options);
+            if (!names) return Status::failure(dirName + ": " + names.error().message);
+            exports["png16"] = names.value();
         }
-    }
-    json manifest = manifestJson(bake, source, options.exr);
-    if (!source.cacheKey.empty()) manifest["cache_key"] = source.cacheKey;
-    manifest["storage"] = !options.exr ? "none" : options.half ? "half" : "float";
-    json exports = json::object();
-    if (options.png16) {
-        auto names = writePng16(staging, bake, source.decode.greenDown, options);
-        if (!names) return fail(dirName + ": " + names.error().message);
-        exports["png16"] = names.value();
-    }
-    for (const auto& [container, wanted] : {std::pair<std::string, bool>{"ktx2", options.ktx2}, {"dds", options.dds}}) {
-        if (!wanted) continue;
-        auto names = writeContainers(staging, bake, source.decode.greenDown, options.half, container, options);
-        if (!names) return fail(dirName + ": " + names.error().message);
-        exports[container] = names.value();
-    }
-    if (!exports.empty()) manifest["exports"] = exports;
-    // File names need not be UTF-8; JSON must be: invalid bytes are written as U+FFFD.
-    const std::string text = manifest.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
-    Status s = writeFileAtomic((staging / "manifest.json").string(), text);
-    if (!s) return fail(s.error);
-    // Checked again at the last moment: files may have been added while the bake ran.
-    if (fs::exists(dir, ec))
-        if (s = checkReplaceable(dir); !s) return fail(s.error);
-    s = replaceFolder(staging, dir);
-    if (!s) return fail(s.error);
-    return Status::success();
+        for (const auto& [container, wanted] :
+             {std::pair<std::string, bool>{"ktx2", options.ktx2}, {"dds", options.dds}}) {
+            if (!wanted) continue;
+            auto names = writeContainers(staging, bake, source.decode.greenDown, options.half, container, options);
+            if (!names) return Status::failure(dirName + ": " + names.error().message);
+            exports[container] = names.value();
+        }
+        if (!exports.empty()) manifest["exports"] = exports;
+        // File names need not be UTF-8; JSON must be: invalid bytes are written as U+FFFD.
+        const std::string text = manifest.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+        return writeFileAtomic((staging / "manifest.json").string(), text);
+    });
 }
 
 Result<LoadedBake> readBake(const std::string& dirName, int level) {

@@ -165,4 +165,31 @@ Status replaceFolder(const fs::path& staging, const fs::path& dir, bool exchange
     return Status::success();
 }
 
+fs::path folderPath(const std::string& name) {
+    fs::path dir = fs::path(name).lexically_normal();
+    if (dir.filename().empty()) dir = dir.parent_path();
+    return dir;
+}
+
+Status writeFolderWhole(const std::string& name, const std::function<Status(const fs::path& dir)>& replaceable,
+                        const std::function<Status(const fs::path& staging)>& fill) {
+    const fs::path dir = folderPath(name);
+    std::error_code ec;
+    const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
+    if (!fs::is_directory(parent, ec))
+        return Status::failure(name + ": parent folder " + parent.string() +
+                               (fs::exists(parent, ec) ? " is not a folder" : " does not exist"));
+    recoverFolderLeftovers(dir);
+    if (fs::exists(dir, ec))
+        if (Status s = replaceable(dir); !s) return s;
+    const fs::path staging = dir.string() + ".partial-" + std::to_string(getpid());
+    fs::remove_all(staging, ec);
+    if (!fs::create_directory(staging, ec)) return Status::failure(name + ": cannot write (" + ec.message() + ")");
+    Status s = fill(staging);
+    if (s && fs::exists(dir, ec)) s = replaceable(dir);
+    if (s) s = replaceFolder(staging, dir);
+    if (!s) fs::remove_all(staging, ec);
+    return s;
+}
+
 } // namespace ndfmip

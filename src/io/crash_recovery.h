@@ -6,6 +6,8 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <string>
 
 #include "ndfmip/result.h"
 
@@ -31,5 +33,17 @@ void removeStaleTemporaries(const std::filesystem::path& path);
 // removed. Folders are synced so the swap survives a power cut too.
 Status replaceFolder(const std::filesystem::path& staging, const std::filesystem::path& dir,
                      bool exchange = true);
+
+// The folder a writer publishes as `name`: normalised, without a trailing separator.
+std::filesystem::path folderPath(const std::string& name);
+
+// Writes the folder `name` as a whole: its parent must exist; leftovers of killed runs are
+// cleaned (recoverFolderLeftovers); an existing folder is replaced only when `replaceable` says
+// so, asked before and again at the end (files may appear meanwhile); `fill` writes into a fresh
+// DIR.partial-PID, which replaceFolder then puts in place. Any failure removes the staging folder
+// and leaves the folder as it was. Messages about the folder itself start with `name`.
+Status writeFolderWhole(const std::string& name,
+                        const std::function<Status(const std::filesystem::path& dir)>& replaceable,
+                        const std::function<Status(const std::filesystem::path& staging)>& fill);
 
 } // namespace ndfmip

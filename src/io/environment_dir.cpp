@@ -3,7 +3,6 @@
 #include <filesystem>
 #include <set>
 
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -150,43 +149,17 @@ Status checkReplaceable(const fs::path& dir) {
 
 Status writeEnvironment(const std::string& dirName, const EnvironmentBake& bake,
                         const EnvironmentSource& source, bool half) {
-    fs::path dir = fs::path(dirName).lexically_normal();
-    if (dir.filename().empty()) dir = dir.parent_path();
-    std::error_code ec;
-    const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
-    if (!fs::is_directory(parent, ec))
-        return Status::failure(dirName + ": parent folder " + parent.string() +
-                               (fs::exists(parent, ec) ? " is not a folder" : " does not exist"));
-    recoverFolderLeftovers(dir);
-    if (fs::exists(dir, ec))
-        if (Status s = checkReplaceable(dir); !s) return s;
-    const fs::path staging = dir.string() + ".partial-" + std::to_string(getpid());
-    fs::remove_all(staging, ec);
-    if (!fs::create_directory(staging, ec))
-        return Status::failure(dirName + ": cannot write (" + ec.message() + ")");
-    auto fail = [&](const std::string& message) {
-        fs::remove_all(staging, ec);
-        return Status::failure(message);
-    };
-    for (size_t k = 0; k < bake.levels.size(); ++k)
-        if (Status s =
-                saveExr((staging / levelFile(k)).string(), bake.levels[k].radiance, {}, half);
-            !s)
-            return fail(s.error);
-    if (Status s = saveExr((staging / "dfg.exr").string(), bake.dfg, {}, half); !s)
-        return fail(s.error);
-    if (Status s = writeFileAtomic((staging / "sh.json").string(), shJson(bake.sh).dump(2) + "\n");
-        !s)
-        return fail(s.error);
-    const std::string manifest =
-        manifestJson(bake, source, half).dump(2, ' ', false, json::error_handler_t::replace) + "\n";
-    if (Status s = writeFileAtomic((staging / kManifest).string(), manifest); !s)
-        return fail(s.error);
-    // Checked again at the last moment: files may have been added meanwhile.
-    if (fs::exists(dir, ec))
-        if (Status s = checkReplaceable(dir); !s) return fail(s.error);
-    if (Status s = replaceFolder(staging, dir); !s) return fail(s.error);
-    return Status::success();
+    return writeFolderWhole(dirName, checkReplaceable, [&](const fs::path& staging) -> Status {
+        for (size_t k = 0; k < bake.levels.size(); ++k)
+            if (Status s = saveExr((staging / levelFile(k)).string(), bake.levels[k].radiance, {}, half); !s)
+                return s;
+        if (Status s = saveExr((staging / "dfg.exr").string(), bake.dfg, {}, half); !s) return s;
+        if (Status s = writeFileAtomic((staging / "sh.json").string(), shJson(bake.sh).dump(2) + "\n"); !s)
+            return s;
+        const std::string manifest =
+            manifestJson(bake, source, half).dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+        return writeFileAtomic((staging / kManifest).string(), manifest);
+    });
 }
 
 } // namespace ndfmip
