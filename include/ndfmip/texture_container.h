@@ -2,6 +2,7 @@
 // ndfmip's own pyramid, block-compressed (BC4, BC5) or uncompressed.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,6 +35,16 @@ struct EncodedTexture {
 // the first 1, 2 or 4 channels as the format takes them (missing channels are 0); values of the
 // normalised formats are clamped to [0, 1]. BC blocks past an edge repeat the edge texels.
 Result<EncodedTexture> encodeTexture(const std::vector<const Image*>& levels, TextureFormat format);
+
+// A level handed over a row at a time: row(y, out) writes the `channels` floats of each texel of
+// row y (top row 0). Exports made from the method planes (encoded normals, perceptual roughness)
+// are encoded this way without a float copy of every level in memory. `row` may be called from
+// several threads at once, for different rows.
+struct LevelRows {
+    int width = 0, height = 0, channels = 0;
+    std::function<void(int y, float* out)> row;
+};
+Result<EncodedTexture> encodeTexture(const std::vector<LevelRows>& levels, TextureFormat format);
 
 // The whole file, ready to write: KTX2 (a basic data format descriptor; linear transfer;
 // `zstdLevel` 1-22 supercompresses each level with Zstandard, 0 stores them as they are) or

@@ -60,7 +60,7 @@ Image averageChildren(const Image& fineImage, const PyramidLevel& fine, const Py
 // Level 1 straight from level 0 for the common even-size case: the hot, memory-bound pass.
 Image averageEvenBlocks(const Image& base, const PyramidLevel& coarse) {
     const int cw = coarse.width, ch = coarse.height;
-    Image mean(cw, ch, 3);
+    Image mean(cw, ch, 3, Image::Uninitialized{});
 #pragma omp parallel for schedule(static)
     for (int y = 0; y < ch; ++y) {
         const float* r0 = base.at(0, 2 * y);

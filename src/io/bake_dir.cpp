@@ -40,20 +40,31 @@ int directionPlane(const Bake& bake) {
     return p >= 0 ? p : findPlane(bake.planes, "mean");
 }
 
-// Unit normals encoded (n + 1)/2 in 3 channels, or 4 with alpha 1 (for RGBA formats).
+// Unit normal of one texel of a direction plane encoded (n + 1)/2 in 3 channels, or 4 with alpha 1.
+void encodeNormal(const float* direction, bool greenDown, int channels, float* texel) {
+    float n[3];
+    normalizeOrFlat(direction, n);
+    if (greenDown) n[1] = -n[1];
+    for (int c = 0; c < 3; ++c) texel[c] = 0.5f * (n[c] + 1.f);
+    if (channels == 4) texel[3] = 1.f;
+}
+
 Image encodeNormals(const Image& directions, bool greenDown, int channels = 3) {
-    Image out(directions.width, directions.height, channels);
+    Image out(directions.width, directions.height, channels, Image::Uninitialized{});
     const int64_t texels = int64_t(directions.texelCount());
 #pragma omp parallel for schedule(static) if (texels >= 65536)
-    for (int64_t i = 0; i < texels; ++i) {
-        float n[3];
-        normalizeOrFlat(&directions.pixels[size_t(i) * size_t(directions.channels)], n);
-        if (greenDown) n[1] = -n[1];
-        float* texel = &out.pixels[size_t(channels) * size_t(i)];
-        for (int c = 0; c < 3; ++c) texel[c] = 0.5f * (n[c] + 1.f);
-        if (channels == 4) texel[3] = 1.f;
-    }
+    for (int64_t i = 0; i < texels; ++i)
+        encodeNormal(&directions.pixels[size_t(i) * size_t(directions.channels)], greenDown, channels,
+                     &out.pixels[size_t(channels) * size_t(i)]);
     return out;
+}
+
+// The same a row at a time, for the block encoders (no float copy of the level).
+LevelRows normalRows(const Image& directions, bool greenDown, int channels) {
+    return {directions.width, directions.height, channels, [&directions, greenDown, channels](int y, float* out) {
+                for (int x = 0; x < directions.width; ++x)
+                    encodeNormal(directions.at(x, y), greenDown, channels, out + size_t(x) * size_t(channels));
+            }};
 }
 
 Image perceptual(const Image& alpha) {
@@ -62,6 +73,23 @@ Image perceptual(const Image& alpha) {
 #pragma omp parallel for schedule(static) if (n >= 65536)
     for (int64_t i = 0; i < n; ++i) out.pixels[size_t(i)] = std::sqrt(std::max(out.pixels[size_t(i)], 0.f));
     return out;
+}
+
+// Perceptual roughness sqrt(alpha) of a one-channel alpha plane, a row at a time.
+LevelRows perceptualRows(const Image& alpha) {
+    return {alpha.width, alpha.height, 1, [&alpha](int y, float* out) {
+                const float* row = alpha.at(0, y);
+                for (int x = 0; x < alpha.width; ++x) out[x] = std::sqrt(std::max(row[size_t(x) * size_t(alpha.channels)], 0.f));
+            }};
+}
+
+// Rows of an image the caller hands over (kept alive by the rows).
+LevelRows ownedRows(Image image) {
+    auto owned = std::make_shared<const Image>(std::move(image));
+    return {owned->width, owned->height, owned->channels, [owned](int y, float* out) {
+                const float* row = owned->at(0, y);
+                std::copy(row, row + size_t(owned->width) * size_t(owned->channels), out);
+            }};
 }
 
 // Writes the png16 files into `folder`; returns their names relative to the bake folder.
@@ -114,7 +142,7 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     std::error_code ec;
     fs::create_directory(folder / container, ec);
     std::vector<std::string> names;
-    auto write = [&](const std::string& stem, const std::vector<const Image*>& levels, TextureFormat format) -> Status {
+    auto write = [&](const std::string& stem, const auto& levels, TextureFormat format) -> Status {
         Result<EncodedTexture> texture = encodeTexture(levels, format);
         if (!texture) return Status::failure(texture.error().message);
         const std::string name = container + "/" + stem + "." + container;
@@ -125,20 +153,16 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
         names.push_back(name);
         return Status::success();
     };
-    // A file of images made per level (encoded normals, perceptual roughness, packed maps).
-    auto writeMade = [&](const std::string& stem, const std::function<Image(size_t)>& make, TextureFormat format) {
-        std::vector<Image> owned;
-        for (size_t k = 0; k < bake.levels.size(); ++k) owned.push_back(make(k));
-        std::vector<const Image*> levels;
-        for (const Image& image : owned) levels.push_back(&image);
+    // A file of levels made from the planes (encoded normals, perceptual roughness, packed maps).
+    auto writeMade = [&](const std::string& stem, const std::function<LevelRows(size_t)>& make, TextureFormat format) {
+        std::vector<LevelRows> levels;
+        for (size_t k = 0; k < bake.levels.size(); ++k) levels.push_back(make(k));
         return write(stem, levels, format);
     };
     const int dirPlane = directionPlane(bake), ggx = findPlane(bake.planes, "roughness_ggx");
     auto normals = [&](bool down, TextureFormat format) {
         const int channels = format == TextureFormat::Rgba8Unorm ? 4 : 3;
-        return [&bake, dirPlane, down, channels](size_t k) {
-            return encodeNormals(*bake.levels[k][dirPlane], down, channels);
-        };
+        return [&bake, dirPlane, down, channels](size_t k) { return normalRows(*bake.levels[k][dirPlane], down, channels); };
     };
     if (dirPlane >= 0 && options.exportNormal)
         if (Status s = writeMade(std::string("normal_") + textureFormatName(options.normalFormat),
@@ -147,7 +171,7 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
             return Error{s.error};
     if (ggx >= 0 && options.exportRoughness)
         if (Status s = writeMade(std::string("roughness_") + textureFormatName(options.roughnessFormat),
-                                 [&](size_t k) { return perceptual(*bake.levels[k][ggx]); }, options.roughnessFormat);
+                                 [&](size_t k) { return perceptualRows(*bake.levels[k][ggx]); }, options.roughnessFormat);
             !s)
             return Error{s.error};
     for (size_t p = 0; p < bake.planes.size(); ++p) {
@@ -164,9 +188,9 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
             !s)
             return Error{s.error};
         auto packed = [&](size_t k) {
-            return packedMaterial(*engine, perceptual(*bake.levels[k][ggx]),
+            return ownedRows(packedMaterial(*engine, perceptual(*bake.levels[k][ggx]),
                                   k < options.metallic.size() ? options.metallic[k].get() : nullptr,
-                                  k < options.occlusion.size() ? options.occlusion[k].get() : nullptr);
+                                  k < options.occlusion.size() ? options.occlusion[k].get() : nullptr));
         };
         if (ggx >= 0)
             if (Status s = writeMade(prefix + engine->packedFile, packed, TextureFormat::Rgba8Unorm); !s)

@@ -63,10 +63,6 @@ void putAt(std::string& out, size_t offset, T value) {
 uint8_t unorm8(float v) { return uint8_t(std::clamp(v, 0.f, 1.f) * 255.f + 0.5f); }
 uint16_t unorm16(float v) { return uint16_t(std::clamp(v, 0.f, 1.f) * 65535.f + 0.5f); }
 
-float channel(const Image& image, int x, int y, int c) {
-    return c < image.channels ? image.at(x, y)[c] : 0.f;
-}
-
 // A BC4 block's palette: endpoints r0, r1 and six interpolants (r0 > r1), or four and 0, 255.
 void bc4Palette(int r0, int r1, int palette[8]) {
     palette[0] = r0;
@@ -87,20 +83,26 @@ int bc4Error(const unsigned char* values, int stride, const int palette[8], int 
     static constexpr int kCodeAt[8] = {1, 7, 6, 5, 4, 3, 2, 0}; // position from r1 (0) to r0 (7)
     const int r0 = palette[0], r1 = palette[1];
     int total = 0;
+    if (r0 > r1) {
+        // Where v falls between the levels, by a multiply (a rounding at an exact level only moves
+        // it to the bracket below, which still holds that level).
+        const float scale = 7.f / float(r0 - r1);
+        for (int i = 0; i < 16; ++i) {
+            const int v = values[i * stride];
+            const int below = std::clamp(int(float(v - r1) * scale), 0, 6); // levels `below` and `below + 1` bracket v
+            const int d0 = v - palette[kCodeAt[below]], d1 = v - palette[kCodeAt[below + 1]];
+            const bool upper = d1 * d1 < d0 * d0;
+            total += upper ? d1 * d1 : d0 * d0;
+            codes[i] = kCodeAt[below + upper];
+        }
+        return total;
+    }
     for (int i = 0; i < 16; ++i) {
         const int v = values[i * stride];
         int best = 1 << 30;
-        if (r0 > r1) {
-            const int below = std::clamp((v - r1) * 7 / (r0 - r1), 0, 6); // levels `below` and `below + 1` bracket v
-            const int d0 = v - palette[kCodeAt[below]], d1 = v - palette[kCodeAt[below + 1]];
-            const bool upper = d1 * d1 < d0 * d0;
-            best = upper ? d1 * d1 : d0 * d0;
-            codes[i] = kCodeAt[below + upper];
-        } else {
-            for (int c = 0; c < 8; ++c) {
-                const int d = v - palette[c];
-                if (d * d < best) best = d * d, codes[i] = c;
-            }
+        for (int c = 0; c < 8; ++c) {
+            const int d = v - palette[c];
+            if (d * d < best) best = d * d, codes[i] = c;
         }
         total += best;
     }
@@ -123,26 +125,31 @@ void refineBc4Block(unsigned char* block, const unsigned char* values, int strid
         r0 = r1 = values[0];
         for (int i = 1; i < 16; ++i) r0 = std::max(r0, int(values[i * stride])), r1 = std::min(r1, int(values[i * stride]));
         if (r0 == r1) return;
+        bc4Palette(r0, r1, palette);
+        const int error = bc4Error(values, stride, palette, codes);
+        if (error < bestError) bestError = error, best0 = r0, best1 = r1, std::copy(codes, codes + 16, bestCodes);
+    } else {
+        std::copy(bestCodes, bestCodes + 16, codes);
     }
-    std::copy(bestCodes, bestCodes + 16, codes);
-    for (int iteration = 0, last = 1 << 30; iteration < 4 && r0 > r1; ++iteration) {
+    for (int iteration = 0, last = 1 << 30; iteration < 4; ++iteration) {
+        // value ~ w r0 + (1 - w) r1, w = (8 - c)/7 for interpolant c, 1 for code 0, 0 for code 1.
+        float sww = 0, sw1 = 0, s11 = 0, swv = 0, s1v = 0;
+        for (int i = 0; i < 16; ++i) {
+            const float w = codes[i] == 0 ? 1.f : codes[i] == 1 ? 0.f : float(8 - codes[i]) * (1.f / 7.f);
+            const float v = values[i * stride];
+            sww += w * w, sw1 += w * (1 - w), s11 += (1 - w) * (1 - w), swv += w * v, s1v += (1 - w) * v;
+        }
+        const float det = sww * s11 - sw1 * sw1;
+        if (std::abs(det) < 1e-6f) break;
+        const int n0 = std::clamp(int((swv * s11 - s1v * sw1) / det + 0.5f), 0, 255);
+        const int n1 = std::clamp(int((s1v * sww - swv * sw1) / det + 0.5f), 0, 255);
+        if ((n0 == r0 && n1 == r1) || n0 <= n1) break; // settled, or out of the 8-level mode
+        r0 = n0, r1 = n1;
         bc4Palette(r0, r1, palette);
         const int error = bc4Error(values, stride, palette, codes);
         if (error < bestError) bestError = error, best0 = r0, best1 = r1, std::copy(codes, codes + 16, bestCodes);
         if (error >= last) break; // the fit has settled
         last = error;
-        // value ~ w r0 + (1 - w) r1, w = (8 - c)/7 for interpolant c, 1 for code 0, 0 for code 1.
-        double sww = 0, sw1 = 0, s11 = 0, swv = 0, s1v = 0;
-        for (int i = 0; i < 16; ++i) {
-            const double w = codes[i] == 0 ? 1.0 : codes[i] == 1 ? 0.0 : (8 - codes[i]) / 7.0, v = values[i * stride];
-            sww += w * w, sw1 += w * (1 - w), s11 += (1 - w) * (1 - w), swv += w * v, s1v += (1 - w) * v;
-        }
-        const double det = sww * s11 - sw1 * sw1;
-        if (std::abs(det) < 1e-9) break;
-        const int n0 = std::clamp(int((swv * s11 - s1v * sw1) / det + 0.5), 0, 255);
-        const int n1 = std::clamp(int((s1v * sww - swv * sw1) / det + 0.5), 0, 255);
-        if (n0 == r0 && n1 == r1) break;
-        r0 = n0, r1 = n1;
     }
     if (best0 == block[0] && best1 == block[1]) return;
     block[0] = uint8_t(best0);
@@ -152,43 +159,70 @@ void refineBc4Block(unsigned char* block, const unsigned char* values, int strid
     for (int b = 0; b < 6; ++b) block[2 + b] = uint8_t(bits >> (8 * b));
 }
 
-std::string encodeLevel(const Image& image, const FormatInfo& f) {
+std::string encodeLevel(const LevelRows& level, const FormatInfo& f) {
+    const int width = level.width, height = level.height, channels = level.channels;
+    auto value = [channels](const float* texel, int c) { return c < channels ? texel[c] : 0.f; };
     std::string out;
     if (!isBlock(f.format)) {
-        out.reserve(image.texelCount() * size_t(f.bytesPerTexel));
-        for (int y = 0; y < image.height; ++y)
-            for (int x = 0; x < image.width; ++x)
+        const size_t rowBytes = size_t(width) * size_t(f.bytesPerTexel);
+        out.resize(rowBytes * size_t(height));
+#pragma omp parallel for schedule(static) if (size_t(width) * size_t(height) >= 65536)
+        for (int y = 0; y < height; ++y) {
+            std::vector<float> row(size_t(width) * size_t(channels));
+            level.row(y, row.data());
+            char* dst = &out[size_t(y) * rowBytes];
+            for (int x = 0; x < width; ++x)
                 for (int c = 0; c < f.channels; ++c) {
-                    const float v = channel(image, x, y, c);
-                    if (f.format == TextureFormat::Rgba32F) put(out, v);
-                    else if (f.format == TextureFormat::Rg16Unorm) put(out, unorm16(v));
-                    else if (f.format == TextureFormat::Rgba8Unorm) put(out, unorm8(v));
-                    else put(out, Imath::half(v).bits());
+                    const float v = value(&row[size_t(x) * size_t(channels)], c);
+                    if (f.format == TextureFormat::Rgba32F) std::memcpy(dst, &v, 4), dst += 4;
+                    else if (f.format == TextureFormat::Rg16Unorm) {
+                        const uint16_t u = unorm16(v);
+                        std::memcpy(dst, &u, 2), dst += 2;
+                    } else if (f.format == TextureFormat::Rgba8Unorm) *dst++ = char(unorm8(v));
+                    else {
+                        const uint16_t bits = Imath::half(v).bits();
+                        std::memcpy(dst, &bits, 2), dst += 2;
+                    }
                 }
+        }
         return out;
     }
     // 4x4 blocks, rows of blocks from the top; texels past an edge repeat the edge. Rows of
-    // blocks are independent: each thread encodes whole rows into their place.
-    const int bw = (image.width + 3) / 4, bh = (image.height + 3) / 4;
+    // blocks are independent: each thread reads its four rows and encodes them into their place.
+    const int bw = (width + 3) / 4, bh = (height + 3) / 4;
     const size_t rowBytes = size_t(bw) * size_t(f.bytesPerBlock);
     out.resize(rowBytes * size_t(bh));
-#pragma omp parallel for schedule(dynamic, 4) if (bh >= 64)
-    for (int by = 0; by < bh; ++by) {
-        unsigned char src[32];
-        for (int bx = 0; bx < bw; ++bx) {
-            for (int j = 0; j < 4; ++j)
-                for (int i = 0; i < 4; ++i) {
-                    const int x = std::min(4 * bx + i, image.width - 1), y = std::min(4 * by + j, image.height - 1);
-                    for (int c = 0; c < f.channels; ++c) src[(4 * j + i) * f.channels + c] = unorm8(channel(image, x, y, c));
+#pragma omp parallel if (bh >= 64)
+    {
+        std::vector<float> rows(4 * size_t(width) * size_t(channels));
+        std::vector<unsigned char> bytes(4 * size_t(width) * size_t(f.channels));
+#pragma omp for schedule(dynamic, 4)
+        for (int by = 0; by < bh; ++by) {
+            for (int j = 0; j < 4; ++j) {
+                float* row = &rows[size_t(j) * size_t(width) * size_t(channels)];
+                if (4 * by + j < height) level.row(4 * by + j, row);
+                else std::copy_n(row - size_t(width) * size_t(channels), size_t(width) * size_t(channels), row);
+                unsigned char* b = &bytes[size_t(j) * size_t(width) * size_t(f.channels)];
+                for (int x = 0; x < width; ++x)
+                    for (int c = 0; c < f.channels; ++c) *b++ = unorm8(value(row + size_t(x) * size_t(channels), c));
+            }
+            for (int bx = 0; bx < bw; ++bx) {
+                unsigned char src[32];
+                for (int j = 0; j < 4; ++j)
+                    for (int i = 0; i < 4; ++i) {
+                        const int x = std::min(4 * bx + i, width - 1);
+                        for (int c = 0; c < f.channels; ++c)
+                            src[(4 * j + i) * f.channels + c] = bytes[(size_t(j) * size_t(width) + size_t(x)) * size_t(f.channels) + size_t(c)];
+                    }
+                auto* block = reinterpret_cast<unsigned char*>(&out[size_t(by) * rowBytes + size_t(bx) * size_t(f.bytesPerBlock)]);
+                if (f.format == TextureFormat::Bc4Unorm) {
+                    stb_compress_bc4_block(block, src);
+                    refineBc4Block(block, src, 1);
+                } else { // BC5: a BC4 block for red, then one for green
+                    stb_compress_bc5_block(block, src);
+                    refineBc4Block(block, src, 2);
+                    refineBc4Block(block + 8, src + 1, 2);
                 }
-            auto* block = reinterpret_cast<unsigned char*>(&out[size_t(by) * rowBytes + size_t(bx) * size_t(f.bytesPerBlock)]);
-            if (f.format == TextureFormat::Bc4Unorm) {
-                stb_compress_bc4_block(block, src);
-                refineBc4Block(block, src, 1);
-            } else { // BC5: a BC4 block for red, then one for green
-                stb_compress_bc5_block(block, src);
-                refineBc4Block(block, src, 2);
-                refineBc4Block(block + 8, src + 1, 2);
             }
         }
     }
@@ -273,22 +307,36 @@ std::optional<TextureFormat> textureFormatFromName(const std::string& name) {
     return std::nullopt;
 }
 
-Result<EncodedTexture> encodeTexture(const std::vector<const Image*>& levels, TextureFormat format) {
-    if (levels.empty() || !levels.front() || levels.front()->empty()) return Error{"texture: no levels to encode"};
+Result<EncodedTexture> encodeTexture(const std::vector<LevelRows>& levels, TextureFormat format) {
+    if (levels.empty() || levels.front().width <= 0 || levels.front().height <= 0 || levels.front().channels <= 0)
+        return Error{"texture: no levels to encode"};
     EncodedTexture t;
     t.format = format;
-    t.width = levels.front()->width;
-    t.height = levels.front()->height;
+    t.width = levels.front().width;
+    t.height = levels.front().height;
     for (size_t k = 0; k < levels.size(); ++k) {
-        const Image& level = *levels[k];
+        const LevelRows& level = levels[k];
         const int w = std::max(t.width >> k, 1), h = std::max(t.height >> k, 1);
         if (level.width != w || level.height != h)
             return Error{"texture: level " + std::to_string(k) + " is " + std::to_string(level.width) + "x" +
                          std::to_string(level.height) + ", the mip rule gives " + std::to_string(w) + "x" +
                          std::to_string(h)};
+        if (level.channels <= 0 || !level.row) return Error{"texture: level " + std::to_string(k) + " has no texels"};
         t.levels.push_back(encodeLevel(level, info(format)));
     }
     return t;
+}
+
+Result<EncodedTexture> encodeTexture(const std::vector<const Image*>& levels, TextureFormat format) {
+    std::vector<LevelRows> rows;
+    for (const Image* image : levels) {
+        if (!image || image->empty()) return Error{"texture: no levels to encode"};
+        rows.push_back({image->width, image->height, image->channels, [image](int y, float* out) {
+                            const float* row = image->at(0, y);
+                            std::copy(row, row + size_t(image->width) * size_t(image->channels), out);
+                        }});
+    }
+    return encodeTexture(rows, format);
 }
 
 Result<std::string> ktx2File(const EncodedTexture& t, int zstdLevel) {

@@ -35,7 +35,7 @@ Bake bakeToksvig(const Pyramid& pyramid, const BakeOptions& options) {
     for (int k = 0; k < count; ++k) {
         const Image& mean = levelMean(pyramid, k);
         if (alpha2 && k > 0) alpha2 = averageToLevel(pyramid, *alpha2, k);
-        Image beckmann(mean.width, mean.height, 1);
+        Image beckmann(mean.width, mean.height, 1, Image::Uninitialized{});
         const size_t n = mean.texelCount();
 #pragma omp parallel for schedule(static)
         for (size_t i = 0; i < n; ++i) {
