@@ -155,6 +155,23 @@ glm::dvec2 dfgIntegral(double mu, double perceptualRoughness, int samples);
 // texture uploaded top row first is read at (n.v, r).
 Image dfgTable(int size, int samples = 4096);
 
+// ---- cube faces ----------------------------------------------------------------------------
+
+// Faces in the order and orientation of OpenGL, Vulkan and KTX2 cube maps (+X, -X, +Y, -Y, +Z,
+// -Z), in the frame above; the names of the files cmgen writes.
+constexpr int kCubeFaces = 6;
+const char* cubeFaceName(int face); // "px", "nx", "py", "ny", "pz", "nz"
+
+// The unit direction through face coordinates (s, t) in [0, 1]^2 of `face`, s to the right and
+// t down from the top row: with a = 2 s - 1, b = 1 - 2 t, +X looks along (1, b, -a), -X (-1, b, a),
+// +Y (a, 1, -b), -Y (a, -1, b), +Z (a, b, 1), -Z (-a, b, -1) (the GL rule sc = -rz, tc = -ry
+// for +X and so on).
+glm::dvec3 cubeFaceDirection(int face, double s, double t);
+
+// One size x size face of an equirectangular image (any channel count): each texel the mean of
+// samples x samples bilinear lookups (sampleEquirect) spread over it.
+Image cubeFaceFromEquirect(const Image& map, int face, int size, int samples = 4);
+
 // ---- the output folder ----------------------------------------------------------------------
 
 // Where a folder's map came from, for its manifest.
@@ -170,10 +187,14 @@ struct EnvironmentBake {
     LodMapping mapping = LodMapping::Filament;
     Image dfg;          // dfgTable
     int dfgSamples = 0; // its samples per texel
+    // Which files hold the GGX levels: equirectangular images, six cube faces per level (each
+    // face a quarter of the level's width, cubeFaceFromEquirect), or both.
+    bool equirect = true;
+    bool cube = false;
 };
 
 // Writes DIR/sh.json (the coefficients), DIR/ggx_L<k>.exr (one equirectangular RGB image per
-// level), DIR/dfg.exr (the table) and DIR/environment.json (what each file holds and how it was
+// level) and/or DIR/ggx_L<k>_<face>.exr (its cube faces), DIR/dfg.exr (the table) and DIR/environment.json (what each file holds and how it was
 // made; docs/ENVIRONMENT.md). Images are float, or half with `half`. Like writeBake, the folder is
 // staged beside DIR and swapped into place at the end, so a failure leaves the earlier folder;
 // an existing DIR is replaced only if it is empty or holds an earlier environment folder and

@@ -29,6 +29,13 @@ std::string levelFile(size_t k) {
     return "ggx_L" + std::to_string(k) + ".exr";
 }
 
+std::string faceFile(size_t k, int face) {
+    return "ggx_L" + std::to_string(k) + "_" + cubeFaceName(face) + ".exr";
+}
+
+// A level's cube faces are a quarter of its width: the same texels per radian at the equator.
+int faceSize(const Image& level) { return std::max(level.width / 4, 1); }
+
 // Coefficients per band: band l is 2l + 1 RGB triples, m = -l ... l.
 json bands(const std::vector<glm::dvec3>& c, int order) {
     json out = json::array();
@@ -67,13 +74,20 @@ json manifestJson(const EnvironmentBake& bake, const EnvironmentSource& source, 
     for (size_t k = 0; k < bake.levels.size(); ++k) {
         const PrefilteredLevel& level = bake.levels[k];
         const double r = level.perceptualRoughness;
-        levels.push_back({{"level", k},
-                          {"file", levelFile(k)},
-                          {"width", level.radiance.width},
-                          {"height", level.radiance.height},
-                          {"perceptual_roughness", r},
-                          {"alpha", r * r},
-                          {"samples", level.samples}});
+        json entry = {{"level", k},
+                      {"width", level.radiance.width},
+                      {"height", level.radiance.height},
+                      {"perceptual_roughness", r},
+                      {"alpha", r * r},
+                      {"samples", level.samples}};
+        if (bake.equirect) entry["file"] = levelFile(k);
+        if (bake.cube) {
+            json faces = json::object();
+            for (int face = 0; face < kCubeFaces; ++face) faces[cubeFaceName(face)] = faceFile(k, face);
+            entry["faces"] = faces;
+            entry["face_size"] = faceSize(level.radiance);
+        }
+        levels.push_back(entry);
     }
     const bool filament = bake.mapping == LodMapping::Filament;
     return {
@@ -92,7 +106,10 @@ json manifestJson(const EnvironmentBake& bake, const EnvironmentSource& source, 
         {"sh", "sh.json"},
         {"ggx",
          {{"description", "radiance convolved with GGX D(h) <n.l> about r (split sum, n = v = r), "
-                          "equirectangular RGB per level"},
+                          "RGB per level: `file` equirectangular, `faces` the cube faces"},
+          {"cube_faces", "order and orientation of OpenGL/Vulkan/KTX2 cube maps: +X, -X, +Y, -Y, +Z, "
+                         "-Z; texel (s, t) (s right, t down from the top row) of +X looks along "
+                         "(1, 1 - 2t, 1 - 2s), and so on (ndfmip/environment.h cubeFaceDirection)"},
           {"lod_mapping", lodMappingName(bake.mapping)},
           {"lod_to_roughness", filament
                                    ? "r = 1 - sqrt(1 - lod), lod = r (2 - r) = k / (levels - 1)"
@@ -133,8 +150,13 @@ Status checkReplaceable(const fs::path& dir) {
     if (m.contains("ggx") && m["ggx"].is_object() && m["ggx"].contains("levels") &&
         m["ggx"]["levels"].is_array())
         for (const json& level : m["ggx"]["levels"])
-            if (level.is_object() && level.contains("file") && level["file"].is_string())
-                listed.insert(level["file"].get<std::string>());
+            if (level.is_object()) {
+                if (level.contains("file") && level["file"].is_string())
+                    listed.insert(level["file"].get<std::string>());
+                if (level.contains("faces") && level["faces"].is_object())
+                    for (const json& face : level["faces"])
+                        if (face.is_string()) listed.insert(face.get<std::string>());
+            }
     for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator();
          it.increment(ec)) {
         const std::string name = it->path().filename().string();
@@ -150,9 +172,17 @@ Status checkReplaceable(const fs::path& dir) {
 Status writeEnvironment(const std::string& dirName, const EnvironmentBake& bake,
                         const EnvironmentSource& source, bool half) {
     return writeFolderWhole(dirName, checkReplaceable, [&](const fs::path& staging) -> Status {
-        for (size_t k = 0; k < bake.levels.size(); ++k)
-            if (Status s = saveExr((staging / levelFile(k)).string(), bake.levels[k].radiance, {}, half); !s)
-                return s;
+        for (size_t k = 0; k < bake.levels.size(); ++k) {
+            const Image& level = bake.levels[k].radiance;
+            if (bake.equirect)
+                if (Status s = saveExr((staging / levelFile(k)).string(), level, {}, half); !s) return s;
+            if (bake.cube)
+                for (int face = 0; face < kCubeFaces; ++face)
+                    if (Status s = saveExr((staging / faceFile(k, face)).string(),
+                                           cubeFaceFromEquirect(level, face, faceSize(level)), {}, half);
+                        !s)
+                        return s;
+        }
         if (Status s = saveExr((staging / "dfg.exr").string(), bake.dfg, {}, half); !s) return s;
         if (Status s = writeFileAtomic((staging / "sh.json").string(), shJson(bake.sh).dump(2) + "\n"); !s)
             return s;

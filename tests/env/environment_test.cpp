@@ -153,6 +153,51 @@ TEST(EnvironmentResample, BilinearLookupHitsTexelCentres) {
 
 // ---- spherical harmonics ----------------------------------------------------------------------
 
+// The GL/Vulkan rule for the face a direction r falls on (major axis ma) and its face
+// coordinates: +X sc = -rz, tc = -ry; -X sc = rz, tc = -ry; +Y sc = rx, tc = rz; -Y sc = rx,
+// tc = -rz; +Z sc = rx, tc = -ry; -Z sc = -rx, tc = -ry; s = (sc/ma + 1)/2, t = (tc/ma + 1)/2.
+int glCubeFace(glm::dvec3 r, double& s, double& t) {
+    const glm::dvec3 a = glm::abs(r);
+    int face;
+    double sc, tc, ma;
+    if (a.x >= a.y && a.x >= a.z) face = r.x > 0 ? 0 : 1, ma = a.x, sc = r.x > 0 ? -r.z : r.z, tc = -r.y;
+    else if (a.y >= a.z) face = r.y > 0 ? 2 : 3, ma = a.y, sc = r.x, tc = r.y > 0 ? r.z : -r.z;
+    else face = r.z > 0 ? 4 : 5, ma = a.z, sc = r.z > 0 ? r.x : -r.x, tc = -r.y;
+    s = (sc / ma + 1.) / 2., t = (tc / ma + 1.) / 2.;
+    return face;
+}
+
+TEST(EnvironmentCube, FaceDirectionsFollowTheGlRule) {
+    for (int i = 0; i < 2000; ++i) {
+        const double z = 1. - 2. * (i + 0.5) / 2000., phi = i * 2.399963229728653, q = std::sqrt(1. - z * z);
+        const glm::dvec3 r(q * std::cos(phi), z, q * std::sin(phi));
+        double s, t;
+        const int face = glCubeFace(r, s, t);
+        const glm::dvec3 d = cubeFaceDirection(face, s, t);
+        EXPECT_NEAR(glm::length(d - r), 0., 1e-12) << "face " << cubeFaceName(face) << " s " << s << " t " << t;
+    }
+    EXPECT_STREQ(cubeFaceName(0), "px");
+    EXPECT_STREQ(cubeFaceName(5), "nz");
+}
+
+TEST(EnvironmentCube, FacesOfASmoothMapHoldItsValues) {
+    // Each channel a direction component: the faces must hold the direction each texel looks along.
+    const Environment env = envtest::mapOf(512, [](glm::dvec3 d) { return d + glm::dvec3(2.); });
+    for (int face = 0; face < kCubeFaces; ++face) {
+        const Image image = cubeFaceFromEquirect(env.radiance, face, 16);
+        ASSERT_EQ(image.width, 16);
+        double worst = 0.;
+        for (int y = 0; y < 16; ++y)
+            for (int x = 0; x < 16; ++x) {
+                const glm::dvec3 d = cubeFaceDirection(face, (x + 0.5) / 16, (y + 0.5) / 16) + glm::dvec3(2.);
+                for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(image.at(x, y)[c] - d[c]));
+            }
+        // The texel mean of a linear function is the function at the mean direction of the
+        // texel, which is within a few thousandths of its centre direction at 16 texels a face.
+        EXPECT_LT(worst, 0.01) << cubeFaceName(face);
+    }
+}
+
 TEST(EnvironmentSh, ConstantMapHasOnlyL00) {
     // Integral of c Y_00 = c sqrt(4 pi); every other band integrates to 0 at any size (to 4e-11
     // of L_00 at 4 x 2, where a row spans 90 degrees of the 12-point rule in theta).

@@ -86,6 +86,31 @@ TEST_F(EnvmapCli, WritesShLevelsTableAndManifest) {
     EXPECT_TRUE(leftovers(tmp.path).empty());
 }
 
+TEST_F(EnvmapCli, CubeLayoutWritesSixFacesPerLevel) {
+    std::string output;
+    ASSERT_EQ(runCli(envmapArgs(map, "--layout cube"), &output), 0) << output;
+    const json manifest = json::parse(fileBytes(out / "environment.json"));
+    const json& levels = manifest["ggx"]["levels"];
+    ASSERT_EQ(levels.size(), 2u);
+    for (size_t k = 0; k < 2; ++k) {
+        EXPECT_FALSE(levels[k].contains("file"));
+        EXPECT_FALSE(fs::exists(out / ("ggx_L" + std::to_string(k) + ".exr")));
+        EXPECT_EQ(levels[k]["face_size"], (32 >> k) / 4);
+        for (int face = 0; face < kCubeFaces; ++face) {
+            const std::string file = levels[k]["faces"][cubeFaceName(face)];
+            Result<SourceImage> image = loadImage((out / file).string());
+            ASSERT_TRUE(image.ok()) << file;
+            EXPECT_EQ(image->image.width, (32 >> k) / 4);
+        }
+    }
+    // The folder holds only what its manifest lists, so a rerun may replace it.
+    ASSERT_EQ(runCli(envmapArgs(map, "--layout both"), &output), 0) << output;
+    EXPECT_TRUE(fs::is_regular_file(out / "ggx_L0.exr"));
+    EXPECT_TRUE(fs::is_regular_file(out / "ggx_L0_nz.exr"));
+    EXPECT_NE(runCli(envmapArgs(map, "--layout sphere"), &output), 0);
+    EXPECT_NE(output.find("--layout"), std::string::npos) << output;
+}
+
 TEST_F(EnvmapCli, RefusesBadInputWithOneLine) {
     expectCliRefuses(envmapArgs(tmp.file("missing.hdr")), {"missing.hdr"});
     expectNothingWritten();

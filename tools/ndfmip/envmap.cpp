@@ -13,7 +13,7 @@ namespace ndfmip::cli {
 namespace {
 
 struct EnvmapArgs {
-    std::string input, output, mapping = "filament";
+    std::string input, output, mapping = "filament", layout = "equirect";
     EnvironmentOptions environment;
     int shOrder = 8;
     int size = 0, levels = 0, samples = 1024;
@@ -34,6 +34,8 @@ void runEnvmap(const EnvmapArgs& a) {
         throw Failure("--lod-mapping " + quote(a.mapping) + ": expected filament or linear");
     if (a.size != 0 && (a.size & (a.size - 1)) != 0)
         throw Failure("--size " + std::to_string(a.size) + ": expected a power of two");
+    if (a.layout != "equirect" && a.layout != "cube" && a.layout != "both")
+        throw Failure("--layout " + quote(a.layout) + ": expected equirect, cube or both");
     prefilter.levels = a.levels;
     prefilter.samples = a.samples;
 
@@ -66,6 +68,8 @@ void runEnvmap(const EnvmapArgs& a) {
         };
     bake.levels = prefilterGgx(env, prefilter);
     bake.mapping = prefilter.mapping;
+    bake.equirect = a.layout != "cube";
+    bake.cube = a.layout != "equirect";
     const double ggxMs = millisecondsSince(start);
 
     start = nowNanoseconds();
@@ -130,6 +134,10 @@ void addEnvmapCommand(CLI::App& app) {
     c->add_option("--samples", args->samples,
                   "GGX samples per texel of level 1, doubled per level from 2")
         ->check(CLI::Range(1, 65536))
+        ->capture_default_str();
+    c->add_option("--layout", args->layout,
+                  "GGX level files: equirect (ggx_L<k>.exr), cube (ggx_L<k>_px.exr ... _nz.exr, the "
+                  "GL/Vulkan/KTX2 face order and orientation) or both")
         ->capture_default_str();
     c->add_option("--lod-mapping", args->mapping,
                   "level k of N has perceptual roughness r with lod = k/(N-1): filament (lod = r "
