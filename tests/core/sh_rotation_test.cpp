@@ -122,6 +122,26 @@ TEST(ShRotation, ComposesAndPreservesBandEnergy) {
     }
 }
 
+// A rotation and its inverse give the coefficients back to rounding, at every order.
+TEST(ShRotation, InverseRoundTrip) {
+    std::mt19937 rng(6);
+    for (int order : {8, kMaxShOrder}) {
+        double worst = 0.;
+        for (int trial = 0; trial < 20; ++trial) {
+            const glm::dmat3 r = randomRotation(rng);
+            std::vector<double> c = randomCoefficients(rng, order), back(c.size());
+            double norm = 0.;
+            for (double x : c) norm += x * x;
+            for (double& x : c) x /= std::sqrt(norm);
+            rotateSh(r, order, c.data(), back.data());
+            rotateSh(glm::transpose(r), order, back.data(), back.data());
+            for (size_t i = 0; i < c.size(); ++i)
+                worst = std::max(worst, std::fabs(back[i] - c[i]));
+        }
+        EXPECT_LT(worst, 1e-14) << "order " << order;
+    }
+}
+
 // Interleaved channels give each channel's single rotation.
 TEST(ShRotation, ChannelsRotateIndependently) {
     std::mt19937 rng(5);
