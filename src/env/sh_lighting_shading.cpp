@@ -93,7 +93,8 @@ void vmfBandFactors(double kappa, int order, double* out) {
     if (kappa >= 32.) {
         // i_n(k) = (e^k S_-(n) - (-1)^n e^-k S_+(n)) / (2k), S_-+ = Sum_j (-+1)^j (n+j)! / (j!
         // (n-j)! (2k)^j), and i_0 = sinh(k)/k: the ratio in terms of e^-2k, which cannot overflow.
-        // The alternating sum loses at most ~4 digits for n <= 30 at k >= 32.
+        // The alternating sum cancels most at the smallest k and largest n: 3.5e-12 at k = 32, n = 30
+        // against projectTransfer, 1e-15 from k = 200 on.
         const double decay = std::exp(-2. * kappa);
         for (int n = 1; n <= order; ++n) {
             double term = 1., minus = 1., plus = 1.;
