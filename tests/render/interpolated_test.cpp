@@ -8,6 +8,7 @@
 
 #include "ndfmip/compare.h"
 #include "ndfmip/interpolated.h"
+#include "test_support.h"
 
 namespace ndfmip {
 namespace {
@@ -337,6 +338,32 @@ TEST(InterpolatedRender, ErrorFlickerCountsOnlyTheChangingError) {
     EXPECT_NEAR(temporalErrorFlicker({grey(1.5f), grey(2.5f)}, truth), 0.0, 1e-12); // a steady error
     // Errors +0.3 and -0.3: standard deviation 0.3 in every pixel, over a truth of RMS sqrt(2.5).
     EXPECT_NEAR(temporalErrorFlicker({grey(1.3f), grey(1.7f)}, truth), 0.3 / std::sqrt(2.5), 1e-6);
+}
+
+} // namespace
+} // namespace ndfmip
+
+namespace ndfmip {
+namespace {
+
+TEST(InterpolatedCli, RendersAFacetedSphereAndPrintsTheErrorFlicker) {
+    test::TempDir tmp("interp_cli");
+    const std::string scene = tmp.file("faceted.json");
+    test::writeBytes(scene, R"({"camera": {"eye": [0, -20, 4], "fov": 20, "width": 24, "height": 24},
+        "object": {"type": "faceted-sphere", "segments": 8, "rings": 4},
+        "lights": [{"type": "point", "position": [6, -18, 10], "intensity": 400}],
+        "material": {"brdf": "blinnphong", "exponent": 256}})");
+    std::string out;
+    const int status = test::runCli("render " + test::shellArg(scene) + " --method cubemap-toksvig --frames 2 "
+                                    "--truth-spp 4 -q -o " + test::shellArg(tmp.file("c.exr")), &out);
+    ASSERT_EQ(status, 0) << out;
+    EXPECT_NE(out.find("error flicker (2 frames, truth 4 spp): "), std::string::npos) << out;
+    EXPECT_TRUE(std::filesystem::exists(tmp.file("c.png")));
+    test::expectCliRefuses("render " + test::shellArg(scene) + " --gpu -o " + test::shellArg(tmp.file("g.exr")),
+                           {"faceted-sphere", "CPU only"});
+    test::expectCliRefuses("render " + test::shellArg(scene) + " --method toksvig -o " +
+                               test::shellArg(tmp.file("t.exr")),
+                           {"toksvig", "cubemap-toksvig"});
 }
 
 } // namespace
