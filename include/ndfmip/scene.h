@@ -56,7 +56,7 @@ struct Light {
     glm::vec3 color{1.f};               // colour times intensity (irradiance at normal incidence)
 };
 
-enum class GeometryType { Plane, Sphere };
+enum class GeometryType { Plane, Sphere, FacetedSphere };
 
 struct Geometry {
     GeometryType type = GeometryType::Plane;
@@ -70,6 +70,10 @@ struct Geometry {
     // Sphere: radius about `center`; u = azimuth about +z / 2 pi, v = polar angle / pi from +z.
     float radius = 1.f;
     glm::vec2 tiling{1.f, 1.f}; // texture repeats along u and v
+    // FacetedSphere: `radius` about `center` as a triangle mesh with interpolated vertex
+    // normals and no normal map (interpolated.h).
+    int segments = 12; // longitude
+    int rings = 6;     // latitude
 };
 
 struct NormalMapRef {

@@ -38,6 +38,8 @@ void main() {
 Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& textures, const std::string& method,
                                     const RenderOptions& options) {
     RenderProgram program;
+    if (scene.geometry.type == GeometryType::FacetedSphere)
+        return Error{"render --gpu: faceted-sphere scenes are rendered on the CPU only"};
     if (method == kGroundTruth || method == kExact)
         return Error{"render --gpu: '" + method + "' is rendered on the CPU only"};
     program.shader = findShader(method);

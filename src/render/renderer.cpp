@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "methods/method_unit.h"
+#include "ndfmip/interpolated.h"
 #include "ndfmip/render.h"
 #include "ndfmip/vmf.h"
 #include "texture_sampling.h"
@@ -322,6 +323,8 @@ std::vector<SharedImage> shadedChain(const Scene& scene, const RenderTextures& t
 
 Result<Image> render(const Scene& scene, const RenderTextures& textures, const std::string& methodName,
                      const RenderOptions& options) {
+    // Interpolated normals, no normal map: their own renderer.
+    if (scene.geometry.type == GeometryType::FacetedSphere) return renderInterpolated(scene, methodName, options);
     if (!textures.normals || textures.normals->channels != 3 || textures.normals->empty())
         return Error{"render: no normal map (3 channels) to render with"};
     if (options.spp < 1 || options.spp > (1 << 20))

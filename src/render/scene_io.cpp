@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/input_file.h"
+#include "ndfmip/interpolated.h"
 #include "ndfmip/limits.h"
 #include "ndfmip/scene.h"
 #include "ndfmip/sh_brdf.h"
@@ -218,6 +219,15 @@ int pixels(const json& value, const std::string& path) {
     return int(x);
 }
 
+int integerIn(const json& value, const std::string& path, int lo, int hi) {
+    bool ok = value.is_number();
+    double x = ok ? value.get<double>() : 0.0;
+    if (!ok || !std::isfinite(x) || x != std::floor(x) || x < lo || x > hi)
+        fail(path, "expected an integer in " + std::to_string(lo) + " .. " + std::to_string(hi) + ", got " +
+                       shown(value));
+    return int(x);
+}
+
 const json& array(const json& value, const std::string& path, size_t size, const char* what) {
     if (!value.is_array() || value.size() != size)
         fail(path, std::string("expected ") + what + ", got " + shown(value));
@@ -318,11 +328,22 @@ Geometry readObject(const json& value, const std::string& path) {
     const json& o = object(value, path);
     Geometry g;
     if (const json* v = find(o, "type"))
-        g.type = GeometryType(oneOf(*v, at(path, "type"), {"plane", "sphere"}, "object type"));
+        g.type = GeometryType(oneOf(*v, at(path, "type"), {"plane", "sphere", "faceted-sphere"}, "object type"));
     if (g.type == GeometryType::Plane)
         checkKeys(o, path, {"type", "center", "normal", "tangent", "size", "tiling"}, "a plane");
-    else
+    else if (g.type == GeometryType::Sphere)
         checkKeys(o, path, {"type", "center", "radius", "tiling"}, "a sphere");
+    else
+        checkKeys(o, path, {"type", "center", "radius", "segments", "rings"}, "a faceted-sphere");
+    if (g.type == GeometryType::FacetedSphere) {
+        if (const json* v = find(o, "center")) g.center = vec3(*v, at(path, "center"));
+        if (const json* v = find(o, "radius")) g.radius = positive(*v, at(path, "radius"));
+        if (const json* v = find(o, "segments"))
+            g.segments = integerIn(*v, at(path, "segments"), kMinSphereSegments, kMaxSphereSegments);
+        if (const json* v = find(o, "rings"))
+            g.rings = integerIn(*v, at(path, "rings"), kMinSphereRings, kMaxSphereRings);
+        return g;
+    }
 
     if (const json* v = find(o, "center")) g.center = vec3(*v, at(path, "center"));
     if (const json* v = find(o, "tiling")) g.tiling = positivePair(*v, at(path, "tiling"));
@@ -453,7 +474,14 @@ Scene readScene(const json& root, const std::string& baseDir) {
     scene.geometry = readObject(required(root, "", "object"), "object");
     scene.lights = readLights(required(root, "", "lights"), "lights");
     if (const json* v = find(root, "material")) scene.material = readMaterial(*v, "material", baseDir);
-    scene.normalMap = readNormalMap(required(root, "", "normal_map"), "normal_map", baseDir);
+    if (scene.geometry.type == GeometryType::FacetedSphere) {
+        // Interpolated vertex normals (interpolated.h): nothing to texture with.
+        for (const char* key : {"normal_map", "bake", "albedo_map"})
+            if (find(root, key)) fail(key, "a faceted-sphere scene takes none (its normals are interpolated)");
+        scene.method = kGroundTruth;
+    } else {
+        scene.normalMap = readNormalMap(required(root, "", "normal_map"), "normal_map", baseDir);
+    }
     if (const json* v = find(root, "method")) {
         scene.method = nonEmptyText(*v, "method");
         if (scene.method.size() > 64) fail("method", "unknown method " + quote(scene.method));

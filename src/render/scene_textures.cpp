@@ -53,6 +53,7 @@ Result<SharedImage> loadAlbedo(const std::string& path, int width, int height) {
 
 Result<RenderTextures> loadSceneTextures(const Scene& scene, const std::string& method,
                                          const SceneTextureOptions& options) {
+    if (scene.geometry.type == GeometryType::FacetedSphere) return RenderTextures{}; // no textures
     const bool bakeless = method == kGroundTruth || method == kExact;
     // The bake a shader reads (toksvig-lut: toksvig's; roughness-mips: naive's), from the method table.
     const MethodShader* shader = findShader(method);

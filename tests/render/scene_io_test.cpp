@@ -459,7 +459,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "scene.json: camera.type: unknown camera type 'fisheye' (expected perspective, "
                  "orthographic)"},
         BadScene{R"({"object": {"type": "cube"}})",
-                 "scene.json: object.type: unknown object type 'cube' (expected plane, sphere)"},
+                 "scene.json: object.type: unknown object type 'cube' (expected plane, sphere, faceted-sphere)"},
         BadScene{R"({"lights": [{}, {"type": "spot"}]})",
                  "scene.json: lights[1].type: unknown light type 'spot' (expected directional, "
                  "point)"},

@@ -11,6 +11,7 @@
 #include "cli.h"
 #include "methods/method_unit.h"
 #include "ndfmip/gpu_render.h"
+#include "ndfmip/interpolated.h"
 #include "ndfmip/io.h"
 #include "ndfmip/render.h"
 #include "ndfmip/sh_brdf.h"
@@ -38,6 +39,7 @@ struct RenderArgs {
     bool quiet = false;
     bool gpu = false;
     int gpuFrames = 1;
+    int truthSpp = 256; // faceted spheres: the truth frames of the error flicker
 };
 
 // Eq. 17 keeps bands l <= l*: say so when the material's lobe holds more than 1% of its energy
@@ -63,7 +65,10 @@ void runRender(const RenderArgs& a) {
     Result<Scene> scene = loadScene(a.scene);
     if (!scene) throw Failure(scene.error().message);
     const std::string method = a.method.empty() ? scene->method : a.method;
-    const bool bakeless = method == kGroundTruth || method == kExact;
+    // Faceted spheres (interpolated normals) have their own methods and no textures.
+    const bool interpolated = scene->geometry.type == GeometryType::FacetedSphere;
+    if (interpolated && a.gpu) throw Failure(a.scene + ": faceted-sphere scenes are rendered on the CPU only");
+    const bool bakeless = method == kGroundTruth || method == kExact || interpolated;
     // The bake a shader reads (toksvig-lut: toksvig's; roughness-mips: naive's), from the method table.
     const MethodShader* shader = findShader(method);
     if (!bakeless && !shader)
@@ -100,7 +105,7 @@ void runRender(const RenderArgs& a) {
     if (!image) throw Failure(a.scene + ": " + image.error().message);
     const double renderMs = millisecondsSince(renderStart);
 
-    double flicker = -1.0;
+    double flicker = -1.0, errorFlicker = -1.0;
     if (a.frames > 1) {
         std::vector<Image> frames;
         RenderOptions quiet = options;
@@ -112,6 +117,17 @@ void runRender(const RenderArgs& a) {
             frames.push_back(std::move(frame.value()));
         }
         flicker = temporalFlicker(frames);
+        if (interpolated && method != kGroundTruth) { // the error's flicker needs the truth's frames
+            std::vector<Image> truthFrames;
+            quiet.spp = a.truthSpp;
+            for (glm::vec2 shift : flickerShifts(a.frames)) {
+                quiet.pixelShift = shift;
+                Result<Image> frame = render(scene.value(), textures, kGroundTruth, quiet);
+                if (!frame) throw Failure(frame.error().message);
+                truthFrames.push_back(std::move(frame.value()));
+            }
+            errorFlicker = temporalErrorFlicker(frames, truthFrames);
+        }
     }
 
     Status s = saveExr(a.output, image.value());
@@ -127,6 +143,8 @@ void runRender(const RenderArgs& a) {
                 image->width, image->height, options.spp, loadMs, renderMs, a.output.c_str(),
                 png.empty() ? "" : ", ", png.c_str());
     if (flicker >= 0.0) std::printf("flicker (%d frames): %.5f\n", a.frames, flicker);
+    if (errorFlicker >= 0.0)
+        std::printf("error flicker (%d frames, truth %d spp): %.5f\n", a.frames, a.truthSpp, errorFlicker);
     if (a.gpu && !gpuStats.frameMs.empty()) {
         auto median = [](std::vector<double> ms) {
             std::sort(ms.begin(), ms.end());
@@ -145,7 +163,8 @@ void addRenderCommand(CLI::App& app) {
     auto a = std::make_shared<RenderArgs>();
     CLI::App* c = app.add_subcommand("render", "render a scene (docs/SCENES.md) with a method or the ground truth");
     c->add_option("scene", a->scene, "scene file (JSON)")->required();
-    c->add_option("--method", a->method, renderMethodNames() + " (default: the scene's)");
+    c->add_option("--method", a->method,
+                  renderMethodNames() + "; faceted-sphere scenes: " + interpolatedMethodNames() + " (default: the scene's)");
     c->add_option("--spp", a->spp, "samples per pixel, stratified (default 1; ground truth 64)")
         ->check(CLI::Range(1, 1 << 20));
     c->add_option("--seed", a->seed, "jitter seed")->capture_default_str();
@@ -163,6 +182,9 @@ void addRenderCommand(CLI::App& app) {
         ->capture_default_str();
     c->add_option("--frames", a->frames, "also render F sub-pixel-shifted frames and print the flicker")
         ->check(CLI::Range(0, 1024));
+    c->add_option("--truth-spp", a->truthSpp,
+                  "faceted-sphere scenes with --frames: samples per pixel of the truth frames the error flicker needs")
+        ->check(CLI::Range(1, 1 << 16))->capture_default_str();
     c->add_option("--exposure", a->exposure, "PNG exposure in stops (default: automatic)");
     c->add_flag("--no-png", a->noPng, "write the EXR only");
     c->add_flag("-q,--quiet", a->quiet, "no progress or warnings");
