@@ -9,7 +9,6 @@
 // scene, docs/SCENES.md), the cube map, and a renderer for such scenes with three methods.
 #pragma once
 
-#include <array>
 #include <string>
 #include <vector>
 
