@@ -39,6 +39,24 @@ void BM_PrepareSplitSum(benchmark::State& state) {
 }
 BENCHMARK(BM_PrepareSplitSum)->Arg(256)->Arg(512)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// One rule's chain alone (range(1): 0 log2sigma, 1 filament, 2 unity, 3 unreal) at width
+// range(0), with the SH and a 2 x 2 albedo table of 1 sample (negligible).
+void BM_PrepareSplitSumChain(benchmark::State& state) {
+    ndfmip::SplitSumOptions options;
+    options.size = int(state.range(0));
+    options.rules = {ndfmip::EnvironmentLod(state.range(1))};
+    options.albedoTableSize = 2;
+    options.albedoSamples = 1;
+    for (auto _ : state) {
+        ndfmip::SplitSumLighting lighting = ndfmip::prepareSplitSum(sky(), options);
+        benchmark::DoNotOptimize(lighting.chains.data());
+    }
+}
+BENCHMARK(BM_PrepareSplitSumChain)
+    ->ArgsProduct({{256}, {0, 1, 2, 3}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 const ndfmip::SplitSumLighting& lighting() {
     static const ndfmip::SplitSumLighting prepared = ndfmip::prepareSplitSum(sky(), {});
     return prepared;
