@@ -311,6 +311,26 @@ TEST(SplitSum, VmfWithOneSharpLobeIsNaive) {
         }
 }
 
+TEST(SplitSum, VmfDiffuseIsTheIrradianceAveragedOverTheLobe) {
+    // Lambert, albedo pi: the vmf term is the mean of E(n) over normals drawn from the vMF,
+    // integrated here over the sphere with the vMF density kappa/(4 pi sinh kappa) e^(kappa mu.n).
+    const SplitSumLighting& lighting = smoothLighting();
+    const glm::mat3 frame = tiltedFrame();
+    const glm::vec3 mu = glm::normalize(glm::vec3(0.3f, -0.2f, 1.f));
+    for (double kappa : {0.5, 3., 20.}) {
+        const glm::dvec3 mean = sphereIntegral([&](glm::dvec3 n) {
+            const double density = kappa / (4. * M_PI * std::sinh(kappa)) * std::exp(kappa * glm::dot(glm::dvec3(mu), n));
+            return density * glm::dvec3(irradianceAt(lighting, glm::dvec3(frame * glm::vec3(n))));
+        }, 120);
+        // (alpha, alpha r mu) with r = A(kappa) = coth(kappa) - 1/kappa, the unpacking's inverse.
+        const float r = float(1. / std::tanh(kappa) - 1. / kappa);
+        const float lobe[4] = {1.f, r * mu.x, r * mu.y, r * mu.z};
+        const glm::vec3 vmf = shadeVmfSplitSum(material(Brdf::Lambert), glm::vec3(kPi), lobe, 1, nullptr,
+                                               glm::vec3(0, 0, 1), frame, lighting, EnvironmentLod::Filament);
+        for (int i = 0; i < 3; ++i) EXPECT_NEAR(vmf[i], mean[i], 0.01 * mean[i]) << "kappa " << kappa;
+    }
+}
+
 TEST(SplitSum, RoughnessMipsAtTheMaterialsRoughnessIsNaive) {
     const SplitSumLighting& lighting = smoothLighting();
     const Material m = material(Brdf::Ggx);
