@@ -26,7 +26,7 @@ SplitSumOptions smallOptions() {
     o.samples = 128;
     o.filamentLevels = 5;
     o.albedoTableSize = 32;
-    o.albedoSamples = 256;
+    o.albedoSamples = 512;
     return o;
 }
 
