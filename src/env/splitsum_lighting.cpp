@@ -1,0 +1,278 @@
+// The split sum's prepared lighting (environment_splitsum.h): the LOD rules, one prefiltered
+// chain per rule, the albedo tables and the irradiance SH, and the lookups into them.
+//
+// Sources of the engine rules (docs/ENVIRONMENT.md): Filament's perceptualRoughnessToLod
+// (lod = r (2 - r), as environment.h's LodMapping::Filament); Unity's
+// perceptualRoughnessToMipmapLevel in ImageBasedLighting.hlsl (render-pipelines.core),
+// mip = r (1.7 - 0.7 r) UNITY_SPECCUBE_LOD_STEPS with 6 steps, 7 convolved mips; Unreal's
+// ComputeReflectionCaptureMipFromRoughness in ReflectionEnvironmentShared.ush,
+// LevelFrom1x1 = 1 - 1.2 log2(max(r, 0.001)), mip = NumMips - 1 - LevelFrom1x1, and its inverse
+// ComputeReflectionCaptureRoughnessFromMip, r = 2^((1 - LevelFrom1x1) / 1.2).
+#include "ndfmip/environment_splitsum.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+#include "env/env_internal.h"
+#include "ndfmip/spherical_harmonics.h"
+
+namespace ndfmip {
+
+namespace {
+
+constexpr double kUnrealRoughestMip = 1.;
+constexpr double kUnrealMipScale = 1.2;
+
+int log2Floor(int n) {
+    int k = 0;
+    while ((2 << k) <= n) ++k;
+    return k;
+}
+
+// Levels of each chain for a level-0 width `size`: Unity has its fixed 7; Unreal runs down to
+// 4 x 2 texels, the equirect counterpart of a 1 x 1 cube face (4 faces span the horizon); the
+// box chain of Log2Sigma halves down to 2 x 1.
+int chainLevels(EnvironmentLod rule, int size, int filamentLevels) {
+    switch (rule) {
+    case EnvironmentLod::Log2Sigma: return log2Floor(size);
+    case EnvironmentLod::Filament: return filamentLevels;
+    case EnvironmentLod::Unity: return kUnitySpecCubeLodSteps + 1;
+    case EnvironmentLod::Unreal: return log2Floor(size) - 1;
+    }
+    return 1;
+}
+
+} // namespace
+
+const char* environmentLodName(EnvironmentLod rule) {
+    switch (rule) {
+    case EnvironmentLod::Log2Sigma: return "log2sigma";
+    case EnvironmentLod::Filament: return "filament";
+    case EnvironmentLod::Unity: return "unity";
+    case EnvironmentLod::Unreal: return "unreal";
+    }
+    return "?";
+}
+
+bool environmentLodFromString(const std::string& name, EnvironmentLod& out) {
+    for (EnvironmentLod rule : {EnvironmentLod::Log2Sigma, EnvironmentLod::Filament, EnvironmentLod::Unity,
+                                EnvironmentLod::Unreal})
+        if (name == environmentLodName(rule)) {
+            out = rule;
+            return true;
+        }
+    return false;
+}
+
+double environmentLodLevel(EnvironmentLod rule, double perceptualRoughness, int levels) {
+    assert(rule != EnvironmentLod::Log2Sigma && levels >= 1);
+    const double r = std::clamp(perceptualRoughness, 0., 1.);
+    double lod = 0.;
+    if (rule == EnvironmentLod::Filament) lod = perceptualRoughnessToLod(LodMapping::Filament, r) * (levels - 1);
+    if (rule == EnvironmentLod::Unity) lod = r * (1.7 - 0.7 * r) * kUnitySpecCubeLodSteps;
+    if (rule == EnvironmentLod::Unreal) {
+        const double levelFrom1x1 = kUnrealRoughestMip - kUnrealMipScale * std::log2(std::max(r, 0.001));
+        lod = levels - 1 - levelFrom1x1;
+    }
+    return std::clamp(lod, 0., double(levels - 1));
+}
+
+double environmentLodRoughness(EnvironmentLod rule, int level, int levels) {
+    assert(rule != EnvironmentLod::Log2Sigma && level >= 0 && level < levels);
+    if (level == 0) return 0.; // every chain's level 0 is the radiance itself
+    double r = 1.;
+    if (rule == EnvironmentLod::Filament)
+        r = lodToPerceptualRoughness(LodMapping::Filament, double(level) / (levels - 1));
+    if (rule == EnvironmentLod::Unity) {
+        // The root in [0, 1] of 0.7 r^2 - 1.7 r + t = 0, t = level / 6.
+        const double t = double(level) / kUnitySpecCubeLodSteps;
+        r = (1.7 - std::sqrt(std::max(0., 1.7 * 1.7 - 2.8 * t))) / 1.4;
+    }
+    if (rule == EnvironmentLod::Unreal) {
+        const double levelFrom1x1 = levels - 1 - level;
+        r = std::exp2((kUnrealRoughestMip - levelFrom1x1) / kUnrealMipScale);
+    }
+    return std::min(r, 1.);
+}
+
+double log2SigmaLevel(double sigma, double texelAngle, int levels) {
+    assert(texelAngle > 0. && levels >= 1);
+    if (!(sigma > 0.)) return 0.;
+    return std::clamp(std::log2(sigma / texelAngle), 0., double(levels - 1));
+}
+
+double reflectedSpread(double lobeVariance, double normalVariance) {
+    return 2. * std::sqrt(std::max(lobeVariance, 0.) + std::max(normalVariance, 0.));
+}
+
+double blinnPhongAlpha(double exponent) { return std::sqrt(2. / (std::max(exponent, 0.) + 2.)); }
+
+// ---- the lobe's directional albedo ----------------------------------------------------------
+
+double lobeAlbedo(Brdf brdf, double mu, double perceptualRoughness, int samples) {
+    assert(samples >= 1);
+    if (brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx) return 0.;
+    mu = std::clamp(mu, 1e-6, 1.);
+    const double alpha = std::max(perceptualRoughness * perceptualRoughness, 1e-4);
+    const double exponent = 2. / (alpha * alpha) - 2.; // Blinn-Phong, inverse of blinnPhongAlpha
+    // h is drawn with pdf D(h) <n.h> / norm, norm = integral D <n.h>: 1 for the projected-area
+    // normalised Beckmann and GGX, (s + 1)/(s + 2) for Blinn-Phong (normalised over solid angle).
+    const double norm = brdf == Brdf::BlinnPhong ? (exponent + 1.) / (exponent + 2.) : 1.;
+    const glm::dvec3 v(std::sqrt(1. - mu * mu), 0., mu);
+    double sum = 0.;
+    for (int i = 0; i < samples; ++i) {
+        glm::dvec3 h;
+        if (brdf == Brdf::Ggx) {
+            h = env::ggxHalfVector(i, samples, alpha);
+        } else {
+            const double u = env::radicalInverse(uint32_t(i)), phi = 2. * M_PI * i / samples;
+            double cosH;
+            if (brdf == Brdf::Beckmann) // tan^2 = -alpha^2 log(1 - u)
+                cosH = 1. / std::sqrt(1. - alpha * alpha * std::log1p(-u));
+            else // the CDF of c^(s+1) dc is c^(s+2)
+                cosH = std::pow(u, 1. / (exponent + 2.));
+            const double sinH = std::sqrt(std::max(0., 1. - cosH * cosH));
+            h = {sinH * std::cos(phi), sinH * std::sin(phi), cosH};
+        }
+        // l = reflect(-v, h), dl = 4 <v.h> dh: D <n.l> dl = (D <n.h>) 4 <v.h> <n.l> / <n.h> dh.
+        const double vh = glm::dot(v, h), nl = 2. * vh * h.z - mu;
+        if (vh <= 0. || nl <= 0. || h.z <= 0.) continue;
+        sum += 4. * vh * nl / h.z;
+    }
+    return norm * sum / samples;
+}
+
+namespace {
+
+Image lobeAlbedoTable(Brdf brdf, int size, int samples) {
+    Image table(size, size, 1);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x)
+            *table.at(x, y) = float(lobeAlbedo(brdf, (x + 0.5) / size, (y + 0.5) / size, samples));
+    return table;
+}
+
+// Bilinear with clamped edges at (u, v) in [0, 1]^2, texel centres at (i + 0.5) / size.
+float sampleTable(const Image& table, int channel, float u, float v) {
+    const float x = std::clamp(u * table.width - 0.5f, 0.f, float(table.width - 1));
+    const float y = std::clamp(v * table.height - 0.5f, 0.f, float(table.height - 1));
+    const int x0 = int(x), y0 = int(y);
+    const int x1 = std::min(x0 + 1, table.width - 1), y1 = std::min(y0 + 1, table.height - 1);
+    const float fx = x - x0, fy = y - y0;
+    const auto at = [&](int i, int j) { return table.at(i, j)[channel]; };
+    return (1.f - fy) * ((1.f - fx) * at(x0, y0) + fx * at(x1, y0)) +
+           fy * ((1.f - fx) * at(x0, y1) + fx * at(x1, y1));
+}
+
+} // namespace
+
+// ---- preparation ----------------------------------------------------------------------------
+
+SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& options) {
+    const int size = options.size;
+    assert(size >= 16 && (size & (size - 1)) == 0 && options.samples >= 1 && options.filamentLevels >= 1 &&
+           options.filamentLevels <= log2Floor(size) - 1 && options.albedoTableSize >= 2 &&
+           options.albedoSamples >= 1);
+    SplitSumLighting lighting;
+    lighting.albedoKind = options.albedo;
+    lighting.vmfBandFactors = options.vmfBandFactors;
+    lighting.texelAngle = M_PI / (size / 2);
+    lighting.irradiance = projectEnvironmentSh(env, 2).irradiance;
+
+    const Image base = resampleEquirect(env.radiance, size, env.rotation);
+    for (EnvironmentLod rule : options.rules) {
+        if (findChain(lighting, rule)) continue;
+        SplitSumChain chain;
+        chain.rule = rule;
+        const int levels = chainLevels(rule, size, options.filamentLevels);
+        chain.levels.push_back(base);
+        chain.perceptualRoughness.push_back(0.);
+        for (int k = 1; k < levels; ++k) {
+            if (rule == EnvironmentLod::Log2Sigma) {
+                // Toksvig's chain is the plain mip chain: solid-angle-weighted 2x2 boxes.
+                chain.levels.push_back(resampleEquirect(chain.levels.back(), chain.levels.back().width / 2));
+                chain.perceptualRoughness.push_back(0.);
+                continue;
+            }
+            const double r = environmentLodRoughness(rule, k, levels);
+            const int samples = options.samples << std::max(0, k - 1);
+            // Never narrower than 4 x 2 (Unity's 7 levels from a small level 0 would run out).
+            chain.levels.push_back(prefilterGgxLevel(env, r, std::max(size >> k, 4), samples));
+            chain.perceptualRoughness.push_back(r);
+        }
+        lighting.chains.push_back(std::move(chain));
+    }
+
+    if (options.albedo == SpecularAlbedo::EngineDfg) {
+        lighting.albedo[0] = dfgTable(options.albedoTableSize, options.albedoSamples);
+    } else {
+        for (Brdf brdf : {Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx})
+            lighting.albedo[size_t(int(brdf) - 1)] =
+                lobeAlbedoTable(brdf, options.albedoTableSize, options.albedoSamples);
+    }
+    return lighting;
+}
+
+Status checkSplitSumMaterial(const Material& m) {
+    if (m.brdf == Brdf::Tabulated)
+        return Status::failure("material.brdf: tabulated lobes have no split-sum (prefiltered) form");
+    return Status::success();
+}
+
+// ---- lookups --------------------------------------------------------------------------------
+
+const SplitSumChain* findChain(const SplitSumLighting& lighting, EnvironmentLod rule) {
+    for (const SplitSumChain& chain : lighting.chains)
+        if (chain.rule == rule) return &chain;
+    return nullptr;
+}
+
+glm::vec3 sampleChain(const SplitSumChain& chain, double lod, glm::dvec3 direction) {
+    assert(!chain.levels.empty());
+    lod = std::clamp(lod, 0., double(chain.levels.size() - 1));
+    const int k0 = int(lod), k1 = std::min(k0 + 1, int(chain.levels.size()) - 1);
+    const float f = float(lod - k0);
+    float a[3], b[3] = {0.f, 0.f, 0.f};
+    sampleEquirect(chain.levels[size_t(k0)], direction, a);
+    if (f > 0.f && k1 != k0) sampleEquirect(chain.levels[size_t(k1)], direction, b);
+    return (1.f - f) * glm::vec3(a[0], a[1], a[2]) + f * glm::vec3(b[0], b[1], b[2]);
+}
+
+glm::vec3 irradianceAt(const SplitSumLighting& lighting, glm::dvec3 n, glm::dvec3 band) {
+    assert(lighting.irradiance.size() >= size_t(shCount(2)));
+    double y[9];
+    evaluateSh(glm::normalize(n), 2, y);
+    glm::dvec3 e(0.);
+    for (int l = 0; l <= 2; ++l)
+        for (int m = -l; m <= l; ++m) e += band[l] * y[shIndex(l, m)] * lighting.irradiance[size_t(shIndex(l, m))];
+    return glm::vec3(glm::max(e, glm::dvec3(0.))); // truncation can ring below zero
+}
+
+float specularAlbedo(const SplitSumLighting& lighting, Brdf brdf, float mu, float perceptualRoughness) {
+    mu = std::clamp(mu, 0.f, 1.f);
+    perceptualRoughness = std::clamp(perceptualRoughness, 0.f, 1.f);
+    if (lighting.albedoKind == SpecularAlbedo::EngineDfg)
+        return sampleTable(lighting.albedo[0], 2, mu, perceptualRoughness);
+    if (brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx) return 0.f;
+    return sampleTable(lighting.albedo[size_t(int(brdf) - 1)], 0, mu, perceptualRoughness);
+}
+
+glm::vec3 prefilteredRadiance(const SplitSumLighting& lighting, EnvironmentLod rule, glm::dvec3 reflected,
+                              double perceptualRoughness, double normalVariance) {
+    const SplitSumChain* chain = findChain(lighting, rule);
+    assert(chain && "the rule's chain was not prepared (SplitSumOptions::rules)");
+    if (!chain) return glm::vec3(0.f);
+    const int levels = int(chain->levels.size());
+    double lod;
+    if (rule == EnvironmentLod::Log2Sigma) {
+        const double alpha = perceptualRoughness * perceptualRoughness;
+        lod = log2SigmaLevel(reflectedSpread(alpha * alpha / 2., normalVariance), lighting.texelAngle, levels);
+    } else {
+        lod = environmentLodLevel(rule, perceptualRoughness, levels);
+    }
+    return sampleChain(*chain, lod, glm::normalize(reflected));
+}
+
+} // namespace ndfmip

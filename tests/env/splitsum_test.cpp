@@ -1,0 +1,386 @@
+// The split-sum shading of every method (environment_splitsum.h) against closed forms, brute-force
+// integrals of shadeNormal over the environment, and the methods' own limits.
+#include <cmath>
+#include <cstdio>
+#include <functional>
+
+#include <gtest/gtest.h>
+
+#include "env/env_test_support.h"
+#include "ndfmip/brdf.h"
+#include "ndfmip/environment_splitsum.h"
+
+namespace ndfmip {
+namespace {
+
+using namespace envtest;
+
+const EnvironmentLod kRules[] = {EnvironmentLod::Log2Sigma, EnvironmentLod::Filament, EnvironmentLod::Unity,
+                                 EnvironmentLod::Unreal};
+const EnvironmentLod kEngineRules[] = {EnvironmentLod::Filament, EnvironmentLod::Unity, EnvironmentLod::Unreal};
+
+// Small and quick: 64-wide chains from a 128-wide map.
+SplitSumOptions smallOptions() {
+    SplitSumOptions o;
+    o.size = 64;
+    o.samples = 128;
+    o.filamentLevels = 5;
+    o.albedoTableSize = 32;
+    o.albedoSamples = 512;
+    return o;
+}
+
+Material material(Brdf brdf) {
+    Material m;
+    m.brdf = brdf;
+    m.exponent = 24.f;
+    m.roughness = 0.3f;
+    m.albedo = glm::vec3(0.f);
+    m.specular = glm::vec3(1.f);
+    return m;
+}
+
+// A rotation taking the tangent frame to the environment frame (columns t, b, n).
+glm::mat3 tiltedFrame() {
+    const glm::vec3 n = glm::normalize(glm::vec3(0.3f, 0.8f, -0.5f));
+    const glm::vec3 t = glm::normalize(glm::cross(glm::vec3(0.f, 0.f, 1.f), n));
+    return glm::mat3(t, glm::cross(n, t), n);
+}
+
+// integral f(l) dl over the sphere by the midpoint rule in (theta, phi) about +z.
+template <class F> glm::dvec3 sphereIntegral(const F& f, int thetaSteps = 200) {
+    glm::dvec3 sum(0.);
+    const int phiSteps = 2 * thetaSteps;
+    const double dt = M_PI / thetaSteps, dp = 2. * M_PI / phiSteps;
+    for (int i = 0; i < thetaSteps; ++i) {
+        const double t = (i + 0.5) * dt, st = std::sin(t);
+        for (int j = 0; j < phiSteps; ++j) {
+            const double p = (j + 0.5) * dp;
+            sum += f(glm::dvec3(st * std::cos(p), st * std::sin(p), std::cos(t))) * (st * dt * dp);
+        }
+    }
+    return sum;
+}
+
+// The truth at one normal n (tangent frame): integral L(T l) shadeNormal(n, l, h) dl.
+glm::dvec3 bruteForce(const Material& m, glm::vec3 albedo, glm::vec3 n, glm::vec3 v, const glm::mat3& frame,
+                      const Radiance& radiance) {
+    return sphereIntegral([&](glm::dvec3 l) {
+        const glm::vec3 lf(l);
+        const glm::vec3 h = glm::normalize(lf + v);
+        return radiance(glm::dvec3(frame * lf)) * glm::dvec3(shadeNormal(m, albedo, n, lf, h));
+    });
+}
+
+// ---- LOD rules ----------------------------------------------------------------------------
+
+TEST(SplitSumLod, NamesRoundTrip) {
+    for (EnvironmentLod rule : kRules) {
+        EnvironmentLod back{};
+        ASSERT_TRUE(environmentLodFromString(environmentLodName(rule), back));
+        EXPECT_EQ(back, rule);
+    }
+    EnvironmentLod out;
+    EXPECT_FALSE(environmentLodFromString("linear", out));
+}
+
+TEST(SplitSumLod, RoughnessZeroIsLevelZeroAndLevelsGrow) {
+    for (EnvironmentLod rule : kEngineRules) {
+        EXPECT_EQ(environmentLodLevel(rule, 0., 7), 0.) << environmentLodName(rule);
+        double previous = 0.;
+        for (int i = 1; i <= 100; ++i) {
+            const double lod = environmentLodLevel(rule, i / 100., 7);
+            EXPECT_GE(lod, previous) << environmentLodName(rule) << " r " << i / 100.;
+            previous = lod;
+        }
+        EXPECT_GT(previous, 4.) << environmentLodName(rule);
+    }
+    EXPECT_EQ(log2SigmaLevel(0., 0.01, 8), 0.);
+}
+
+TEST(SplitSumLod, EngineFormulasAtDocumentedPoints) {
+    // Unity: r (1.7 - 0.7 r) 6.
+    EXPECT_NEAR(environmentLodLevel(EnvironmentLod::Unity, 0.5, 7), 0.5 * 1.35 * 6., 1e-12);
+    EXPECT_NEAR(environmentLodLevel(EnvironmentLod::Unity, 1., 7), 6., 1e-12);
+    // Unreal: N - 1 - (1 - 1.2 log2 r): N = 7, r = 1/2 -> 6 - 2.2, r = 1/4 -> 6 - 3.4, r = 1 -> 5.
+    EXPECT_NEAR(environmentLodLevel(EnvironmentLod::Unreal, 0.5, 7), 3.8, 1e-12);
+    EXPECT_NEAR(environmentLodLevel(EnvironmentLod::Unreal, 0.25, 7), 2.6, 1e-12);
+    EXPECT_NEAR(environmentLodLevel(EnvironmentLod::Unreal, 1., 7), 5., 1e-12);
+    // Filament: r (2 - r)(N - 1).
+    EXPECT_NEAR(environmentLodLevel(EnvironmentLod::Filament, 0.5, 5), 3., 1e-12);
+}
+
+TEST(SplitSumLod, ChainRoughnessIsTheRulesInverse) {
+    for (EnvironmentLod rule : kEngineRules)
+        for (int k = 1; k < 6; ++k) {
+            const double r = environmentLodRoughness(rule, k, 7);
+            if (r >= 1.) continue; // Unreal's last level lies past r = 1
+            EXPECT_NEAR(environmentLodLevel(rule, r, 7), k, 1e-9) << environmentLodName(rule) << " level " << k;
+        }
+}
+
+TEST(SplitSumLod, Log2SigmaDoublingSpreadAddsALevel) {
+    const double theta0 = M_PI / 64.;
+    for (double sigma : {0.08, 0.15, 0.3})
+        EXPECT_NEAR(log2SigmaLevel(2. * sigma, theta0, 12), log2SigmaLevel(sigma, theta0, 12) + 1., 1e-12);
+    EXPECT_EQ(log2SigmaLevel(100., theta0, 6), 5.); // clamped to the chain
+    // Reflection doubles the angle: a normal spread of sigma^2 alone gives 2 sigma.
+    EXPECT_NEAR(reflectedSpread(0., 0.01), 0.2, 1e-12);
+    EXPECT_NEAR(reflectedSpread(0.0075, 0.0025), 0.2, 1e-12);
+}
+
+// ---- the albedo factor and a constant environment -------------------------------------------
+
+TEST(SplitSum, ConstantEnvironmentGivesAlbedoTimesRadiance) {
+    const double c = 2.;
+    const Environment env = mapOf(128, [&](glm::dvec3) { return glm::dvec3(c); });
+    const SplitSumLighting lighting = prepareSplitSum(env, smallOptions());
+    const glm::mat3 frame = tiltedFrame();
+    const glm::vec3 n = glm::normalize(glm::vec3(0.1f, -0.2f, 1.f));
+    for (Brdf brdf : {Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx})
+        for (float theta : {0.f, 0.6f, 1.1f}) {
+            const Material m = material(brdf);
+            const glm::vec3 v(std::sin(theta), 0.f, std::cos(theta));
+            // The truth: integral c shadeNormal dl, the lobe's albedo by brute force.
+            const double truth = bruteForce(m, glm::vec3(0.f), n, v, frame, [&](glm::dvec3) { return glm::dvec3(c); }).x;
+            for (EnvironmentLod rule : kRules) {
+                const glm::vec3 split = shadeNaiveSplitSum(m, glm::vec3(0.f), n, v, frame, lighting, rule);
+                EXPECT_NEAR(split.x, truth, 0.02 * truth)
+                    << brdfName(brdf) << " theta " << theta << " " << environmentLodName(rule);
+            }
+        }
+    // Diffuse: albedo x c, exactly (a constant's SH irradiance is pi c).
+    Material lambert = material(Brdf::Lambert);
+    const glm::vec3 split = shadeNaiveSplitSum(lambert, glm::vec3(0.5f), n, glm::vec3(0, 0, 1), frame, lighting,
+                                               EnvironmentLod::Filament);
+    EXPECT_NEAR(split.y, 0.5 * c, 1e-4);
+}
+
+TEST(SplitSum, EngineDfgGivesTheDfgAlbedo) {
+    SplitSumOptions o = smallOptions();
+    o.albedo = SpecularAlbedo::EngineDfg;
+    o.rules = {EnvironmentLod::Filament};
+    const Environment env = mapOf(128, [](glm::dvec3) { return glm::dvec3(3.); });
+    const SplitSumLighting lighting = prepareSplitSum(env, o);
+    const Material m = material(Brdf::Ggx);
+    for (float theta : {0.2f, 0.9f}) {
+        const glm::vec3 v(std::sin(theta), 0.f, std::cos(theta));
+        const glm::dvec2 dfg = dfgIntegral(std::cos(theta), std::sqrt(0.3), 4096);
+        const glm::vec3 split =
+            shadeNaiveSplitSum(m, glm::vec3(0.f), glm::vec3(0, 0, 1), v, glm::mat3(1.f), lighting, EnvironmentLod::Filament);
+        EXPECT_NEAR(split.z, 3. * (dfg.x + dfg.y), 0.02 * 3. * (dfg.x + dfg.y)) << theta;
+    }
+}
+
+// ---- a smooth environment: the split sum's own error ----------------------------------------
+
+glm::dvec3 smoothSky(glm::dvec3 d) {
+    return glm::dvec3(1. + 0.6 * d.y + 0.3 * d.x * d.z, 0.8 + 0.5 * d.x, 1.2 - 0.4 * d.z);
+}
+
+const SplitSumLighting& smoothLighting() {
+    static const SplitSumLighting lighting = prepareSplitSum(mapOf(128, smoothSky), smallOptions());
+    return lighting;
+}
+
+// The split sum's own error (n = v = r in the prefilter, the albedo factored out) grows with the
+// view angle; the bounds hold the measured worst case per angle with some margin.
+TEST(SplitSum, NaiveIsCloseToBruteForceOnASmoothEnvironment) {
+    const SplitSumLighting& lighting = smoothLighting();
+    const glm::mat3 frame = tiltedFrame();
+    const glm::vec3 n(0.f, 0.f, 1.f);
+    const float angles[] = {0.f, 0.5f, 1.0f};
+    const double bounds[] = {0.08, 0.09, 0.13};
+    for (int a = 0; a < 3; ++a) {
+        const float theta = angles[a];
+        double worst = 0.;
+        for (Brdf brdf : {Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx}) {
+            Material m = material(brdf);
+            const glm::vec3 albedo(0.4f, 0.3f, 0.2f);
+            const glm::vec3 v(0.f, std::sin(theta), std::cos(theta));
+            const glm::dvec3 truth = bruteForce(m, albedo, n, v, frame, smoothSky);
+            for (EnvironmentLod rule : kRules) {
+                const glm::vec3 split = shadeNaiveSplitSum(m, albedo, n, v, frame, lighting, rule);
+                for (int i = 0; i < 3; ++i) {
+                    const double error = std::abs(split[i] - truth[i]) / truth[i];
+                    worst = std::max(worst, error);
+                    EXPECT_LT(error, bounds[a]) << brdfName(brdf) << " theta " << theta << " "
+                                                << environmentLodName(rule) << " channel " << i << ": "
+                                                << split[i] << " vs " << truth[i];
+                }
+            }
+        }
+        std::printf("split sum vs brute force, smooth sky, view %.1f rad: worst relative error %.4f\n", theta,
+                    worst);
+    }
+}
+
+// Blinn-Phong reads the GGX chains at alpha^2 = 2/(s + 2). Two errors, each against a direct
+// integral: the mapping's (the GGX-prefiltered radiance at the mapped alpha against the
+// Blinn-Phong one) and the chain's (its lookup against the GGX integral), on a sky with a spot.
+TEST(SplitSum, BlinnPhongMappingAgainstBruteForce) {
+    const glm::dvec3 spot = glm::normalize(glm::dvec3(0.3, 0.5, 0.8));
+    const Radiance sky = [&](glm::dvec3 d) {
+        return glm::dvec3(0.5 + 4. * std::pow(std::max(glm::dot(d, spot), 0.), 16.));
+    };
+    SplitSumOptions o = smallOptions();
+    o.size = 256;
+    o.samples = 256;
+    o.rules = {EnvironmentLod::Filament};
+    const SplitSumLighting lighting = prepareSplitSum(mapOf(512, sky), o);
+    // LD = integral L(l) lobe(h) <r.l> dl / integral lobe(h) <r.l> dl, n = v = r.
+    const auto prefiltered = [&](glm::dvec3 r, const std::function<double(double)>& lobe) {
+        const glm::dvec3 t = glm::normalize(glm::cross(std::abs(r.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0), r));
+        const glm::dmat3 frame(t, glm::cross(r, t), r);
+        const glm::dvec3 sums = sphereIntegral([&](glm::dvec3 l) {
+            if (l.z <= 0.) return glm::dvec3(0.);
+            const double w = lobe(glm::normalize(l + glm::dvec3(0, 0, 1)).z) * l.z;
+            return glm::dvec3(sky(frame * l).x * w, w, 0.);
+        });
+        return sums.x / sums.y;
+    };
+    for (float s : {8.f, 32.f, 128.f}) {
+        const double alpha = blinnPhongAlpha(s);
+        double mapping = 0., chain = 0.;
+        for (glm::dvec3 r : {spot, glm::normalize(spot + glm::dvec3(0.25, 0., 0.)), glm::dvec3(0., 0., 1.)}) {
+            const double phong = prefiltered(r, [&](double c) { return double(blinnPhong(float(c), s)); });
+            const double ggx = prefiltered(r, [&](double c) { return double(ggxD(float(c), float(alpha))); });
+            const double split = prefilteredRadiance(lighting, EnvironmentLod::Filament, r, std::sqrt(alpha)).x;
+            mapping = std::max(mapping, std::abs(ggx - phong) / phong);
+            chain = std::max(chain, std::abs(split - ggx) / ggx);
+        }
+        std::printf("Blinn-Phong s = %g as GGX alpha = %.3f: mapping error %.4f, chain error %.4f\n", s, alpha,
+                    mapping, chain);
+        EXPECT_LT(mapping, 0.15) << "s " << s;
+        EXPECT_LT(chain, 0.08) << "s " << s; // trilinear between levels of other roughness
+    }
+}
+
+// ---- the methods' limits --------------------------------------------------------------------
+
+TEST(SplitSum, ToksvigWithUnitNaIsNaive) {
+    const SplitSumLighting& lighting = smoothLighting();
+    const glm::mat3 frame = tiltedFrame();
+    const glm::vec3 n = glm::normalize(glm::vec3(0.2f, 0.1f, 1.f));
+    const glm::vec3 v = glm::normalize(glm::vec3(-0.3f, 0.4f, 1.f));
+    for (Brdf brdf : {Brdf::Lambert, Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx})
+        for (EnvironmentLod rule : kRules) {
+            const Material m = material(brdf);
+            const glm::vec3 albedo(0.3f);
+            const glm::vec3 naive = shadeNaiveSplitSum(m, albedo, n, v, frame, lighting, rule);
+            const glm::vec3 toksvig =
+                shadeToksvigSplitSum(m, albedo, n, v, frame, lighting, rule, RoughnessMapping::Ours);
+            for (int i = 0; i < 3; ++i)
+                EXPECT_NEAR(toksvig[i], naive[i], 1e-5 * naive[i]) << brdfName(brdf) << " " << environmentLodName(rule);
+        }
+}
+
+TEST(SplitSum, ShorterNaIsBlurrierAndDarkerInDiffuseBand1) {
+    // A spot only the mirror direction sees: widening must lower the peak.
+    const glm::dvec3 spot(0., 0., 1.);
+    const Environment env = mapOf(128, [&](glm::dvec3 d) {
+        return glm::dvec3(0.2 + 20. * std::pow(std::max(glm::dot(d, spot), 0.), 200.));
+    });
+    const SplitSumLighting lighting = prepareSplitSum(env, smallOptions());
+    const Material m = material(Brdf::Ggx);
+    for (EnvironmentLod rule : kRules) {
+        const glm::vec3 sharp = shadeToksvigSplitSum(m, glm::vec3(0.f), glm::vec3(0, 0, 1), glm::vec3(0, 0, 1),
+                                                     glm::mat3(1.f), lighting, rule, RoughnessMapping::Ours);
+        const glm::vec3 wide = shadeToksvigSplitSum(m, glm::vec3(0.f), glm::vec3(0, 0, 0.8f), glm::vec3(0, 0, 1),
+                                                    glm::mat3(1.f), lighting, rule, RoughnessMapping::Ours);
+        EXPECT_LT(wide.x, sharp.x) << environmentLodName(rule);
+    }
+}
+
+TEST(SplitSum, VmfWithOneSharpLobeIsNaive) {
+    const SplitSumLighting& lighting = smoothLighting();
+    const glm::mat3 frame = tiltedFrame();
+    const glm::vec3 mu = glm::normalize(glm::vec3(0.2f, -0.1f, 1.f));
+    const glm::vec3 v = glm::normalize(glm::vec3(0.4f, 0.2f, 1.f));
+    // (alpha, alpha r mu) with r = 1 - 1e-6: kappa at its cap, 1e5.
+    const float a = 1.f, r = 1.f - 1e-6f;
+    const float lobe[4] = {a, a * r * mu.x, a * r * mu.y, a * r * mu.z};
+    for (Brdf brdf : {Brdf::Lambert, Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx})
+        for (EnvironmentLod rule : kRules) {
+            const Material m = material(brdf);
+            const glm::vec3 albedo(0.3f);
+            const glm::vec3 naive = shadeNaiveSplitSum(m, albedo, mu, v, frame, lighting, rule);
+            const glm::vec3 vmf = shadeVmfSplitSum(m, albedo, lobe, 1, nullptr, v, frame, lighting, rule);
+            for (int i = 0; i < 3; ++i)
+                EXPECT_NEAR(vmf[i], naive[i], 2e-3 * naive[i]) << brdfName(brdf) << " " << environmentLodName(rule);
+        }
+}
+
+TEST(SplitSum, VmfDiffuseIsTheIrradianceAveragedOverTheLobe) {
+    // Lambert, albedo pi: the vmf term is the mean of E(n) over normals drawn from the vMF,
+    // integrated here over the sphere with the vMF density kappa/(4 pi sinh kappa) e^(kappa mu.n).
+    const SplitSumLighting& lighting = smoothLighting();
+    const glm::mat3 frame = tiltedFrame();
+    const glm::vec3 mu = glm::normalize(glm::vec3(0.3f, -0.2f, 1.f));
+    for (double kappa : {0.5, 3., 20.}) {
+        const glm::dvec3 mean = sphereIntegral([&](glm::dvec3 n) {
+            const double density = kappa / (4. * M_PI * std::sinh(kappa)) * std::exp(kappa * glm::dot(glm::dvec3(mu), n));
+            return density * glm::dvec3(irradianceAt(lighting, glm::dvec3(frame * glm::vec3(n))));
+        }, 120);
+        // (alpha, alpha r mu) with r = A(kappa) = coth(kappa) - 1/kappa, the unpacking's inverse.
+        const float r = float(1. / std::tanh(kappa) - 1. / kappa);
+        const float lobe[4] = {1.f, r * mu.x, r * mu.y, r * mu.z};
+        const glm::vec3 vmf = shadeVmfSplitSum(material(Brdf::Lambert), glm::vec3(kPi), lobe, 1, nullptr,
+                                               glm::vec3(0, 0, 1), frame, lighting, EnvironmentLod::Filament);
+        for (int i = 0; i < 3; ++i) EXPECT_NEAR(vmf[i], mean[i], 0.01 * mean[i]) << "kappa " << kappa;
+    }
+}
+
+TEST(SplitSum, RoughnessMipsAtTheMaterialsRoughnessIsNaive) {
+    const SplitSumLighting& lighting = smoothLighting();
+    const Material m = material(Brdf::Ggx);
+    const glm::vec3 n = glm::normalize(glm::vec3(0.1f, 0.f, 1.f)), v(0.f, 0.f, 1.f);
+    for (EnvironmentLod rule : kRules) {
+        const glm::vec3 naive = shadeNaiveSplitSum(m, glm::vec3(0.2f), n, v, tiltedFrame(), lighting, rule);
+        const glm::vec3 alpha = shadeRoughnessMipsSplitSum(m, glm::vec3(0.2f), n, 0.3f, true, v, tiltedFrame(), lighting, rule);
+        const glm::vec3 perceptual =
+            shadeRoughnessMipsSplitSum(m, glm::vec3(0.2f), n, std::sqrt(0.3f), false, v, tiltedFrame(), lighting, rule);
+        for (int i = 0; i < 3; ++i) {
+            EXPECT_NEAR(alpha[i], naive[i], 1e-5 * naive[i]);
+            EXPECT_NEAR(perceptual[i], naive[i], 1e-5 * naive[i]);
+        }
+    }
+}
+
+// ---- frames ---------------------------------------------------------------------------------
+
+TEST(SplitSum, ReflectionGoesThroughTheTangentFrame) {
+    // L = 1 + 0.5 x: a sharp lobe reads about 1 + 0.5 (T r).x, r the tangent-frame reflection.
+    const SplitSumOptions o = smallOptions();
+    const SplitSumLighting constant = prepareSplitSum(mapOf(128, [](glm::dvec3) { return glm::dvec3(1.); }), o);
+    const SplitSumLighting linear = prepareSplitSum(mapOf(128, [](glm::dvec3 d) { return glm::dvec3(1. + 0.5 * d.x); }), o);
+    Material m = material(Brdf::Ggx);
+    m.roughness = 0.02f;
+    const glm::mat3 frame = tiltedFrame();
+    const glm::vec3 n = glm::normalize(glm::vec3(0.3f, -0.2f, 1.f));
+    for (glm::vec3 v : {glm::vec3(0, 0, 1), glm::normalize(glm::vec3(0.5f, 0.4f, 1.f))}) {
+        const glm::vec3 r = 2.f * glm::dot(n, v) * n - v;
+        const float expected = 1.f + 0.5f * (frame * r).x;
+        for (EnvironmentLod rule : kRules) {
+            const float ratio = shadeNaiveSplitSum(m, glm::vec3(0.f), n, v, frame, linear, rule).x /
+                                shadeNaiveSplitSum(m, glm::vec3(0.f), n, v, frame, constant, rule).x;
+            EXPECT_NEAR(ratio, expected, 0.01) << environmentLodName(rule);
+        }
+        // Diffuse: E(n) of 1 + 0.5 x is pi + (2 pi/3) 0.5 (T n).x (Lambert's A_0 = pi, A_1 = 2 pi/3).
+        const glm::vec3 diffuse = shadeNaiveSplitSum(material(Brdf::Lambert), glm::vec3(1.f), n, v, frame, linear,
+                                                     EnvironmentLod::Filament);
+        EXPECT_NEAR(diffuse.x, 1. + (2. / 3.) * 0.5 * (frame * n).x, 1e-3);
+    }
+}
+
+TEST(SplitSum, TabulatedMaterialsAreRefused) {
+    Material m;
+    m.brdf = Brdf::Tabulated;
+    const Status status = checkSplitSumMaterial(m);
+    EXPECT_FALSE(status.ok());
+    EXPECT_NE(status.error.find("tabulated"), std::string::npos);
+    EXPECT_TRUE(checkSplitSumMaterial(material(Brdf::Ggx)).ok());
+}
+
+} // namespace
+} // namespace ndfmip
