@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ndfmip/bake.h"
+#include "ndfmip/environment.h"
 #include "ndfmip/html_report.h"
 #include "ndfmip/pyramid.h"
 #include "ndfmip/shading.h"
@@ -70,6 +71,11 @@ struct EvalOptions {
     std::optional<int> taps;      // unset: 1 when aligned, else RenderOptions' default
     std::optional<float> lodBias; // unset: 0 when aligned, else RenderOptions' default
     std::string lobeFilter = "texel"; // or parameter
+    // An environment map (environment.h) that lights every view instead of the directional light:
+    // the truth is sampled under it (its noise recorded), and only methods whose shader shades
+    // under an environment get rows; the others are listed in EvalResult::skipped.
+    std::string environment;
+    EnvironmentOptions environmentOptions;
     std::function<void(const std::string&)> log; // a progress line per map
     std::function<void(const std::string& map, const DecodeReport&)> decoded;
 };
@@ -78,6 +84,10 @@ struct EvalResult {
     std::string json;              // report.json's text
     std::vector<ReportCase> cases; // every case, as in the report
     std::string calibrationBest;   // with calibrate: the mapping with the lowest error
+    // Methods (and --external-roughness rows) left out, with the reason ("cannot shade under an
+    // environment").
+    std::vector<std::pair<std::string, std::string>> skipped;
+    double truthNoise = 0.; // under an environment: the largest relative standard error of a truth
     double seconds = 0.0;
 };
 

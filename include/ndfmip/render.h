@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,11 @@ enum class ShadeFilter { Parameter, Texel };
 const char* shadeFilterName(ShadeFilter filter); // "parameter", "texel"
 bool shadeFilterFromString(const std::string& name, ShadeFilter& out);
 
+// The ground truth under an environment: each pixel sample's estimate of the reflected light
+// (docs/RENDERING.md). Mis: one environment sample and one BRDF sample weighted by the power
+// heuristic; Light, Brdf: either sampler alone (unbiased too, noisier; for checks).
+enum class EnvironmentEstimator { Mis, Light, Brdf };
+
 struct RenderOptions {
     int spp = 1;             // samples per pixel, stratified and jittered (box filter); 1 = pixel centre
     uint64_t seed = 1;       // jitter seed: the same seed gives the same image on any thread count
@@ -78,7 +84,13 @@ struct RenderOptions {
     RoughnessMapping roughnessMapping = RoughnessMapping::Ours; // toksvig with Beckmann/GGX
     float varianceScale = kVarianceScale; // c of the Ours mapping
     std::function<void(int, int)> progress; // (rows done, rows in all), from one thread
+    // Ground truth under an environment: estimates (each one environment + one BRDF sample) per
+    // pixel sample, and how they are made.
+    int environmentSamples = 1;
+    EnvironmentEstimator environmentEstimator = EnvironmentEstimator::Mis;
 };
+
+struct EnvironmentLighting; // environment_lighting.h
 
 // What the renderer samples: the level-0 unit normals (ground truth) and, for a method, its
 // bake (every level). `bake.levels` is empty when only the ground truth is rendered.
@@ -93,6 +105,8 @@ struct RenderTextures {
     // filtered like the other planes; perceptual (alpha = value^2) unless roughnessIsAlpha.
     std::vector<SharedImage> roughness;
     bool roughnessIsAlpha = false;
+    // The scene's environment, loaded (null without one): lights the truth and the methods.
+    std::shared_ptr<const EnvironmentLighting> environment;
 };
 
 // The albedo's mips, averaged with the normal map's pyramid footprints (linear, like Na).
@@ -124,6 +138,19 @@ Status checkRenderOptions(const RenderOptions& options);
 // kExact cannot handle.
 Result<Image> render(const Scene& scene, const RenderTextures& textures, const std::string& method,
                      const RenderOptions& options);
+
+// How noisy a render is (any sampled render; the truth under an environment is the one that
+// needs it). Each pixel's standard error is the sample standard deviation of its per-sample
+// luminance estimates over sqrt(spp); stratified jitter makes this an upper bound.
+struct RenderNoise {
+    Image standardError;               // 1 channel, the image's size (0 where nothing was sampled)
+    double relativeStandardError = 0.; // mean standard error / mean luminance over covered pixels
+    size_t coveredPixels = 0;          // pixels where some sample saw the object's front
+};
+
+// render() that also measures its noise into `noise` (when not null).
+Result<Image> render(const Scene& scene, const RenderTextures& textures, const std::string& method,
+                     const RenderOptions& options, RenderNoise* noise);
 
 // ---- Pieces, exposed for tests and for the evaluation ---------------------------------------
 

@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "ndfmip/environment.h"
 #include "ndfmip/normal_map.h"
 #include "ndfmip/result.h"
 
@@ -81,11 +82,20 @@ struct NormalMapRef {
     DecodeOptions decode;
 };
 
+// Light from every direction: an equirectangular map (environment.h) about the scene, in the
+// frame mapping of environment_lighting.h (world +Z up is the map's top row).
+struct EnvironmentRef {
+    std::string path;           // resolved against the scene file's folder; empty: no environment
+    EnvironmentOptions options; // intensity, rotation about the map's +Y
+    bool visible = false;       // rays that miss the object see the map (else the background)
+};
+
 struct Scene {
     std::string path; // the file it was read from ("" when built in code)
     Camera camera;
     Geometry geometry;
-    std::vector<Light> lights;
+    std::vector<Light> lights; // may be empty when there is an environment
+    EnvironmentRef environment;
     Material material;
     NormalMapRef normalMap;
     std::string method = "toksvig"; // a method name, or "groundtruth"

@@ -84,6 +84,12 @@ struct MethodShader {
                        glm::vec3 l, glm::vec3 v);
     // The specular lobe alone at half vector h, no cosine (what `ndfmip demo` compares).
     float (*lobe)(const ShaderSetup& setup, const Material& material, const float* params, glm::vec3 h);
+    // The radiance the filtered parameters reflect under the whole environment, view v in the
+    // tangent frame, `tangentToEnvironment` taking tangent-frame directions to the environment's
+    // (environment_lighting.h). Null for a shader that cannot shade under an environment.
+    glm::vec3 (*shadeEnvironment)(const ShaderSetup& setup, const Material& material, const float* params,
+                                  glm::vec3 albedo, glm::vec3 view, const glm::mat3& tangentToEnvironment,
+                                  const EnvironmentLighting& lighting);
 };
 
 const std::vector<MethodShader>& methodShaders();

@@ -48,6 +48,8 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     const MethodShader& shader = *program.shader;
     const Material& m = scene.material;
     if (m.brdf == Brdf::Tabulated || m.factor) return Error{"render --gpu: tabulated BRDFs are rendered on the CPU only"};
+    if (!scene.environment.path.empty())
+        return Error{"render --gpu: environment lighting is rendered on the CPU only"};
     if (scene.lights.size() > size_t(kGpuMaxLights))
         return Error{"render --gpu: at most " + std::to_string(kGpuMaxLights) + " lights, the scene has " +
                      std::to_string(scene.lights.size())};

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <optional>
 
+#include "environment_truth.h"
 #include "methods/method_unit.h"
+#include "ndfmip/environment_lighting.h"
 #include "ndfmip/interpolated.h"
 #include "ndfmip/render.h"
 #include "ndfmip/vmf.h"
@@ -25,6 +27,7 @@ struct PixelRandom {
         return z ^ (z >> 31);
     }
     float uniform() { return float(next() >> 40) * (1.f / 16777216.f); } // [0, 1)
+    double uniformDouble() { return double(next() >> 11) * (1. / 9007199254740992.); } // [0, 1)
 };
 
 // spp samples as a gx x gy grid with gx the largest divisor of spp not above sqrt(spp).
@@ -92,7 +95,12 @@ struct Context {
     const MethodShader* method = nullptr; // Shader::Method
     ShaderSetup setup;        // what it prepared for this material and bake
     MipChain albedo;          // empty without an albedo map
+    const EnvironmentLighting* lighting = nullptr; // the environment, if any
 };
+
+glm::mat3 hitToEnvironment(const SurfaceHit& hit) {
+    return tangentToEnvironment(hit.tangent, hit.bitangent, hit.normal);
+}
 
 // One method's shading of one set of parameters (filtered, or one texel's) at a surface point.
 glm::vec3 shadeParameters(const Context& ctx, const float* params, glm::vec3 albedo, const SurfaceHit& hit,
@@ -107,6 +115,9 @@ glm::vec3 shadeParameters(const Context& ctx, const float* params, glm::vec3 alb
         const glm::vec3 r = ctx.method->shade(ctx.setup, scene.material, params, albedo, l, view);
         radiance += ls.irradiance * r;
     }
+    if (ctx.lighting)
+        radiance += ctx.method->shadeEnvironment(ctx.setup, scene.material, params, albedo, view,
+                                                 hitToEnvironment(hit), *ctx.lighting);
     return radiance;
 }
 
@@ -158,6 +169,8 @@ bool traceSurface(const Context& ctx, float px, float py, SurfaceHit& hit, glm::
     hit = intersect(ctx.scene->geometry, ray);
     if (!hit.hit) {
         radiance = ctx.scene->background;
+        if (ctx.lighting && ctx.scene->environment.visible)
+            radiance = environmentRadiance(ctx.lighting->environment, glm::dvec3(worldToEnvironment(ray.direction)));
         return false;
     }
     view = toTangent(hit, -ray.direction);
@@ -168,8 +181,9 @@ bool traceSurface(const Context& ctx, float px, float py, SurfaceHit& hit, glm::
     return true;
 }
 
-// The truth at one point: the finest normal (box or bilinear surface) shaded by every light.
-glm::vec3 shadeTruth(const Context& ctx, const SurfaceHit& hit, glm::vec3 view) {
+// The truth at one point: the finest normal (box or bilinear surface) shaded by every light,
+// and the environment's estimate (environment_truth.h) when there is one.
+glm::vec3 shadeTruth(const Context& ctx, const SurfaceHit& hit, glm::vec3 view, PixelRandom& random) {
     const Scene& scene = *ctx.scene;
     const bool box = ctx.options->truth == TruthFilter::Box;
     const glm::vec3 normal = sampleNormal(*ctx.textures->normals, hit.uv, box);
@@ -191,24 +205,39 @@ glm::vec3 shadeTruth(const Context& ctx, const SurfaceHit& hit, glm::vec3 view) 
         if (l.z <= 0.f) continue;
         radiance += ls.irradiance * shadeNormal(scene.material, albedo, normal, l, glm::normalize(l + view));
     }
+    if (ctx.lighting) {
+        const glm::mat3 toEnvironment = hitToEnvironment(hit);
+        const int n = ctx.options->environmentSamples;
+        glm::vec3 sum(0.f);
+        for (int i = 0; i < n; ++i) {
+            double u[5];
+            for (double& x : u) x = random.uniformDouble();
+            sum += estimateEnvironmentRadiance(*ctx.lighting, toEnvironment, scene.material, albedo, normal, view,
+                                               ctx.options->environmentEstimator, u);
+        }
+        radiance += sum / float(n);
+    }
     return radiance;
 }
 
-glm::vec3 shadeSample(const Context& ctx, float px, float py) {
+// One pixel sample; `covered` tells whether some ray of it saw the object's front.
+glm::vec3 shadeSample(const Context& ctx, float px, float py, PixelRandom& random, bool& covered) {
     SurfaceHit hit;
     glm::vec3 view, radiance;
     if (ctx.shader == Shader::Truth) {
-        if (!traceSurface(ctx, px, py, hit, view, radiance)) return radiance;
-        return shadeTruth(ctx, hit, view);
+        covered = traceSurface(ctx, px, py, hit, view, radiance);
+        return covered ? shadeTruth(ctx, hit, view, random) : radiance;
     }
     // Methods: taps x taps sub-samples over the pixel around (px, py), each with its share of
     // the footprint.
     const int k = ctx.options->taps;
     if (k == 1) {
-        if (!traceSurface(ctx, px, py, hit, view, radiance)) return radiance;
+        covered = traceSurface(ctx, px, py, hit, view, radiance);
+        if (!covered) return radiance;
         return shadeLookup(ctx, hit, view, uvFootprint(ctx.camera, hit, px, py));
     }
     glm::vec3 sum(0.f);
+    covered = false;
     const float step = 1.f / float(k);
     for (int j = 0; j < k; ++j)
         for (int i = 0; i < k; ++i) {
@@ -217,6 +246,7 @@ glm::vec3 shadeSample(const Context& ctx, float px, float py) {
                 sum += radiance;
                 continue;
             }
+            covered = true;
             UvFootprint footprint = uvFootprint(ctx.camera, hit, qx, qy);
             footprint.dx *= step;
             footprint.dy *= step;
@@ -245,16 +275,17 @@ bool pixelTexels(const Context& ctx, float px, float py, glm::vec2& lo, glm::vec
 // cut into cells, K x K per level-0 texel (box surface: K = 1, the texel itself, exact; bilinear
 // surface: K = kBilinearCells, a midpoint rule), each shaded at the centre of its part inside
 // the pixel and weighted by that part's area.
-glm::vec3 exactPixel(const Context& ctx, float px, float py) {
+glm::vec3 exactPixel(const Context& ctx, float px, float py, PixelRandom& random) {
     glm::vec2 lo, hi;
-    if (!pixelTexels(ctx, px, py, lo, hi)) return shadeSample(ctx, px + 0.5f, py + 0.5f);
+    bool covered = false;
+    if (!pixelTexels(ctx, px, py, lo, hi)) return shadeSample(ctx, px + 0.5f, py + 0.5f, random, covered);
     SurfaceHit hit;
     glm::vec3 view, radiance;
     if (!traceSurface(ctx, px + 0.5f, py + 0.5f, hit, view, radiance)) return radiance;
     const Image& normals = *ctx.textures->normals;
     const Scene& scene = *ctx.scene;
     const glm::vec2 extent = hi - lo;
-    if (!(extent.x > 0.f && extent.y > 0.f)) return shadeTruth(ctx, hit, view);
+    if (!(extent.x > 0.f && extent.y > 0.f)) return shadeTruth(ctx, hit, view, random);
     const bool box = ctx.options->truth == TruthFilter::Box;
     const double k = box ? 1.0 : double(kBilinearCells);
     const glm::dvec2 size(normals.width, normals.height);
@@ -323,8 +354,17 @@ std::vector<SharedImage> shadedChain(const Scene& scene, const RenderTextures& t
 
 Result<Image> render(const Scene& scene, const RenderTextures& textures, const std::string& methodName,
                      const RenderOptions& options) {
+    return render(scene, textures, methodName, options, nullptr);
+}
+
+Result<Image> render(const Scene& scene, const RenderTextures& textures, const std::string& methodName,
+                     const RenderOptions& options, RenderNoise* noise) {
     // Interpolated normals, no normal map: their own renderer.
-    if (scene.geometry.type == GeometryType::FacetedSphere) return renderInterpolated(scene, methodName, options);
+    if (scene.geometry.type == GeometryType::FacetedSphere) {
+        if (!scene.environment.path.empty())
+            return Error{"render: faceted-sphere scenes are lit by point lights only, not an environment"};
+        return renderInterpolated(scene, methodName, options);
+    }
     if (!textures.normals || textures.normals->channels != 3 || textures.normals->empty())
         return Error{"render: no normal map (3 channels) to render with"};
     if (options.spp < 1 || options.spp > (1 << 20))
@@ -338,12 +378,18 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
         return Error{"render: taps must be in 1 .. 16, got " + std::to_string(options.taps)};
     if (!std::isfinite(options.lodBias) || std::abs(options.lodBias) > 16.f)
         return Error{"render: the LOD bias must be finite and within +-16"};
+    if (options.environmentSamples < 1 || options.environmentSamples > 4096)
+        return Error{"render: environment samples must be in 1 .. 4096, got " +
+                     std::to_string(options.environmentSamples)};
+    if (!scene.environment.path.empty() && !textures.environment)
+        return Error{"render: the scene's environment " + quote(scene.environment.path) + " is not loaded"};
 
     Context ctx;
     ctx.scene = &scene;
     ctx.camera = cameraFrame(scene.camera);
     ctx.textures = &textures;
     ctx.options = &options;
+    ctx.lighting = textures.environment.get();
     if (!textures.albedo.empty()) {
         const Image& a = *textures.albedo.front();
         if (a.width != textures.normals->width || a.height != textures.normals->height || a.channels < 3)
@@ -351,7 +397,7 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
         for (const SharedImage& level : textures.albedo) ctx.albedo.levels.push_back(level.get());
         ctx.albedo.channels = a.channels;
     }
-    if (exactBoxView(scene)) {
+    if (exactBoxView(scene) && !ctx.lighting) {
         // The plane's tangent frame, as intersect() builds it, and what is fixed in it.
         const Geometry& g = scene.geometry;
         SurfaceHit frame;
@@ -367,8 +413,9 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
     std::vector<SharedImage> exactChain; // kExact: owns the shaded chain the planes point into
     if (methodName == kGroundTruth) {
         ctx.shader = Shader::Truth;
-        ctx.exactTruth = options.exact && exactBoxView(scene);
+        ctx.exactTruth = options.exact && exactBoxView(scene) && !ctx.lighting;
     } else if (methodName == kExact) {
+        if (ctx.lighting) return Error{"render: 'exact' cannot shade under an environment"};
         if (!exactBoxView(scene))
             return Error{"render: 'exact' needs constant light and view directions: an orthographic view "
                          "straight down on a plane, directional lights"};
@@ -384,6 +431,8 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
         if (!ctx.method)
             return Error{"render: unknown method " + quote(methodName) + " (expected " + renderMethodNames() + ")"};
         ctx.shader = Shader::Method;
+        if (ctx.lighting && !ctx.method->shadeEnvironment)
+            return Error{"render: method " + quote(methodName) + " cannot shade under an environment"};
         const Bake& bake = textures.bake;
         if (bake.levels.empty() || bake.method != ctx.method->bake)
             return Error{"render: no bake of method '" + std::string(ndfmip::methodName(ctx.method->bake)) +
@@ -428,16 +477,26 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
     int gx = 1, gy = 1;
     strataGrid(options.spp, gx, gy);
     std::atomic<int> rowsDone{0};
+    if (noise) *noise = RenderNoise{Image(camera.width, camera.height, 1), 0., 0};
+    // Per row: sums of the covered pixels' standard errors and luminances, and their count.
+    std::vector<glm::dvec3> rowNoise(size_t(camera.height), glm::dvec3(0.));
 
 #pragma omp parallel for schedule(dynamic, 1)
     for (int y = 0; y < camera.height; ++y) {
         for (int x = 0; x < camera.width; ++x) {
             PixelRandom random{options.seed * 0x2545F4914F6CDD1Dull + uint64_t(y) * uint64_t(camera.width) +
                                uint64_t(x)};
+            // The environment's samples draw from a stream of their own, so the jitter (and the
+            // lights' part of the image) is the same with or without an environment.
+            PixelRandom lightingRandom{random.state ^ 0xD1B54A32D192ED03ull};
             glm::vec3 mean(0.f);
+            double standardError = 0.;
+            bool covered = false;
             if (ctx.exactTruth) { // one exact integral over the whole pixel
-                mean = exactPixel(ctx, float(x) + options.pixelShift.x, float(y) + options.pixelShift.y);
+                mean = exactPixel(ctx, float(x) + options.pixelShift.x, float(y) + options.pixelShift.y, lightingRandom);
+                covered = true;
             } else {
+                double sumY = 0., sumY2 = 0.; // the per-sample luminances, for the noise
                 for (int sy = 0; sy < gy; ++sy) {
                     for (int sx = 0; sx < gx; ++sx) {
                         float jx = 0.5f, jy = 0.5f;
@@ -445,11 +504,24 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
                             jx = (float(sx) + random.uniform()) / float(gx);
                             jy = (float(sy) + random.uniform()) / float(gy);
                         }
-                        mean += shadeSample(ctx, float(x) + jx + options.pixelShift.x,
-                                            float(y) + jy + options.pixelShift.y);
+                        bool seen = false;
+                        const glm::vec3 r = shadeSample(ctx, float(x) + jx + options.pixelShift.x,
+                                                        float(y) + jy + options.pixelShift.y, lightingRandom, seen);
+                        mean += r;
+                        covered = covered || seen;
+                        const double lum = rec709Luminance(glm::dvec3(r));
+                        sumY += lum;
+                        sumY2 += lum * lum;
                     }
                 }
                 mean /= float(options.spp);
+                const double n = double(options.spp);
+                if (options.spp > 1)
+                    standardError = std::sqrt(std::max(0., (sumY2 - sumY * sumY / n) / (n - 1.)) / n);
+            }
+            if (noise) {
+                noise->standardError.at(x, y)[0] = float(standardError);
+                if (covered) rowNoise[size_t(y)] += glm::dvec3(standardError, rec709Luminance(glm::dvec3(mean)), 1.);
             }
             float* px = out.at(x, y);
             px[0] = mean.x;
@@ -461,6 +533,12 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
 #pragma omp critical(ndfmip_render_progress)
             options.progress(done, camera.height);
         }
+    }
+    if (noise) {
+        glm::dvec3 total(0.);
+        for (const glm::dvec3& row : rowNoise) total += row; // in row order: the same on any thread count
+        noise->coveredPixels = size_t(total.z);
+        noise->relativeStandardError = total.y > 0. ? total.x / total.y : 0.;
     }
     return out;
 }
@@ -490,6 +568,7 @@ bool shadeFilterFromString(const std::string& name, ShadeFilter& out) {
 }
 
 bool exactBoxView(const Scene& scene) {
+    if (!scene.environment.path.empty()) return false; // light from every direction varies per point
     if (scene.camera.type != CameraType::Orthographic || scene.geometry.type != GeometryType::Plane) return false;
     for (const Light& light : scene.lights)
         if (light.type != LightType::Directional) return false;

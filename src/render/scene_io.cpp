@@ -387,9 +387,10 @@ Light readLight(const json& value, const std::string& path) {
     return light;
 }
 
-std::vector<Light> readLights(const json& value, const std::string& path) {
+// `optional`: the scene has an environment, so no light at all is fine.
+std::vector<Light> readLights(const json& value, const std::string& path, bool optional) {
     if (!value.is_array()) fail(path, "expected an array of lights, got " + shown(value));
-    if (value.empty()) fail(path, "empty (a scene needs at least one light)");
+    if (value.empty() && !optional) fail(path, "empty (a scene needs at least one light or an environment)");
     // Every light is shaded at every sample: thousands would only make a render crawl.
     if (value.size() > kMaxLights)
         fail(path, std::to_string(value.size()) + " lights; a scene has at most " +
@@ -436,6 +437,26 @@ Material readMaterial(const json& value, const std::string& path, const std::str
     return m;
 }
 
+EnvironmentRef readEnvironment(const json& value, const std::string& path, const std::string& baseDir) {
+    EnvironmentRef ref;
+    if (value.is_string()) {
+        ref.path = resolvePath(pathText(value, path), baseDir);
+        return ref;
+    }
+    if (!value.is_object())
+        fail(path, "expected a file name or an object with \"path\", got " + shown(value));
+    checkKeys(value, path, {"path", "intensity", "rotation", "visible"}, "environment");
+    ref.path = resolvePath(pathText(required(value, path, "path"), at(path, "path")), baseDir);
+    if (const json* v = find(value, "intensity")) ref.options.intensity = positive(*v, at(path, "intensity"));
+    if (const json* v = find(value, "rotation")) {
+        ref.options.rotationDegrees = number(*v, at(path, "rotation"));
+        if (std::fabs(ref.options.rotationDegrees) > 360.f)
+            fail(at(path, "rotation"), "must be within -360 .. 360 degrees, got " + shown(*v));
+    }
+    if (const json* v = find(value, "visible")) ref.visible = flag(*v, at(path, "visible"));
+    return ref;
+}
+
 NormalMapRef readNormalMap(const json& value, const std::string& path, const std::string& baseDir) {
     NormalMapRef ref;
     if (value.is_string()) {
@@ -467,12 +488,16 @@ Scene readScene(const json& root, const std::string& baseDir) {
     checkKeys(
         root, "",
         {"camera", "object", "lights", "material", "normal_map", "method", "bake", "background",
-         "albedo_map"},
+         "albedo_map", "environment"},
         "a scene");
     Scene scene;
     scene.camera = readCamera(required(root, "", "camera"), "camera");
     scene.geometry = readObject(required(root, "", "object"), "object");
-    scene.lights = readLights(required(root, "", "lights"), "lights");
+    if (const json* v = find(root, "environment"))
+        scene.environment = readEnvironment(*v, "environment", baseDir);
+    const bool lit = !scene.environment.path.empty();
+    if (const json* v = find(root, "lights")) scene.lights = readLights(*v, "lights", lit);
+    else if (!lit) fail("lights", "missing (a scene needs lights or an environment)");
     if (const json* v = find(root, "material")) scene.material = readMaterial(*v, "material", baseDir);
     if (scene.geometry.type == GeometryType::FacetedSphere) {
         // Interpolated vertex normals (interpolated.h): nothing to texture with.

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "methods/method_unit.h"
+#include "ndfmip/environment_lighting.h"
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
 #include "ndfmip/render.h"
@@ -92,6 +93,11 @@ Result<RenderTextures> loadSceneTextures(const Scene& scene, const std::string& 
         }
     }
     if (albedo) textures.albedo = albedoMips(*pyramid, albedo);
+    if (!scene.environment.path.empty()) {
+        Result<Environment> env = loadEnvironment(scene.environment.path, scene.environment.options);
+        if (!env) return env.error();
+        textures.environment = std::make_shared<const EnvironmentLighting>(makeEnvironmentLighting(std::move(env.value())));
+    }
     return textures;
 }
 

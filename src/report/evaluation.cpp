@@ -17,7 +17,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/clock.h"
+#include "methods/method_unit.h"
 #include "ndfmip/compare.h"
+#include "ndfmip/environment_lighting.h"
 #include "ndfmip/evaluate.h"
 #include "ndfmip/html_report.h"
 #include "ndfmip/io.h"
@@ -371,6 +373,28 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
     for (int f : a.footprints)
         if (f < 1 || f > 4096) fail("--footprints: " + std::to_string(f) + " is not in 1 .. 4096");
     const DecodeOptions& decode = a.decode;
+    // Under an environment: the map loaded once, the methods that cannot shade under it skipped.
+    std::shared_ptr<const EnvironmentLighting> lighting;
+    std::vector<std::pair<std::string, std::string>> skipped;
+    if (!a.environment.empty()) {
+        if (a.calibrate) fail("--calibrate: the roughness calibration is made under the directional light, not --environment");
+        Result<Environment> env = loadEnvironment(a.environment, a.environmentOptions);
+        if (!env) fail(env.error().message);
+        lighting = std::make_shared<const EnvironmentLighting>(makeEnvironmentLighting(std::move(env.value())));
+        const char* reason = "cannot shade under an environment";
+        std::vector<MethodSpec> kept;
+        for (const MethodSpec& spec : specs) {
+            const MethodShader* shader = findShader(spec.render);
+            if (shader && shader->shadeEnvironment) kept.push_back(spec);
+            else skipped.emplace_back(spec.label, reason);
+        }
+        specs = std::move(kept);
+        const MethodShader* roughnessMips = findShader(kRoughnessMips);
+        if (!(roughnessMips && roughnessMips->shadeEnvironment))
+            for (const ExternalRoughness& row : externals) skipped.emplace_back(row.name, reason);
+    }
+    const bool externalRows = !externals.empty() && (!lighting || findShader(kRoughnessMips)->shadeEnvironment);
+    double truthNoise = 0.;
 
     EvalReport report;
     report.title = "ndfmip evaluation";
@@ -397,7 +421,7 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
                     fail(s.error);
         for (const MethodSpec& spec : specs)
             if (spec.baked) map.bakes[spec.label] = bakeMethod(spec.method, map.pyramid, spec.options);
-        if (!externals.empty()) map.bakes["naive (external roughness)"] = bakeMethod(Method::Naive, map.pyramid, {});
+        if (externalRows) map.bakes["naive (external roughness)"] = bakeMethod(Method::Naive, map.pyramid, {});
         if (a.calibrate && map.bakes.count("toksvig") == 0)
             map.bakes["toksvig"] = bakeMethod(Method::Toksvig, map.pyramid, {});
         if (a.log) {
@@ -410,6 +434,7 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
             RenderTextures t;
             t.normals = map.normals;
             if (map.bakes.count(label)) t.bake = map.bakes.at(label);
+            t.environment = lighting;
             return t;
         };
         auto renderName = [&](const std::string& label) {
@@ -419,7 +444,8 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
             return std::string("toksvig"); // the calibration's own bake
         };
 
-        if (mapIndex == 0 && a.webgl) {
+        if (mapIndex == 0 && a.webgl && lighting && a.log) a.log("eval: no live view under an environment");
+        if (mapIndex == 0 && a.webgl && !lighting) {
             report.liveView = liveViewOf(map, a, specs, settings.front().material, shift);
             if (a.log && report.liveView.empty())
                 a.log("eval: no live view (no footprint >= 2, or no method the GPU shaders draw)");
@@ -429,6 +455,11 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
             const int pixels = std::clamp((std::max(map.normals->width, map.normals->height) + footprint - 1) / footprint,
                                           32, std::max(32, a.maxPixels));
             Scene scene = evalScene(map.normals->width, map.normals->height, footprint, pixels, shift);
+            if (lighting) { // the environment replaces the directional light
+                scene.lights.clear();
+                scene.environment.path = a.environment;
+                scene.environment.options = a.environmentOptions;
+            }
             RenderOptions truthOptions;
             truthOptions.seed = a.seed;
             truthOptions.spp = a.spp > 0 ? a.spp : std::clamp(footprint * footprint, 64, 1024);
@@ -438,12 +469,25 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
 
             for (const Setting& setting : settings) {
                 scene.material = setting.material;
-                const Image truth = renderOrFail(scene, textures(kGroundTruth), kGroundTruth, truthOptions);
+                RenderNoise noise;
+                Result<Image> truthImage = render(scene, textures(kGroundTruth), kGroundTruth, truthOptions, &noise);
+                if (!truthImage) fail(truthImage.error().message);
+                const Image truth = std::move(truthImage.value());
                 ReportCase truthCase{map.name, kGroundTruth, setting.brdf, footprint, setting.exponent,
                                      setting.roughness, 0, 0, std::numeric_limits<double>::infinity(), 1,
                                      flickerOf(scene, textures(kGroundTruth), kGroundTruth, truthOptions, a.frames)};
                 report.cases.push_back(truthCase);
                 cases.push_back(caseJson(truthCase));
+                if (lighting) {
+                    cases.back()["rel_std_error"] = number(noise.relativeStandardError);
+                    truthNoise = std::max(truthNoise, noise.relativeStandardError);
+                    if (a.log) {
+                        char line[256];
+                        std::snprintf(line, sizeof line, "eval: truth at footprint %d, %s: relative standard error %.3f%%",
+                                      footprint, setting.label().c_str(), 100. * noise.relativeStandardError);
+                        a.log(line);
+                    }
+                }
 
                 const bool showcase = a.allImages || setting.label() == settings.front().label() ||
                                       (setting.brdf == "blinnphong" && setting.exponent == 32.f) ||
@@ -458,7 +502,8 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
                     group.title = title;
                     group.images.push_back({"ground truth", toneMap(truth, stops)});
                 }
-                for (const std::string& method : a.methods) {
+                for (const MethodSpec& spec : specs) {
+                    const std::string& method = spec.label;
                     // Toksvig's table is for Blinn-Phong only.
                     if (method == kToksvigLut && setting.material.brdf != Brdf::BlinnPhong) continue;
                     const Image image = renderOrFail(scene, textures(method), renderName(method), methodOptions);
@@ -475,6 +520,7 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
                     }
                 }
                 for (const ExternalRoughness& row : externals) {
+                    if (!externalRows) break;
                     if (setting.material.brdf != Brdf::Ggx && setting.material.brdf != Brdf::Beckmann) continue;
                     char alpha[32];
                     std::snprintf(alpha, sizeof alpha, "%g", setting.roughness);
@@ -553,6 +599,17 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
                      {"taps", filtering.taps}, {"lod_bias", filtering.lodBias},
                      {"lobe_filter", a.lobeFilter},
                      {"seed", a.seed}};
+    if (lighting) {
+        root["setup"]["light"] = "environment";
+        root["setup"]["environment"] = {{"path", a.environment},
+                                        {"intensity", a.environmentOptions.intensity},
+                                        {"rotation_degrees", a.environmentOptions.rotationDegrees}};
+        root["setup"]["truth_spp"] = a.spp > 0 ? json(a.spp) : json("max(64, footprint^2), at most 1024");
+        root["setup"]["truth_max_rel_std_error"] = number(truthNoise);
+        json left = json::array();
+        for (const auto& [method, reason] : skipped) left.push_back({{"method", method}, {"reason", reason}});
+        root["skipped"] = left;
+    }
     root["cases"] = cases;
     if (a.calibrate) {
         json summary = json::object();
@@ -580,6 +637,16 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
     char filter[160];
     std::snprintf(filter, sizeof filter, "%d x %d sub-samples per pixel, LOD bias %g, %s filtering",
                   filtering.taps, filtering.taps, filtering.lodBias, a.lobeFilter.c_str());
+    if (lighting) {
+        char noiseText[128];
+        std::snprintf(noiseText, sizeof noiseText, "%.3f%%", 100. * truthNoise);
+        std::string left;
+        for (const auto& [method, reason] : skipped) left += (left.empty() ? "" : ", ") + method;
+        report.notes.insert(report.notes.begin(),
+            "Lit by the environment " + a.environment + " instead of the directional light: the truth is sampled "
+            "(environment and BRDF samples, MIS) with a relative standard error of at most " + noiseText +
+            (left.empty() ? std::string(".") : "; left out (they cannot shade under an environment): " + left + "."));
+    }
     report.notes.insert(report.notes.begin(),
         "Each case: a top-down orthographic view of the map tiled on a plane, one pixel covering footprint x "
         "footprint texels, " + std::string(view) + "; one directional light 25 degrees off the normal. Ground "
@@ -600,6 +667,8 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
     result.cases = std::move(report.cases);
     if (a.calibrate) result.calibrationBest = root["calibration"]["best"].get<std::string>();
     result.seconds = millisecondsSince(start) * 1e-3;
+    result.skipped = std::move(skipped);
+    result.truthNoise = truthNoise;
     return result;
 }
 

@@ -149,6 +149,31 @@ TEST(SceneExamples, PlaneGrazingSpansEveryMipLevel) {
 
 // ---- what a scene holds ------------------------------------------------------------------------
 
+TEST(SceneRead, EnvironmentLightsASceneWithoutLights) {
+    auto scene = ndfmip::parseScene(
+        R"({"camera": {}, "object": {}, "normal_map": "n.png",
+            "environment": {"path": "maps/sky.hdr", "intensity": 2.5, "rotation": -90, "visible": true}})",
+        "s", "/scenes");
+    ASSERT_TRUE(scene) << scene.error().message;
+    EXPECT_TRUE(scene->lights.empty());
+    EXPECT_EQ(scene->environment.path, "/scenes/maps/sky.hdr"); // against the scene's folder
+    EXPECT_EQ(scene->environment.options.intensity, 2.5f);
+    EXPECT_EQ(scene->environment.options.rotationDegrees, -90.f);
+    EXPECT_TRUE(scene->environment.visible);
+    // A bare file name, beside lights and with an empty light list.
+    auto plain = ndfmip::parseScene(
+        R"({"camera": {}, "object": {}, "normal_map": "n.png", "lights": [], "environment": "sky.hdr"})", "s",
+        "/scenes");
+    ASSERT_TRUE(plain) << plain.error().message;
+    EXPECT_EQ(plain->environment.path, "/scenes/sky.hdr");
+    EXPECT_EQ(plain->environment.options.intensity, 1.f);
+    EXPECT_FALSE(plain->environment.visible);
+    // Without one, no environment.
+    auto none = ndfmip::parseScene(R"({"camera": {}, "object": {}, "lights": [{}], "normal_map": "n.png"})", "s", "");
+    ASSERT_TRUE(none);
+    EXPECT_TRUE(none->environment.path.empty());
+}
+
 TEST(SceneRead, DefaultsFillWhatIsLeftOut) {
     auto scene = ndfmip::parseScene(
         R"({"camera": {}, "object": {}, "lights": [{}], "normal_map": "n.png"})", "s", "");
@@ -429,7 +454,7 @@ INSTANTIATE_TEST_SUITE_P(
         // required sections and the document itself
         BadScene{R"({"camera": null})", "scene.json: camera: missing"},
         BadScene{R"({"object": null})", "scene.json: object: missing"},
-        BadScene{R"({"lights": null})", "scene.json: lights: missing"},
+        BadScene{R"({"lights": null})", "scene.json: lights: missing (a scene needs lights or an environment)"},
         BadScene{R"({"normal_map": null})", "scene.json: normal_map: missing"},
         BadScene{R"([1, 2])", "scene.json: expected a JSON object at the top level, got [1,2]"},
         BadScene{R"({"camera": [1]})", "scene.json: camera: expected an object, got [1]"},
@@ -479,7 +504,18 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{R"({"object": {"size": [1]}})",
                  "scene.json: object.size: expected an array of 2 numbers, got [1]"},
         BadScene{R"({"lights": []})",
-                 "scene.json: lights: empty (a scene needs at least one light)"},
+                 "scene.json: lights: empty (a scene needs at least one light or an environment)"},
+        BadScene{R"({"environment": 3})",
+                 R"(scene.json: environment: expected a file name or an object with "path", got 3)"},
+        BadScene{R"({"environment": {"intensity": 2}})", "scene.json: environment.path: missing"},
+        BadScene{R"({"environment": {"path": "e.hdr", "intensity": 0}})",
+                 "scene.json: environment.intensity: must be > 0, got 0"},
+        BadScene{R"({"environment": {"path": "e.hdr", "rotation": 400}})",
+                 "scene.json: environment.rotation: must be within -360 .. 360 degrees, got 400"},
+        BadScene{R"({"environment": {"path": "e.hdr", "visible": 1}})",
+                 "scene.json: environment.visible: expected true or false, got 1"},
+        BadScene{R"({"environment": {"path": "e.hdr", "rotaton": 1}})",
+                 "scene.json: environment.rotaton: unknown key (did you mean 'rotation'?)"},
         BadScene{R"({"lights": {"type": "point"}})",
                  R"(scene.json: lights: expected an array of lights, got {"type":"point"})"},
         BadScene{R"({"lights": [3]})", "scene.json: lights[0]: expected an object, got 3"},

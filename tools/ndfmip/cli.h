@@ -1,6 +1,8 @@
 // Pieces every subcommand shares: its registration, the error it throws, decode options.
 #pragma once
 
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -10,6 +12,7 @@
 #include "ndfmip/bake.h"
 #include "ndfmip/normal_map.h"
 #include "ndfmip/roughness.h"
+#include "ndfmip/scene.h"
 
 namespace ndfmip {
 struct RenderOptions; // render.h
@@ -55,6 +58,21 @@ struct FilteringArgs {
     void apply(RenderOptions& o) const;
 };
 void addFilteringOptions(CLI::App* command, FilteringArgs& args);
+
+// An environment map lighting the scene (render, eval): --environment, --env-intensity,
+// --env-rotation.
+struct EnvironmentArgs {
+    std::string path;
+    float intensity = std::numeric_limits<float>::quiet_NaN();       // NaN: not given
+    float rotationDegrees = std::numeric_limits<float>::quiet_NaN(); // NaN: not given
+    bool adjusted() const { return !std::isnan(intensity) || !std::isnan(rotationDegrees); }
+    // `base` with the given values in place of its own.
+    EnvironmentOptions options(EnvironmentOptions base = {}) const;
+    // `scene`'s environment replaced by --environment, or its intensity and rotation changed;
+    // throws when these are given without any environment.
+    void apply(Scene& scene) const;
+};
+void addEnvironmentOptions(CLI::App* command, EnvironmentArgs& args);
 
 // Warns on stderr about suspicious normals that decoding found in `path`.
 void warnAboutDecode(const std::string& path, const DecodeReport& report);

@@ -146,6 +146,32 @@ void addFilteringOptions(CLI::App* c, FilteringArgs& a) {
         ->capture_default_str();
 }
 
+void addEnvironmentOptions(CLI::App* c, EnvironmentArgs& a) {
+    c->add_option("--environment", a.path,
+                  "light with this equirectangular HDR/EXR map (docs/ENVIRONMENT.md), in place of the scene's");
+    c->add_option("--env-intensity", a.intensity, "the environment's radiance scale (default 1)")
+        ->check(CLI::PositiveNumber);
+    c->add_option("--env-rotation", a.rotationDegrees, "the environment's rotation about its up axis, degrees")
+        ->check(CLI::Range(-360.f, 360.f));
+}
+
+EnvironmentOptions EnvironmentArgs::options(EnvironmentOptions base) const {
+    if (!std::isnan(intensity)) base.intensity = intensity;
+    if (!std::isnan(rotationDegrees)) base.rotationDegrees = rotationDegrees;
+    return base;
+}
+
+void EnvironmentArgs::apply(Scene& scene) const {
+    if (!path.empty()) {
+        scene.environment.path = path;
+        scene.environment.options = options();
+    } else if (adjusted()) {
+        if (scene.environment.path.empty())
+            throw Failure("--env-intensity and --env-rotation need --environment or a scene with an environment");
+        scene.environment.options = options(scene.environment.options);
+    }
+}
+
 RoughnessMapping roughnessMappingOrFail(const std::string& name) {
     RoughnessMapping mapping;
     if (!roughnessMappingFromString(name, mapping))

@@ -2,6 +2,7 @@
 // and with the ground truth (evaluateMaps, evaluate.h), written as DIR/report.json (every
 // number) and DIR/report.html (tables, plots, images; one self-contained file), with a summary
 // table on stdout.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -16,6 +17,7 @@ struct EvalArgs {
     EvalOptions options;
     InputOptions input;
     FilteringArgs filtering;
+    EnvironmentArgs environment;
     bool quiet = false;
 };
 
@@ -39,6 +41,8 @@ void runEval(EvalOptions o, const EvalArgs& a) {
     std::vector<std::string> rows = o.methods;
     for (const std::string& spec : o.externalRoughness) rows.push_back(spec.substr(0, spec.find('=')));
     for (const std::string& method : rows) {
+        if (std::any_of(result->skipped.begin(), result->skipped.end(), [&](const auto& s) { return s.first == method; }))
+            continue;
         std::printf("%-12s", method.c_str());
         for (int f : o.footprints) {
             double logSum = 0;
@@ -51,6 +55,11 @@ void runEval(EvalOptions o, const EvalArgs& a) {
         std::printf("\n");
     }
     if (o.calibrate) std::printf("calibration best: %s\n", result->calibrationBest.c_str());
+    if (!o.environment.empty()) {
+        std::printf("environment %s: truth relative standard error at most %.3f%%\n", o.environment.c_str(),
+                    100. * result->truthNoise);
+        for (const auto& [method, reason] : result->skipped) std::printf("skipped %s: %s\n", method.c_str(), reason.c_str());
+    }
     std::printf("eval: %zu cases in %.1f s -> %s/report.html, %s/report.json\n", cases.size(), result->seconds,
                 o.output.c_str(), o.output.c_str());
 }
@@ -90,6 +99,7 @@ void addEvalCommand(CLI::App& app) {
     c->add_option("--offset", a->offset, "the pixel grid's shift from the texel grid, in pixels")
         ->delimiter(',')->expected(2)->capture_default_str();
     addFilteringOptions(c, args->filtering);
+    addEnvironmentOptions(c, args->environment);
     c->add_option("--external-roughness", a->externalRoughness,
                   "NAME=PATTERN: another tool's perceptual-roughness mips (one file per level; PATTERN with "
                   "{level}, {stem} of the map, {roughness} the base alpha) beside the standard normal mipmap, "
@@ -103,6 +113,12 @@ void addEvalCommand(CLI::App& app) {
         // Aligned views take one plain lookup per pixel unless the filtering rule is given.
         if (c->count("--taps") != 0 || !o.aligned) o.taps = args->filtering.taps;
         if (c->count("--lod-bias") != 0 || !o.aligned) o.lodBias = args->filtering.lodBias;
+        if (!args->environment.path.empty()) {
+            o.environment = args->environment.path;
+            o.environmentOptions = args->environment.options();
+        } else if (args->environment.adjusted()) {
+            throw Failure("--env-intensity and --env-rotation need --environment");
+        }
         runEval(std::move(o), *args);
     });
 }

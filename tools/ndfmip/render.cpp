@@ -34,6 +34,7 @@ struct RenderArgs {
     uint64_t seed = 1;
     bool nearest = false;
     FilteringArgs filtering;
+    EnvironmentArgs environment;
     bool noPng = false;
     float exposure = std::numeric_limits<float>::quiet_NaN();
     bool quiet = false;
@@ -64,6 +65,7 @@ void runRender(const RenderArgs& a) {
         throw Failure(a.output + ": the output must be an .exr file (the PNG is written beside it)");
     Result<Scene> scene = loadScene(a.scene);
     if (!scene) throw Failure(scene.error().message);
+    a.environment.apply(scene.value());
     const std::string method = a.method.empty() ? scene->method : a.method;
     // Faceted spheres (interpolated normals) have their own methods and no textures.
     const bool interpolated = scene->geometry.type == GeometryType::FacetedSphere;
@@ -101,7 +103,8 @@ void runRender(const RenderArgs& a) {
                      : render(scene.value(), textures, method, o);
     };
     const long long renderStart = nowNanoseconds();
-    Result<Image> image = draw(options, &gpuStats, a.gpuFrames);
+    RenderNoise noise;
+    Result<Image> image = a.gpu ? draw(options, &gpuStats, a.gpuFrames) : render(scene.value(), textures, method, options, &noise);
     if (!image) throw Failure(a.scene + ": " + image.error().message);
     const double renderMs = millisecondsSince(renderStart);
 
@@ -142,6 +145,9 @@ void runRender(const RenderArgs& a) {
     std::printf("render: %s, %dx%d, %d spp: load %.0f ms, render %.0f ms -> %s%s%s\n", method.c_str(),
                 image->width, image->height, options.spp, loadMs, renderMs, a.output.c_str(),
                 png.empty() ? "" : ", ", png.c_str());
+    if (method == kGroundTruth && textures.environment)
+        std::printf("noise: relative standard error %.3f%% (mean per-pixel standard error / mean luminance over %zu "
+                    "covered pixels)\n", 100. * noise.relativeStandardError, noise.coveredPixels);
     if (flicker >= 0.0) std::printf("flicker (%d frames): %.5f\n", a.frames, flicker);
     if (errorFlicker >= 0.0)
         std::printf("error flicker (%d frames, truth %d spp): %.5f\n", a.frames, a.truthSpp, errorFlicker);
@@ -169,6 +175,7 @@ void addRenderCommand(CLI::App& app) {
         ->check(CLI::Range(1, 1 << 20));
     c->add_option("--seed", a->seed, "jitter seed")->capture_default_str();
     addFilteringOptions(c, a->filtering);
+    addEnvironmentOptions(c, a->environment);
     c->add_flag("--nearest", a->nearest, "the same as --truth box");
     c->add_option("--aniso", a->anisotropy, "methods: anisotropic probes along the footprint (1 = trilinear)")
         ->check(CLI::Range(1, 64))->capture_default_str();

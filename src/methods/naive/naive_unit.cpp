@@ -62,8 +62,8 @@ std::vector<MethodShader> naiveShaders() {
         const float alpha = glm::max(setup.roughnessIsAlpha ? r : r * r, 1e-4f);
         return length > 0.f ? specularLobe(m.brdf, glm::dot(n, h) / length, m.exponent, alpha) : 0.f;
     };
-    return {{"naive", Method::Naive, "render/naive.glsl", none, shadeNaiveParams, lobe},
-            {kRoughnessMips, Method::Naive, "render/roughness_mips.glsl", prepareRoughnessMips, shadeRoughnessMips, roughLobe}};
+    return {{"naive", Method::Naive, "render/naive.glsl", none, shadeNaiveParams, lobe, nullptr},
+            {kRoughnessMips, Method::Naive, "render/roughness_mips.glsl", prepareRoughnessMips, shadeRoughnessMips, roughLobe, nullptr}};
 }
 
 } // namespace ndfmip

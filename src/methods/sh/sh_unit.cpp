@@ -87,7 +87,7 @@ std::vector<MethodShader> shShaders() {
     auto lobe = [](const ShaderSetup& setup, const Material&, const float* p, glm::vec3 h) {
         return shLobe(p, setup.sh, h);
     };
-    return {{"sh", Method::Sh, "render/sh.glsl", prepareSh, shadeShParams, lobe}};
+    return {{"sh", Method::Sh, "render/sh.glsl", prepareSh, shadeShParams, lobe, nullptr}};
 }
 
 } // namespace ndfmip

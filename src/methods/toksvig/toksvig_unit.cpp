@@ -77,8 +77,8 @@ std::vector<MethodShader> toksvigShaders() {
     auto lutLobe = [](const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 h) {
         return toksvigLutLobe(m, glm::vec3(p[0], p[1], p[2]), setup.lut, h);
     };
-    return {{"toksvig", Method::Toksvig, "render/toksvig.glsl", prepareClosedForm, shadeClosedForm, lobe},
-            {kToksvigLut, Method::Toksvig, "render/toksvig_lut.glsl", prepareLut, shadeLut, lutLobe}};
+    return {{"toksvig", Method::Toksvig, "render/toksvig.glsl", prepareClosedForm, shadeClosedForm, lobe, nullptr},
+            {kToksvigLut, Method::Toksvig, "render/toksvig_lut.glsl", prepareLut, shadeLut, lutLobe, nullptr}};
 }
 
 } // namespace ndfmip

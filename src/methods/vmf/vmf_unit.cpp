@@ -99,7 +99,7 @@ std::vector<MethodShader> vmfShaders() {
     auto lobe = [](const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 h) {
         return vmfLobe(m, p, setup.vmfLobes, h);
     };
-    return {{"vmf", Method::Vmf, "render/vmf.glsl", prepareVmf, shadeVmfParams, lobe}};
+    return {{"vmf", Method::Vmf, "render/vmf.glsl", prepareVmf, shadeVmfParams, lobe, nullptr}};
 }
 
 } // namespace ndfmip
