@@ -31,6 +31,8 @@
 // the measured cost of the approximation against the angle between the views.
 #pragma once
 
+#include <cstdint>
+
 #include <functional>
 #include <vector>
 
@@ -48,6 +50,7 @@ enum class SpecularCosine { HalfVector, MeanNormal, None };
 // Coefficients (l <= order, at shIndex(l, m)) on the basis of spherical_harmonics.h in the
 // environment frame (environment.h, Environment::rotation applied).
 struct ShLighting {
+    uint64_t id = 0; // unique per preparation (shading caches the lighting rotated into a frame by it)
     int order = 0;
     glm::dvec3 view{0., 0., 1.}; // w_o of `reparameterised`, environment frame, unit
     SpecularCosine cosine = SpecularCosine::MeanNormal;

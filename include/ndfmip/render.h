@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "ndfmip/bake.h"
+#include "ndfmip/environment_splitsum.h"
 #include "ndfmip/roughness.h"
 #include "ndfmip/scene.h"
 
@@ -61,6 +62,13 @@ bool shadeFilterFromString(const std::string& name, ShadeFilter& out);
 // heuristic; Light, Brdf: either sampler alone (unbiased too, noisier; for checks).
 enum class EnvironmentEstimator { Mis, Light, Brdf };
 
+// How vmf shades under an environment: the engine way (each lobe's equivalent roughness read from
+// prefiltered levels, environment_splitsum.h) or the paper's (lobes against SH lighting, Han et al.
+// eqs. 34-37, environment_sh_shading.h).
+enum class EnvironmentWay { Prefiltered, ShLighting };
+const char* environmentWayName(EnvironmentWay way); // "prefiltered", "sh"
+bool environmentWayFromString(const std::string& name, EnvironmentWay& out);
+
 struct RenderOptions {
     int spp = 1;             // samples per pixel, stratified and jittered (box filter); 1 = pixel centre
     uint64_t seed = 1;       // jitter seed: the same seed gives the same image on any thread count
@@ -87,6 +95,10 @@ struct RenderOptions {
     // Ground truth under an environment: estimates (each one environment + one BRDF sample) per
     // pixel sample, and how they are made.
     int environmentSamples = 1;
+    // Methods under an environment: the level rule of the prefiltered shading (naive, toksvig,
+    // roughness-mips, vmf the engine way) and how vmf shades (sh always uses SH lighting).
+    EnvironmentLod environmentLod = EnvironmentLod::Filament;
+    EnvironmentWay vmfEnvironment = EnvironmentWay::Prefiltered;
     EnvironmentEstimator environmentEstimator = EnvironmentEstimator::Mis;
 };
 

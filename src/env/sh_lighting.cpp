@@ -1,5 +1,6 @@
 // The lighting of the paper's environment shading (environment_sh_shading.h): the radiance's SH
 // coefficients and the reparameterised lighting L' of eq. 36 for one view.
+#include <atomic>
 #include <cassert>
 #include <cmath>
 
@@ -9,6 +10,12 @@
 
 namespace ndfmip {
 namespace {
+
+// Ids for ShLighting::id: never 0, never repeated in a process.
+uint64_t nextLightingId() {
+    static std::atomic<uint64_t> next{1};
+    return next++;
+}
 
 // The weight of L(w_i) in the integral over w_i of L' Y_lm(h): the Jacobian 4 (w_i.h) cancels
 // against dh = dw_i / (4 (w_i.h)), leaving the cosine c alone.
@@ -46,6 +53,7 @@ ShLighting prepareShLighting(const Environment& env, int order, glm::dvec3 fixed
                              SpecularCosine cosine) {
     assert(order >= 0 && order <= kMaxShOrder && glm::length(fixedView) > 0.);
     ShLighting lighting;
+    lighting.id = nextLightingId();
     lighting.order = order;
     lighting.view = glm::normalize(fixedView);
     lighting.cosine = cosine;
@@ -91,6 +99,7 @@ ShLighting prepareShLighting(const RadianceFunction& radiance, int order, glm::d
                              SpecularCosine cosine, int nodes) {
     assert(order >= 0 && order <= kMaxShOrder && glm::length(fixedView) > 0. && nodes >= order + 1);
     ShLighting lighting;
+    lighting.id = nextLightingId();
     lighting.order = order;
     lighting.view = glm::normalize(fixedView);
     lighting.cosine = cosine;

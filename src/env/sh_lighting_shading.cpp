@@ -44,6 +44,43 @@ GlslLibrary::NdfmipLobe unpacked(const float* p) {
 
 } // namespace
 
+namespace {
+
+// The lighting re-expressed in one tangent frame, L_t(d) = L(T d): L, then L' (or, for the
+// MeanNormal cosine, its three axes, combined after the rotation since rotation is linear), as
+// interleaved channels. Rotating costs ~10 us at order 8, so each thread keeps the last frame's:
+// a plane has one frame for every pixel.
+struct FrameLighting {
+    uint64_t lighting = 0; // ShLighting::id
+    glm::mat3 frame{0.f};
+    int order = -1, channels = 0;
+    std::vector<double> values;
+};
+
+const FrameLighting& lightingInFrame(const ShLighting& lighting, const glm::mat3& tangentToEnvironment, int order) {
+    thread_local FrameLighting cached;
+    if (cached.lighting == lighting.id && cached.order == order && cached.frame == tangentToEnvironment) return cached;
+    const bool axes = lighting.cosine == SpecularCosine::MeanNormal;
+    const int count = shCount(order), channels = axes ? 12 : 6;
+    cached.values.assign(size_t(channels) * size_t(count), 0.);
+    for (int i = 0; i < count; ++i) {
+        double* p = &cached.values[size_t(channels) * size_t(i)];
+        for (int c = 0; c < 3; ++c) {
+            p[c] = lighting.radiance[size_t(i)][c];
+            if (axes)
+                for (int k = 0; k < 3; ++k) p[3 + 3 * k + c] = lighting.reparameterisedAxes[k][size_t(i)][c];
+            else
+                p[3 + c] = lighting.reparameterised[size_t(i)][c];
+        }
+    }
+    rotateSh(glm::transpose(glm::dmat3(tangentToEnvironment)), order, cached.values.data(), cached.values.data(),
+             channels);
+    cached.lighting = lighting.id, cached.order = order, cached.frame = tangentToEnvironment, cached.channels = channels;
+    return cached;
+}
+
+} // namespace
+
 glm::vec3 shadeShEnvironment(const Material& m, glm::vec3 albedo, const float* g,
                              const ShShading& a, glm::vec3 /*v*/,
                              const glm::mat3& tangentToEnvironment, const ShLighting& lighting) {
@@ -55,23 +92,17 @@ glm::vec3 shadeShEnvironment(const Material& m, glm::vec3 albedo, const float* g
         glm::dmat3(tangentToEnvironment) *
         (glm::dvec3(g[shIndex(1, 1)], g[shIndex(1, -1)], g[shIndex(1, 0)]) /
          std::sqrt(3. / (4. * M_PI)));
-    // L and L' as six interleaved channels, re-expressed in the tangent frame: L_t(d) = L(T d).
-    std::vector<double> lights(6 * static_cast<size_t>(count));
-    for (int i = 0; i < count; ++i) {
-        const glm::dvec3 specular = reparameterisedAt(lighting, i, meanNormal);
-        for (int c = 0; c < 3; ++c) {
-            lights[size_t(6 * i + c)] = lighting.radiance[size_t(i)][c];
-            lights[size_t(6 * i + 3 + c)] = specular[c];
-        }
-    }
-    rotateSh(glm::transpose(glm::dmat3(tangentToEnvironment)), order, lights.data(), lights.data(),
-             6);
+    // L and L' in the tangent frame, where the NDF's coefficients are.
+    const FrameLighting& frame = lightingInFrame(lighting, tangentToEnvironment, order);
     glm::dvec3 radiance[shCount(kMaxShOrder)], reparameterised[shCount(kMaxShOrder)];
     double coefficients[shCount(kMaxShOrder)];
     for (int i = 0; i < count; ++i) {
-        const double* p = &lights[6 * size_t(i)];
+        const double* p = &frame.values[size_t(frame.channels) * size_t(i)];
         radiance[i] = glm::dvec3(p[0], p[1], p[2]);
-        reparameterised[i] = glm::dvec3(p[3], p[4], p[5]);
+        reparameterised[i] = frame.channels == 12 ? meanNormal.x * glm::dvec3(p[3], p[4], p[5]) +
+                                                        meanNormal.y * glm::dvec3(p[6], p[7], p[8]) +
+                                                        meanNormal.z * glm::dvec3(p[9], p[10], p[11])
+                                                  : glm::dvec3(p[3], p[4], p[5]);
         coefficients[i] = double(g[i]);
     }
     const glm::vec3 diffuse =

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,8 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "ndfmip/bake.h"
+#include "ndfmip/environment_sh_shading.h"
+#include "ndfmip/environment_splitsum.h"
 #include "ndfmip/render.h"
 #include "ndfmip/sh_brdf.h"
 #include "ndfmip/method_shading.h"
@@ -69,7 +72,22 @@ struct ShaderSetup {
     bool roughnessIsAlpha = false; // roughness-mips: stored alpha, not perceptual
     RoughnessMapping mapping = RoughnessMapping::Ours;
     float varianceScale = kVarianceScale;
+    // Under an environment. The renderer sets environmentView (towards the camera at the image
+    // centre, environment frame: the SH lighting's fixed view) before prepare, which fills the
+    // lighting its shading reads.
+    glm::dvec3 environmentView{0., 0., 1.};
+    EnvironmentLod environmentLod = EnvironmentLod::Filament;
+    std::shared_ptr<const SplitSumLighting> splitSum; // prefiltered levels (the engine way)
+    std::shared_ptr<const ShLighting> shLighting;     // SH lighting (the paper's way)
 };
+
+// The prepare steps the methods share under an environment (nothing without one): the
+// prefiltered levels of options.environmentLod's rule, or the SH lighting of order
+// kEnvironmentShOrder for setup.environmentView.
+constexpr int kEnvironmentShOrder = 8; // Han et al. Sec. 8: l* = 8
+Status prepareSplitSumSetup(const Material& material, const RenderTextures& textures, const RenderOptions& options,
+                            ShaderSetup& setup);
+Status prepareShLightingSetup(const Material& material, const RenderTextures& textures, ShaderSetup& setup);
 
 struct MethodShader {
     const char* name; // render and eval method name

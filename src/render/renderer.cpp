@@ -443,6 +443,7 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
                          std::to_string(level0.height) + " but the normal map is " +
                          std::to_string(textures.normals->width) + "x" +
                          std::to_string(textures.normals->height)};
+        if (ctx.lighting) ctx.setup.environmentView = worldToEnvironment(glm::dvec3(-ctx.camera.forward));
         if (Status ready = ctx.method->prepare(scene.material, textures, options, ctx.setup); !ready)
             return Error{ready.error};
         ctx.planes = linearPlanes(bake);
@@ -547,6 +548,17 @@ std::string renderMethodNames() {
     std::string names = std::string(kGroundTruth) + ", " + kExact;
     for (const MethodShader& shader : methodShaders()) names += std::string(", ") + shader.name;
     return names;
+}
+
+const char* environmentWayName(EnvironmentWay way) {
+    return way == EnvironmentWay::Prefiltered ? "prefiltered" : "sh";
+}
+
+bool environmentWayFromString(const std::string& name, EnvironmentWay& out) {
+    if (name == "prefiltered") out = EnvironmentWay::Prefiltered;
+    else if (name == "sh") out = EnvironmentWay::ShLighting;
+    else return false;
+    return true;
 }
 
 const char* truthFilterName(TruthFilter filter) { return filter == TruthFilter::Box ? "box" : "bilinear"; }

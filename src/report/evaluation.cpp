@@ -13,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -214,12 +215,44 @@ struct MethodSpec {
     Method method;      // the bake it shades (exact: none)
     BakeOptions options;
     bool baked = true;
+    std::string bakeKey; // the label without its @VARIANT: variants share one bake
+    // Under an environment, "@RULE" (log2sigma, filament, unity, unreal) or, for vmf, "@sh" or
+    // "@prefiltered": the RenderOptions the row is rendered with.
+    std::optional<EnvironmentLod> lod;
+    std::optional<EnvironmentWay> way;
 };
 
+MethodSpec methodSpecOf(const std::string& label);
+
 MethodSpec methodSpec(const std::string& label) {
-    if (label == kExact) return {label, kExact, Method::Naive, {}, false};
-    if (label == kToksvigLut) return {label, kToksvigLut, Method::Toksvig, {}, true};
-    MethodSpec spec{label, "", Method::Naive, {}, true};
+    const size_t at = label.find('@');
+    if (at == std::string::npos) {
+        MethodSpec spec = methodSpecOf(label);
+        spec.bakeKey = label;
+        return spec;
+    }
+    MethodSpec spec = methodSpecOf(label.substr(0, at));
+    spec.label = label;
+    spec.bakeKey = label.substr(0, at);
+    const std::string variant = label.substr(at + 1);
+    EnvironmentLod lod;
+    EnvironmentWay way;
+    if (environmentLodFromString(variant, lod) && spec.render != kExact && spec.render != kToksvigLut &&
+        spec.method != Method::Sh && spec.method != Method::Lean)
+        spec.lod = lod;
+    else if (environmentWayFromString(variant, way) && spec.method == Method::Vmf)
+        spec.way = way;
+    else
+        fail("--methods: " + quote(label) + ": naive, toksvig and vmf take @log2sigma, @filament, @unity or "
+             "@unreal (the prefiltered levels' rule), vmf also @sh or @prefiltered (how it shades under an "
+             "environment)");
+    return spec;
+}
+
+MethodSpec methodSpecOf(const std::string& label) {
+    if (label == kExact) return {label, kExact, Method::Naive, {}, false, label, {}, {}};
+    if (label == kToksvigLut) return {label, kToksvigLut, Method::Toksvig, {}, true, label, {}, {}};
+    MethodSpec spec{label, "", Method::Naive, {}, true, label, {}, {}};
     std::string name = label, order;
     if (size_t colon = label.find(':'); colon != std::string::npos) {
         name = label.substr(0, colon);
@@ -370,6 +403,9 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
     std::vector<MethodSpec> specs;
     for (const std::string& m : a.methods) specs.push_back(methodSpec(m));
     for (MethodSpec& spec : specs) spec.options.vmfCoherence = a.coherence;
+    for (const MethodSpec& spec : specs)
+        if ((spec.lod || spec.way) && a.environment.empty())
+            fail("--methods: " + quote(spec.label) + ": a variant after @ applies under --environment only");
     for (int f : a.footprints)
         if (f < 1 || f > 4096) fail("--footprints: " + std::to_string(f) + " is not in 1 .. 4096");
     const DecodeOptions& decode = a.decode;
@@ -420,7 +456,8 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
                     !s)
                     fail(s.error);
         for (const MethodSpec& spec : specs)
-            if (spec.baked) map.bakes[spec.label] = bakeMethod(spec.method, map.pyramid, spec.options);
+            if (spec.baked && !map.bakes.count(spec.bakeKey))
+                map.bakes[spec.bakeKey] = bakeMethod(spec.method, map.pyramid, spec.options);
         if (externalRows) map.bakes["naive (external roughness)"] = bakeMethod(Method::Naive, map.pyramid, {});
         if (a.calibrate && map.bakes.count("toksvig") == 0)
             map.bakes["toksvig"] = bakeMethod(Method::Toksvig, map.pyramid, {});
@@ -506,12 +543,15 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
                     const std::string& method = spec.label;
                     // Toksvig's table is for Blinn-Phong only.
                     if (method == kToksvigLut && setting.material.brdf != Brdf::BlinnPhong) continue;
-                    const Image image = renderOrFail(scene, textures(method), renderName(method), methodOptions);
+                    RenderOptions rowOptions = methodOptions;
+                    if (spec.lod) rowOptions.environmentLod = *spec.lod;
+                    if (spec.way) rowOptions.vmfEnvironment = *spec.way;
+                    const Image image = renderOrFail(scene, textures(spec.bakeKey), renderName(method), rowOptions);
                     Result<ImageComparison> cmp = compareImages(image, truth);
                     if (!cmp) fail(cmp.error().message);
                     ReportCase c{map.name, method, setting.brdf, footprint, setting.exponent, setting.roughness,
                                  cmp->relativeRmse, cmp->rmse, cmp->psnr, cmp->energyRatio,
-                                 flickerOf(scene, textures(method), renderName(method), methodOptions, a.frames)};
+                                 flickerOf(scene, textures(spec.bakeKey), renderName(method), rowOptions, a.frames)};
                     report.cases.push_back(c);
                     cases.push_back(caseJson(c));
                     if (showcase) {

@@ -293,10 +293,10 @@ TEST(EnvironmentTruth, VisibleEnvironmentShowsWhereRaysMissAndMethodsWithoutAHoo
     EXPECT_EQ(image->at(0, 0)[0], 7.f);
 
     RenderTextures baked = textures;
-    baked.bake = bakeMethod(Method::Toksvig, buildPyramid(baked.normals), {});
-    Result<Image> method = render(scene, baked, "toksvig", RenderOptions{});
+    baked.bake = bakeMethod(Method::Lean, buildPyramid(baked.normals), {});
+    Result<Image> method = render(scene, baked, "lean", RenderOptions{});
     ASSERT_FALSE(method);
-    EXPECT_EQ(method.error().message, "render: method 'toksvig' cannot shade under an environment");
+    EXPECT_EQ(method.error().message, "render: method 'lean' cannot shade under an environment");
     Result<Image> exact = render(scene, baked, kExact, RenderOptions{});
     ASSERT_FALSE(exact);
     EXPECT_NE(exact.error().message.find("environment"), std::string::npos);

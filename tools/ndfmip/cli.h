@@ -74,6 +74,15 @@ struct EnvironmentArgs {
 };
 void addEnvironmentOptions(CLI::App* command, EnvironmentArgs& args);
 
+// How the methods shade under an environment (render): --env-lod RULE, --vmf-environment WAY.
+struct EnvironmentShadingArgs {
+    std::string lod = "filament";
+    std::string vmfWay = "prefiltered";
+    // The choices into `o`; throws on an unknown name.
+    void apply(RenderOptions& o) const;
+};
+void addEnvironmentShadingOptions(CLI::App* command, EnvironmentShadingArgs& args);
+
 // Warns on stderr about suspicious normals that decoding found in `path`.
 void warnAboutDecode(const std::string& path, const DecodeReport& report);
 

@@ -155,6 +155,24 @@ void addEnvironmentOptions(CLI::App* c, EnvironmentArgs& a) {
         ->check(CLI::Range(-360.f, 360.f));
 }
 
+void addEnvironmentShadingOptions(CLI::App* c, EnvironmentShadingArgs& a) {
+    c->add_option("--env-lod", a.lod,
+                  "under an environment, the prefiltered levels' rule of naive, toksvig, roughness-mips and vmf "
+                  "(prefiltered): log2sigma (Toksvig's), filament, unity or unreal")
+        ->capture_default_str();
+    c->add_option("--vmf-environment", a.vmfWay,
+                  "under an environment, vmf shades by prefiltered levels per lobe (prefiltered, the engine way) "
+                  "or by SH lighting (sh, Han et al. eqs. 34-37)")
+        ->capture_default_str();
+}
+
+void EnvironmentShadingArgs::apply(RenderOptions& o) const {
+    if (!environmentLodFromString(lod, o.environmentLod))
+        throw Failure("--env-lod " + quote(lod) + ": expected log2sigma, filament, unity or unreal");
+    if (!environmentWayFromString(vmfWay, o.vmfEnvironment))
+        throw Failure("--vmf-environment " + quote(vmfWay) + ": expected prefiltered or sh");
+}
+
 EnvironmentOptions EnvironmentArgs::options(EnvironmentOptions base) const {
     if (!std::isnan(intensity)) base.intensity = intensity;
     if (!std::isnan(rotationDegrees)) base.rotationDegrees = rotationDegrees;

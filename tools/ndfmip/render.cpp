@@ -35,6 +35,7 @@ struct RenderArgs {
     bool nearest = false;
     FilteringArgs filtering;
     EnvironmentArgs environment;
+    EnvironmentShadingArgs environmentShading;
     bool noPng = false;
     float exposure = std::numeric_limits<float>::quiet_NaN();
     bool quiet = false;
@@ -79,6 +80,7 @@ void runRender(const RenderArgs& a) {
     options.spp = a.spp > 0 ? a.spp : (method == kGroundTruth ? 64 : 1);
     options.seed = a.seed;
     a.filtering.apply(options);
+    a.environmentShading.apply(options);
     if (a.nearest) options.truth = TruthFilter::Box;
     options.anisotropy = a.anisotropy;
     options.roughnessMapping = roughnessMappingOrFail(a.mapping);
@@ -176,6 +178,7 @@ void addRenderCommand(CLI::App& app) {
     c->add_option("--seed", a->seed, "jitter seed")->capture_default_str();
     addFilteringOptions(c, a->filtering);
     addEnvironmentOptions(c, a->environment);
+    addEnvironmentShadingOptions(c, a->environmentShading);
     c->add_flag("--nearest", a->nearest, "the same as --truth box");
     c->add_option("--aniso", a->anisotropy, "methods: anisotropic probes along the footprint (1 = trilinear)")
         ->check(CLI::Range(1, 64))->capture_default_str();

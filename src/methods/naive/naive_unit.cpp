@@ -13,19 +13,36 @@ glm::vec3 shadeNaiveParams(const ShaderSetup&, const Material& m, const float* p
     return shadeNaive(m, albedo, glm::vec3(p[0], p[1], p[2]), l, v);
 }
 
-Status prepareRoughnessMips(const Material& m, const RenderTextures& textures, const RenderOptions&,
+Status prepareRoughnessMips(const Material& m, const RenderTextures& textures, const RenderOptions& options,
                             ShaderSetup& setup) {
     if (m.brdf != Brdf::Ggx && m.brdf != Brdf::Beckmann)
         return Status::failure(std::string("render: roughness-mips needs a GGX or Beckmann material, the material is ") +
                                brdfName(m.brdf));
     setup.roughnessIsAlpha = textures.roughnessIsAlpha;
-    return Status::success();
+    return prepareSplitSumSetup(m, textures, options, setup);
 }
 
 // The normal's three channels, then the roughness channel(s) appended by the renderer.
 glm::vec3 shadeRoughnessMips(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo,
                              glm::vec3 l, glm::vec3 v) {
     return shadeRoughnessMipsTexel(m, albedo, glm::vec3(p[0], p[1], p[2]), p[3], setup.roughnessIsAlpha, l, v);
+}
+
+// Under an environment: the prefiltered levels along the reflection about the renormalised normal.
+Status prepareNaive(const Material& m, const RenderTextures& textures, const RenderOptions& options, ShaderSetup& setup) {
+    return prepareSplitSumSetup(m, textures, options, setup);
+}
+
+glm::vec3 shadeNaiveEnvironment(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo,
+                                glm::vec3 v, const glm::mat3& toEnvironment, const EnvironmentLighting&) {
+    return shadeNaiveSplitSum(m, albedo, glm::vec3(p[0], p[1], p[2]), v, toEnvironment, *setup.splitSum,
+                              setup.environmentLod);
+}
+
+glm::vec3 shadeRoughnessMipsEnvironment(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo,
+                                        glm::vec3 v, const glm::mat3& toEnvironment, const EnvironmentLighting&) {
+    return shadeRoughnessMipsSplitSum(m, albedo, glm::vec3(p[0], p[1], p[2]), p[3], setup.roughnessIsAlpha, v,
+                                      toEnvironment, *setup.splitSum, setup.environmentLod);
 }
 
 } // namespace
@@ -48,9 +65,6 @@ MethodUnit naiveUnit() {
 }
 
 std::vector<MethodShader> naiveShaders() {
-    auto none = [](const Material&, const RenderTextures&, const RenderOptions&, ShaderSetup&) {
-        return Status::success();
-    };
     auto lobe = [](const ShaderSetup&, const Material& m, const float* p, glm::vec3 h) {
         const glm::vec3 n(p[0], p[1], p[2]);
         const float length = glm::length(n);
@@ -62,8 +76,9 @@ std::vector<MethodShader> naiveShaders() {
         const float alpha = glm::max(setup.roughnessIsAlpha ? r : r * r, 1e-4f);
         return length > 0.f ? specularLobe(m.brdf, glm::dot(n, h) / length, m.exponent, alpha) : 0.f;
     };
-    return {{"naive", Method::Naive, "render/naive.glsl", none, shadeNaiveParams, lobe, nullptr},
-            {kRoughnessMips, Method::Naive, "render/roughness_mips.glsl", prepareRoughnessMips, shadeRoughnessMips, roughLobe, nullptr}};
+    return {{"naive", Method::Naive, "render/naive.glsl", prepareNaive, shadeNaiveParams, lobe, shadeNaiveEnvironment},
+            {kRoughnessMips, Method::Naive, "render/roughness_mips.glsl", prepareRoughnessMips, shadeRoughnessMips,
+             roughLobe, shadeRoughnessMipsEnvironment}};
 }
 
 } // namespace ndfmip

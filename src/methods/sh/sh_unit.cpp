@@ -49,7 +49,13 @@ Status prepareSh(const Material& m, const RenderTextures& textures, const Render
     Result<ShShading> sh = shShadingFor(m, bakeShOrder(textures.bake));
     if (!sh) return Status::failure(sh.error().message);
     setup.sh = std::move(sh.value());
-    return Status::success();
+    return prepareShLightingSetup(m, textures, setup);
+}
+
+// Under an environment: Han et al. eqs. 35 and 37, the lighting rotated into the tangent frame.
+glm::vec3 shadeShEnvironmentParams(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo,
+                                   glm::vec3 v, const glm::mat3& toEnvironment, const EnvironmentLighting&) {
+    return shadeShEnvironment(m, albedo, p, setup.sh, v, toEnvironment, *setup.shLighting);
 }
 
 glm::vec3 shadeShParams(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo, glm::vec3 l,
@@ -87,7 +93,7 @@ std::vector<MethodShader> shShaders() {
     auto lobe = [](const ShaderSetup& setup, const Material&, const float* p, glm::vec3 h) {
         return shLobe(p, setup.sh, h);
     };
-    return {{"sh", Method::Sh, "render/sh.glsl", prepareSh, shadeShParams, lobe, nullptr}};
+    return {{"sh", Method::Sh, "render/sh.glsl", prepareSh, shadeShParams, lobe, shadeShEnvironmentParams}};
 }
 
 } // namespace ndfmip

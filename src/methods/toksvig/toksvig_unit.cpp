@@ -14,10 +14,19 @@ glm::vec3 shadeClosedForm(const ShaderSetup& setup, const Material& m, const flo
     return shadeToksvig(m, albedo, glm::vec3(p[0], p[1], p[2]), l, v, setup.mapping, setup.varianceScale);
 }
 
-Status prepareClosedForm(const Material&, const RenderTextures&, const RenderOptions& options, ShaderSetup& setup) {
+Status prepareClosedForm(const Material& m, const RenderTextures& textures, const RenderOptions& options,
+                         ShaderSetup& setup) {
     setup.mapping = options.roughnessMapping;
     setup.varianceScale = options.varianceScale;
-    return Status::success();
+    return prepareSplitSumSetup(m, textures, options, setup);
+}
+
+// Under an environment: the lobe widened by |Na| as under point lights, read from the prefiltered
+// levels at the rule's level (log2 sigma: Toksvig's own, on the plain mip chain).
+glm::vec3 shadeClosedFormEnvironment(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo,
+                                     glm::vec3 v, const glm::mat3& toEnvironment, const EnvironmentLighting&) {
+    return shadeToksvigSplitSum(m, albedo, glm::vec3(p[0], p[1], p[2]), v, toEnvironment, *setup.splitSum,
+                                setup.environmentLod, setup.mapping, setup.varianceScale);
 }
 
 Status prepareLut(const Material& m, const RenderTextures&, const RenderOptions&, ShaderSetup& setup) {
@@ -77,7 +86,8 @@ std::vector<MethodShader> toksvigShaders() {
     auto lutLobe = [](const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 h) {
         return toksvigLutLobe(m, glm::vec3(p[0], p[1], p[2]), setup.lut, h);
     };
-    return {{"toksvig", Method::Toksvig, "render/toksvig.glsl", prepareClosedForm, shadeClosedForm, lobe, nullptr},
+    return {{"toksvig", Method::Toksvig, "render/toksvig.glsl", prepareClosedForm, shadeClosedForm, lobe,
+             shadeClosedFormEnvironment},
             {kToksvigLut, Method::Toksvig, "render/toksvig_lut.glsl", prepareLut, shadeLut, lutLobe, nullptr}};
 }
 

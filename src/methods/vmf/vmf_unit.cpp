@@ -45,11 +45,17 @@ void inspectVmf(nlohmann::json& out, const LoadedBake& bake, int x, int y, const
     out["lobes"] = lobes;
 }
 
-Status prepareVmf(const Material&, const RenderTextures& textures, const RenderOptions&, ShaderSetup& setup) {
+Status prepareVmf(const Material& m, const RenderTextures& textures, const RenderOptions& options, ShaderSetup& setup) {
     setup.vmfLobes = bakeVmfLobes(textures.bake);
     setup.vmfColors = findPlane(textures.bake.planes, "color0") >= 0;
     if (setup.vmfLobes < 1 || setup.vmfLobes > 8) return Status::failure("render: vmf bakes have 1 to 8 lobes");
-    return Status::success();
+    if (!textures.environment) return Status::success();
+    if (options.vmfEnvironment == EnvironmentWay::Prefiltered) return prepareSplitSumSetup(m, textures, options, setup);
+    // The paper's way: the lobes' transfer functions against SH lighting of order 8.
+    Result<ShShading> sh = shShadingFor(m, kEnvironmentShOrder);
+    if (!sh) return Status::failure(sh.error().message);
+    setup.sh = std::move(sh.value());
+    return prepareShLightingSetup(m, textures, setup);
 }
 
 // Lobe planes (4 channels each), then colour planes (3 each) when the bake has them.
@@ -61,6 +67,27 @@ glm::vec3 shadeVmfParams(const ShaderSetup& setup, const Material& m, const floa
         colors[j] = unpackLobeColor(glm::vec3(c[0], c[1], c[2]), p[4 * j]);
     }
     return shadeVmf(m, albedo, p, setup.vmfLobes, setup.vmfColors ? colors : nullptr, l, v);
+}
+
+// Under an environment: per lobe, the prefiltered level of its equivalent roughness along the
+// reflection about mu_j (the engine way), or eqs. 35 and 37 with SH lighting (the paper's: Blinn-
+// Phong's widened lobe of eq. 29; Beckmann and GGX by the lobe convolved exactly, as fast and
+// without eq. 30's equivalent-roughness step).
+glm::vec3 shadeVmfEnvironment(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo,
+                              glm::vec3 v, const glm::mat3& toEnvironment, const EnvironmentLighting&) {
+    glm::vec3 colors[8];
+    for (int j = 0; setup.vmfColors && j < setup.vmfLobes; ++j) {
+        const float* c = p + 4 * setup.vmfLobes + 3 * j;
+        colors[j] = unpackLobeColor(glm::vec3(c[0], c[1], c[2]), p[4 * j]);
+    }
+    const glm::vec3* lobeColors = setup.vmfColors ? colors : nullptr;
+    if (setup.splitSum)
+        return shadeVmfSplitSum(m, albedo, p, setup.vmfLobes, lobeColors, v, toEnvironment, *setup.splitSum,
+                                setup.environmentLod);
+    const VmfSpecularTransfer transfer =
+        m.brdf == Brdf::BlinnPhong ? VmfSpecularTransfer::Widened : VmfSpecularTransfer::Convolved;
+    return shadeVmfEnvironmentSh(m, albedo, p, setup.vmfLobes, lobeColors, v, toEnvironment, *setup.shLighting,
+                                 setup.sh, transfer);
 }
 
 } // namespace
@@ -99,7 +126,7 @@ std::vector<MethodShader> vmfShaders() {
     auto lobe = [](const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 h) {
         return vmfLobe(m, p, setup.vmfLobes, h);
     };
-    return {{"vmf", Method::Vmf, "render/vmf.glsl", prepareVmf, shadeVmfParams, lobe, nullptr}};
+    return {{"vmf", Method::Vmf, "render/vmf.glsl", prepareVmf, shadeVmfParams, lobe, shadeVmfEnvironment}};
 }
 
 } // namespace ndfmip
