@@ -892,6 +892,73 @@ TEST(Cli, RenderWritesExrAndPngAndGroundTruthMatchesMethodsOnAFlatMap) {
     EXPECT_EQ(png->image.width, 8);
 }
 
+// A small grey sky with a brighter top, as an EXR file.
+void writeSky(const std::string& path) {
+    Image sky(32, 16, 3);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 32; ++x)
+            for (int c = 0; c < 3; ++c) sky.at(x, y)[c] = y < 8 ? 2.f : 0.5f;
+    ASSERT_TRUE(saveExr(path, sky));
+}
+
+TEST(Cli, RenderUnderAnEnvironmentWithEveryRuleAndWay) {
+    TempDir tmp("render-env");
+    writePng16(tmp.file("flat.png"), encodeNormals(flatNormals(32, 32)));
+    writeSky(tmp.file("sky.exr"));
+    writeFile(tmp.path / "scene.json", alignedSceneJson("flat.png", 8, "toksvig"));
+    const std::string scene = shellQuoted(tmp.file("scene.json")), sky = " --environment " + shellQuoted(tmp.file("sky.exr"));
+    CliRun r = cli("render " + scene + sky + " -q --method groundtruth --spp 16 -o " + shellQuoted(tmp.file("truth.exr")));
+    ASSERT_EQ(r.status, 0) << r.output;
+    Result<SourceImage> truth = loadImage(tmp.file("truth.exr"));
+    ASSERT_TRUE(truth.ok());
+    const float centre = truth->image.at(4, 4)[0];
+    EXPECT_GT(centre, 0.f);
+    for (const char* args : {"--method naive", "--method toksvig --env-lod log2sigma", "--method toksvig --env-lod unity",
+                             "--method toksvig --env-lod unreal", "--method vmf --vmf-environment sh",
+                             "--method vmf --env-lod filament", "--method sh"}) {
+        r = cli("render " + scene + sky + " -q " + args + " -o " + shellQuoted(tmp.file("m.exr")));
+        ASSERT_EQ(r.status, 0) << args << ": " << r.output;
+        Result<SourceImage> image = loadImage(tmp.file("m.exr"));
+        ASSERT_TRUE(image.ok());
+        // A flat map: each method sees the truth's single normal (within the split sum's and
+        // the SH truncation's approximations).
+        EXPECT_NEAR(image->image.at(4, 4)[0], centre, 0.15f * centre) << args;
+    }
+    expectCleanFailure(cli("render " + scene + sky + " --env-lod bilinear -o " + shellQuoted(tmp.file("x.exr"))),
+                       {"--env-lod", "bilinear"});
+    expectCleanFailure(cli("render " + scene + sky + " --method vmf --vmf-environment cube -o " +
+                           shellQuoted(tmp.file("x.exr"))),
+                       {"--vmf-environment", "cube"});
+    expectCleanFailure(cli("render " + scene + sky + " --method lean -o " + shellQuoted(tmp.file("x.exr"))),
+                       {"lean", "environment"});
+    expectCleanFailure(cli("render " + scene + " --environment " + shellQuoted(tmp.file("nosky.exr")) + " -o " +
+                           shellQuoted(tmp.file("x.exr"))),
+                       {"nosky.exr"});
+    EXPECT_FALSE(fs::exists(tmp.path / "x.exr"));
+}
+
+TEST(Cli, EvalUnderAnEnvironmentHasARowPerVariantAndSkipsTheRest) {
+    TempDir tmp("eval-env");
+    writePng16(tmp.file("flat.png"), encodeNormals(flatNormals(16, 16)));
+    writeSky(tmp.file("sky.exr"));
+    const std::string map = shellQuoted(tmp.file("flat.png")), sky = " --environment " + shellQuoted(tmp.file("sky.exr"));
+    CliRun r = cli("eval " + map + sky + " -q --methods naive,toksvig@unity,vmf:2@sh,lean --brdfs ggx --roughness 0.3 "
+                   "--footprints 4 --frames 0 --pixels 8 --spp 64 -o " + shellQuoted(tmp.file("r")));
+    ASSERT_EQ(r.status, 0) << r.output;
+    const json report = json::parse(fileBytes(tmp.path / "r" / "report.json"));
+    std::set<std::string> methods;
+    for (const json& c : report["cases"]) methods.insert(c["method"].get<std::string>());
+    EXPECT_EQ(methods, (std::set<std::string>{"groundtruth", "naive", "toksvig@unity", "vmf:2@sh"}));
+    ASSERT_EQ(report["skipped"].size(), 1u);
+    EXPECT_EQ(report["skipped"][0]["method"], "lean");
+    // A variant needs an environment; an unknown variant is refused.
+    expectCleanFailure(cli("eval " + map + " -q --methods toksvig@unity -o " + shellQuoted(tmp.file("r2"))),
+                       {"toksvig@unity", "--environment"});
+    expectCleanFailure(cli("eval " + map + sky + " -q --methods sh@unity -o " + shellQuoted(tmp.file("r3"))),
+                       {"sh@unity"});
+    EXPECT_FALSE(fs::exists(tmp.path / "r2"));
+}
+
 TEST(Cli, RenderReportsBadScenesInOneLine) {
     TempDir tmp("render-bad");
     writeFile(tmp.path / "bad.json", R"({"camera": {"width": "abc"}})");
