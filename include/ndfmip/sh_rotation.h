@@ -21,7 +21,7 @@ void rotateSh(const glm::dmat3& R, int order, const double* in, double* out);
 
 // The same for `channels` functions stored interleaved, in[shIndex(l, m) * channels + c] (RGB
 // coefficients as glm::dvec3 arrays: channels = 3): the basis is evaluated once for all of them.
-// Precondition: 1 <= channels <= 8.
+// Precondition: 1 <= channels <= 16.
 void rotateSh(const glm::dmat3& R, int order, const double* in, double* out, int channels);
 
 } // namespace ndfmip

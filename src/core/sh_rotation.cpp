@@ -98,7 +98,7 @@ const RotationPoints& rotationPoints(int order) {
     return table[size_t(order)];
 }
 
-constexpr int kMaxChannels = 8;
+constexpr int kMaxChannels = 16;
 
 } // namespace
 

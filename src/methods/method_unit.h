@@ -83,7 +83,8 @@ struct ShaderSetup {
 
 // The prepare steps the methods share under an environment (nothing without one): the
 // prefiltered levels of options.environmentLod's rule, or the SH lighting of order
-// kEnvironmentShOrder for setup.environmentView.
+// kEnvironmentShOrder for setup.environmentView (the specular cosine from the mean normal,
+// environment_sh_shading.h).
 constexpr int kEnvironmentShOrder = 8; // Han et al. Sec. 8: l* = 8
 Status prepareSplitSumSetup(const Material& material, const RenderTextures& textures, const RenderOptions& options,
                             ShaderSetup& setup);

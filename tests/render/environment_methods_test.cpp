@@ -3,7 +3,9 @@
 // approximation (the split sum's n = v = r, SH truncation), and a tilted map must move every
 // method's result the way it moves the truth's.
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
+#include <string>
 #include <iterator>
 #include <random>
 #include <vector>
@@ -113,7 +115,10 @@ std::vector<double> compareRows(float tilt, double tolerance) {
         const double got = meanLuminance(image.value()), error = std::abs(got / expected - 1.);
         std::printf("[ measured ] tilt %.2f: %s (%s, %s) %.4f against the truth's %.4f: %.1f%%\n", tilt, row.method,
                     environmentLodName(row.lod), environmentWayName(row.way), got, expected, 100. * error);
-        EXPECT_LT(error, tolerance) << row.method << " " << environmentLodName(row.lod) << " "
+        // The sh method's specular cosine is the mean normal's (docs/ENVIRONMENT.md), further
+        // from the reflecting normals' own the more they spread: 12% too dark on the bumpy map.
+        const double allowed = std::string(row.method) == "sh" ? std::max(tolerance, 0.15) : tolerance;
+        EXPECT_LT(error, allowed) << row.method << " " << environmentLodName(row.lod) << " "
                                     << environmentWayName(row.way);
         errors.push_back(error);
     }
@@ -123,9 +128,7 @@ std::vector<double> compareRows(float tilt, double tolerance) {
 TEST(EnvironmentMethods, FlatMapMatchesTheTruth) { compareRows(0.f, 0.06); }
 
 TEST(EnvironmentMethods, BumpyMapStaysNearTheTruth) {
-    // The SH method's cosine from the mean normal counts light below the normals' horizons
-    // (docs/ENVIRONMENT.md), its largest error here.
-    const std::vector<double> errors = compareRows(0.5f, 0.2);
+    const std::vector<double> errors = compareRows(0.5f, 0.12);
     ASSERT_EQ(errors.size(), std::size(kRows));
     // Toksvig's log2 sigma rule widens the reflection for the normals' spread; the renormalised
     // normal (naive) does not, and is further off.
