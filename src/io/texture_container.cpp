@@ -63,91 +63,59 @@ void putAt(std::string& out, size_t offset, T value) {
 uint8_t unorm8(float v) { return uint8_t(std::clamp(v, 0.f, 1.f) * 255.f + 0.5f); }
 uint16_t unorm16(float v) { return uint16_t(std::clamp(v, 0.f, 1.f) * 65535.f + 0.5f); }
 
-// A BC4 block's palette: endpoints r0, r1 and six interpolants (r0 > r1), or four and 0, 255.
-void bc4Palette(int r0, int r1, int palette[8]) {
-    palette[0] = r0;
-    palette[1] = r1;
-    if (r0 > r1)
-        for (int c = 2; c < 8; ++c) palette[c] = ((8 - c) * r0 + (c - 1) * r1 + 3) / 7;
-    else {
-        for (int c = 2; c < 6; ++c) palette[c] = ((6 - c) * r0 + (c - 1) * r1 + 2) / 5;
-        palette[6] = 0;
-        palette[7] = 255;
-    }
-}
+// In a BC4 block's 8-level mode (r0 > r1) level p, counted from r1 (p = 0) to r0 (p = 7), is
+// ((7 - p) r1 + p r0 + 3) / 7 as decoders round it, and has code kCodeOfLevel[p].
+constexpr int kCodeOfLevel[8] = {1, 7, 6, 5, 4, 3, 2, 0};
 
-// The squared error of `values` coded with the nearest palette entries, and those entries. In
-// the 8-level mode the levels are evenly spaced (to rounding), so the nearest is one of the two
-// that bracket the value.
-int bc4Error(const unsigned char* values, int stride, const int palette[8], int codes[16]) {
-    static constexpr int kCodeAt[8] = {1, 7, 6, 5, 4, 3, 2, 0}; // position from r1 (0) to r0 (7)
-    const int r0 = palette[0], r1 = palette[1];
+// The squared error of the 16 values at their nearest levels between r1 < r0, and those levels.
+// The levels are evenly spaced (to rounding), so the nearest is one of the two that bracket the
+// value, found by a multiply (a rounding at an exact level only moves it to the bracket below,
+// which still holds that level). Branch-free, so the compiler can run the 16 values together.
+int nearestLevels(const int values[16], int r0, int r1, int level[16]) {
+    const float scale = 7.f / float(r0 - r1);
     int total = 0;
-    if (r0 > r1) {
-        // Where v falls between the levels, by a multiply (a rounding at an exact level only moves
-        // it to the bracket below, which still holds that level).
-        const float scale = 7.f / float(r0 - r1);
-        for (int i = 0; i < 16; ++i) {
-            const int v = values[i * stride];
-            const int below = std::clamp(int(float(v - r1) * scale), 0, 6); // levels `below` and `below + 1` bracket v
-            const int d0 = v - palette[kCodeAt[below]], d1 = v - palette[kCodeAt[below + 1]];
-            const bool upper = d1 * d1 < d0 * d0;
-            total += upper ? d1 * d1 : d0 * d0;
-            codes[i] = kCodeAt[below + upper];
-        }
-        return total;
-    }
     for (int i = 0; i < 16; ++i) {
-        const int v = values[i * stride];
-        int best = 1 << 30;
-        for (int c = 0; c < 8; ++c) {
-            const int d = v - palette[c];
-            if (d * d < best) best = d * d, codes[i] = c;
-        }
-        total += best;
+        const int below = std::clamp(int(float(values[i] - r1) * scale), 0, 6);
+        const int d0 = values[i] - ((7 - below) * r1 + below * r0 + 3) / 7;
+        const int d1 = values[i] - ((6 - below) * r1 + (below + 1) * r0 + 3) / 7;
+        const int up = d1 * d1 < d0 * d0 ? 1 : 0;
+        level[i] = below + up;
+        total += up ? d1 * d1 : d0 * d0;
     }
     return total;
 }
 
-// stb_dxt takes each block's minimum and maximum as the endpoints, which spends the eight levels
+// stb_dxt takes each block's maximum and minimum as the endpoints, which spends the eight levels
 // poorly where the values cluster. Starting there, the endpoints are refitted by least squares to
-// the values given their codes, and the codes reassigned, while the error falls (the 8-level
-// mode): on real roughness mips this gains 1-3 dB, to within 0.6 dB of the best any 8-level
-// block can do (a grid search over endpoint pairs gained nothing more at 3x the time). Layout: r0, r1, 16 3-bit codes.
-void refineBc4Block(unsigned char* block, const unsigned char* values, int stride) {
-    int palette[8], codes[16], bestCodes[16];
-    int r0 = block[0], r1 = block[1];
-    bc4Palette(r0, r1, palette);
-    int bestError = bc4Error(values, stride, palette, bestCodes);
+// the values given their levels, and the levels reassigned, while the error falls: on real
+// roughness mips this gains 1-3 dB, to within 0.6 dB of the best any 8-level block can do (a grid
+// search over endpoint pairs gained nothing more at 3x the time). Layout: r0, r1, 16 3-bit codes.
+void refineBc4Block(unsigned char* block, const unsigned char* bytes, int stride) {
+    // stb_dxt writes r0 = max >= r1 = min; equal only for a constant block, which is exact.
+    if (block[0] <= block[1]) return;
+    int values[16], level[16], bestLevel[16];
+    for (int i = 0; i < 16; ++i) values[i] = bytes[i * stride];
+    int r0 = block[0], r1 = block[1], best0 = r0, best1 = r1;
+    int bestError = nearestLevels(values, r0, r1, bestLevel);
     if (bestError <= 16) return; // within one level per texel on average: nothing to gain
-    int best0 = r0, best1 = r1;
-    if (r0 <= r1) { // start the 8-level mode from the block's range
-        r0 = r1 = values[0];
-        for (int i = 1; i < 16; ++i) r0 = std::max(r0, int(values[i * stride])), r1 = std::min(r1, int(values[i * stride]));
-        if (r0 == r1) return;
-        bc4Palette(r0, r1, palette);
-        const int error = bc4Error(values, stride, palette, codes);
-        if (error < bestError) bestError = error, best0 = r0, best1 = r1, std::copy(codes, codes + 16, bestCodes);
-    } else {
-        std::copy(bestCodes, bestCodes + 16, codes);
-    }
-    for (int iteration = 0, last = 1 << 30; iteration < 4; ++iteration) {
-        // value ~ w r0 + (1 - w) r1, w = (8 - c)/7 for interpolant c, 1 for code 0, 0 for code 1.
-        float sww = 0, sw1 = 0, s11 = 0, swv = 0, s1v = 0;
+    std::copy(bestLevel, bestLevel + 16, level);
+    for (int iteration = 0, last = bestError; iteration < 4; ++iteration) {
+        // value ~ w r0 + (1 - w) r1 with w = level / 7.
+        float sww = 0.f, sw = 0.f, swv = 0.f, sv = 0.f;
         for (int i = 0; i < 16; ++i) {
-            const float w = codes[i] == 0 ? 1.f : codes[i] == 1 ? 0.f : float(8 - codes[i]) * (1.f / 7.f);
-            const float v = values[i * stride];
-            sww += w * w, sw1 += w * (1 - w), s11 += (1 - w) * (1 - w), swv += w * v, s1v += (1 - w) * v;
+            const float w = float(level[i]) * (1.f / 7.f), v = float(values[i]);
+            sww += w * w, sw += w, swv += w * v, sv += v;
         }
-        const float det = sww * s11 - sw1 * sw1;
+        // Normal equations in (r0, r1): [sww, sw - sww; sw - sww, 16 - 2 sw + sww].
+        const float a = sww, b = sw - sww, c = 16.f - 2.f * sw + sww, det = a * c - b * b;
         if (std::abs(det) < 1e-6f) break;
-        const int n0 = std::clamp(int((swv * s11 - s1v * sw1) / det + 0.5f), 0, 255);
-        const int n1 = std::clamp(int((s1v * sww - swv * sw1) / det + 0.5f), 0, 255);
+        const float y0 = swv, y1 = sv - swv;
+        const int n0 = std::clamp(int((y0 * c - y1 * b) / det + 0.5f), 0, 255);
+        const int n1 = std::clamp(int((y1 * a - y0 * b) / det + 0.5f), 0, 255);
         if ((n0 == r0 && n1 == r1) || n0 <= n1) break; // settled, or out of the 8-level mode
         r0 = n0, r1 = n1;
-        bc4Palette(r0, r1, palette);
-        const int error = bc4Error(values, stride, palette, codes);
-        if (error < bestError) bestError = error, best0 = r0, best1 = r1, std::copy(codes, codes + 16, bestCodes);
+        const int error = nearestLevels(values, r0, r1, level);
+        if (error < bestError) bestError = error, best0 = r0, best1 = r1, std::copy(level, level + 16, bestLevel);
         if (error >= last) break; // the fit has settled
         last = error;
     }
@@ -155,7 +123,7 @@ void refineBc4Block(unsigned char* block, const unsigned char* values, int strid
     block[0] = uint8_t(best0);
     block[1] = uint8_t(best1);
     uint64_t bits = 0;
-    for (int i = 0; i < 16; ++i) bits |= uint64_t(bestCodes[i]) << (3 * i);
+    for (int i = 0; i < 16; ++i) bits |= uint64_t(kCodeOfLevel[bestLevel[i]]) << (3 * i);
     for (int b = 0; b < 6; ++b) block[2 + b] = uint8_t(bits >> (8 * b));
 }
 
