@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "ndfmip/shading.h"
+
 namespace ndfmip::test {
 
 TempDir::TempDir(const std::string& tag) {
@@ -117,6 +119,18 @@ void setNormal(Image& map, int x, int y, float nx, float ny, float nz) {
     t[0] = nx / len;
     t[1] = ny / len;
     t[2] = nz / len;
+}
+
+Image randomNormals(int w, int h, float maxTilt, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    Image map(w, h, 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float t = maxTilt * std::sqrt(u(rng)), p = 2.f * kPi * u(rng);
+            setNormal(map, x, y, std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+        }
+    return map;
 }
 
 } // namespace ndfmip::test

@@ -58,4 +58,7 @@ void writeBytes(const std::filesystem::path& path, const std::string& text);
 // Stores (nx, ny, nz) normalised to unit length at texel (x, y).
 void setNormal(Image& map, int x, int y, float nx, float ny, float nz);
 
+// Random unit normals within `maxTilt` radians of +z, uniform over that cap's projected disc.
+Image randomNormals(int w, int h, float maxTilt, unsigned seed);
+
 } // namespace ndfmip::test

@@ -20,18 +20,6 @@
 namespace ndfmip {
 namespace {
 
-Image tiltedNormals(int w, int h, float tilt, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(0.f, 1.f);
-    Image map(w, h, 3);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const float t = tilt * std::sqrt(u(rng)), p = 2.f * kPi * u(rng);
-            test::setNormal(map, x, y, std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
-        }
-    return map;
-}
-
 // An orthographic view of a 1 x 1 plane from 30 degrees off its normal (towards -y), lit only by
 // the environment.
 Scene tiltedView(const Material& material) {
@@ -91,7 +79,7 @@ std::vector<double> compareRows(float tilt, double tolerance) {
     m.specular = glm::vec3(1.f);
     const Scene scene = tiltedView(m);
     RenderTextures textures;
-    textures.normals = std::make_shared<const Image>(tiltedNormals(128, 128, tilt, 3)); // ~6 texels a pixel
+    textures.normals = std::make_shared<const Image>(test::randomNormals(128, 128, tilt, 3)); // ~6 texels a pixel
     textures.environment = lighting;
     RenderOptions truthOptions;
     truthOptions.spp = 1024;

@@ -26,18 +26,6 @@ Image constantNormals(int w, int h, glm::vec3 n) {
     return map;
 }
 
-Image randomNormals(int w, int h, float maxTilt, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(0.f, 1.f);
-    Image map(w, h, 3);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const float t = maxTilt * std::sqrt(u(rng)), p = 2.f * kPi * u(rng);
-            test::setNormal(map, x, y, std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
-        }
-    return map;
-}
-
 std::shared_ptr<const EnvironmentLighting> lightingOf(Environment env) {
     return std::make_shared<const EnvironmentLighting>(makeEnvironmentLighting(std::move(env)));
 }
@@ -195,7 +183,7 @@ TEST(EnvironmentTruth, SmallBrightSourceApproachesADirectionalLight) {
     Material m = specularMaterial(Brdf::BlinnPhong, 0.f);
     m.exponent = 32.f;
     m.albedo = glm::vec3(0.3f);
-    const Image normals = randomNormals(16, 16, 0.4f, 5);
+    const Image normals = test::randomNormals(16, 16, 0.4f, 5);
     Scene underEnv = orthographicScene(16, {0.f, 0.f, 1.f}, m);
     const RenderTextures envTextures = texturesOf(normals, lighting);
     RenderOptions options;
@@ -229,7 +217,7 @@ TEST(EnvironmentTruth, MisAgreesWithEitherSamplerAlone) {
     Material m = specularMaterial(Brdf::Ggx, 0.15f);
     m.albedo = glm::vec3(0.3f);
     const Scene scene = orthographicScene(8, {0.2f, -0.5f, 1.f}, m);
-    const RenderTextures textures = texturesOf(randomNormals(16, 16, 0.5f, 9), lighting);
+    const RenderTextures textures = texturesOf(test::randomNormals(16, 16, 0.5f, 9), lighting);
     RenderOptions options;
     options.spp = 256;
     options.exact = false;
@@ -251,7 +239,7 @@ TEST(EnvironmentTruth, ImageIsTheSameOnAnyThreadCountAndPointLightsStillAdd) {
     Material m = specularMaterial(Brdf::Beckmann, 0.2f);
     m.albedo = glm::vec3(0.4f);
     Scene scene = orthographicScene(12, {0.2f, -0.5f, 1.f}, m);
-    const RenderTextures textures = texturesOf(randomNormals(16, 16, 0.5f, 2), lighting);
+    const RenderTextures textures = texturesOf(test::randomNormals(16, 16, 0.5f, 2), lighting);
     RenderOptions options;
     options.spp = 4;
     const int threads = omp_get_max_threads();
@@ -316,7 +304,7 @@ double planeNoise(const Environment& env, int pixels, int spp) {
     s.material = specularMaterial(Brdf::Ggx, 0.2f);
     s.material.albedo = glm::vec3(0.3f);
     s.environment.path = "(in memory)";
-    const RenderTextures textures = texturesOf(randomNormals(64, 64, 0.4f, 4), lightingOf(env));
+    const RenderTextures textures = texturesOf(test::randomNormals(64, 64, 0.4f, 4), lightingOf(env));
     RenderOptions options;
     options.spp = spp;
     RenderNoise noise;

@@ -15,19 +15,6 @@
 namespace ndfmip {
 namespace {
 
-// Random unit normals within `maxTilt` radians of +z.
-Image randomNormals(int w, int h, float maxTilt, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(0.f, 1.f);
-    Image map(w, h, 3);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            float t = maxTilt * std::sqrt(u(rng)), p = 2.f * kPi * u(rng);
-            test::setNormal(map, x, y, std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
-        }
-    return map;
-}
-
 Image flatNormals(int w, int h) {
     Image map(w, h, 3);
     for (int y = 0; y < h; ++y)
@@ -191,7 +178,7 @@ TEST(Renderer, ShOnAFlatMapIsTheTruncatedLegendreSeries) {
 }
 
 TEST(Renderer, ShMipsAreTheMeanOfTheirChildren) {
-    const Image normals = randomNormals(16, 8, 1.2f, 11);
+    const Image normals = test::randomNormals(16, 8, 1.2f, 11);
     Pyramid p = buildPyramid(normals);
     BakeOptions options;
     options.shOrder = 4;
@@ -326,7 +313,7 @@ TEST(Renderer, VmfLobeColoursFollowTheirNormals) {
 
 TEST(Renderer, AlignedOrthographicTruthIsTheBlockMean) {
     const int size = 16, level = 2, block = 1 << level, pixels = size / block;
-    const Image normals = randomNormals(size, size, 0.9f, 7);
+    const Image normals = test::randomNormals(size, size, 0.9f, 7);
     const glm::vec3 light = glm::normalize(glm::vec3(0.4f, -0.3f, 1.f));
     const glm::vec3 view(0.f, 0.f, 1.f);
     for (const Material& m : allMaterials()) {
@@ -432,7 +419,7 @@ TEST(Renderer, SphereFrameIsOrthonormalAndFollowsUv) {
 }
 
 TEST(Renderer, ImageDoesNotDependOnTheThreadCount) {
-    const Image normals = randomNormals(32, 32, 0.8f, 3);
+    const Image normals = test::randomNormals(32, 32, 0.8f, 3);
     Scene scene = grazingScene(allMaterials()[1]);
     RenderOptions o;
     o.spp = 9;
@@ -514,7 +501,7 @@ TEST(MeasuringStick, ExactBoxTruthAgreesWithSupersampling) {
     // Pixels of 3.2 x 3.2 texels, off the grid: the sample-free integral (box: each texel by its
     // covered area; bilinear: the midpoint rule) against 128 x 128 stratified samples of the same
     // surface.
-    const Image normals = randomNormals(16, 16, 0.8f, 21);
+    const Image normals = test::randomNormals(16, 16, 0.8f, 21);
     EXPECT_TRUE(exactBoxView(shiftedScene(5, allMaterials()[1], {0.3f, 0.2f, 1.f}, {0.37f, 0.21f})));
     for (TruthFilter surface : {TruthFilter::Box, TruthFilter::Bilinear})
     for (const Material& m : allMaterials()) {
@@ -546,7 +533,7 @@ TEST(MeasuringStick, ExactBoxTruthAgreesWithSupersampling) {
 TEST(MeasuringStick, ExactMethodIsTheTruthWhereEachLookupIsOneTexel) {
     // 16 texels over 4 pixels: one lookup reads one level-2 texel (plain rule), or 2 x 2
     // sub-samples read one level-1 texel each; either way 'exact' shades exactly the pixel.
-    const Image normals = randomNormals(16, 16, 1.0f, 5);
+    const Image normals = test::randomNormals(16, 16, 1.0f, 5);
     for (const Material& m : allMaterials()) {
         const Scene scene = alignedScene(4, m, {0.4f, -0.3f, 1.f});
         const RenderTextures t = texturesFor(normals, Method::Naive);
@@ -570,7 +557,7 @@ TEST(MeasuringStick, TexelFilteringIsExactForLobesThatHoldTheirTexelsNormals) {
     // kappa's cap). Pixels of two texels off the grid blend four level-1 texels: shading each
     // texel's lobes and blending is the exact reference's blend; blending the lobes' parameters
     // first mixes unrelated lobes.
-    const Image normals = randomNormals(16, 16, 0.7f, 8);
+    const Image normals = test::randomNormals(16, 16, 0.7f, 8);
     const Material m = material(Brdf::BlinnPhong, 64.f, 0.f, glm::vec3(0.f), glm::vec3(1.f));
     const Scene scene = shiftedScene(8, m, {0.3f, 0.1f, 1.f}, {0.3f, 0.4f});
     RenderTextures t = texturesFor(normals, Method::Naive);
@@ -591,7 +578,7 @@ TEST(MeasuringStick, DefaultFilteringRuleLowersTheFloor) {
     // The exact reference against the exact truth at 4 x 4 texels a pixel, off the grid: what is
     // left is partial coverage of the texels a lookup reads. 2 x 2 sub-samples half a level
     // finer read smaller texels and leave less of it.
-    const Image normals = randomNormals(64, 64, 0.8f, 13);
+    const Image normals = test::randomNormals(64, 64, 0.8f, 13);
     const Material m = material(Brdf::BlinnPhong, 32.f, 0.f, glm::vec3(0.f), glm::vec3(1.f));
     const Scene scene = shiftedScene(16, m, {0.3f, 0.2f, 1.f}, {0.31f, 0.17f});
     const RenderTextures t = texturesFor(normals, Method::Naive);
@@ -605,7 +592,7 @@ TEST(MeasuringStick, DefaultFilteringRuleLowersTheFloor) {
 }
 
 TEST(MeasuringStick, ToksvigLutIsForBlinnPhong) {
-    const Image normals = randomNormals(16, 16, 0.5f, 3);
+    const Image normals = test::randomNormals(16, 16, 0.5f, 3);
     const RenderTextures t = texturesFor(normals, Method::Toksvig);
     Result<Image> ggx = render(alignedScene(4, allMaterials()[3], {0.f, 0.f, 1.f}), t, kToksvigLut, {});
     ASSERT_FALSE(ggx.ok());
