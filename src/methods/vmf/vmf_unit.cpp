@@ -58,15 +58,21 @@ Status prepareVmf(const Material& m, const RenderTextures& textures, const Rende
     return prepareShLightingSetup(m, textures, setup);
 }
 
+// The lobe colours that follow the lobe planes, unpacked into `colors`; null for a bake without them.
+const glm::vec3* unpackedColors(const ShaderSetup& setup, const float* p, glm::vec3 colors[8]) {
+    if (!setup.vmfColors) return nullptr;
+    for (int j = 0; j < setup.vmfLobes; ++j) {
+        const float* c = p + 4 * setup.vmfLobes + 3 * j;
+        colors[j] = unpackLobeColor(glm::vec3(c[0], c[1], c[2]), p[4 * j]);
+    }
+    return colors;
+}
+
 // Lobe planes (4 channels each), then colour planes (3 each) when the bake has them.
 glm::vec3 shadeVmfParams(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo, glm::vec3 l,
                          glm::vec3 v) {
     glm::vec3 colors[8];
-    for (int j = 0; setup.vmfColors && j < setup.vmfLobes; ++j) {
-        const float* c = p + 4 * setup.vmfLobes + 3 * j;
-        colors[j] = unpackLobeColor(glm::vec3(c[0], c[1], c[2]), p[4 * j]);
-    }
-    return shadeVmf(m, albedo, p, setup.vmfLobes, setup.vmfColors ? colors : nullptr, l, v);
+    return shadeVmf(m, albedo, p, setup.vmfLobes, unpackedColors(setup, p, colors), l, v);
 }
 
 // Under an environment: per lobe, the prefiltered level of its equivalent roughness along the
@@ -76,11 +82,7 @@ glm::vec3 shadeVmfParams(const ShaderSetup& setup, const Material& m, const floa
 glm::vec3 shadeVmfEnvironment(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo,
                               glm::vec3 v, const glm::mat3& toEnvironment, const EnvironmentLighting&) {
     glm::vec3 colors[8];
-    for (int j = 0; setup.vmfColors && j < setup.vmfLobes; ++j) {
-        const float* c = p + 4 * setup.vmfLobes + 3 * j;
-        colors[j] = unpackLobeColor(glm::vec3(c[0], c[1], c[2]), p[4 * j]);
-    }
-    const glm::vec3* lobeColors = setup.vmfColors ? colors : nullptr;
+    const glm::vec3* lobeColors = unpackedColors(setup, p, colors);
     if (setup.splitSum)
         return shadeVmfSplitSum(m, albedo, p, setup.vmfLobes, lobeColors, v, toEnvironment, *setup.splitSum,
                                 setup.environmentLod);
