@@ -10,12 +10,14 @@
 
 namespace ndfmip {
 
-// Pixel storage. Large blocks are aligned to 2 MiB; with NDFMIP_HUGE_PAGES=1 in the environment
-// they are also offered to the kernel as transparent huge pages, which makes page faults
-// cheaper once the kernel has huge pages to give, but can stall on compaction when it has not
-// (measured: 3.4 s instead of 0.5 s to first touch 256 MB), so it is not the default.
+// Pixel storage. Large blocks are aligned to 2 MiB and offered to the kernel as transparent
+// huge pages when it has that many 2 MiB pages free (first touching fresh memory in 4 KiB pages
+// is the largest cost of a big bake on a VM; NDFMIP_HUGE_PAGES=0 in the environment turns the
+// offer off). Asking while the kernel has none free would stall the faults on compaction.
 void* allocatePixels(size_t bytes);
 void freePixels(void* pointer) noexcept;
+// Bytes free in blocks of 2 MiB or more, from the text of /proc/buddyinfo.
+size_t freeHugePageBytes(const char* buddyInfo);
 
 template <class T>
 struct PixelAllocator {

@@ -335,7 +335,14 @@ Result<std::string> ktx2File(const EncodedTexture& t, int zstdLevel) {
     // Header (80 bytes), level index (24 bytes a level), then the DFD, then the levels, smallest
     // first, each aligned to lcm(texel block size, 4).
     const size_t indexAt = 80, dfdAt = indexAt + 24 * size_t(levelCount);
+    // Levels aligned to lcm(texel block size, 4): every block or texel size here is 2 or a
+    // multiple of 4. Supercompressed levels are byte streams, aligned to 1.
+    const size_t blockSize = size_t(isBlock(t.format) ? f.bytesPerBlock : f.bytesPerTexel);
+    const size_t alignment = zstdLevel > 0 ? 1 : blockSize % 4 == 0 ? blockSize : 4;
+    size_t total = dfdAt + dfd.size();
+    for (const std::string& level : levels) total += level.size() + alignment;
     std::string out;
+    out.reserve(total); // one allocation: the levels of a 4096² map are tens of MB
     const unsigned char identifier[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
     out.append(reinterpret_cast<const char*>(identifier), 12);
     put(out, f.vkFormat);
@@ -355,10 +362,6 @@ Result<std::string> ktx2File(const EncodedTexture& t, int zstdLevel) {
     put(out, uint64_t(0)); // sgdByteLength
     out.resize(dfdAt, '\0'); // the level index, filled below
     out += dfd;
-    // lcm(texel block size, 4): every block or texel size here is 2 or a multiple of 4.
-    // Supercompressed levels are byte streams, aligned to 1.
-    const size_t blockSize = size_t(isBlock(t.format) ? f.bytesPerBlock : f.bytesPerTexel);
-    const size_t alignment = zstdLevel > 0 ? 1 : blockSize % 4 == 0 ? blockSize : 4;
     std::vector<uint64_t> offsets(levelCount);
     for (int k = int(levelCount) - 1; k >= 0; --k) {
         while (out.size() % alignment) out += '\0';
@@ -407,6 +410,9 @@ std::string ddsFile(const EncodedTexture& t) {
     put(out, uint32_t(0)); // misc flags
     put(out, uint32_t(1)); // array size
     put(out, uint32_t(0)); // misc flags 2: alpha mode unknown
+    size_t total = out.size();
+    for (const std::string& level : t.levels) total += level.size();
+    out.reserve(total);
     for (const std::string& level : t.levels) out += level;
     return out;
 }
