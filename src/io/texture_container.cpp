@@ -175,17 +175,28 @@ std::string encodeLevel(const LevelRows& level, const FormatInfo& f) {
                 if (4 * by + j < height) level.row(4 * by + j, row);
                 else std::copy_n(row - size_t(width) * size_t(channels), size_t(width) * size_t(channels), row);
                 unsigned char* b = &bytes[size_t(j) * size_t(width) * size_t(f.channels)];
-                for (int x = 0; x < width; ++x)
-                    for (int c = 0; c < f.channels; ++c) *b++ = unorm8(value(row + size_t(x) * size_t(channels), c));
+                if (channels == f.channels) {
+                    for (size_t i = 0; i < size_t(width) * size_t(channels); ++i) b[i] = unorm8(row[i]);
+                } else {
+                    for (int x = 0; x < width; ++x)
+                        for (int c = 0; c < f.channels; ++c) *b++ = unorm8(value(row + size_t(x) * size_t(channels), c));
+                }
             }
+            const size_t blockRow = 4 * size_t(f.channels); // bytes of one block's row of 4 texels
             for (int bx = 0; bx < bw; ++bx) {
                 unsigned char src[32];
-                for (int j = 0; j < 4; ++j)
+                for (int j = 0; j < 4; ++j) {
+                    const unsigned char* line = &bytes[size_t(j) * size_t(width) * size_t(f.channels)];
+                    if (4 * bx + 3 < width) {
+                        std::memcpy(src + size_t(j) * blockRow, line + size_t(bx) * blockRow, blockRow);
+                        continue;
+                    }
                     for (int i = 0; i < 4; ++i) {
                         const int x = std::min(4 * bx + i, width - 1);
                         for (int c = 0; c < f.channels; ++c)
-                            src[(4 * j + i) * f.channels + c] = bytes[(size_t(j) * size_t(width) + size_t(x)) * size_t(f.channels) + size_t(c)];
+                            src[(4 * j + i) * f.channels + c] = line[size_t(x) * size_t(f.channels) + size_t(c)];
                     }
+                }
                 auto* block = reinterpret_cast<unsigned char*>(&out[size_t(by) * rowBytes + size_t(bx) * size_t(f.bytesPerBlock)]);
                 if (f.format == TextureFormat::Bc4Unorm) {
                     stb_compress_bc4_block(block, src);
