@@ -140,6 +140,10 @@ std::vector<PrefilteredLevel> prefilterGgx(const Environment& env, const Prefilt
 // One level: width x width/2 texels at perceptual roughness r (> 0) with `samples` samples.
 Image prefilterGgxLevel(const Environment& env, double perceptualRoughness, int width, int samples);
 
+// The same convolution with the Blinn-Phong lobe D proportional to <n.h>^s (exponent s >= 0)
+// instead of GGX: the chain a Blinn-Phong material reads without converting its exponent.
+Image prefilterBlinnPhongLevel(const Environment& env, double exponent, int width, int samples);
+
 // ---- the split sum's second factor
 // ------------------------------------------------------------------
 
