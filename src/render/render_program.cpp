@@ -1,6 +1,10 @@
 // The GPU renderer's program, API-free (see render_program.h).
 #include "render/render_program.h"
 
+#include <algorithm>
+#include <cmath>
+
+#include "ndfmip/environment_lighting.h"
 #include "render/embedded_shaders.h"
 
 namespace ndfmip {
@@ -22,6 +26,29 @@ void add(std::vector<UniformValue>& u, const std::string& name, float v) { u.pus
 void add(std::vector<UniformValue>& u, const std::string& name, glm::vec2 v) { u.push_back({name, false, {v.x, v.y}}); }
 void add(std::vector<UniformValue>& u, const std::string& name, glm::vec3 v) {
     u.push_back({name, false, {v.x, v.y, v.z}});
+}
+
+// Why a method cannot be drawn under an environment on the GPU; empty when it can. The GPU
+// shades the split-sum (prefiltered) way only; the SH-lighting way (sh, vmf with
+// --vmf-environment sh) rotates order-8 lighting into every hit's frame, which the CPU does.
+std::string environmentRefusal(const MethodShader& shader, const std::string& method, const RenderOptions& options) {
+    if (!shader.shadeEnvironment) return "render --gpu: method " + quote(method) + " cannot shade under an environment";
+    if (shader.bake == Method::Sh || (shader.bake == Method::Vmf && options.vmfEnvironment == EnvironmentWay::ShLighting))
+        return "render --gpu: method " + quote(method) + " under an environment (SH lighting) is rendered on the CPU only";
+    return {};
+}
+
+// The split sum's second factor for the material as one channel (splitsum_lighting.cpp's
+// specularAlbedo: the lobe's table of its BRDF, or the DFG table's scale + bias); an empty image
+// for a material without a lobe.
+Image albedoChannel(const SplitSumLighting& lighting, Brdf brdf) {
+    const bool engine = lighting.albedoKind == SpecularAlbedo::EngineDfg;
+    if (!engine && brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx) return Image(1, 1, 1);
+    const Image& table = lighting.albedo[engine ? 0 : size_t(int(brdf) - 1)];
+    const int channel = engine ? 2 : 0;
+    Image out(table.width, table.height, 1);
+    for (size_t i = 0; i < table.texelCount(); ++i) out.pixels[i] = table.pixels[i * size_t(table.channels) + size_t(channel)];
+    return out;
 }
 
 } // namespace
@@ -48,8 +75,13 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     const MethodShader& shader = *program.shader;
     const Material& m = scene.material;
     if (m.brdf == Brdf::Tabulated || m.factor) return Error{"render --gpu: tabulated BRDFs are rendered on the CPU only"};
-    if (!scene.environment.path.empty())
-        return Error{"render --gpu: environment lighting is rendered on the CPU only"};
+    const bool environment = !scene.environment.path.empty();
+    if (environment) {
+        if (const std::string refusal = environmentRefusal(shader, method, options); !refusal.empty())
+            return Error{refusal};
+        if (!textures.environment)
+            return Error{"render --gpu: the scene's environment " + quote(scene.environment.path) + " is not loaded"};
+    }
     if (scene.lights.size() > size_t(kGpuMaxLights))
         return Error{"render --gpu: at most " + std::to_string(kGpuMaxLights) + " lights, the scene has " +
                      std::to_string(scene.lights.size())};
@@ -60,8 +92,25 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     const Bake& bake = textures.bake;
     if (bake.levels.empty() || bake.method != shader.bake)
         return Error{"render --gpu: no bake of method '" + std::string(methodName(shader.bake)) + "' to render with"};
+    const CameraFrame camera = cameraFrame(scene.camera);
+    // As the CPU renderer: the view towards the camera (environment frame) before prepare.
+    if (environment) program.setup.environmentView = worldToEnvironment(glm::dvec3(-camera.forward));
     if (Status ready = shader.prepare(m, textures, options, program.setup); !ready) return Error{ready.error};
     const ShaderSetup& setup = program.setup;
+    if (environment) {
+        const SplitSumChain* chain = setup.splitSum ? findChain(*setup.splitSum, setup.environmentLod) : nullptr;
+        if (!chain) return Error{"render --gpu: method " + quote(method) + " prepared no prefiltered environment"};
+        // One texture's mips: level k must be GL's size of level k.
+        const Image& base = chain->levels.front();
+        for (size_t k = 0; k < chain->levels.size(); ++k)
+            if (chain->levels[k].width != std::max(base.width >> k, 1) ||
+                chain->levels[k].height != std::max(base.height >> k, 1))
+                return Error{"render --gpu: level " + std::to_string(k) + " of the prefiltered environment is not a mip level"};
+        program.environmentChain = chain;
+        program.environmentAlbedo = albedoChannel(*setup.splitSum, m.brdf);
+        program.environment = textures.environment;
+        program.environmentVisible = scene.environment.visible;
+    }
     if (shader.bake == Method::Sh && setup.sh.order > kGpuMaxShOrder)
         return Error{"render --gpu: sh bakes up to order " + std::to_string(kGpuMaxShOrder) + " (this one is " +
                      std::to_string(setup.sh.order) + ")"};
@@ -104,8 +153,10 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         defines += "#define NDFMIP_LOBES " + std::to_string(setup.vmfLobes) + "\n";
         if (setup.vmfColors) defines += "#define NDFMIP_LOBE_COLOURS\n";
     }
+    if (environment) defines += "#define NDFMIP_ENVIRONMENT\n";
     program.fragmentParts.emplace_back("<defines>", defines);
     std::vector<std::string> files(std::begin(kLibraryFiles), std::end(kLibraryFiles));
+    if (environment) files.push_back("render/environment.glsl");
     files.push_back(shader.glsl);
     files.push_back("render/main.frag");
     for (const std::string& file : files) {
@@ -116,7 +167,6 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
 
     // Uniforms: camera, object, material, lights, filtering rule, method.
     auto& u = program.uniforms;
-    const CameraFrame camera = cameraFrame(scene.camera);
     add(u, "ndfmipCameraType", scene.camera.type == CameraType::Orthographic ? 1 : 0);
     add(u, "ndfmipEye", camera.eye);
     add(u, "ndfmipForward", camera.forward);
@@ -169,6 +219,21 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
             add(u, "ndfmipShDiffuse" + index, float(setup.sh.diffuse[size_t(l)]));
             add(u, "ndfmipShSpecular" + index, float(setup.sh.specular[size_t(l)]));
         }
+    }
+    if (environment) {
+        const SplitSumLighting& lighting = *setup.splitSum;
+        add(u, "ndfmipEnvChain", 2);
+        add(u, "ndfmipEnvAlbedo", 3);
+        add(u, "ndfmipEnvMap", 4);
+        add(u, "ndfmipEnvLevels", int(program.environmentChain->levels.size()));
+        add(u, "ndfmipEnvRule", int(setup.environmentLod));
+        add(u, "ndfmipEnvTexelAngle", float(lighting.texelAngle));
+        for (size_t k = 0; k < 9; ++k)
+            add(u, "ndfmipEnvIrradiance[" + std::to_string(k) + "]", glm::vec3(lighting.irradiance[k]));
+        add(u, "ndfmipEnvBandFactors", lighting.vmfBandFactors ? 1 : 0);
+        add(u, "ndfmipEnvVisible", program.environmentVisible ? 1 : 0);
+        const double rotation = -textures.environment->environment.rotation;
+        add(u, "ndfmipEnvRotation", glm::vec2(float(std::cos(rotation)), float(std::sin(rotation))));
     }
     return program;
 }

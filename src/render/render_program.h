@@ -4,6 +4,7 @@
 // the report's WebGL2 view (src/report/webgl_view.cpp) both draw from it.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,6 +32,14 @@ struct RenderProgram {
     // map: layers[layer][level].
     std::vector<std::vector<const Image*>> layers;
     std::vector<UniformValue> uniforms; // the scene's, the rule's and the method's
+    // Under an environment (the split-sum way, shaders/render/environment.glsl): the rule's
+    // prefiltered chain (in setup.splitSum; its levels are the mips of one texture), the split
+    // sum's second factor as one channel, and the lighting whose map a visible background shows.
+    // Null and empty without an environment.
+    const SplitSumChain* environmentChain = nullptr;
+    Image environmentAlbedo;
+    std::shared_ptr<const EnvironmentLighting> environment;
+    bool environmentVisible = false;
 };
 
 // The full-screen triangle's vertex stage, after its #version line.
