@@ -231,3 +231,175 @@ vec3 ndfmipEnvironmentBackground(vec3 w) {
     ivec2 t = clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
     return texelFetch(ndfmipEnvMap, t, 0).rgb;
 }
+
+// ---- the SH-lighting way (environment_sh_shading.h; Han et al. Sec. 8, eqs. 35 and 37) -------
+// ndfmipEnvSh holds the prepared lighting's coefficients of order ndfmipEnvShOrder, one column
+// per coefficient: row 0 L_lm, rows 1 .. 3 L'_lm of the axes x, y, z (the mean-normal cosine:
+// ndfmipEnvShAxes = 1) or row 1 L'_lm alone. For vmf they are in the environment frame; for sh
+// in the plane's tangent frame (rotated on the CPU, sh_rotation.h, once per frame).
+
+uniform sampler2D ndfmipEnvSh;
+uniform int ndfmipEnvShOrder;
+uniform int ndfmipEnvShAxes;
+uniform float ndfmipEnvShDiffuse[NDFMIP_SH_MAX_ORDER + 1];  // the material's A_l (ShShading)
+uniform float ndfmipEnvShSpecular[NDFMIP_SH_MAX_ORDER + 1];
+// sqrt((2l + 1)/(4 pi) (l - m)!/(l + m)!) at l (l + 1)/2 + m, m >= 0, from the CPU: the basis'
+// normalisation without a loop per coefficient (see ndfmipVmfBands on loop counts).
+uniform float ndfmipEnvShNormalisation[(NDFMIP_SH_MAX_ORDER + 1) * (NDFMIP_SH_MAX_ORDER + 2) / 2];
+
+// L'_lm for a mean normal (the frame of the columns): Sum_k n_k L'_k, or the prepared L'.
+vec3 ndfmipEnvReparameterised(int i, vec3 meanNormal) {
+    if (ndfmipEnvShAxes == 0) return texelFetch(ndfmipEnvSh, ivec2(i, 1), 0).rgb;
+    return meanNormal.x * texelFetch(ndfmipEnvSh, ivec2(i, 1), 0).rgb +
+           meanNormal.y * texelFetch(ndfmipEnvSh, ivec2(i, 2), 0).rgb +
+           meanNormal.z * texelFetch(ndfmipEnvSh, ivec2(i, 3), 0).rgb;
+}
+
+// The two sums of a vMF lobe about unit w (environment frame): Sum_l aD_l Sum_m L_lm Y_lm(w) and
+// Sum_l aS_l Sum_m L'_lm Y_lm(w), the real basis by the recurrence of ndfmipShConvolve (sh.glsl,
+// spherical_harmonics.cpp's convention).
+struct NdfmipShSums {
+    vec3 diffuse;
+    vec3 specular;
+};
+
+NdfmipShSums ndfmipEnvShSums(float aD[NDFMIP_SH_MAX_ORDER + 1], float aS[NDFMIP_SH_MAX_ORDER + 1], int order, vec3 w,
+                             vec3 meanNormal) {
+    NdfmipShSums sums;
+    sums.diffuse = vec3(0.0f);
+    sums.specular = vec3(0.0f);
+    float re = 1.0f;
+    float im = 0.0f;
+    float pmm = 1.0f;
+    for (int m = 0; m <= order; ++m) {
+        if (m > 0) {
+            float nextRe = re * w.x - im * w.y;
+            im = re * w.y + im * w.x;
+            re = nextRe;
+            pmm *= float(2 * m - 1);
+        }
+        float previous = 0.0f;
+        float current = pmm;
+        for (int l = m; l <= order; ++l) {
+            if (l == m + 1) {
+                previous = current;
+                current = float(2 * m + 1) * w.z * current;
+            } else if (l > m + 1) {
+                float next = (float(2 * l - 1) * w.z * current - float(l + m - 1) * previous) / float(l - m);
+                previous = current;
+                current = next;
+            }
+            float kLm = ndfmipEnvShNormalisation[l * (l + 1) / 2 + m] * current;
+            int centre = l * (l + 1);
+            vec3 radiance;
+            vec3 reparameterised;
+            if (m == 0) {
+                radiance = kLm * texelFetch(ndfmipEnvSh, ivec2(centre, 0), 0).rgb;
+                reparameterised = kLm * ndfmipEnvReparameterised(centre, meanNormal);
+            } else {
+                float c = 1.41421356f * kLm * re;
+                float s = 1.41421356f * kLm * im;
+                radiance = c * texelFetch(ndfmipEnvSh, ivec2(centre + m, 0), 0).rgb +
+                           s * texelFetch(ndfmipEnvSh, ivec2(centre - m, 0), 0).rgb;
+                reparameterised = c * ndfmipEnvReparameterised(centre + m, meanNormal) +
+                                  s * ndfmipEnvReparameterised(centre - m, meanNormal);
+            }
+            sums.diffuse += aD[l] * radiance;
+            sums.specular += aS[l] * reparameterised;
+        }
+    }
+    return sums;
+}
+
+// shadeShEnvironment on a plane: the lighting already in its tangent frame, where g is.
+// Diffuse Sum A_l^diffuse g_lm L_lm (eq. 35), specular Sum A_l^specular g_lm L'_lm (eq. 37) with
+// the cosine from footnote 5's mipmapped normal, each clamped at 0.
+vec3 ndfmipShadeShEnvironment(NdfmipMaterial m, vec3 albedo, float g[NDFMIP_SH_MAX_COEFFICIENTS], int order,
+                              NdfmipHit hit) {
+    order = min(order, ndfmipEnvShOrder);
+    vec3 meanNormal = ndfmipTangentToEnvironment(hit, ndfmipShMeanNormal(g[1], g[2], g[3]));
+    vec3 diffuse = vec3(0.0f);
+    vec3 specular = vec3(0.0f);
+    for (int l = 0; l <= order; ++l) {
+        vec3 d = vec3(0.0f);
+        vec3 s = vec3(0.0f);
+        for (int i = l * l; i <= l * (l + 2); ++i) {
+            d += g[i] * texelFetch(ndfmipEnvSh, ivec2(i, 0), 0).rgb;
+            s += g[i] * ndfmipEnvReparameterised(i, meanNormal);
+        }
+        diffuse += ndfmipEnvShDiffuse[l] * d;
+        specular += ndfmipEnvShSpecular[l] * s;
+    }
+    if (m.brdf == NDFMIP_LAMBERT) return albedo * max(diffuse, vec3(0.0f));
+    return albedo * max(diffuse, vec3(0.0f)) + m.specular * max(specular, vec3(0.0f));
+}
+
+// vmfBandFactors: A_l of the normalised vMF, i_l(kappa) / i_0(kappa), l <= order (at most
+// NDFMIP_SH_MAX_ORDER). From kappa = 32 the terminating series of i_l in e^-2kappa; below,
+// Miller's backward recurrence r_l = i_l / i_(l-1) = 1 / ((2l + 1)/kappa + r_(l+1)) from 0,
+// A_l = A_(l-1) r_l. The CPU starts it at order + 2 ceil(kappa) + 60 (double precision);
+// order + ceil(kappa) + 4 agrees with that to 1e-17. Loop counts matter here: llvmpipe's loop
+// limiter (65535 iterations per invocation, all loops together) cut the CPU's start short under
+// texel shading, which runs this per texel and lobe (errors of 10-50%).
+struct NdfmipVmfBands {
+    float a[NDFMIP_SH_MAX_ORDER + 1];
+};
+
+NdfmipVmfBands ndfmipVmfBands(float kappa, int order) {
+    NdfmipVmfBands bands;
+    for (int l = 0; l <= NDFMIP_SH_MAX_ORDER; ++l) bands.a[l] = l == 0 ? 1.0f : 0.0f;
+    if (kappa == 0.0f) return bands;
+    if (kappa >= 32.0f) {
+        float decay = exp(-2.0f * kappa);
+        for (int n = 1; n <= order; ++n) {
+            float term = 1.0f;
+            float minus = 1.0f;
+            float plus = 1.0f;
+            for (int j = 0; j < n; ++j) {
+                term *= float(n + j + 1) * float(n - j) / (float(j + 1) * 2.0f * kappa);
+                minus += j % 2 == 0 ? -term : term;
+                plus += term;
+            }
+            bands.a[n] = (minus - (n % 2 == 0 ? 1.0f : -1.0f) * decay * plus) / (1.0f - decay);
+        }
+        return bands;
+    }
+    float ratio = 0.0f;
+    for (int l = order + int(ceil(kappa)) + 4; l >= 1; --l) {
+        ratio = 1.0f / ((2.0f * float(l) + 1.0f) / kappa + ratio);
+        if (l <= order) bands.a[l] = ratio;
+    }
+    for (int l = 1; l <= order; ++l) bands.a[l] *= bands.a[l - 1];
+    return bands;
+}
+
+// One lobe of shadeVmfEnvironmentSh, weight included: no rotation, only Y_lm(mu) in the
+// environment frame (footnote 10). Diffuse Sum A_l^vMF A_l^diffuse Sum_m L_lm Y_lm(mu) (eq. 35);
+// specular Sum A_l^eff Sum_m L'_lm Y_lm(mu) (eq. 37), A^eff the widened Blinn-Phong lobe of
+// eq. 29 or, for Beckmann and GGX, the exact convolution A_l^vMF A_l^specular.
+vec3 ndfmipShadeVmfLobeEnvironmentSh(NdfmipMaterial m, vec3 albedo, vec4 lobeTexel, NdfmipHit hit) {
+    NdfmipLobe lobe = ndfmipUnpackLobe(lobeTexel);
+    if (!(lobe.alpha > 0.0f)) return vec3(0.0f);
+    int order = ndfmipEnvShOrder;
+    vec3 mu = normalize(ndfmipTangentToEnvironment(hit, lobe.mu));
+    NdfmipVmfBands bands = ndfmipVmfBands(lobe.kappa, max(order, 1)); // as the CPU's vmfBandFactors call
+    vec3 meanNormal = bands.a[1] * mu; // A(kappa) mu, the lobe's mean normal
+    float s = lobe.kappa * m.exponent / (lobe.kappa + m.exponent);
+    float widened = 1.0f; // blinnPhongCoefficients(s): A_0 = 1, A_1 = (s + 1)/(s + 2), A_l+2 = A_l (s - l)/(s + l + 3)
+    float widenedOdd = (s + 1.0f) / (s + 2.0f);
+    float aD[NDFMIP_SH_MAX_ORDER + 1];
+    float aS[NDFMIP_SH_MAX_ORDER + 1];
+    for (int l = 0; l <= order; ++l) {
+        aD[l] = bands.a[l] * ndfmipEnvShDiffuse[l];
+        aS[l] = bands.a[l] * ndfmipEnvShSpecular[l];
+        if (m.brdf == NDFMIP_BLINN_PHONG) {
+            aS[l] = l % 2 == 0 ? widened : widenedOdd;
+            if (l % 2 == 0) widened *= (s - float(l)) / (s + float(l) + 3.0f);
+            else widenedOdd *= (s - float(l)) / (s + float(l) + 3.0f);
+        }
+    }
+    NdfmipShSums sums = ndfmipEnvShSums(aD, aS, order, mu, meanNormal);
+    vec3 out3 = albedo * max(sums.diffuse, vec3(0.0f));
+    if (m.brdf != NDFMIP_LAMBERT) out3 += m.specular * max(sums.specular, vec3(0.0f));
+    return lobe.alpha * out3;
+}

@@ -20,7 +20,11 @@ vec3 ndfmipShadeEnvironment(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, v
 #ifdef NDFMIP_LOBE_COLOURS
         lobeAlbedo = p[j].x > 0.0f ? p[NDFMIP_LOBES + j].rgb / p[j].x * ndfmipMaterialAlbedo : vec3(0.0f);
 #endif
+#ifdef NDFMIP_ENVIRONMENT_SH
+        sum += ndfmipShadeVmfLobeEnvironmentSh(ndfmipMaterial, lobeAlbedo, p[j], hit);
+#else
         sum += ndfmipShadeVmfLobeEnvironment(ndfmipMaterial, lobeAlbedo, p[j], hit, view);
+#endif
     }
     return sum;
 }

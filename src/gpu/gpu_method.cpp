@@ -122,11 +122,15 @@ Result<GpuMethod> GpuMethod::create(const RenderProgram& parts) {
         uploaded = uploadMips({&parts.environmentAlbedo}, "specular albedo table");
         if (!uploaded) return uploaded.error();
         method.environmentAlbedo_ = uploaded.value();
-        if (parts.environmentVisible) {
-            uploaded = uploadMips({&parts.environment->environment.radiance}, "environment map");
-            if (!uploaded) return uploaded.error();
-            method.environmentMap_ = uploaded.value();
-        }
+    } else if (!parts.environmentSh.empty()) { // the SH way: its coefficients where the chain would be
+        Result<GLuint> uploaded = uploadMips({&parts.environmentSh}, "SH lighting");
+        if (!uploaded) return uploaded.error();
+        method.environmentChain_ = uploaded.value();
+    }
+    if (parts.environmentVisible) {
+        Result<GLuint> uploaded = uploadMips({&parts.environment->environment.radiance}, "environment map");
+        if (!uploaded) return uploaded.error();
+        method.environmentMap_ = uploaded.value();
     }
     glCreateVertexArrays(1, &method.vertexArray_); // core profile: a bound VAO, even with no attributes
     return method;

@@ -32,12 +32,14 @@ struct RenderProgram {
     // map: layers[layer][level].
     std::vector<std::vector<const Image*>> layers;
     std::vector<UniformValue> uniforms; // the scene's, the rule's and the method's
-    // Under an environment (the split-sum way, shaders/render/environment.glsl): the rule's
-    // prefiltered chain (in setup.splitSum; its levels are the mips of one texture), the split
-    // sum's second factor as one channel, and the lighting whose map a visible background shows.
-    // Null and empty without an environment.
+    // Under an environment (shaders/render/environment.glsl), the split-sum way: the rule's
+    // prefiltered chain (in setup.splitSum; its levels are the mips of one texture) and the
+    // split sum's second factor as one channel; the SH-lighting way: the lighting's coefficients
+    // as rows (L, then L' or its three axes), in the plane's tangent frame for sh. Both: the
+    // lighting whose map a visible background shows. Null and empty otherwise.
     const SplitSumChain* environmentChain = nullptr;
     Image environmentAlbedo;
+    Image environmentSh;
     std::shared_ptr<const EnvironmentLighting> environment;
     bool environmentVisible = false;
 };
