@@ -172,6 +172,47 @@ INSTANTIATE_TEST_SUITE_P(
         return name;
     });
 
+// An albedo map: its filtered chain multiplies the albedo (toksvig), or the vmf bake's lobe
+// colours replace it (eq. 31), under both ways of shading vmf.
+TEST(GpuEnvironmentAlbedo, AlbedoChainsAndLobeColoursMatchTheCpu) {
+    NDFMIP_GL_OR_SKIP(gl);
+    const auto lighting = skyLighting();
+    auto colours = std::make_shared<Image>(64, 64, 3);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            float* p = colours->at(x, y);
+            p[0] = 0.2f + 0.6f * float((x / 8 + y / 8) % 2), p[1] = 0.5f, p[2] = 0.1f + 0.01f * float(y);
+        }
+    const Scene scene = environmentScene(true, Brdf::Ggx);
+    for (const char* method : {"toksvig", "vmf"})
+        for (EnvironmentWay way : {EnvironmentWay::Prefiltered, EnvironmentWay::ShLighting}) {
+            if (std::string(method) == "toksvig" && way == EnvironmentWay::ShLighting) continue;
+            RenderTextures t;
+            t.normals = bumpyMap();
+            t.environment = lighting;
+            const Pyramid pyramid = buildPyramid(t.normals);
+            t.albedo = albedoMips(pyramid, colours);
+            BakeOptions options;
+            options.vmfLobes = 2;
+            options.albedo = colours;
+            t.bake = bakeMethod(*methodFromString(method), pyramid, options);
+            if (std::string(method) == "vmf") {
+                ASSERT_GE(findPlane(t.bake.planes, "color0"), 0); // the lobes carry colours
+            }
+            RenderOptions render;
+            render.vmfEnvironment = way;
+            Result<Image> cpu = ndfmip::render(scene, t, method, render);
+            ASSERT_TRUE(cpu) << cpu.error().message;
+            Result<Image> gpu = renderGpu(scene, t, method, render);
+            ASSERT_TRUE(gpu) << gpu.error().message;
+            const Agreement a = agreement(gpu.value(), cpu.value());
+            std::printf("[ measured ] %s %s with an albedo map: mean relative error %.2e, relative RMSE %.2e\n", method,
+                        environmentWayName(way), a.meanRelative, a.relativeRmse);
+            EXPECT_LT(a.meanRelative, 1e-3) << method << " " << environmentWayName(way);
+            EXPECT_LT(a.relativeRmse, 3e-3) << method << " " << environmentWayName(way);
+        }
+}
+
 // Refused before any GL work, so this needs no context.
 TEST(GpuEnvironmentErrors, MethodsWithoutAGpuEnvironmentShadingAreRefusedByName) {
     const auto lighting = skyLighting();
