@@ -195,6 +195,9 @@ struct EnvironmentBake {
     // face a quarter of the level's width, cubeFaceFromEquirect), or both.
     bool equirect = true;
     bool cube = false;
+    // Also one KTX2 file per layout holding every level as its mips (RGBA16F, alpha 1):
+    // ggx_cube.ktx2 (a cube map) and ggx_equirect.ktx2; and dfg.ktx2 (the table, RGBA16F).
+    bool ktx2 = false;
 };
 
 // Writes DIR/sh.json (the coefficients), DIR/ggx_L<k>.exr (one equirectangular RGB image per
