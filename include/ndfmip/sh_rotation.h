@@ -9,9 +9,23 @@
 // docs/SPHERICAL_HARMONICS.md has the method and its measured accuracy.
 #pragma once
 
+#include <vector>
+
 #include <glm/glm.hpp>
 
 namespace ndfmip {
+
+// What rotateSh samples with at one order: band l of f(R^T d) is read at R^T d_k for the points
+// d_k and fitted back by pseudoInverse[l], (2l + 1) x points.size() row-major (row m + l), so
+// band l's coefficient m is Sum_k pseudoInverse[l][(m + l) points + k] f_l(R^T d_k). Exposed for
+// renderers that rotate on their own (the GPU renderer's per-hit rotation, environment.glsl).
+struct ShRotationSampling {
+    std::vector<glm::dvec3> points;
+    std::vector<std::vector<double>> pseudoInverse;
+};
+
+// Built once per order and kept. Precondition: 0 <= order <= kMaxShOrder.
+const ShRotationSampling& shRotationSampling(int order);
 
 // out = the coefficients of f(R^T d) for f = Sum in[shIndex(l, m)] Y_lm, l <= order.
 // Preconditions: 0 <= order <= kMaxShOrder; R orthonormal with det +1 (a reflection would also be

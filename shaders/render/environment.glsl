@@ -236,7 +236,9 @@ vec3 ndfmipEnvironmentBackground(vec3 w) {
 // ndfmipEnvSh holds the prepared lighting's coefficients of order ndfmipEnvShOrder, one column
 // per coefficient: row 0 L_lm, rows 1 .. 3 L'_lm of the axes x, y, z (the mean-normal cosine:
 // ndfmipEnvShAxes = 1) or row 1 L'_lm alone. For vmf they are in the environment frame; for sh
-// in the plane's tangent frame (rotated on the CPU, sh_rotation.h, once per frame).
+// on a plane in its tangent frame (rotated on the CPU, sh_rotation.h, once per frame); for sh on
+// a sphere (NDFMIP_ENVIRONMENT_SH_PER_HIT) in the environment frame, followed by a row of the
+// rotation's points and its pseudo-inverse, and rotated here into each hit's frame.
 
 uniform sampler2D ndfmipEnvSh;
 uniform int ndfmipEnvShOrder;
@@ -247,12 +249,108 @@ uniform float ndfmipEnvShSpecular[NDFMIP_SH_MAX_ORDER + 1];
 // normalisation without a loop per coefficient (see ndfmipVmfBands on loop counts).
 uniform float ndfmipEnvShNormalisation[(NDFMIP_SH_MAX_ORDER + 1) * (NDFMIP_SH_MAX_ORDER + 2) / 2];
 
-// L'_lm for a mean normal (the frame of the columns): Sum_k n_k L'_k, or the prepared L'.
+#ifdef NDFMIP_ENVIRONMENT_SH_PER_HIT
+// sh on a sphere: each hit has its own tangent frame T, so the lighting is rotated into it here,
+// L_t(d) = L(T d), as the CPU's shadeShEnvironment does (rotateSh, sh_rotation.h): band l of each
+// row read at T d_k and fitted back by the pseudo-inverse, exact to float rounding. Once per hit,
+// not per texel: texel shading shades the 8 texels of a probe against one rotated lighting, so
+// rotating the 2 or 4 RGB rows per hit costs less than rotating each texel's g (one channel, but
+// 8 times) and keeps llvmpipe's loop count (65535 per pixel, all loops) low: per point about
+// (order + 1)(order + 2)/2 + (order + 1)^2 iterations, 4 order + 4 points, so ~5.5k per hit at
+// order 8 and ~22k per pixel at the default 2 x 2 taps (3 x 3 taps at order 8 pass the limit).
+uniform int ndfmipEnvShPoints;
+vec3 ndfmipEnvShRotated[4 * NDFMIP_SH_MAX_COEFFICIENTS]; // row r of coefficient i at 4 i + r
+// The hit frame (tangent, bitangent, normal) ndfmipEnvShRotated holds; zero: none yet.
+vec3 ndfmipEnvShFrame[3] = vec3[3](vec3(0.0f), vec3(0.0f), vec3(0.0f));
+
+vec3 ndfmipEnvShRow(int i, int row) { return ndfmipEnvShRotated[4 * i + row]; }
+
+void ndfmipEnvShRotate(NdfmipHit hit, int order) {
+    int rows = ndfmipEnvShAxes != 0 ? 4 : 2;
+    for (int k = 0; k < ndfmipEnvShPoints; ++k) {
+        vec3 d = normalize(ndfmipTangentToEnvironment(hit, texelFetch(ndfmipEnvSh, ivec2(k, rows), 0).rgb));
+        // Band l of each row at d, Sum_m L_lm Y_lm(d): the basis by ndfmipEnvShSums' recurrence.
+        vec3 s0[NDFMIP_SH_MAX_ORDER + 1];
+        vec3 s1[NDFMIP_SH_MAX_ORDER + 1];
+        vec3 s2[NDFMIP_SH_MAX_ORDER + 1];
+        vec3 s3[NDFMIP_SH_MAX_ORDER + 1];
+        for (int l = 0; l <= order; ++l) {
+            s0[l] = vec3(0.0f);
+            s1[l] = vec3(0.0f);
+            s2[l] = vec3(0.0f);
+            s3[l] = vec3(0.0f);
+        }
+        float re = 1.0f;
+        float im = 0.0f;
+        float pmm = 1.0f;
+        for (int m = 0; m <= order; ++m) {
+            if (m > 0) {
+                float nextRe = re * d.x - im * d.y;
+                im = re * d.y + im * d.x;
+                re = nextRe;
+                pmm *= float(2 * m - 1);
+            }
+            float previous = 0.0f;
+            float current = pmm;
+            for (int l = m; l <= order; ++l) {
+                if (l == m + 1) {
+                    previous = current;
+                    current = float(2 * m + 1) * d.z * current;
+                } else if (l > m + 1) {
+                    float next = (float(2 * l - 1) * d.z * current - float(l + m - 1) * previous) / float(l - m);
+                    previous = current;
+                    current = next;
+                }
+                float kLm = ndfmipEnvShNormalisation[l * (l + 1) / 2 + m] * current;
+                // Y_l,m = sqrt2 K P cos(m phi), Y_l,-m = sqrt2 K P sin(m phi); at m = 0, K P (im = 0).
+                float a = m == 0 ? kLm : 1.41421356f * kLm * re;
+                float b = 1.41421356f * kLm * im;
+                ivec2 plus = ivec2(l * (l + 1) + m, 0);
+                ivec2 minus = ivec2(l * (l + 1) - m, 0);
+                s0[l] += a * texelFetch(ndfmipEnvSh, plus, 0).rgb + b * texelFetch(ndfmipEnvSh, minus, 0).rgb;
+                s1[l] += a * texelFetch(ndfmipEnvSh, plus + ivec2(0, 1), 0).rgb +
+                         b * texelFetch(ndfmipEnvSh, minus + ivec2(0, 1), 0).rgb;
+                if (rows == 4) {
+                    s2[l] += a * texelFetch(ndfmipEnvSh, plus + ivec2(0, 2), 0).rgb +
+                             b * texelFetch(ndfmipEnvSh, minus + ivec2(0, 2), 0).rgb;
+                    s3[l] += a * texelFetch(ndfmipEnvSh, plus + ivec2(0, 3), 0).rgb +
+                             b * texelFetch(ndfmipEnvSh, minus + ivec2(0, 3), 0).rgb;
+                }
+            }
+        }
+        // L_t,lm = Sum_k pseudoInverse_l[m, k] (band l at T d_k).
+        for (int l = 0; l <= order; ++l) {
+            for (int i = l * l; i <= l * (l + 2); ++i) {
+                float w = texelFetch(ndfmipEnvSh, ivec2(k, rows + 1 + i), 0).r;
+                bool first = k == 0;
+                ndfmipEnvShRotated[4 * i] = (first ? vec3(0.0f) : ndfmipEnvShRotated[4 * i]) + w * s0[l];
+                ndfmipEnvShRotated[4 * i + 1] = (first ? vec3(0.0f) : ndfmipEnvShRotated[4 * i + 1]) + w * s1[l];
+                ndfmipEnvShRotated[4 * i + 2] = (first ? vec3(0.0f) : ndfmipEnvShRotated[4 * i + 2]) + w * s2[l];
+                ndfmipEnvShRotated[4 * i + 3] = (first ? vec3(0.0f) : ndfmipEnvShRotated[4 * i + 3]) + w * s3[l];
+            }
+        }
+    }
+}
+
+// Rotates unless this hit's frame is the one held (the texels of a pixel sample share it).
+void ndfmipEnvShRotateFor(NdfmipHit hit) {
+    if (hit.tangent == ndfmipEnvShFrame[0] && hit.bitangent == ndfmipEnvShFrame[1] && hit.normal == ndfmipEnvShFrame[2])
+        return;
+    ndfmipEnvShRotate(hit, ndfmipEnvShOrder);
+    ndfmipEnvShFrame[0] = hit.tangent;
+    ndfmipEnvShFrame[1] = hit.bitangent;
+    ndfmipEnvShFrame[2] = hit.normal;
+}
+#else
+vec3 ndfmipEnvShRow(int i, int row) { return texelFetch(ndfmipEnvSh, ivec2(i, row), 0).rgb; }
+#endif
+
+// L'_lm for a mean normal (the environment frame: the axes' index): Sum_k n_k L'_k, or the
+// prepared L'.
 vec3 ndfmipEnvReparameterised(int i, vec3 meanNormal) {
-    if (ndfmipEnvShAxes == 0) return texelFetch(ndfmipEnvSh, ivec2(i, 1), 0).rgb;
-    return meanNormal.x * texelFetch(ndfmipEnvSh, ivec2(i, 1), 0).rgb +
-           meanNormal.y * texelFetch(ndfmipEnvSh, ivec2(i, 2), 0).rgb +
-           meanNormal.z * texelFetch(ndfmipEnvSh, ivec2(i, 3), 0).rgb;
+    if (ndfmipEnvShAxes == 0) return ndfmipEnvShRow(i, 1);
+    return meanNormal.x * ndfmipEnvShRow(i, 1) + meanNormal.y * ndfmipEnvShRow(i, 2) +
+           meanNormal.z * ndfmipEnvShRow(i, 3);
 }
 
 // The two sums of a vMF lobe about unit w (environment frame): Sum_l aD_l Sum_m L_lm Y_lm(w) and
@@ -311,12 +409,16 @@ NdfmipShSums ndfmipEnvShSums(float aD[NDFMIP_SH_MAX_ORDER + 1], float aS[NDFMIP_
     return sums;
 }
 
-// shadeShEnvironment on a plane: the lighting already in its tangent frame, where g is.
-// Diffuse Sum A_l^diffuse g_lm L_lm (eq. 35), specular Sum A_l^specular g_lm L'_lm (eq. 37) with
-// the cosine from footnote 5's mipmapped normal, each clamped at 0.
+// shadeShEnvironment: the lighting in the hit's tangent frame, where g is (the plane's from the
+// CPU, a sphere's rotated per hit above). Diffuse Sum A_l^diffuse g_lm L_lm (eq. 35), specular
+// Sum A_l^specular g_lm L'_lm (eq. 37) with the cosine from footnote 5's mipmapped normal, each
+// clamped at 0.
 vec3 ndfmipShadeShEnvironment(NdfmipMaterial m, vec3 albedo, float g[NDFMIP_SH_MAX_COEFFICIENTS], int order,
                               NdfmipHit hit) {
     order = min(order, ndfmipEnvShOrder);
+#ifdef NDFMIP_ENVIRONMENT_SH_PER_HIT
+    ndfmipEnvShRotateFor(hit);
+#endif
     vec3 meanNormal = ndfmipTangentToEnvironment(hit, ndfmipShMeanNormal(g[1], g[2], g[3]));
     vec3 diffuse = vec3(0.0f);
     vec3 specular = vec3(0.0f);
@@ -324,7 +426,7 @@ vec3 ndfmipShadeShEnvironment(NdfmipMaterial m, vec3 albedo, float g[NDFMIP_SH_M
         vec3 d = vec3(0.0f);
         vec3 s = vec3(0.0f);
         for (int i = l * l; i <= l * (l + 2); ++i) {
-            d += g[i] * texelFetch(ndfmipEnvSh, ivec2(i, 0), 0).rgb;
+            d += g[i] * ndfmipEnvShRow(i, 0);
             s += g[i] * ndfmipEnvReparameterised(i, meanNormal);
         }
         diffuse += ndfmipEnvShDiffuse[l] * d;

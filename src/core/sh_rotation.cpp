@@ -22,11 +22,8 @@
 namespace ndfmip {
 namespace {
 
-struct RotationPoints {
-    std::vector<glm::dvec3> points;
-    // pseudoInverse[l]: (2l + 1) x points, row m + l, (A^T A)^-1 A^T with A_km = Y_lm(d_k).
-    std::vector<std::vector<double>> pseudoInverse;
-};
+// pseudoInverse[l]: (A^T A)^-1 A^T with A_km = Y_lm(d_k).
+using RotationPoints = ShRotationSampling;
 
 int pointCount(int order) {
     return 4 * order + 4;
@@ -91,20 +88,21 @@ RotationPoints makePoints(int order) {
     return r;
 }
 
-const RotationPoints& rotationPoints(int order) {
+constexpr int kMaxChannels = 16;
+
+} // namespace
+
+const ShRotationSampling& shRotationSampling(int order) {
+    assert(order >= 0 && order <= kMaxShOrder);
     static std::array<std::once_flag, kMaxShOrder + 1> once;
     static std::array<RotationPoints, kMaxShOrder + 1> table;
     std::call_once(once[size_t(order)], [order] { table[size_t(order)] = makePoints(order); });
     return table[size_t(order)];
 }
 
-constexpr int kMaxChannels = 16;
-
-} // namespace
-
 void rotateSh(const glm::dmat3& R, int order, const double* in, double* out, int channels) {
     assert(order >= 0 && order <= kMaxShOrder && channels >= 1 && channels <= kMaxChannels);
-    const RotationPoints& p = rotationPoints(order);
+    const RotationPoints& p = shRotationSampling(order);
     const int count = int(p.points.size()), bands = order + 1;
     const glm::dmat3 inverse = glm::transpose(R);
     // samples[(k * bands + l) * channels + c]: band l of channel c read at R^T d_k.

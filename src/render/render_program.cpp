@@ -30,13 +30,9 @@ void add(std::vector<UniformValue>& u, const std::string& name, glm::vec3 v) {
     u.push_back({name, false, {v.x, v.y, v.z}});
 }
 
-// Why a method cannot be drawn under an environment on the GPU; empty when it can. sh reads
-// the lighting rotated into the hit's tangent frame: one rotation (on the CPU) serves a plane,
-// a sphere would need one per pixel.
-std::string environmentRefusal(const MethodShader& shader, const std::string& method, const Scene& scene) {
+// Why a method cannot be drawn under an environment on the GPU; empty when it can.
+std::string environmentRefusal(const MethodShader& shader, const std::string& method) {
     if (!shader.shadeEnvironment) return "render --gpu: method " + quote(method) + " cannot shade under an environment";
-    if (shader.bake == Method::Sh && scene.geometry.type != GeometryType::Plane)
-        return "render --gpu: method " + quote(method) + " under an environment on a sphere (SH lighting in each hit's frame) is rendered on the CPU only";
     return {};
 }
 
@@ -63,6 +59,28 @@ Image shLightingRows(const ShLighting& lighting, int order, const glm::mat3* fra
         for (int row = 0; row < rows; ++row)
             for (int c = 0; c < 3; ++c)
                 out.at(i, row)[c] = float(values[size_t(3 * rows) * size_t(i) + size_t(3 * row + c)]);
+    return out;
+}
+
+// The same rows in the environment frame, followed by what the shader needs to rotate them into
+// each hit's frame itself (a sphere: one frame per hit): a row of the rotation's points d_k (xyz
+// in RGB), then per coefficient i = shIndex(l, m) a row of band l's pseudo-inverse, column k in R
+// (sh_rotation.h's ShRotationSampling, so the GPU rotates as the CPU's rotateSh does).
+Image shLightingRowsToRotate(const ShLighting& lighting, int order) {
+    const Image rows = shLightingRows(lighting, order, nullptr);
+    const ShRotationSampling& sampling = shRotationSampling(order);
+    const int count = shCount(order), points = int(sampling.points.size());
+    Image out(std::max(count, points), rows.height + 1 + count, 3);
+    for (int row = 0; row < rows.height; ++row)
+        for (int i = 0; i < count; ++i)
+            for (int c = 0; c < 3; ++c) out.at(i, row)[c] = rows.at(i, row)[c];
+    for (int k = 0; k < points; ++k)
+        for (int c = 0; c < 3; ++c) out.at(k, rows.height)[c] = float(sampling.points[size_t(k)][c]);
+    for (int l = 0; l <= order; ++l)
+        for (int m = 0; m < 2 * l + 1; ++m)
+            for (int k = 0; k < points; ++k)
+                out.at(k, rows.height + 1 + l * l + m)[0] =
+                    float(sampling.pseudoInverse[size_t(l)][size_t(m * points + k)]);
     return out;
 }
 
@@ -105,7 +123,7 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     if (m.brdf == Brdf::Tabulated || m.factor) return Error{"render --gpu: tabulated BRDFs are rendered on the CPU only"};
     const bool environment = !scene.environment.path.empty();
     if (environment) {
-        if (const std::string refusal = environmentRefusal(shader, method, scene); !refusal.empty())
+        if (const std::string refusal = environmentRefusal(shader, method); !refusal.empty())
             return Error{refusal};
         if (!textures.environment)
             return Error{"render --gpu: the scene's environment " + quote(scene.environment.path) + " is not loaded"};
@@ -132,10 +150,14 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         environmentShOrder = std::min(setup.sh.order, lighting.order);
         if (environmentShOrder > kGpuMaxShOrder)
             return Error{"render --gpu: SH lighting up to order " + std::to_string(kGpuMaxShOrder)};
-        // sh: the plane's one tangent frame (geometry.cpp's), as the CPU rotates into it.
+        // sh: on a plane, its one tangent frame (geometry.cpp's), as the CPU rotates into it; on a
+        // sphere the shader rotates into each hit's frame (shLightingRowsToRotate).
         const Geometry& g = scene.geometry;
         const glm::mat3 frame = tangentToEnvironment(g.tangent, glm::cross(g.normal, g.tangent), g.normal);
-        program.environmentSh = shLightingRows(lighting, environmentShOrder, shader.bake == Method::Sh ? &frame : nullptr);
+        const int order = environmentShOrder;
+        if (shader.bake != Method::Sh) program.environmentSh = shLightingRows(lighting, order, nullptr);
+        else if (g.type == GeometryType::Plane) program.environmentSh = shLightingRows(lighting, order, &frame);
+        else program.environmentSh = shLightingRowsToRotate(lighting, order);
         program.environment = textures.environment;
         program.environmentVisible = scene.environment.visible;
     } else if (environment) {
@@ -196,6 +218,8 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     }
     if (environment) defines += "#define NDFMIP_ENVIRONMENT\n";
     if (shLighting) defines += "#define NDFMIP_ENVIRONMENT_SH\n";
+    if (shLighting && shader.bake == Method::Sh && scene.geometry.type != GeometryType::Plane)
+        defines += "#define NDFMIP_ENVIRONMENT_SH_PER_HIT\n";
     program.fragmentParts.emplace_back("<defines>", defines);
     std::vector<std::string> files(std::begin(kLibraryFiles), std::end(kLibraryFiles));
     if (environment) files.push_back("render/environment.glsl");
@@ -276,6 +300,7 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     if (shLighting) {
         add(u, "ndfmipEnvShOrder", environmentShOrder);
         add(u, "ndfmipEnvShAxes", setup.shLighting->cosine == SpecularCosine::MeanNormal ? 1 : 0);
+        add(u, "ndfmipEnvShPoints", int(shRotationSampling(environmentShOrder).points.size()));
         for (int l = 0; l <= environmentShOrder; ++l) {
             const std::string index = "[" + std::to_string(l) + "]";
             add(u, "ndfmipEnvShDiffuse" + index, float(setup.sh.diffuse[size_t(l)]));

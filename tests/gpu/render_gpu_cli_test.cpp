@@ -41,7 +41,8 @@ TEST(RenderGpuCli, WritesTheCpusImageAndTimesFrames) {
 }
 
 // A 32x32 sphere under one of the shared maps (visible around it), toksvig the split-sum way and
-// vmf the SH-lighting way: the GPU writes the CPU's image; sh on the sphere is refused by name.
+// vmf and sh the SH-lighting way: the GPU writes the CPU's image; lean (no environment shading)
+// is refused by name.
 TEST(RenderGpuCli, EnvironmentScenesMatchTheCpu) {
     NDFMIP_GL_OR_SKIP(gl);
     const std::filesystem::path maps = test::sharedEnvMaps();
@@ -59,7 +60,8 @@ TEST(RenderGpuCli, EnvironmentScenesMatchTheCpu) {
  "normal_map": {"path": )" << nlohmann::json(std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png").dump()
             << R"(, "green_down": true}})";
     }
-    for (const char* args : {"--method toksvig --env-lod unreal", "--method vmf --lobes 2 --vmf-environment sh"}) {
+    for (const char* args :
+         {"--method toksvig --env-lod unreal", "--method vmf --lobes 2 --vmf-environment sh", "--method sh"}) {
         const std::string cpu = (dir.path / "cpu.exr").string(), gpu = (dir.path / "gpu.exr").string();
         std::string output;
         const std::string common = "render " + test::shellArg(scene.string()) + " " + args + " -q";
@@ -71,9 +73,9 @@ TEST(RenderGpuCli, EnvironmentScenesMatchTheCpu) {
         ASSERT_TRUE(c);
         EXPECT_LT(c->relativeRmse, 3e-3) << args;
     }
-    test::expectCliRefuses("render " + test::shellArg(scene.string()) + " --method sh --gpu -q -o " +
-                               test::shellArg((dir.path / "sh.exr").string()),
-                           {"'sh'", "on a sphere", "CPU only"});
+    test::expectCliRefuses("render " + test::shellArg(scene.string()) + " --method lean --gpu -q -o " +
+                               test::shellArg((dir.path / "lean.exr").string()),
+                           {"'lean'", "cannot shade under an environment"});
 }
 
 TEST(RenderGpuCli, CpuOnlyMethodsAndMissingDriversAreOneLineErrors) {
