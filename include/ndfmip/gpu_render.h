@@ -22,7 +22,8 @@ struct GpuRenderStats {
 };
 
 // Renders `scene` with `method` (a method or shader name: naive, toksvig, toksvig-lut,
-// roughness-mips, sh, vmf, lean), drawing it `frames` times (the image of the last; every
+// roughness-mips, sh, vmf, lean; a faceted-sphere scene: renormalized or cubemap-toksvig, no
+// textures, see docs/RENDERING.md), drawing it `frames` times (the image of the last; every
 // frame timed in `stats`). Errors, one line: no GL or EGL ("GPU: ..."), a shader that does not
 // compile (file and line), the ground truth or `exact` (CPU only), tabulated BRDFs or factors
 // (CPU only), more than 16 lights, spp > 1, a bake of another method or size, textures beyond

@@ -77,6 +77,34 @@ Result<GLuint> uploadMips(const std::vector<const Image*>& levels, const char* w
     return texture;
 }
 
+// Toksvig's normal cube map as a cube-map texture, ndfmip's levels as the mips (never generated:
+// GL's box filter would weigh the children equally, not by solid angle), filtered trilinearly.
+// The faces' rows go up top to bottom as the CPU stores them: GL's t runs down each face too.
+GLuint uploadNormalCube(const NormalCubeMap& cube) {
+    const int size = cube.levels.front().size;
+    GLuint texture = 0;
+    glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &texture);
+    glTextureStorage2D(texture, GLsizei(cube.levels.size()), GL_RGBA32F, size, size);
+    std::vector<float> rgba;
+    for (size_t k = 0; k < cube.levels.size(); ++k) {
+        const CubeLevel& level = cube.levels[k];
+        const size_t faceTexels = size_t(level.size) * size_t(level.size);
+        for (int face = 0; face < 6; ++face) {
+            rgba.assign(faceTexels * 4, 0.f);
+            for (size_t i = 0; i < faceTexels; ++i)
+                for (int c = 0; c < 3; ++c) rgba[4 * i + size_t(c)] = level.texels[size_t(face) * faceTexels + i][c];
+            glTextureSubImage3D(texture, GLint(k), 0, 0, face, level.size, level.size, 1, GL_RGBA, GL_FLOAT, rgba.data());
+        }
+    }
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(texture, GL_TEXTURE_BASE_LEVEL, 0);
+    glTextureParameteri(texture, GL_TEXTURE_MAX_LEVEL, GLint(cube.levels.size()) - 1);
+    return texture;
+}
+
 void setUniforms(GLuint program, const std::vector<UniformValue>& uniforms) {
     for (const UniformValue& u : uniforms) {
         const GLint at = glGetUniformLocation(program, u.name.c_str());
@@ -100,9 +128,17 @@ Result<GpuMethod> GpuMethod::create(const RenderProgram& parts) {
     if (!program) return program.error();
     GpuMethod method;
     method.program_ = std::move(program.value());
-    Result<GLuint> planes = uploadLayers(parts.layers);
-    if (!planes) return planes.error();
-    method.planes_ = planes.value();
+    if (!parts.layers.empty()) { // a faceted-sphere scene has none
+        Result<GLuint> planes = uploadLayers(parts.layers);
+        if (!planes) return planes.error();
+        method.planes_ = planes.value();
+    }
+    if (!parts.facetedMesh.empty()) {
+        Result<GLuint> uploaded = uploadMips({&parts.facetedMesh}, "faceted sphere's mesh");
+        if (!uploaded) return uploaded.error();
+        method.facetedMesh_ = uploaded.value();
+    }
+    if (parts.normalCube) method.normalCube_ = uploadNormalCube(*parts.normalCube);
     const Image& lut = parts.setup.lut;
     if (!lut.empty()) {
         glCreateTextures(GL_TEXTURE_2D, 1, &method.lut_);
@@ -140,11 +176,16 @@ void GpuMethod::draw(const std::vector<UniformValue>& uniforms, int x, int y, in
     setUniforms(program_.id(), uniforms);
     glUseProgram(program_.id());
     glBindVertexArray(vertexArray_);
-    glBindTextureUnit(0, planes_);
+    if (planes_) glBindTextureUnit(0, planes_);
     if (lut_) glBindTextureUnit(1, lut_);
     if (environmentChain_) glBindTextureUnit(2, environmentChain_); // units as renderProgram's uniforms
     if (environmentAlbedo_) glBindTextureUnit(3, environmentAlbedo_);
     if (environmentMap_) glBindTextureUnit(4, environmentMap_);
+    if (facetedMesh_) glBindTextureUnit(5, facetedMesh_);
+    if (normalCube_) {
+        glBindTextureUnit(6, normalCube_);
+        glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS); // bilinear taps cross face edges, as the CPU's lookup
+    }
     glViewport(x, y, width, height);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
@@ -156,7 +197,8 @@ GpuMethod::GpuMethod(GpuMethod&& other) noexcept
       lut_(std::exchange(other.lut_, 0u)), vertexArray_(std::exchange(other.vertexArray_, 0u)),
       environmentChain_(std::exchange(other.environmentChain_, 0u)),
       environmentAlbedo_(std::exchange(other.environmentAlbedo_, 0u)),
-      environmentMap_(std::exchange(other.environmentMap_, 0u)) {}
+      environmentMap_(std::exchange(other.environmentMap_, 0u)),
+      facetedMesh_(std::exchange(other.facetedMesh_, 0u)), normalCube_(std::exchange(other.normalCube_, 0u)) {}
 
 GpuMethod& GpuMethod::operator=(GpuMethod&& other) noexcept {
     if (this != &other) {
@@ -168,6 +210,8 @@ GpuMethod& GpuMethod::operator=(GpuMethod&& other) noexcept {
         environmentChain_ = std::exchange(other.environmentChain_, 0u);
         environmentAlbedo_ = std::exchange(other.environmentAlbedo_, 0u);
         environmentMap_ = std::exchange(other.environmentMap_, 0u);
+        facetedMesh_ = std::exchange(other.facetedMesh_, 0u);
+        normalCube_ = std::exchange(other.normalCube_, 0u);
     }
     return *this;
 }
@@ -178,9 +222,10 @@ void GpuMethod::release() {
     if (planes_) glDeleteTextures(1, &planes_);
     if (lut_) glDeleteTextures(1, &lut_);
     if (vertexArray_) glDeleteVertexArrays(1, &vertexArray_);
-    for (unsigned texture : {environmentChain_, environmentAlbedo_, environmentMap_})
+    for (unsigned texture : {environmentChain_, environmentAlbedo_, environmentMap_, facetedMesh_, normalCube_})
         if (texture) glDeleteTextures(1, &texture);
     planes_ = lut_ = vertexArray_ = environmentChain_ = environmentAlbedo_ = environmentMap_ = 0;
+    facetedMesh_ = normalCube_ = 0;
 }
 
 } // namespace ndfmip

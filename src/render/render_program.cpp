@@ -97,6 +97,46 @@ Image albedoChannel(const SplitSumLighting& lighting, Brdf brdf) {
     return out;
 }
 
+// The camera, the object, the material and the lights (raycast.glsl, main.frag and
+// interpolated.frag).
+void addSceneUniforms(std::vector<UniformValue>& u, const Scene& scene, const CameraFrame& camera) {
+    add(u, "ndfmipCameraType", scene.camera.type == CameraType::Orthographic ? 1 : 0);
+    add(u, "ndfmipEye", camera.eye);
+    add(u, "ndfmipForward", camera.forward);
+    add(u, "ndfmipRight", camera.right);
+    add(u, "ndfmipUp", camera.up);
+    add(u, "ndfmipHalfSize", glm::vec2(camera.halfWidth, camera.halfHeight));
+    add(u, "ndfmipImageSize", glm::vec2(camera.width, camera.height));
+    const Geometry& g = scene.geometry;
+    add(u, "ndfmipGeometryType", g.type == GeometryType::Plane ? 0 : 1);
+    add(u, "ndfmipCenter", g.center);
+    add(u, "ndfmipNormal", g.normal);
+    add(u, "ndfmipTangent", g.tangent);
+    add(u, "ndfmipPlaneSize", g.size);
+    add(u, "ndfmipTiling", g.tiling);
+    add(u, "ndfmipRadius", g.radius);
+    const Material& m = scene.material;
+    const GlslMaterial material = glslMaterial(m);
+    add(u, "ndfmipMaterial.brdf", material.brdf);
+    add(u, "ndfmipMaterial.exponent", material.exponent);
+    add(u, "ndfmipMaterial.roughness", material.roughness);
+    add(u, "ndfmipMaterial.specular", material.specular);
+    add(u, "ndfmipMaterialAlbedo", m.albedo);
+    add(u, "ndfmipBackground", scene.background);
+    add(u, "ndfmipLightCount", int(scene.lights.size()));
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& light = scene.lights[i];
+        // Appended, not "[" + ...: GCC 12 warns falsely (-Wrestrict) on that once inlined here.
+        std::string index = "[";
+        index += std::to_string(i);
+        index += "]";
+        add(u, "ndfmipLightType" + index, light.type == LightType::Point ? 1 : 0);
+        add(u, "ndfmipLightDirection" + index, light.direction);
+        add(u, "ndfmipLightPosition" + index, light.position);
+        add(u, "ndfmipLightColor" + index, light.color);
+    }
+}
+
 } // namespace
 
 const char* renderVertexShader() {
@@ -108,11 +148,81 @@ void main() {
 )";
 }
 
+namespace {
+
+// A faceted-sphere scene (interpolated.h): the CPU's mesh, every vertex and triangle as it
+// builds them, and the method's checks as renderInterpolated's.
+Result<RenderProgram> interpolatedProgram(const Scene& scene, const std::string& method, const RenderOptions& options) {
+    if (method == kGroundTruth)
+        return Error{"render --gpu: '" + method + "' of a faceted-sphere scene is rendered on the CPU only"};
+    if (method != kRenormalized && method != kCubemapToksvig)
+        return Error{"render --gpu: unknown method " + quote(method) + " for a faceted-sphere scene (expected " +
+                     std::string(kRenormalized) + ", " + kCubemapToksvig + ")"};
+    const Geometry& g = scene.geometry;
+    if (g.segments < kMinSphereSegments || g.segments > kMaxSphereSegments || g.rings < kMinSphereRings ||
+        g.rings > kMaxSphereRings || !(g.radius > 0.f))
+        return Error{"render --gpu: a faceted sphere needs " + std::to_string(kMinSphereSegments) + " .. " +
+                     std::to_string(kMaxSphereSegments) + " segments, " + std::to_string(kMinSphereRings) + " .. " +
+                     std::to_string(kMaxSphereRings) + " rings and a positive radius"};
+    if (!scene.environment.path.empty())
+        return Error{"render --gpu: faceted-sphere scenes are lit by point lights only, not an environment"};
+    const Material& m = scene.material;
+    if (m.brdf == Brdf::Tabulated || m.factor) return Error{"render --gpu: tabulated BRDFs are rendered on the CPU only"};
+    if (scene.lights.size() > size_t(kGpuMaxLights))
+        return Error{"render --gpu: at most " + std::to_string(kGpuMaxLights) + " lights, the scene has " +
+                     std::to_string(scene.lights.size())};
+    if (options.spp != 1) return Error{"render --gpu: methods take one sample per pixel (--spp is the ground truth's)"};
+    if (scene.camera.width < 1 || scene.camera.height < 1) return Error{"render --gpu: the camera's image is empty"};
+
+    RenderProgram program;
+    // The mesh as rows of one texture (faceted.glsl): positions, vertex normals, face normals,
+    // triangles' vertex indices.
+    const FacetedSphereMesh mesh = facetedSphereMesh(g);
+    const int width = int(std::max(mesh.positions.size(), mesh.triangles.size()));
+    program.facetedMesh = Image(width, 4, 3);
+    for (size_t i = 0; i < mesh.positions.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            program.facetedMesh.at(int(i), 0)[c] = mesh.positions[i][c];
+            program.facetedMesh.at(int(i), 1)[c] = mesh.normals[i][c];
+        }
+    for (size_t k = 0; k < mesh.triangles.size(); ++k)
+        for (int c = 0; c < 3; ++c) {
+            program.facetedMesh.at(int(k), 2)[c] = mesh.faceNormals[k][c];
+            program.facetedMesh.at(int(k), 3)[c] = float(mesh.triangles[k][c]);
+        }
+    const InterpolatedOptions cube; // the CPU renderer's cube map and LOD bias
+    if (method == kCubemapToksvig)
+        program.normalCube = std::make_shared<const NormalCubeMap>(buildNormalCubeMap(cube.cubeSize));
+
+    std::vector<std::string> files = {"brdf.glsl", "toksvig.glsl", "render/raycast.glsl", "render/faceted.glsl",
+                                      "render/interpolated.frag"};
+    program.fragmentParts.emplace_back("<defines>", "");
+    for (const std::string& file : files) {
+        Result<std::string> text = embedded(file);
+        if (!text) return text.error();
+        program.fragmentParts.emplace_back(file, std::move(text.value()));
+    }
+    auto& u = program.uniforms;
+    addSceneUniforms(u, scene, cameraFrame(scene.camera));
+    add(u, "ndfmipPixelShift", options.pixelShift);
+    add(u, "ndfmipInterpolatedMethod", method == kCubemapToksvig ? 1 : 0);
+    add(u, "ndfmipMapping", int(options.roughnessMapping));
+    add(u, "ndfmipVarianceScale", options.varianceScale);
+    add(u, "ndfmipTriangleCount", int(mesh.triangles.size()));
+    add(u, "ndfmipNormalCubeSize", cube.cubeSize);
+    add(u, "ndfmipNormalCubeLodBias", cube.lodBias);
+    // Units of their own (gpu_method.cpp): samplers of two types on one unit make a draw invalid.
+    add(u, "ndfmipMesh", 5);
+    add(u, "ndfmipNormalCube", 6);
+    return program;
+}
+
+} // namespace
+
 Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& textures, const std::string& method,
                                     const RenderOptions& options) {
+    if (scene.geometry.type == GeometryType::FacetedSphere) return interpolatedProgram(scene, method, options);
     RenderProgram program;
-    if (scene.geometry.type == GeometryType::FacetedSphere)
-        return Error{"render --gpu: faceted-sphere scenes are rendered on the CPU only"};
     if (method == kGroundTruth || method == kExact)
         return Error{"render --gpu: '" + method + "' is rendered on the CPU only"};
     program.shader = findShader(method);
@@ -233,37 +343,7 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
 
     // Uniforms: camera, object, material, lights, filtering rule, method.
     auto& u = program.uniforms;
-    add(u, "ndfmipCameraType", scene.camera.type == CameraType::Orthographic ? 1 : 0);
-    add(u, "ndfmipEye", camera.eye);
-    add(u, "ndfmipForward", camera.forward);
-    add(u, "ndfmipRight", camera.right);
-    add(u, "ndfmipUp", camera.up);
-    add(u, "ndfmipHalfSize", glm::vec2(camera.halfWidth, camera.halfHeight));
-    add(u, "ndfmipImageSize", glm::vec2(camera.width, camera.height));
-    const Geometry& g = scene.geometry;
-    add(u, "ndfmipGeometryType", g.type == GeometryType::Plane ? 0 : 1);
-    add(u, "ndfmipCenter", g.center);
-    add(u, "ndfmipNormal", g.normal);
-    add(u, "ndfmipTangent", g.tangent);
-    add(u, "ndfmipPlaneSize", g.size);
-    add(u, "ndfmipTiling", g.tiling);
-    add(u, "ndfmipRadius", g.radius);
-    const GlslMaterial material = glslMaterial(m);
-    add(u, "ndfmipMaterial.brdf", material.brdf);
-    add(u, "ndfmipMaterial.exponent", material.exponent);
-    add(u, "ndfmipMaterial.roughness", material.roughness);
-    add(u, "ndfmipMaterial.specular", material.specular);
-    add(u, "ndfmipMaterialAlbedo", m.albedo);
-    add(u, "ndfmipBackground", scene.background);
-    add(u, "ndfmipLightCount", int(scene.lights.size()));
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
-        const Light& light = scene.lights[i];
-        const std::string index = "[" + std::to_string(i) + "]";
-        add(u, "ndfmipLightType" + index, light.type == LightType::Point ? 1 : 0);
-        add(u, "ndfmipLightDirection" + index, light.direction);
-        add(u, "ndfmipLightPosition" + index, light.position);
-        add(u, "ndfmipLightColor" + index, light.color);
-    }
+    addSceneUniforms(u, scene, camera);
     add(u, "ndfmipTaps", options.taps);
     add(u, "ndfmipLodBias", options.lodBias);
     add(u, "ndfmipAnisotropy", options.anisotropy);

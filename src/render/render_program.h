@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "methods/method_unit.h"
+#include "ndfmip/interpolated.h"
 #include "ndfmip/render.h"
 
 namespace ndfmip {
@@ -42,12 +43,18 @@ struct RenderProgram {
     Image environmentSh;
     std::shared_ptr<const EnvironmentLighting> environment;
     bool environmentVisible = false;
+    // A faceted-sphere scene (render/interpolated.frag, no layers): the CPU's mesh as rows
+    // (faceted.glsl's ndfmipMesh) and, for cubemap-toksvig, Toksvig's normal cube map, its
+    // levels the texture's mips. Empty otherwise.
+    Image facetedMesh;
+    std::shared_ptr<const NormalCubeMap> normalCube;
 };
 
 // The full-screen triangle's vertex stage, after its #version line.
 const char* renderVertexShader();
 
 // Checks that the GPU path can draw `method` (errors, one line, as renderGpu's) and assembles it.
+// Faceted-sphere scenes take the methods renormalized and cubemap-toksvig (interpolated.h).
 Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& textures, const std::string& method,
                                     const RenderOptions& options);
 

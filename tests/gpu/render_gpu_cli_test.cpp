@@ -78,6 +78,35 @@ TEST(RenderGpuCli, EnvironmentScenesMatchTheCpu) {
                            {"'lean'", "cannot shade under an environment"});
 }
 
+// A faceted-sphere scene (interpolated normals): cubemap-toksvig on the GPU writes the CPU's
+// image, also over shifted frames; its ground truth is refused by name.
+TEST(RenderGpuCli, FacetedSphereScenesMatchTheCpu) {
+    NDFMIP_GL_OR_SKIP(gl);
+    test::TempDir dir("ndfmip_render_gpu_faceted");
+    const std::filesystem::path scene = dir.path / "faceted.json";
+    {
+        std::ofstream out(scene);
+        out << R"({"camera": {"eye": [0, -20, 4], "target": [0, 0, 0], "fov": 8, "width": 24, "height": 24},
+ "object": {"type": "faceted-sphere", "segments": 12, "rings": 6, "radius": 1},
+ "lights": [{"type": "point", "position": [6, -18, 10], "intensity": 400}],
+ "material": {"brdf": "blinnphong", "exponent": 256, "albedo": [0.05, 0.05, 0.05]}})";
+    }
+    const std::string cpu = (dir.path / "cpu.exr").string(), gpu = (dir.path / "gpu.exr").string();
+    std::string output;
+    const std::string common = "render " + test::shellArg(scene.string()) + " --method cubemap-toksvig -q ";
+    ASSERT_EQ(test::runCli(common + "-o " + test::shellArg(cpu), &output), 0) << output;
+    ASSERT_EQ(test::runCli(common + "--gpu --frames 2 --truth-spp 4 -o " + test::shellArg(gpu), &output), 0) << output;
+    EXPECT_NE(output.find("error flicker"), std::string::npos) << output;
+    Result<SourceImage> a = loadImage(cpu), b = loadImage(gpu);
+    ASSERT_TRUE(a && b);
+    Result<ImageComparison> c = compareImages(b->image, a->image);
+    ASSERT_TRUE(c);
+    EXPECT_LT(c->relativeRmse, 1e-3);
+    test::expectCliRefuses("render " + test::shellArg(scene.string()) + " --method groundtruth --gpu -q -o " +
+                               test::shellArg((dir.path / "truth.exr").string()),
+                           {"'groundtruth'", "faceted-sphere", "CPU only"});
+}
+
 TEST(RenderGpuCli, CpuOnlyMethodsAndMissingDriversAreOneLineErrors) {
     test::TempDir dir("ndfmip_render_gpu_errors");
     const std::string out = (dir.path / "x.exr").string();

@@ -70,7 +70,6 @@ void runRender(const RenderArgs& a) {
     const std::string method = a.method.empty() ? scene->method : a.method;
     // Faceted spheres (interpolated normals) have their own methods and no textures.
     const bool interpolated = scene->geometry.type == GeometryType::FacetedSphere;
-    if (interpolated && a.gpu) throw Failure(a.scene + ": faceted-sphere scenes are rendered on the CPU only");
     const bool bakeless = method == kGroundTruth || method == kExact || interpolated;
     // The bake a shader reads (toksvig-lut: toksvig's; roughness-mips: naive's), from the method table.
     const MethodShader* shader = findShader(method);
