@@ -181,7 +181,7 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
     lighting.texelAngle = M_PI / (size / 2);
     lighting.irradiance = projectEnvironmentSh(env, 2).irradiance;
 
-    const Image base = resampleEquirect(env.radiance, size, env.rotation);
+    Image base; // level 0 of the GGX chains, made when one is asked for
     for (EnvironmentLod rule : options.rules) {
         if (findChain(lighting, rule)) continue;
         SplitSumChain chain;
@@ -196,6 +196,7 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
             lighting.chains.push_back(std::move(chain));
             continue;
         }
+        if (base.pixels.empty()) base = resampleEquirect(env.radiance, size, env.rotation);
         chain.levels.push_back(base);
         chain.perceptualRoughness.push_back(0.);
         for (int k = 1; k < levels; ++k) {
