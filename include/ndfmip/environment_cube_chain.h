@@ -21,10 +21,11 @@ struct CubeMipChain {
     std::vector<std::array<Image, kCubeFaces>> levels;
 };
 
-// Level 0: each face texel the mean of bilinear lookups of the map spread over it (enough that
-// every map texel under it is read); level k + 1: each texel the solid-angle-weighted mean of its
-// 2x2 children (cubeTexelSolidAngle), so every level keeps the map's integral over the sphere.
-// Down to 1 x 1 faces. Preconditions: size a power of two >= 1, a valid environment.
+// Level 0: each face texel the mean of 4 x 4 bilinear lookups spread over it in the map
+// (area-weighted down to 8 size wide first, so every map texel is read); level k + 1: each texel
+// the solid-angle-weighted mean of its 2x2 children (cubeTexelSolidAngle), so every level keeps the
+// map's integral over the sphere. Down to 1 x 1 faces. Preconditions: size a power of two >= 1, a
+// valid environment.
 CubeMipChain buildCubeMipChain(const Environment& env, int size);
 
 // Bilinear within one level along unit d: texel centres at ((x + 0.5) / n, (y + 0.5) / n) of the

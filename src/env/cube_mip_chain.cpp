@@ -53,17 +53,17 @@ std::array<Image, kCubeFaces> halve(const std::array<Image, kCubeFaces>& fine) {
 
 CubeMipChain buildCubeMipChain(const Environment& env, int size) {
     assert(size >= 1 && (size & (size - 1)) == 0 && env.radiance.channels == 3);
-    // The map as seen; then about two lookups per map texel across each face texel (a face texel
-    // spans width / (4 size) map texels at the horizon), at least 4 x 4.
-    Image rotated;
-    if (env.rotation != 0.)
-        rotated = resampleEquirect(env.radiance, env.radiance.width, env.rotation);
-    const Image& seen = env.rotation != 0. ? rotated : env.radiance;
-    const int samples = std::clamp(2 * seen.width / (4 * size), 4, 16);
+    // The map as seen, at most 8 size wide (two texels per face texel at the horizon,
+    // area-weighted); then 4 x 4 bilinear lookups per face texel read every texel under it.
+    const int width = std::min(env.radiance.width, 8 * size);
+    Image resampled;
+    if (env.rotation != 0. || width != env.radiance.width)
+        resampled = resampleEquirect(env.radiance, width, env.rotation);
+    const Image& seen = resampled.pixels.empty() ? env.radiance : resampled;
     CubeMipChain chain;
     std::array<Image, kCubeFaces> level0;
     for (int face = 0; face < kCubeFaces; ++face)
-        level0[size_t(face)] = cubeFaceFromEquirect(seen, face, size, samples);
+        level0[size_t(face)] = cubeFaceFromEquirect(seen, face, size, 4);
     chain.levels.push_back(std::move(level0));
     while (chain.levels.back()[0].width > 1) chain.levels.push_back(halve(chain.levels.back()));
     return chain;
