@@ -172,6 +172,13 @@ const char* cubeFaceName(int face); // "px", "nx", "py", "ny", "pz", "nz"
 // for +X and so on).
 glm::dvec3 cubeFaceDirection(int face, double s, double t);
 
+// Its inverse for any non-zero d: the face d points into (the largest |component|; ties go to
+// the earlier face) and (s, t) in [0, 1]^2.
+void cubeFaceCoordinates(glm::dvec3 d, int& face, double& s, double& t);
+
+// The solid angle of texel (x, y) of a size x size face; the 6 size^2 texels sum to 4 pi.
+double cubeTexelSolidAngle(int size, int x, int y);
+
 // One size x size face of an equirectangular image (any channel count): each texel the mean of
 // samples x samples bilinear lookups (sampleEquirect) spread over it.
 Image cubeFaceFromEquirect(const Image& map, int face, int size, int samples = 4);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -61,10 +62,27 @@ double environmentPdf(const EnvironmentSampler& sampler, glm::dvec3 d);
 
 // ---- the lighting a render uses ------------------------------------------------------------------
 
+// The methods' prepared data for one environment (environment_cache.h): made on first use, then
+// shared by every later render, since a prefiltered chain or an SH lighting costs ~0.1 s and an
+// eval renders the same map hundreds of times. A copy starts empty, so a copy whose environment
+// is changed never reads the original's data.
+struct EnvironmentCache {
+    struct Entry; // environment_cache.cpp
+    std::mutex mutex;
+    std::vector<std::shared_ptr<Entry>> entries; // oldest first
+    EnvironmentCache() = default;
+    EnvironmentCache(const EnvironmentCache&) {}
+    EnvironmentCache& operator=(const EnvironmentCache&) {
+        std::lock_guard<std::mutex> lock(mutex);
+        entries.clear();
+        return *this;
+    }
+};
+
 struct EnvironmentLighting {
     Environment environment;
     EnvironmentSampler sampler;
-    // Methods' prepared data (SH coefficients, prefiltered levels) belong here.
+    mutable EnvironmentCache cache; // filled through const references (environment_cache.h)
 };
 
 EnvironmentLighting makeEnvironmentLighting(Environment environment);

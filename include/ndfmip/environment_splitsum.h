@@ -23,6 +23,7 @@
 #include <glm/glm.hpp>
 
 #include "ndfmip/environment.h"
+#include "ndfmip/environment_cube_chain.h"
 #include "ndfmip/image.h"
 #include "ndfmip/result.h"
 #include "ndfmip/roughness.h"
@@ -36,7 +37,8 @@ namespace ndfmip {
 // (every chain's level k holds the GGX lobe of the roughness its own rule assigns to k).
 enum class EnvironmentLod {
     Log2Sigma, // Toksvig ("Environment Maps"): lod = log2(sigma / theta0) on the plain box mip
-               // chain, sigma the angular spread of the reflected lobe, theta0 a level-0 texel's
+               // chain (on cube faces, environment_cube_chain.h), sigma the angular spread of the
+               // reflected lobe, theta0 a level-0 texel's
     Filament,  // lod = r (2 - r) (N - 1) (Filament's perceptualRoughnessToLod)
     Unity,     // mip = r (1.7 - 0.7 r) 6 (perceptualRoughnessToMipmapLevel, 7 levels)
     Unreal,    // mip = N - 1 - (1 - 1.2 log2 r) (ComputeReflectionCaptureMipFromRoughness)
@@ -88,11 +90,14 @@ struct SplitSumOptions {
 };
 
 // One chain: level k is (size >> k) x (size >> k)/2 (at least 4 x 2 for the GGX chains), RGB, at perceptualRoughness[k] (0 for
-// the unfiltered level 0 and for every level of the Log2Sigma box chain).
+// the unfiltered level 0 and for every level of the Log2Sigma box chain). Log2Sigma's box chain
+// is on cube faces instead, size/4 wide at level 0 (as many texels around the horizon) down to
+// 1 x 1, in `cube`; its `levels` are empty.
 struct SplitSumChain {
     EnvironmentLod rule = EnvironmentLod::Filament;
     std::vector<Image> levels;
-    std::vector<double> perceptualRoughness;
+    CubeMipChain cube;
+    std::vector<double> perceptualRoughness; // one per level of either
 };
 
 struct SplitSumLighting {
@@ -104,6 +109,7 @@ struct SplitSumLighting {
     std::array<Image, 3> albedo;
     std::vector<glm::dvec3> irradiance; // E_lm, order 2 (projectEnvironmentSh)
     double texelAngle = 0.;             // angular height of a level-0 texel, pi / (size / 2)
+                                        // (Log2Sigma's cube faces: pi/2 over size/4 texels, the same)
     bool vmfBandFactors = true;
 };
 
@@ -120,7 +126,8 @@ Status checkSplitSumMaterial(const Material& m);
 
 // The chain prepared for `rule` (nullptr when it was not prepared).
 const SplitSumChain* findChain(const SplitSumLighting& lighting, EnvironmentLod rule);
-// Trilinear: bilinear within levels floor(lod) and floor(lod) + 1 (sampleEquirect), blended.
+// Trilinear: bilinear within levels floor(lod) and floor(lod) + 1 (sampleEquirect, or
+// sampleCubeLevel for the cube chain), blended.
 glm::vec3 sampleChain(const SplitSumChain& chain, double lod, glm::dvec3 direction);
 // The irradiance E(n) = sum E_lm Y_lm(n) (environment frame), bands l scaled by `band[l]`.
 glm::vec3 irradianceAt(const SplitSumLighting& lighting, glm::dvec3 n,

@@ -32,10 +32,10 @@ int log2Floor(int n) {
 
 // Levels of each chain for a level-0 width `size`: Unity has its fixed 7; Unreal runs down to
 // 4 x 2 texels, the equirect counterpart of a 1 x 1 cube face (4 faces span the horizon); the
-// box chain of Log2Sigma halves down to 2 x 1.
+// box chain of Log2Sigma halves size/4-wide cube faces down to 1 x 1.
 int chainLevels(EnvironmentLod rule, int size, int filamentLevels) {
     switch (rule) {
-    case EnvironmentLod::Log2Sigma: return log2Floor(size);
+    case EnvironmentLod::Log2Sigma: return log2Floor(size) - 1;
     case EnvironmentLod::Filament: return filamentLevels;
     case EnvironmentLod::Unity: return kUnitySpecCubeLodSteps + 1;
     case EnvironmentLod::Unreal: return log2Floor(size) - 1;
@@ -181,21 +181,25 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
     lighting.texelAngle = M_PI / (size / 2);
     lighting.irradiance = projectEnvironmentSh(env, 2).irradiance;
 
-    const Image base = resampleEquirect(env.radiance, size, env.rotation);
+    Image base; // level 0 of the GGX chains, made when one is asked for
     for (EnvironmentLod rule : options.rules) {
         if (findChain(lighting, rule)) continue;
         SplitSumChain chain;
         chain.rule = rule;
         const int levels = chainLevels(rule, size, options.filamentLevels);
+        if (rule == EnvironmentLod::Log2Sigma) {
+            // Toksvig's chain is the plain mip chain, solid-angle-weighted 2x2 boxes, on cube
+            // faces: an equirect chain's coarse texels near the poles are whole polar caps.
+            chain.cube = buildCubeMipChain(env, size / 4);
+            chain.perceptualRoughness.assign(chain.cube.levels.size(), 0.);
+            assert(int(chain.cube.levels.size()) == levels);
+            lighting.chains.push_back(std::move(chain));
+            continue;
+        }
+        if (base.pixels.empty()) base = resampleEquirect(env.radiance, size, env.rotation);
         chain.levels.push_back(base);
         chain.perceptualRoughness.push_back(0.);
         for (int k = 1; k < levels; ++k) {
-            if (rule == EnvironmentLod::Log2Sigma) {
-                // Toksvig's chain is the plain mip chain: solid-angle-weighted 2x2 boxes.
-                chain.levels.push_back(resampleEquirect(chain.levels.back(), chain.levels.back().width / 2));
-                chain.perceptualRoughness.push_back(0.);
-                continue;
-            }
             const double r = environmentLodRoughness(rule, k, levels);
             const int samples = options.samples << std::max(0, k - 1);
             // Never narrower than 4 x 2 (Unity's 7 levels from a small level 0 would run out).
@@ -230,6 +234,7 @@ const SplitSumChain* findChain(const SplitSumLighting& lighting, EnvironmentLod 
 }
 
 glm::vec3 sampleChain(const SplitSumChain& chain, double lod, glm::dvec3 direction) {
+    if (!chain.cube.levels.empty()) return sampleCubeMipChain(chain.cube, lod, direction);
     assert(!chain.levels.empty());
     lod = std::clamp(lod, 0., double(chain.levels.size() - 1));
     const int k0 = int(lod), k1 = std::min(k0 + 1, int(chain.levels.size()) - 1);
@@ -264,7 +269,7 @@ glm::vec3 prefilteredRadiance(const SplitSumLighting& lighting, EnvironmentLod r
     const SplitSumChain* chain = findChain(lighting, rule);
     assert(chain && "the rule's chain was not prepared (SplitSumOptions::rules)");
     if (!chain) return glm::vec3(0.f);
-    const int levels = int(chain->levels.size());
+    const int levels = int(chain->perceptualRoughness.size());
     double lod;
     if (rule == EnvironmentLod::Log2Sigma) {
         const double alpha = perceptualRoughness * perceptualRoughness;

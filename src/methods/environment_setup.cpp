@@ -1,7 +1,8 @@
 // What the methods prepare to shade under an environment (method_unit.h): the prefiltered levels
-// of one level rule, or the SH lighting for the image's view.
+// of one level rule, or the SH lighting for the image's view, both made once per loaded map
+// (environment_cache.h) and shared by every render under it.
 #include "methods/method_unit.h"
-#include "ndfmip/environment_lighting.h"
+#include "ndfmip/environment_cache.h"
 
 namespace ndfmip {
 
@@ -9,10 +10,8 @@ Status prepareSplitSumSetup(const Material& material, const RenderTextures& text
                             ShaderSetup& setup) {
     if (!textures.environment) return Status::success();
     if (Status usable = checkSplitSumMaterial(material); !usable) return usable;
-    SplitSumOptions split;
-    split.rules = {options.environmentLod}; // only the chain this render reads
     setup.environmentLod = options.environmentLod;
-    setup.splitSum = std::make_shared<const SplitSumLighting>(prepareSplitSum(textures.environment->environment, split));
+    setup.splitSum = cachedSplitSum(*textures.environment, options.environmentLod); // only the chain it reads
     return Status::success();
 }
 
@@ -20,8 +19,7 @@ Status prepareShLightingSetup(const Material& material, const RenderTextures& te
     if (!textures.environment) return Status::success();
     if (material.brdf == Brdf::Tabulated)
         return Status::failure("render: SH lighting needs a Lambert, Blinn-Phong, Beckmann or GGX material");
-    setup.shLighting = std::make_shared<const ShLighting>(
-        prepareShLighting(textures.environment->environment, kEnvironmentShOrder, setup.environmentView));
+    setup.shLighting = cachedShLighting(*textures.environment, kEnvironmentShOrder, setup.environmentView);
     return Status::success();
 }
 
