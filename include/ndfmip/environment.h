@@ -140,6 +140,10 @@ std::vector<PrefilteredLevel> prefilterGgx(const Environment& env, const Prefilt
 // One level: width x width/2 texels at perceptual roughness r (> 0) with `samples` samples.
 Image prefilterGgxLevel(const Environment& env, double perceptualRoughness, int width, int samples);
 
+// The same convolution with the Blinn-Phong lobe D proportional to <n.h>^s (exponent s >= 0)
+// instead of GGX: the chain a Blinn-Phong material reads without converting its exponent.
+Image prefilterBlinnPhongLevel(const Environment& env, double exponent, int width, int samples);
+
 // ---- the split sum's second factor
 // ------------------------------------------------------------------
 
@@ -198,6 +202,9 @@ struct EnvironmentBake {
     // face a quarter of the level's width, cubeFaceFromEquirect), or both.
     bool equirect = true;
     bool cube = false;
+    // Also one KTX2 file per layout holding every level as its mips (RGBA16F, alpha 1):
+    // ggx_cube.ktx2 (a cube map) and ggx_equirect.ktx2; and dfg.ktx2 (the table, RGBA16F).
+    bool ktx2 = false;
 };
 
 // Writes DIR/sh.json (the coefficients), DIR/ggx_L<k>.exr (one equirectangular RGB image per

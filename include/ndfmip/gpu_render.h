@@ -26,7 +26,8 @@ struct GpuRenderStats {
 // frame timed in `stats`). Errors, one line: no GL or EGL ("GPU: ..."), a shader that does not
 // compile (file and line), the ground truth or `exact` (CPU only), tabulated BRDFs or factors
 // (CPU only), more than 16 lights, spp > 1, a bake of another method or size, textures beyond
-// the driver's limits.
+// the driver's limits; under an environment (textures.environment loaded), sh on a sphere and
+// the methods without an environment shading (lean, toksvig-lut), each naming the method.
 Result<Image> renderGpu(const Scene& scene, const RenderTextures& textures, const std::string& method,
                         const RenderOptions& options, GpuRenderStats* stats = nullptr, int frames = 1);
 

@@ -24,11 +24,14 @@ enum class TextureFormat {
 
 const char* textureFormatName(TextureFormat format); // "rgba32f", ..., "bc5"
 
-// A mip chain encoded in one format: `levels[k]` holds level k's bytes, rows from the top.
+// A mip chain encoded in one format: `levels[k]` holds level k's bytes, rows from the top; for a
+// cube map (faces = 6) its six faces one after another in the GL/Vulkan/KTX2 order +X, -X, +Y,
+// -Y, +Z, -Z (cubeFaceDirection in environment.h), each faceBytes(k) long.
 struct EncodedTexture {
     TextureFormat format = TextureFormat::Rgba32F;
     int width = 0, height = 0; // level 0
     std::vector<std::string> levels;
+    int faces = 1;
 };
 
 // Encodes `levels` (level 0 first, each half the size of the one before, GPU floor sizes):
@@ -46,9 +49,14 @@ struct LevelRows {
 };
 Result<EncodedTexture> encodeTexture(const std::vector<LevelRows>& levels, TextureFormat format);
 
+// A cube map: faces[k][f] is face f (order above) of level k; faces square, every level half
+// the size of the one before.
+Result<EncodedTexture> encodeCubeTexture(const std::vector<std::vector<LevelRows>>& faces, TextureFormat format);
+
 // The whole file, ready to write: KTX2 (a basic data format descriptor; linear transfer;
 // `zstdLevel` 1-22 supercompresses each level with Zstandard, 0 stores them as they are) or
-// DDS with the DX10 header (DXGI format, mip count).
+// DDS with the DX10 header (DXGI format, mip count). Cube maps: KTX2 stores each level's faces
+// together, DDS each face's levels together (DDSCAPS2_CUBEMAP, D3D11_RESOURCE_MISC_TEXTURECUBE).
 Result<std::string> ktx2File(const EncodedTexture& texture, int zstdLevel = 0);
 std::string ddsFile(const EncodedTexture& texture);
 

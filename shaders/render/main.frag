@@ -44,6 +44,9 @@ vec3 ndfmipShadeLights(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, vec3 v
         if (l.z <= 0.0f) continue;
         radiance += irradiance * ndfmipShadeTexel(p, albedo, l, view);
     }
+#ifdef NDFMIP_ENVIRONMENT
+    radiance += ndfmipShadeEnvironment(p, albedo, hit, view);
+#endif
     return radiance;
 }
 
@@ -156,6 +159,12 @@ void main() {
             NdfmipRay ray = ndfmipCameraRay(qx, qy);
             NdfmipHit hit = ndfmipIntersect(ray);
             if (!hit.hit) {
+#ifdef NDFMIP_ENVIRONMENT
+                if (ndfmipEnvVisible != 0) {
+                    sum += ndfmipEnvironmentBackground(ray.direction);
+                    continue;
+                }
+#endif
                 sum += ndfmipBackground;
                 continue;
             }

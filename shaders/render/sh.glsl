@@ -8,3 +8,11 @@ vec3 ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v) {
     for (int k = 0; k < NDFMIP_SH_MAX_COEFFICIENTS; ++k) g[k] = k < 4 * NDFMIP_LAYERS ? p[k / 4][k % 4] : 0.0f;
     return ndfmipShadeSh(ndfmipMaterial, albedo, g, ndfmipShDiffuse, ndfmipShSpecular, ndfmipShOrder, l, v);
 }
+#ifdef NDFMIP_ENVIRONMENT
+// Under an environment (render/environment.glsl, the SH-lighting way).
+vec3 ndfmipShadeEnvironment(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, vec3 view) {
+    float g[NDFMIP_SH_MAX_COEFFICIENTS];
+    for (int k = 0; k < NDFMIP_SH_MAX_COEFFICIENTS; ++k) g[k] = k < 4 * NDFMIP_LAYERS ? p[k / 4][k % 4] : 0.0f;
+    return ndfmipShadeShEnvironment(ndfmipMaterial, albedo, g, ndfmipShOrder, hit);
+}
+#endif

@@ -11,3 +11,21 @@ vec3 ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v) {
     }
     return sum;
 }
+#ifdef NDFMIP_ENVIRONMENT
+// Under an environment (render/environment.glsl).
+vec3 ndfmipShadeEnvironment(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, vec3 view) {
+    vec3 sum = vec3(0.0f);
+    for (int j = 0; j < NDFMIP_LOBES; ++j) {
+        vec3 lobeAlbedo = albedo;
+#ifdef NDFMIP_LOBE_COLOURS
+        lobeAlbedo = p[j].x > 0.0f ? p[NDFMIP_LOBES + j].rgb / p[j].x * ndfmipMaterialAlbedo : vec3(0.0f);
+#endif
+#ifdef NDFMIP_ENVIRONMENT_SH
+        sum += ndfmipShadeVmfLobeEnvironmentSh(ndfmipMaterial, lobeAlbedo, p[j], hit);
+#else
+        sum += ndfmipShadeVmfLobeEnvironment(ndfmipMaterial, lobeAlbedo, p[j], hit, view);
+#endif
+    }
+    return sum;
+}
+#endif

@@ -126,26 +126,46 @@ struct LobeSample {
     double lod;
 };
 
-std::vector<LobeSample> ggxSamples(double alpha, int count, double texelSolidAngle, int maxLevel) {
+// The lobe a level is convolved with: GGX of `alpha`, or Blinn-Phong of exponent `exponent`
+// (D proportional to <n.h>^s).
+struct PrefilterLobe {
+    bool blinnPhong = false;
+    double alpha = 0.;
+    double exponent = 0.;
+};
+
+std::vector<LobeSample> lobeSamples(const PrefilterLobe& lobe, int count, double texelSolidAngle, int maxLevel) {
     std::vector<LobeSample> samples;
     double total = 0.;
-    const double a2 = alpha * alpha;
+    const double a2 = lobe.alpha * lobe.alpha, s = lobe.exponent;
     for (int i = 0; i < count; ++i) {
-        const glm::dvec3 h = env::ggxHalfVector(i, count, alpha);
+        glm::dvec3 h;
+        double pdfH; // D(h) <n.h>, a density over half vectors
+        if (lobe.blinnPhong) {
+            // D <n.h> = (s + 2)/(2 pi) c^(s+1) integrates to 1; its CDF in c is c^(s+2).
+            const double phi = 2. * M_PI * i / count, u = env::radicalInverse(uint32_t(i));
+            const double c = std::pow(std::max(u, 1e-300), 1. / (s + 2.));
+            const double sinH = std::sqrt(std::max(0., 1. - c * c));
+            h = {sinH * std::cos(phi), sinH * std::sin(phi), c};
+            pdfH = (s + 2.) / (2. * M_PI) * std::pow(c, s + 1.);
+        } else {
+            h = env::ggxHalfVector(i, count, lobe.alpha);
+            const double f = (lobe.alpha - 1.) * ((lobe.alpha + 1.) * h.z * h.z) + 1.;
+            pdfH = a2 / (M_PI * f * f) * h.z;
+        }
         const double cos2 = h.z * h.z, cosH = h.z;
         const double cosL = 2. * cos2 - 1.;
         if (cosL <= 0.) continue;
         const glm::dvec3 l(2. * cosH * h.x, 2. * cosH * h.y, cosL);
-        // pdf(l) = D(h) <n.h> / (4 <v.h>) = D / 4 with n = v.
-        const double f = (alpha - 1.) * ((alpha + 1.) * cos2) + 1.;
-        const double pdf = a2 / (M_PI * f * f) / 4.;
+        // pdf(l) = D(h) <n.h> / (4 <v.h>), and <v.h> = <n.h> with n = v.
+        const double pdf = pdfH / (4. * cosH);
         const double omegaS = 1. / (count * pdf);
         const double lod =
             std::clamp(0.5 * std::log2(kLodBias * omegaS / texelSolidAngle), 0., double(maxLevel));
         samples.push_back({l, cosL, lod});
         total += cosL;
     }
-    for (LobeSample& s : samples) s.weight /= total;
+    for (LobeSample& sample : samples) sample.weight /= total;
     return samples;
 }
 
@@ -234,12 +254,12 @@ void applyTaps(const std::vector<Tap>& taps, const std::vector<PhasedLevel>& lev
     }
 }
 
-Image filterLevel(const std::vector<Image>& pyramid, double alpha, int width, int sampleCount,
+Image filterLevel(const std::vector<Image>& pyramid, const PrefilterLobe& lobe, int width, int sampleCount,
                   double rotation) {
     const int height = width / 2;
     const double texelAngle = M_PI / pyramid[0].height;
     const auto samples =
-        ggxSamples(alpha, sampleCount, texelAngle * texelAngle, int(pyramid.size()) - 1);
+        lobeSamples(lobe, sampleCount, texelAngle * texelAngle, int(pyramid.size()) - 1);
     // Only the levels some sample reads are laid out (rough lobes never read the finest).
     double finest = double(pyramid.size());
     for (const LobeSample& s : samples) finest = std::min(finest, s.lod);
@@ -287,7 +307,7 @@ std::vector<PrefilteredLevel> prefilterGgx(const Environment& env,
             // cmgen's schedule: more samples from level 2 on, where there are 4x fewer texels.
             level.samples = options.samples << std::max(0, k - 1);
             const double r = level.perceptualRoughness;
-            level.radiance = filterLevel(pyramid, r * r, width, level.samples, env.rotation);
+            level.radiance = filterLevel(pyramid, {false, r * r, 0.}, width, level.samples, env.rotation);
         }
         out.push_back(std::move(level));
         if (options.progress) options.progress(k + 1, levelCount);
@@ -298,8 +318,13 @@ std::vector<PrefilteredLevel> prefilterGgx(const Environment& env,
 Image prefilterGgxLevel(const Environment& env, double perceptualRoughness, int width,
                         int samples) {
     assert(perceptualRoughness > 0. && width >= 4 && (width & (width - 1)) == 0 && samples >= 1);
-    return filterLevel(radiancePyramid(env.radiance), perceptualRoughness * perceptualRoughness,
+    return filterLevel(radiancePyramid(env.radiance), {false, perceptualRoughness * perceptualRoughness, 0.},
                        width, samples, env.rotation);
+}
+
+Image prefilterBlinnPhongLevel(const Environment& env, double exponent, int width, int samples) {
+    assert(exponent >= 0. && width >= 4 && (width & (width - 1)) == 0 && samples >= 1);
+    return filterLevel(radiancePyramid(env.radiance), {true, 0., exponent}, width, samples, env.rotation);
 }
 
 } // namespace ndfmip

@@ -6,6 +6,8 @@
 
 #include <epoxy/gl.h>
 
+#include "ndfmip/environment_lighting.h"
+
 namespace ndfmip {
 
 namespace {
@@ -47,6 +49,34 @@ Result<GLuint> uploadLayers(const std::vector<std::vector<const Image*>>& layers
     return texture;
 }
 
+// Images as one RGBA32F texture, image k its mip k (sizes checked by renderProgram), read
+// with texelFetch by the shader.
+Result<GLuint> uploadMips(const std::vector<const Image*>& levels, const char* what) {
+    const Image& base = *levels.front();
+    GLint maxSize = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+    if (base.width > maxSize || base.height > maxSize)
+        return Error{std::string("GPU: the ") + what + "'s " + std::to_string(base.width) + "x" +
+                     std::to_string(base.height) + " exceeds the driver's texture size " + std::to_string(maxSize)};
+    GLuint texture = 0;
+    glCreateTextures(GL_TEXTURE_2D, 1, &texture);
+    glTextureStorage2D(texture, GLsizei(levels.size()), GL_RGBA32F, base.width, base.height);
+    std::vector<float> rgba;
+    for (size_t k = 0; k < levels.size(); ++k) {
+        const Image& image = *levels[k];
+        rgba.assign(image.texelCount() * 4, 0.f);
+        for (size_t i = 0; i < image.texelCount(); ++i)
+            for (int c = 0; c < std::min(image.channels, 4); ++c)
+                rgba[4 * i + size_t(c)] = image.pixels[i * size_t(image.channels) + size_t(c)];
+        glTextureSubImage2D(texture, GLint(k), 0, 0, image.width, image.height, GL_RGBA, GL_FLOAT, rgba.data());
+    }
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(texture, GL_TEXTURE_BASE_LEVEL, 0);
+    glTextureParameteri(texture, GL_TEXTURE_MAX_LEVEL, GLint(levels.size()) - 1);
+    return texture;
+}
+
 void setUniforms(GLuint program, const std::vector<UniformValue>& uniforms) {
     for (const UniformValue& u : uniforms) {
         const GLint at = glGetUniformLocation(program, u.name.c_str());
@@ -83,6 +113,25 @@ Result<GpuMethod> GpuMethod::create(const RenderProgram& parts) {
         glTextureParameteri(method.lut_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
         glTextureParameteri(method.lut_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     }
+    if (parts.environmentChain) {
+        std::vector<const Image*> chain;
+        for (const Image& level : parts.environmentChain->levels) chain.push_back(&level);
+        Result<GLuint> uploaded = uploadMips(chain, "prefiltered environment");
+        if (!uploaded) return uploaded.error();
+        method.environmentChain_ = uploaded.value();
+        uploaded = uploadMips({&parts.environmentAlbedo}, "specular albedo table");
+        if (!uploaded) return uploaded.error();
+        method.environmentAlbedo_ = uploaded.value();
+    } else if (!parts.environmentSh.empty()) { // the SH way: its coefficients where the chain would be
+        Result<GLuint> uploaded = uploadMips({&parts.environmentSh}, "SH lighting");
+        if (!uploaded) return uploaded.error();
+        method.environmentChain_ = uploaded.value();
+    }
+    if (parts.environmentVisible) {
+        Result<GLuint> uploaded = uploadMips({&parts.environment->environment.radiance}, "environment map");
+        if (!uploaded) return uploaded.error();
+        method.environmentMap_ = uploaded.value();
+    }
     glCreateVertexArrays(1, &method.vertexArray_); // core profile: a bound VAO, even with no attributes
     return method;
 }
@@ -93,6 +142,9 @@ void GpuMethod::draw(const std::vector<UniformValue>& uniforms, int x, int y, in
     glBindVertexArray(vertexArray_);
     glBindTextureUnit(0, planes_);
     if (lut_) glBindTextureUnit(1, lut_);
+    if (environmentChain_) glBindTextureUnit(2, environmentChain_); // units as renderProgram's uniforms
+    if (environmentAlbedo_) glBindTextureUnit(3, environmentAlbedo_);
+    if (environmentMap_) glBindTextureUnit(4, environmentMap_);
     glViewport(x, y, width, height);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
@@ -101,7 +153,10 @@ void GpuMethod::draw(const std::vector<UniformValue>& uniforms, int x, int y, in
 
 GpuMethod::GpuMethod(GpuMethod&& other) noexcept
     : program_(std::move(other.program_)), planes_(std::exchange(other.planes_, 0u)),
-      lut_(std::exchange(other.lut_, 0u)), vertexArray_(std::exchange(other.vertexArray_, 0u)) {}
+      lut_(std::exchange(other.lut_, 0u)), vertexArray_(std::exchange(other.vertexArray_, 0u)),
+      environmentChain_(std::exchange(other.environmentChain_, 0u)),
+      environmentAlbedo_(std::exchange(other.environmentAlbedo_, 0u)),
+      environmentMap_(std::exchange(other.environmentMap_, 0u)) {}
 
 GpuMethod& GpuMethod::operator=(GpuMethod&& other) noexcept {
     if (this != &other) {
@@ -110,6 +165,9 @@ GpuMethod& GpuMethod::operator=(GpuMethod&& other) noexcept {
         planes_ = std::exchange(other.planes_, 0u);
         lut_ = std::exchange(other.lut_, 0u);
         vertexArray_ = std::exchange(other.vertexArray_, 0u);
+        environmentChain_ = std::exchange(other.environmentChain_, 0u);
+        environmentAlbedo_ = std::exchange(other.environmentAlbedo_, 0u);
+        environmentMap_ = std::exchange(other.environmentMap_, 0u);
     }
     return *this;
 }
@@ -120,7 +178,9 @@ void GpuMethod::release() {
     if (planes_) glDeleteTextures(1, &planes_);
     if (lut_) glDeleteTextures(1, &lut_);
     if (vertexArray_) glDeleteVertexArrays(1, &vertexArray_);
-    planes_ = lut_ = vertexArray_ = 0;
+    for (unsigned texture : {environmentChain_, environmentAlbedo_, environmentMap_})
+        if (texture) glDeleteTextures(1, &texture);
+    planes_ = lut_ = vertexArray_ = environmentChain_ = environmentAlbedo_ = environmentMap_ = 0;
 }
 
 } // namespace ndfmip

@@ -1,5 +1,5 @@
-// One method on the GPU: its compiled program, the bake's layers as a mipmapped array texture
-// and Toksvig's table, drawn into whatever framebuffer is bound. The headless renderer
+// One method on the GPU: its compiled program, the bake's layers as a mipmapped array texture,
+// Toksvig's table and, under an environment, the prefiltered chain, the albedo table and the map, drawn into whatever framebuffer is bound. The headless renderer
 // (gpu_renderer.cpp) draws into a float target and reads it back; the viewer draws into its
 // window.
 #pragma once
@@ -32,6 +32,7 @@ class GpuMethod {
     void release();
     GlProgram program_;
     unsigned planes_ = 0, lut_ = 0, vertexArray_ = 0;
+    unsigned environmentChain_ = 0, environmentAlbedo_ = 0, environmentMap_ = 0;
 };
 
 } // namespace ndfmip

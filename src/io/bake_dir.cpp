@@ -40,12 +40,13 @@ int directionPlane(const Bake& bake) {
     return p >= 0 ? p : findPlane(bake.planes, "mean");
 }
 
-// Unit normal of one texel of a direction plane encoded (n + 1)/2 in 3 channels, or 4 with alpha 1.
+// Unit normal of one texel of a direction plane encoded (n + 1)/2 in 2 channels (x, y: what the
+// two-channel formats keep), 3, or 4 with alpha 1.
 void encodeNormal(const float* direction, bool greenDown, int channels, float* texel) {
     float n[3];
     normalizeOrFlat(direction, n);
     if (greenDown) n[1] = -n[1];
-    for (int c = 0; c < 3; ++c) texel[c] = 0.5f * (n[c] + 1.f);
+    for (int c = 0; c < std::min(channels, 3); ++c) texel[c] = 0.5f * (n[c] + 1.f);
     if (channels == 4) texel[3] = 1.f;
 }
 
@@ -161,7 +162,7 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     };
     const int dirPlane = directionPlane(bake), ggx = findPlane(bake.planes, "roughness_ggx");
     auto normals = [&](bool down, TextureFormat format) {
-        const int channels = format == TextureFormat::Rgba8Unorm ? 4 : 3;
+        const int channels = format == TextureFormat::Rgba8Unorm ? 4 : 2; // BC5 and RG16 keep x and y
         return [&bake, dirPlane, down, channels](size_t k) { return normalRows(*bake.levels[k][dirPlane], down, channels); };
     };
     if (dirPlane >= 0 && options.exportNormal)

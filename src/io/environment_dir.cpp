@@ -1,8 +1,7 @@
-// The environment folder (environment.h): sh.json, ggx_L<k>.exr, dfg.exr and environment.json,
-// staged beside the folder and swapped in at the end like a bake (bake_dir.cpp).
+// The environment folder (environment.h): sh.json, ggx_L<k>.exr, dfg.exr, the KTX2 files with
+// --ktx2, and environment.json, staged beside the folder and swapped in at the end like a bake (bake_dir.cpp).
 #include <filesystem>
 #include <set>
-
 
 #include <nlohmann/json.hpp>
 
@@ -12,6 +11,7 @@
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
 #include "ndfmip/spherical_harmonics.h"
+#include "ndfmip/texture_container.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -69,6 +69,61 @@ json shJson(const EnvironmentSh& sh) {
     };
 }
 
+const char* kCubeKtx2 = "ggx_cube.ktx2";
+const char* kEquirectKtx2 = "ggx_equirect.ktx2";
+const char* kDfgKtx2 = "dfg.ktx2";
+
+// The KTX2 files' names (an empty object without --ktx2).
+json ktx2Json(const EnvironmentBake& bake) {
+    json files = json::object();
+    if (!bake.ktx2) return files;
+    if (bake.cube) files["ggx_cube"] = kCubeKtx2;
+    if (bake.equirect) files["ggx_equirect"] = kEquirectKtx2;
+    files["dfg"] = kDfgKtx2;
+    files["format"] = "VK_FORMAT_R16G16B16A16_SFLOAT, alpha 1; the GGX levels as the mips";
+    return files;
+}
+
+// An RGB image handed to the encoder as RGBA with alpha 1.
+LevelRows opaqueRows(const Image& image) {
+    return {image.width, image.height, 4, [&image](int y, float* out) {
+                for (int x = 0; x < image.width; ++x) {
+                    const float* p = image.at(x, y);
+                    for (int c = 0; c < 4; ++c) out[4 * x + c] = c < 3 && c < image.channels ? p[c] : 1.f;
+                }
+            }};
+}
+
+Status writeKtx2(const fs::path& file, const Result<EncodedTexture>& texture) {
+    if (!texture) return Status::failure(file.string() + ": " + texture.error().message);
+    Result<std::string> bytes = ktx2File(texture.value());
+    if (!bytes) return Status::failure(file.string() + ": " + bytes.error().message);
+    return writeFileAtomic(file.string(), bytes.value());
+}
+
+// The KTX2 files of ktx2Json.
+Status writeKtx2Files(const fs::path& staging, const EnvironmentBake& bake) {
+    std::vector<Image> faces; // every level's six faces, kept alive while encoding
+    if (bake.cube) {
+        std::vector<std::vector<LevelRows>> rows;
+        faces.reserve(bake.levels.size() * size_t(kCubeFaces));
+        for (const PrefilteredLevel& level : bake.levels) {
+            rows.emplace_back();
+            for (int face = 0; face < kCubeFaces; ++face) {
+                faces.push_back(cubeFaceFromEquirect(level.radiance, face, faceSize(level.radiance)));
+                rows.back().push_back(opaqueRows(faces.back()));
+            }
+        }
+        if (Status s = writeKtx2(staging / kCubeKtx2, encodeCubeTexture(rows, TextureFormat::Rgba16F)); !s) return s;
+    }
+    if (bake.equirect) {
+        std::vector<LevelRows> rows;
+        for (const PrefilteredLevel& level : bake.levels) rows.push_back(opaqueRows(level.radiance));
+        if (Status s = writeKtx2(staging / kEquirectKtx2, encodeTexture(rows, TextureFormat::Rgba16F)); !s) return s;
+    }
+    return writeKtx2(staging / kDfgKtx2, encodeTexture(std::vector<LevelRows>{opaqueRows(bake.dfg)}, TextureFormat::Rgba16F));
+}
+
 json manifestJson(const EnvironmentBake& bake, const EnvironmentSource& source, bool half) {
     json levels = json::array();
     for (size_t k = 0; k < bake.levels.size(); ++k) {
@@ -115,6 +170,7 @@ json manifestJson(const EnvironmentBake& bake, const EnvironmentSource& source, 
                                    ? "r = 1 - sqrt(1 - lod), lod = r (2 - r) = k / (levels - 1)"
                                    : "r = lod = k / (levels - 1)"},
           {"levels", levels}}},
+        {"ktx2", ktx2Json(bake)},
         {"dfg",
          {{"file", "dfg.exr"},
           {"size", bake.dfg.width},
@@ -147,6 +203,9 @@ Status checkReplaceable(const fs::path& dir) {
     if (!m.is_object() || m.value("tool", "") != "ndfmip" || m.value("kind", "") != "environment")
         return refuse(std::string("its ") + kManifest + " is not an ndfmip environment manifest");
     std::set<std::string> listed{kManifest, "sh.json", "dfg.exr"};
+    if (m.contains("ktx2") && m["ktx2"].is_object())
+        for (const auto& [key, file] : m["ktx2"].items())
+            if (key != "format" && file.is_string()) listed.insert(file.get<std::string>());
     if (m.contains("ggx") && m["ggx"].is_object() && m["ggx"].contains("levels") &&
         m["ggx"]["levels"].is_array())
         for (const json& level : m["ggx"]["levels"])
@@ -184,6 +243,8 @@ Status writeEnvironment(const std::string& dirName, const EnvironmentBake& bake,
                         return s;
         }
         if (Status s = saveExr((staging / "dfg.exr").string(), bake.dfg, {}, half); !s) return s;
+        if (bake.ktx2)
+            if (Status s = writeKtx2Files(staging, bake); !s) return s;
         if (Status s = writeFileAtomic((staging / "sh.json").string(), shJson(bake.sh).dump(2) + "\n"); !s)
             return s;
         const std::string manifest =

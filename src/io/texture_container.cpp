@@ -175,17 +175,28 @@ std::string encodeLevel(const LevelRows& level, const FormatInfo& f) {
                 if (4 * by + j < height) level.row(4 * by + j, row);
                 else std::copy_n(row - size_t(width) * size_t(channels), size_t(width) * size_t(channels), row);
                 unsigned char* b = &bytes[size_t(j) * size_t(width) * size_t(f.channels)];
-                for (int x = 0; x < width; ++x)
-                    for (int c = 0; c < f.channels; ++c) *b++ = unorm8(value(row + size_t(x) * size_t(channels), c));
+                if (channels == f.channels) {
+                    for (size_t i = 0; i < size_t(width) * size_t(channels); ++i) b[i] = unorm8(row[i]);
+                } else {
+                    for (int x = 0; x < width; ++x)
+                        for (int c = 0; c < f.channels; ++c) *b++ = unorm8(value(row + size_t(x) * size_t(channels), c));
+                }
             }
+            const size_t blockRow = 4 * size_t(f.channels); // bytes of one block's row of 4 texels
             for (int bx = 0; bx < bw; ++bx) {
                 unsigned char src[32];
-                for (int j = 0; j < 4; ++j)
+                for (int j = 0; j < 4; ++j) {
+                    const unsigned char* line = &bytes[size_t(j) * size_t(width) * size_t(f.channels)];
+                    if (4 * bx + 3 < width) {
+                        std::memcpy(src + size_t(j) * blockRow, line + size_t(bx) * blockRow, blockRow);
+                        continue;
+                    }
                     for (int i = 0; i < 4; ++i) {
                         const int x = std::min(4 * bx + i, width - 1);
                         for (int c = 0; c < f.channels; ++c)
-                            src[(4 * j + i) * f.channels + c] = bytes[(size_t(j) * size_t(width) + size_t(x)) * size_t(f.channels) + size_t(c)];
+                            src[(4 * j + i) * f.channels + c] = line[size_t(x) * size_t(f.channels) + size_t(c)];
                     }
+                }
                 auto* block = reinterpret_cast<unsigned char*>(&out[size_t(by) * rowBytes + size_t(bx) * size_t(f.bytesPerBlock)]);
                 if (f.format == TextureFormat::Bc4Unorm) {
                     stb_compress_bc4_block(block, src);
@@ -299,6 +310,32 @@ Result<EncodedTexture> encodeTexture(const std::vector<LevelRows>& levels, Textu
     return t;
 }
 
+Result<EncodedTexture> encodeCubeTexture(const std::vector<std::vector<LevelRows>>& faces, TextureFormat format) {
+    if (faces.empty()) return Error{"texture: no levels to encode"};
+    EncodedTexture cube;
+    for (int f = 0; f < 6; ++f) {
+        std::vector<LevelRows> chain;
+        for (size_t k = 0; k < faces.size(); ++k) {
+            if (faces[k].size() != 6)
+                return Error{"texture: level " + std::to_string(k) + " has " + std::to_string(faces[k].size()) +
+                             " cube faces, not 6"};
+            chain.push_back(faces[k][size_t(f)]);
+        }
+        if (chain.front().width != chain.front().height)
+            return Error{"texture: cube faces must be square, level 0 is " + std::to_string(chain.front().width) +
+                         "x" + std::to_string(chain.front().height)};
+        Result<EncodedTexture> face = encodeTexture(chain, format);
+        if (!face) return face;
+        if (f == 0) {
+            cube = face.value();
+            cube.faces = 6;
+            continue;
+        }
+        for (size_t k = 0; k < faces.size(); ++k) cube.levels[k] += face->levels[k];
+    }
+    return cube;
+}
+
 Result<EncodedTexture> encodeTexture(const std::vector<const Image*>& levels, TextureFormat format) {
     std::vector<LevelRows> rows;
     for (const Image* image : levels) {
@@ -351,7 +388,7 @@ Result<std::string> ktx2File(const EncodedTexture& t, int zstdLevel) {
     put(out, uint32_t(t.height));
     put(out, uint32_t(0)); // pixelDepth
     put(out, uint32_t(0)); // layerCount
-    put(out, uint32_t(1)); // faceCount
+    put(out, uint32_t(t.faces)); // faceCount
     put(out, levelCount);
     put(out, uint32_t(zstdLevel > 0 ? 2 : 0)); // supercompressionScheme: none or Zstandard
     put(out, uint32_t(dfdAt));
@@ -378,6 +415,18 @@ Result<std::string> ktx2File(const EncodedTexture& t, int zstdLevel) {
 
 namespace {
 
+// The levels after the header: face by face, each with all its levels.
+void appendDdsData(std::string& out, const EncodedTexture& t) {
+    size_t total = out.size();
+    for (const std::string& level : t.levels) total += level.size();
+    out.reserve(total);
+    for (int f = 0; f < t.faces; ++f)
+        for (const std::string& level : t.levels) {
+            const size_t faceBytes = level.size() / size_t(t.faces);
+            out.append(level, size_t(f) * faceBytes, faceBytes);
+        }
+}
+
 std::string ddsHeader(const EncodedTexture& t, const char fourCC[4]) {
     const FormatInfo& f = info(t.format);
     std::string out = "DDS ";
@@ -397,7 +446,8 @@ std::string ddsHeader(const EncodedTexture& t, const char fourCC[4]) {
     out.append(fourCC, 4);
     for (int i = 0; i < 5; ++i) put(out, uint32_t(0));              // bit count and masks
     put(out, uint32_t(0x1000 | 0x8 | 0x400000));                   // caps: TEXTURE, COMPLEX, MIPMAP
-    for (int i = 0; i < 4; ++i) put(out, uint32_t(0));              // caps2, caps3, caps4, reserved2
+    put(out, uint32_t(t.faces == 6 ? 0x200 | 0xFC00 : 0));          // caps2: CUBEMAP and its six faces
+    for (int i = 0; i < 3; ++i) put(out, uint32_t(0));              // caps3, caps4, reserved2
     return out;
 }
 
@@ -407,13 +457,10 @@ std::string ddsFile(const EncodedTexture& t) {
     std::string out = ddsHeader(t, "DX10");
     put(out, info(t.format).dxgiFormat);
     put(out, uint32_t(3)); // D3D10_RESOURCE_DIMENSION_TEXTURE2D
-    put(out, uint32_t(0)); // misc flags
-    put(out, uint32_t(1)); // array size
+    put(out, uint32_t(t.faces == 6 ? 0x4 : 0)); // misc flags: D3D11_RESOURCE_MISC_TEXTURECUBE
+    put(out, uint32_t(1)); // array size (of cubes, for a cube map)
     put(out, uint32_t(0)); // misc flags 2: alpha mode unknown
-    size_t total = out.size();
-    for (const std::string& level : t.levels) total += level.size();
-    out.reserve(total);
-    for (const std::string& level : t.levels) out += level;
+    appendDdsData(out, t);
     return out;
 }
 
@@ -421,7 +468,7 @@ Result<std::string> ddsFileLegacy(const EncodedTexture& t) {
     if (t.format != TextureFormat::Bc4Unorm && t.format != TextureFormat::Bc5Unorm)
         return Error{std::string("dds: no legacy FourCC for ") + textureFormatName(t.format)};
     std::string out = ddsHeader(t, t.format == TextureFormat::Bc4Unorm ? "ATI1" : "ATI2");
-    for (const std::string& level : t.levels) out += level;
+    appendDdsData(out, t);
     return out;
 }
 

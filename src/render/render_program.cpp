@@ -1,6 +1,12 @@
 // The GPU renderer's program, API-free (see render_program.h).
 #include "render/render_program.h"
 
+#include <algorithm>
+#include <cmath>
+
+#include "ndfmip/environment_lighting.h"
+#include "ndfmip/sh_rotation.h"
+#include "ndfmip/spherical_harmonics.h"
 #include "render/embedded_shaders.h"
 
 namespace ndfmip {
@@ -22,6 +28,55 @@ void add(std::vector<UniformValue>& u, const std::string& name, float v) { u.pus
 void add(std::vector<UniformValue>& u, const std::string& name, glm::vec2 v) { u.push_back({name, false, {v.x, v.y}}); }
 void add(std::vector<UniformValue>& u, const std::string& name, glm::vec3 v) {
     u.push_back({name, false, {v.x, v.y, v.z}});
+}
+
+// Why a method cannot be drawn under an environment on the GPU; empty when it can. sh reads
+// the lighting rotated into the hit's tangent frame: one rotation (on the CPU) serves a plane,
+// a sphere would need one per pixel.
+std::string environmentRefusal(const MethodShader& shader, const std::string& method, const Scene& scene) {
+    if (!shader.shadeEnvironment) return "render --gpu: method " + quote(method) + " cannot shade under an environment";
+    if (shader.bake == Method::Sh && scene.geometry.type != GeometryType::Plane)
+        return "render --gpu: method " + quote(method) + " under an environment on a sphere (SH lighting in each hit's frame) is rendered on the CPU only";
+    return {};
+}
+
+// The SH lighting as rows (environment.glsl's ndfmipEnvSh), coefficients l <= order: L, then
+// the axes' L' (the mean-normal cosine) or L'. With `frame` (the columns of a tangent frame in
+// the environment frame) every row re-expressed in that frame, f_t(d) = f(T d), as the CPU's
+// shadeShEnvironment does (sh_rotation.h).
+Image shLightingRows(const ShLighting& lighting, int order, const glm::mat3* frame) {
+    const bool axes = lighting.cosine == SpecularCosine::MeanNormal;
+    const int count = shCount(order), rows = axes ? 4 : 2;
+    std::vector<double> values(size_t(3 * rows) * size_t(count), 0.);
+    for (int i = 0; i < count; ++i)
+        for (int c = 0; c < 3; ++c) {
+            double* p = &values[size_t(3 * rows) * size_t(i)];
+            p[c] = lighting.radiance[size_t(i)][c];
+            if (axes)
+                for (int k = 0; k < 3; ++k) p[3 + 3 * k + c] = lighting.reparameterisedAxes[k][size_t(i)][c];
+            else
+                p[3 + c] = lighting.reparameterised[size_t(i)][c];
+        }
+    if (frame) rotateSh(glm::transpose(glm::dmat3(*frame)), order, values.data(), values.data(), 3 * rows);
+    Image out(count, rows, 3);
+    for (int i = 0; i < count; ++i)
+        for (int row = 0; row < rows; ++row)
+            for (int c = 0; c < 3; ++c)
+                out.at(i, row)[c] = float(values[size_t(3 * rows) * size_t(i) + size_t(3 * row + c)]);
+    return out;
+}
+
+// The split sum's second factor for the material as one channel (splitsum_lighting.cpp's
+// specularAlbedo: the lobe's table of its BRDF, or the DFG table's scale + bias); an empty image
+// for a material without a lobe.
+Image albedoChannel(const SplitSumLighting& lighting, Brdf brdf) {
+    const bool engine = lighting.albedoKind == SpecularAlbedo::EngineDfg;
+    if (!engine && brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx) return Image(1, 1, 1);
+    const Image& table = lighting.albedo[engine ? 0 : size_t(int(brdf) - 1)];
+    const int channel = engine ? 2 : 0;
+    Image out(table.width, table.height, 1);
+    for (size_t i = 0; i < table.texelCount(); ++i) out.pixels[i] = table.pixels[i * size_t(table.channels) + size_t(channel)];
+    return out;
 }
 
 } // namespace
@@ -48,8 +103,13 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     const MethodShader& shader = *program.shader;
     const Material& m = scene.material;
     if (m.brdf == Brdf::Tabulated || m.factor) return Error{"render --gpu: tabulated BRDFs are rendered on the CPU only"};
-    if (!scene.environment.path.empty())
-        return Error{"render --gpu: environment lighting is rendered on the CPU only"};
+    const bool environment = !scene.environment.path.empty();
+    if (environment) {
+        if (const std::string refusal = environmentRefusal(shader, method, scene); !refusal.empty())
+            return Error{refusal};
+        if (!textures.environment)
+            return Error{"render --gpu: the scene's environment " + quote(scene.environment.path) + " is not loaded"};
+    }
     if (scene.lights.size() > size_t(kGpuMaxLights))
         return Error{"render --gpu: at most " + std::to_string(kGpuMaxLights) + " lights, the scene has " +
                      std::to_string(scene.lights.size())};
@@ -60,8 +120,38 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     const Bake& bake = textures.bake;
     if (bake.levels.empty() || bake.method != shader.bake)
         return Error{"render --gpu: no bake of method '" + std::string(methodName(shader.bake)) + "' to render with"};
+    const CameraFrame camera = cameraFrame(scene.camera);
+    // As the CPU renderer: the view towards the camera (environment frame) before prepare.
+    if (environment) program.setup.environmentView = worldToEnvironment(glm::dvec3(-camera.forward));
     if (Status ready = shader.prepare(m, textures, options, program.setup); !ready) return Error{ready.error};
     const ShaderSetup& setup = program.setup;
+    const bool shLighting = environment && setup.shLighting;
+    int environmentShOrder = 0;
+    if (shLighting) {
+        const ShLighting& lighting = *setup.shLighting;
+        environmentShOrder = std::min(setup.sh.order, lighting.order);
+        if (environmentShOrder > kGpuMaxShOrder)
+            return Error{"render --gpu: SH lighting up to order " + std::to_string(kGpuMaxShOrder)};
+        // sh: the plane's one tangent frame (geometry.cpp's), as the CPU rotates into it.
+        const Geometry& g = scene.geometry;
+        const glm::mat3 frame = tangentToEnvironment(g.tangent, glm::cross(g.normal, g.tangent), g.normal);
+        program.environmentSh = shLightingRows(lighting, environmentShOrder, shader.bake == Method::Sh ? &frame : nullptr);
+        program.environment = textures.environment;
+        program.environmentVisible = scene.environment.visible;
+    } else if (environment) {
+        const SplitSumChain* chain = setup.splitSum ? findChain(*setup.splitSum, setup.environmentLod) : nullptr;
+        if (!chain) return Error{"render --gpu: method " + quote(method) + " prepared no environment lighting"};
+        // One texture's mips: level k must be GL's size of level k.
+        const Image& base = chain->levels.front();
+        for (size_t k = 0; k < chain->levels.size(); ++k)
+            if (chain->levels[k].width != std::max(base.width >> k, 1) ||
+                chain->levels[k].height != std::max(base.height >> k, 1))
+                return Error{"render --gpu: level " + std::to_string(k) + " of the prefiltered environment is not a mip level"};
+        program.environmentChain = chain;
+        program.environmentAlbedo = albedoChannel(*setup.splitSum, m.brdf);
+        program.environment = textures.environment;
+        program.environmentVisible = scene.environment.visible;
+    }
     if (shader.bake == Method::Sh && setup.sh.order > kGpuMaxShOrder)
         return Error{"render --gpu: sh bakes up to order " + std::to_string(kGpuMaxShOrder) + " (this one is " +
                      std::to_string(setup.sh.order) + ")"};
@@ -104,8 +194,11 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         defines += "#define NDFMIP_LOBES " + std::to_string(setup.vmfLobes) + "\n";
         if (setup.vmfColors) defines += "#define NDFMIP_LOBE_COLOURS\n";
     }
+    if (environment) defines += "#define NDFMIP_ENVIRONMENT\n";
+    if (shLighting) defines += "#define NDFMIP_ENVIRONMENT_SH\n";
     program.fragmentParts.emplace_back("<defines>", defines);
     std::vector<std::string> files(std::begin(kLibraryFiles), std::end(kLibraryFiles));
+    if (environment) files.push_back("render/environment.glsl");
     files.push_back(shader.glsl);
     files.push_back("render/main.frag");
     for (const std::string& file : files) {
@@ -116,7 +209,6 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
 
     // Uniforms: camera, object, material, lights, filtering rule, method.
     auto& u = program.uniforms;
-    const CameraFrame camera = cameraFrame(scene.camera);
     add(u, "ndfmipCameraType", scene.camera.type == CameraType::Orthographic ? 1 : 0);
     add(u, "ndfmipEye", camera.eye);
     add(u, "ndfmipForward", camera.forward);
@@ -169,6 +261,40 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
             add(u, "ndfmipShDiffuse" + index, float(setup.sh.diffuse[size_t(l)]));
             add(u, "ndfmipShSpecular" + index, float(setup.sh.specular[size_t(l)]));
         }
+    }
+    if (environment) {
+        // Every sampler on its unit, used or not: two of different types on one unit (0, the
+        // planes' array) make the draw invalid.
+        add(u, "ndfmipEnvChain", 2);
+        add(u, "ndfmipEnvSh", 2);
+        add(u, "ndfmipEnvAlbedo", 3);
+        add(u, "ndfmipEnvMap", 4);
+        add(u, "ndfmipEnvVisible", program.environmentVisible ? 1 : 0);
+        const double rotation = -textures.environment->environment.rotation;
+        add(u, "ndfmipEnvRotation", glm::vec2(float(std::cos(rotation)), float(std::sin(rotation))));
+    }
+    if (shLighting) {
+        add(u, "ndfmipEnvShOrder", environmentShOrder);
+        add(u, "ndfmipEnvShAxes", setup.shLighting->cosine == SpecularCosine::MeanNormal ? 1 : 0);
+        for (int l = 0; l <= environmentShOrder; ++l) {
+            const std::string index = "[" + std::to_string(l) + "]";
+            add(u, "ndfmipEnvShDiffuse" + index, float(setup.sh.diffuse[size_t(l)]));
+            add(u, "ndfmipEnvShSpecular" + index, float(setup.sh.specular[size_t(l)]));
+            double ratio = 1.; // (l - m)! / (l + m)!, m = 0 .. l
+            for (int azimuthal = 0; azimuthal <= l; ++azimuthal) { // m (m names the material here)
+                if (azimuthal > 0) ratio /= double(l + azimuthal) * double(l - azimuthal + 1);
+                add(u, "ndfmipEnvShNormalisation[" + std::to_string(l * (l + 1) / 2 + azimuthal) + "]",
+                    float(std::sqrt((2. * l + 1.) / (4. * M_PI) * ratio)));
+            }
+        }
+    } else if (environment) {
+        const SplitSumLighting& lighting = *setup.splitSum;
+        add(u, "ndfmipEnvLevels", int(program.environmentChain->levels.size()));
+        add(u, "ndfmipEnvRule", int(setup.environmentLod));
+        add(u, "ndfmipEnvTexelAngle", float(lighting.texelAngle));
+        for (size_t k = 0; k < 9; ++k)
+            add(u, "ndfmipEnvIrradiance[" + std::to_string(k) + "]", glm::vec3(lighting.irradiance[k]));
+        add(u, "ndfmipEnvBandFactors", lighting.vmfBandFactors ? 1 : 0);
     }
     return program;
 }

@@ -4,6 +4,7 @@
 // the report's WebGL2 view (src/report/webgl_view.cpp) both draw from it.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,6 +32,16 @@ struct RenderProgram {
     // map: layers[layer][level].
     std::vector<std::vector<const Image*>> layers;
     std::vector<UniformValue> uniforms; // the scene's, the rule's and the method's
+    // Under an environment (shaders/render/environment.glsl), the split-sum way: the rule's
+    // prefiltered chain (in setup.splitSum; its levels are the mips of one texture) and the
+    // split sum's second factor as one channel; the SH-lighting way: the lighting's coefficients
+    // as rows (L, then L' or its three axes), in the plane's tangent frame for sh. Both: the
+    // lighting whose map a visible background shows. Null and empty otherwise.
+    const SplitSumChain* environmentChain = nullptr;
+    Image environmentAlbedo;
+    Image environmentSh;
+    std::shared_ptr<const EnvironmentLighting> environment;
+    bool environmentVisible = false;
 };
 
 // The full-screen triangle's vertex stage, after its #version line.

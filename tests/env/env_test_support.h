@@ -47,8 +47,22 @@ class BruteForceGgx {
     }
 
     glm::dvec3 operator()(glm::dvec3 r, double alpha) const {
-        const Image& m = env_.radiance;
         const double a2 = alpha * alpha;
+        return convolve(r, [a2](double nh2) {
+            const double f = nh2 * (a2 - 1.) + 1.;
+            return a2 / (M_PI * f * f);
+        });
+    }
+
+    // The same with the Blinn-Phong lobe D proportional to <n.h>^s.
+    glm::dvec3 blinnPhong(glm::dvec3 r, double exponent) const {
+        return convolve(r, [exponent](double nh2) { return std::pow(nh2, exponent / 2.); });
+    }
+
+  private:
+    // sum L D <r.l> / sum D <r.l>, D given as a function of <n.h>^2.
+    glm::dvec3 convolve(glm::dvec3 r, const std::function<double(double)>& lobe) const {
+        const Image& m = env_.radiance;
         glm::dvec3 sum(0.);
         double weights = 0.;
         for (int y = 0; y < m.height; ++y) {
@@ -59,8 +73,7 @@ class BruteForceGgx {
                 if (nl <= 0.) continue;
                 const glm::dvec3 h = l + r;
                 const double nh2 = glm::dot(r, h) * glm::dot(r, h) / glm::dot(h, h);
-                const double f = nh2 * (a2 - 1.) + 1.;
-                const double w = a2 / (M_PI * f * f) * nl * omega;
+                const double w = lobe(nh2) * nl * omega;
                 const float* p = m.at(x, y);
                 sum += w * glm::dvec3(p[0], p[1], p[2]);
                 weights += w;
@@ -69,7 +82,6 @@ class BruteForceGgx {
         return sum / weights;
     }
 
-  private:
     const Environment& env_;
     std::vector<glm::dvec3> directions_;
 };

@@ -2,11 +2,13 @@
 // projection and the GGX prefilter against closed forms and brute-force integrals, the DFG table.
 #include <cmath>
 #include <random>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
 #include "env/env_test_support.h"
 #include "ndfmip/environment.h"
+#include "ndfmip/environment_splitsum.h"
 #include "ndfmip/sh_brdf.h"
 #include "ndfmip/spherical_harmonics.h"
 
@@ -393,6 +395,37 @@ TEST(GgxPrefilter, RoughestLevelIsIrradianceOverPi) {
                 worst = std::max(worst, std::abs(level.at(x, y)[c] - e[c]) / e[c]);
         }
     EXPECT_LT(worst, 3e-3);
+}
+
+TEST(BlinnPhongPrefilter, MatchesBruteForceAndDiffersFromTheConvertedGgx) {
+    // Against every texel of the map (BruteForceGgx::blinnPhong), and against the GGX level of the
+    // alpha that blinnPhongAlpha gives the exponent: the chain a Blinn-Phong material read before
+    // (it must be off by more than the Blinn-Phong level's own error, or this lobe adds nothing).
+    const Environment env = mapOf(128, sunAndSky);
+    const BruteForceGgx truthOf(env);
+    for (auto [exponent, width, tolerance] : {std::tuple{8., 32, 0.02}, {32., 64, 0.02}, {128., 128, 0.035}}) {
+        const Image level = prefilterBlinnPhongLevel(env, exponent, width, 2048);
+        const double alpha = blinnPhongAlpha(exponent);
+        const Image ggx = prefilterGgxLevel(env, std::sqrt(alpha), width, 2048);
+        double error = 0., converted = 0., norm = 0.;
+        for (int i = 0; i < 150; ++i) {
+            const glm::dvec3 r = spiralDirection(i, 150);
+            const glm::dvec3 truth = truthOf.blinnPhong(r, exponent);
+            float a[3], b[3];
+            sampleEquirect(level, r, a);
+            sampleEquirect(ggx, r, b);
+            for (int c = 0; c < 3; ++c) {
+                error += (a[c] - truth[c]) * (a[c] - truth[c]);
+                converted += (b[c] - truth[c]) * (b[c] - truth[c]);
+                norm += truth[c] * truth[c];
+            }
+        }
+        error = std::sqrt(error / norm), converted = std::sqrt(converted / norm);
+        EXPECT_LT(error, tolerance) << "s = " << exponent;
+        EXPECT_GT(converted, 1.5 * error) << "s = " << exponent;
+        std::printf("[ measured ] Blinn-Phong s = %.0f at %d wide: relative RMSE %.4f; GGX alpha = %.3f: %.4f\n",
+                    exponent, width, error, alpha, converted);
+    }
 }
 
 TEST(GgxPrefilter, RotationShiftsTheLevels) {

@@ -1,9 +1,13 @@
 // ndfmip envmap: the folder it writes, and bad input (missing, corrupt, NaN, wrong shape, absurd
 // options) refused with one line, a non-zero status and nothing written.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
+#include <glm/glm.hpp>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -109,6 +113,63 @@ TEST_F(EnvmapCli, CubeLayoutWritesSixFacesPerLevel) {
     EXPECT_TRUE(fs::is_regular_file(out / "ggx_L0_nz.exr"));
     EXPECT_NE(runCli(envmapArgs(map, "--layout sphere"), &output), 0);
     EXPECT_NE(output.find("--layout"), std::string::npos) << output;
+}
+
+// IEEE binary16 to float (normal numbers and zero: what radiance and the DFG table hold).
+float halfToFloat(uint16_t bits) {
+    const int exponent = (bits >> 10) & 31, mantissa = bits & 1023;
+    const float magnitude = exponent == 0 ? std::ldexp(float(mantissa), -24)
+                                          : std::ldexp(1.f + float(mantissa) / 1024.f, exponent - 15);
+    return bits & 0x8000 ? -magnitude : magnitude;
+}
+
+// Texel (x, y) of face `face` (0 for a 2D texture) of level k of an RGBA16F KTX2 file, read
+// through its level index.
+glm::vec4 ktx2Texel(const std::string& file, uint32_t k, int face, int faces, int width, int x, int y) {
+    uint64_t offset = 0;
+    std::memcpy(&offset, file.data() + 80 + 24 * k, 8);
+    const int w = std::max(width >> k, 1);
+    const size_t faceBytes = size_t(w) * size_t(faces == 6 ? w : std::max((width / 2) >> k, 1)) * 8;
+    glm::vec4 v;
+    for (int c = 0; c < 4; ++c) {
+        uint16_t bits;
+        std::memcpy(&bits, file.data() + offset + size_t(face) * faceBytes + (size_t(y) * size_t(w) + size_t(x)) * 8 + 2 * size_t(c), 2);
+        v[c] = halfToFloat(bits);
+    }
+    return v;
+}
+
+TEST_F(EnvmapCli, Ktx2HoldsEveryLevelOfBothLayouts) {
+    std::string output;
+    ASSERT_EQ(runCli(envmapArgs(map, "--layout both --ktx2"), &output), 0) << output;
+    const json manifest = json::parse(fileBytes(out / "environment.json"));
+    EXPECT_EQ(manifest["ktx2"]["ggx_cube"], "ggx_cube.ktx2");
+    const std::string cube = fileBytes(out / "ggx_cube.ktx2"), flat = fileBytes(out / "ggx_equirect.ktx2");
+    uint32_t header[9];
+    std::memcpy(header, cube.data() + 12, sizeof header); // vkFormat ... levelCount
+    EXPECT_EQ(header[0], 97u);                            // VK_FORMAT_R16G16B16A16_SFLOAT
+    EXPECT_EQ(header[2], 8u);                             // face size: 32 / 4
+    EXPECT_EQ(header[6], 6u);                             // faceCount
+    EXPECT_EQ(header[7], 2u);                             // levelCount
+    // Every face's corner texels are the EXR faces' (to half precision); the equirect file's the EXR levels'.
+    for (uint32_t k = 0; k < 2; ++k) {
+        for (int face = 0; face < kCubeFaces; ++face) {
+            const std::string name = manifest["ggx"]["levels"][k]["faces"][cubeFaceName(face)];
+            const Image faceImage = loadImage((out / name).string())->image;
+            for (auto [x, y] : {std::pair{0, 0}, {faceImage.width - 1, faceImage.height - 1}}) {
+                const glm::vec4 got = ktx2Texel(cube, k, face, 6, 8, x, y);
+                for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], faceImage.at(x, y)[c], 1e-3f * (1.f + faceImage.at(x, y)[c]));
+                EXPECT_EQ(got[3], 1.f);
+            }
+        }
+        const Image level = loadImage((out / ("ggx_L" + std::to_string(k) + ".exr")).string())->image;
+        const glm::vec4 got = ktx2Texel(flat, k, 0, 1, 32, level.width - 1, 1);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], level.at(level.width - 1, 1)[c], 1e-3f * (1.f + level.at(level.width - 1, 1)[c]));
+    }
+    EXPECT_TRUE(fs::is_regular_file(out / "dfg.ktx2"));
+    // The folder holds only what its manifest lists, so a rerun may replace it.
+    ASSERT_EQ(runCli(envmapArgs(map, "--layout cube"), &output), 0) << output;
+    EXPECT_FALSE(fs::exists(out / "ggx_cube.ktx2"));
 }
 
 TEST_F(EnvmapCli, RefusesBadInputWithOneLine) {

@@ -2,9 +2,11 @@
 // one-line errors.
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "gpu_test_support.h"
 #include "ndfmip/compare.h"
@@ -36,6 +38,42 @@ TEST(RenderGpuCli, WritesTheCpusImageAndTimesFrames) {
     Result<ImageComparison> c = compareImages(b->image, a->image);
     ASSERT_TRUE(c);
     EXPECT_LT(c->relativeRmse, 1e-3);
+}
+
+// A 32x32 sphere under one of the shared maps (visible around it), toksvig the split-sum way and
+// vmf the SH-lighting way: the GPU writes the CPU's image; sh on the sphere is refused by name.
+TEST(RenderGpuCli, EnvironmentScenesMatchTheCpu) {
+    NDFMIP_GL_OR_SKIP(gl);
+    const std::filesystem::path maps = test::sharedEnvMaps();
+    if (maps.empty() || !std::filesystem::exists(maps / "venice_sunset_1k.hdr"))
+        GTEST_SKIP() << "no shared environment maps beside the checkout";
+    test::TempDir dir("ndfmip_render_gpu_environment");
+    const std::filesystem::path scene = dir.path / "sphere.json";
+    {
+        std::ofstream out(scene);
+        out << R"({"camera": {"eye": [0, -4, 1.5], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 35, "width": 32, "height": 32},
+ "object": {"type": "sphere", "radius": 1, "tiling": [4, 2]},
+ "environment": {"path": )" << nlohmann::json((maps / "venice_sunset_1k.hdr").string()).dump()
+            << R"(, "rotation": 40, "visible": true},
+ "material": {"brdf": "ggx", "roughness": 0.2, "albedo": 0.15, "specular": 1},
+ "normal_map": {"path": )" << nlohmann::json(std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png").dump()
+            << R"(, "green_down": true}})";
+    }
+    for (const char* args : {"--method toksvig --env-lod unreal", "--method vmf --lobes 2 --vmf-environment sh"}) {
+        const std::string cpu = (dir.path / "cpu.exr").string(), gpu = (dir.path / "gpu.exr").string();
+        std::string output;
+        const std::string common = "render " + test::shellArg(scene.string()) + " " + args + " -q";
+        ASSERT_EQ(test::runCli(common + " -o " + test::shellArg(cpu), &output), 0) << output;
+        ASSERT_EQ(test::runCli(common + " --gpu -o " + test::shellArg(gpu), &output), 0) << output;
+        Result<SourceImage> a = loadImage(cpu), b = loadImage(gpu);
+        ASSERT_TRUE(a && b);
+        Result<ImageComparison> c = compareImages(b->image, a->image);
+        ASSERT_TRUE(c);
+        EXPECT_LT(c->relativeRmse, 3e-3) << args;
+    }
+    test::expectCliRefuses("render " + test::shellArg(scene.string()) + " --method sh --gpu -q -o " +
+                               test::shellArg((dir.path / "sh.exr").string()),
+                           {"'sh'", "on a sphere", "CPU only"});
 }
 
 TEST(RenderGpuCli, CpuOnlyMethodsAndMissingDriversAreOneLineErrors) {

@@ -1,5 +1,6 @@
 // KTX2 and DDS files: their structure, and their blocks decoded by readers ndfmip did not
 // write (libnvtt's nvdecompress for DDS; the npm package ktx-parse for KTX2, where installed).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -146,16 +147,31 @@ TEST(TextureContainer, Bc5AndBc4DecodedByNvdecompressKeepEveryLevel) {
     }
 }
 
-TEST(TextureContainer, Ktx2ReadBackByKtxParse) {
+// The npm package ktx-parse's ES module, or "" where node or the package is missing.
+std::string ktxParseModule() {
     const char* modules = std::getenv("NDFMIP_NODE_MODULES");
     const std::string path = modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules";
-    if (!std::filesystem::exists("/usr/bin/node") || !std::filesystem::exists(path + "/ktx-parse"))
-        GTEST_SKIP() << "node and the npm package ktx-parse (scripts/setup installs it into .npm) not found";
-    // Its ES module: dist/ktx-parse.modern.js in 1.x, dist/index.mjs in 2.x.
-    std::string module;
+    if (!std::filesystem::exists("/usr/bin/node")) return "";
+    // dist/ktx-parse.modern.js in 1.x, dist/index.mjs in 2.x.
     for (const char* candidate : {"/ktx-parse/dist/ktx-parse.modern.js", "/ktx-parse/dist/index.mjs"})
-        if (std::filesystem::exists(path + candidate)) module = path + candidate;
-    ASSERT_FALSE(module.empty()) << "no ES module in " << path << "/ktx-parse/dist";
+        if (std::filesystem::exists(path + candidate)) return path + candidate;
+    return "";
+}
+
+// Runs `script` (an ES module reading the KTX2 file given as its argument) and returns what it printed.
+std::string runNode(const test::TempDir& dir, const std::string& script, const std::string& file) {
+    const std::string source = dir.file("read.mjs"), out = dir.file("out.json");
+    std::ofstream(source) << script;
+    const int status = std::system(("node " + test::shellArg(source) + " " + test::shellArg(file) + " > " +
+                                    test::shellArg(out) + " 2>&1").c_str());
+    std::ifstream in(out);
+    std::string printed((std::istreambuf_iterator<char>(in)), {});
+    return status == 0 ? printed : "node failed: " + printed;
+}
+
+TEST(TextureContainer, Ktx2ReadBackByKtxParse) {
+    const std::string module = ktxParseModule();
+    if (module.empty()) GTEST_SKIP() << "node and the npm package ktx-parse (scripts/setup installs it into .npm) not found";
     test::TempDir dir("ndfmip_ktx_parse");
     const std::vector<Image> levels = encodedNormalLevels();
     const std::pair<TextureFormat, int> cases[] = {{TextureFormat::Bc5Unorm, 0}, {TextureFormat::Rgba32F, 0},
@@ -166,17 +182,14 @@ TEST(TextureContainer, Ktx2ReadBackByKtxParse) {
         ASSERT_TRUE(t);
         const std::string file = dir.file(std::string(textureFormatName(format)) + std::to_string(zstd) + ".ktx2");
         std::ofstream(file, std::ios::binary) << ktx2File(t.value(), zstd).value();
-        const std::string script = dir.file("read.mjs");
-        std::ofstream(script) << "import { read } from '" << module << "';\n"
-                              << "import { readFileSync } from 'fs';\n"
-                              << "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
-                              << "console.log(JSON.stringify({format: c.vkFormat, w: c.pixelWidth, h: c.pixelHeight, "
-                                 "levels: c.levels.map(l => l.uncompressedByteLength), scheme: c.supercompressionScheme, "
-                                 "model: c.dataFormatDescriptor[0].colorModel}));\n";
-        const std::string out = dir.file("out.json");
-        ASSERT_EQ(std::system(("node " + test::shellArg(script) + " " + test::shellArg(file) + " > " + test::shellArg(out) + " 2>&1").c_str()), 0);
-        std::ifstream in(out);
-        const std::string json((std::istreambuf_iterator<char>(in)), {});
+        const std::string json = runNode(dir,
+                                         "import { read } from '" + module + "';\n"
+                                         "import { readFileSync } from 'fs';\n"
+                                         "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
+                                         "console.log(JSON.stringify({format: c.vkFormat, w: c.pixelWidth, h: c.pixelHeight, "
+                                         "levels: c.levels.map(l => l.uncompressedByteLength), scheme: c.supercompressionScheme, "
+                                         "model: c.dataFormatDescriptor[0].colorModel}));\n",
+                                         file);
         EXPECT_NE(json.find("\"w\":64,\"h\":48"), std::string::npos) << json;
         std::string lengths = "[";
         for (size_t k = 0; k < t->levels.size(); ++k) {
@@ -211,6 +224,90 @@ TEST(TextureContainer, Ktx2ZstdLevelsInflateToTheLevels) {
         EXPECT_EQ(raw, t->levels[k]) << "level " << k;
     }
     EXPECT_FALSE(ktx2File(t.value(), 23));
+}
+
+// Six 8x8 faces, four levels; texel (x, y) of face f at level k holds f + 10 k + (x + 8 y) / 1000.
+std::vector<std::vector<Image>> numberedCube() {
+    std::vector<std::vector<Image>> cube;
+    for (int k = 0; k < 4; ++k) {
+        std::vector<Image> faces;
+        for (int f = 0; f < 6; ++f) {
+            Image face(8 >> k, 8 >> k, 4);
+            for (int y = 0; y < face.height; ++y)
+                for (int x = 0; x < face.width; ++x)
+                    for (int c = 0; c < 4; ++c) face.at(x, y)[c] = float(f + 10 * k) + float(x + 8 * y) / 1000.f + float(c);
+            faces.push_back(std::move(face));
+        }
+        cube.push_back(std::move(faces));
+    }
+    return cube;
+}
+
+std::vector<std::vector<LevelRows>> rowsOf(const std::vector<std::vector<Image>>& cube) {
+    std::vector<std::vector<LevelRows>> rows;
+    for (const std::vector<Image>& faces : cube) {
+        rows.emplace_back();
+        for (const Image& face : faces)
+            rows.back().push_back({face.width, face.height, face.channels, [&face](int y, float* out) {
+                                       std::copy_n(face.at(0, y), size_t(face.width) * 4, out);
+                                   }});
+    }
+    return rows;
+}
+
+TEST(TextureContainer, CubeMapLevelsHoldTheirSixFaces) {
+    const auto cube = numberedCube();
+    Result<EncodedTexture> t = encodeCubeTexture(rowsOf(cube), TextureFormat::Rgba32F);
+    ASSERT_TRUE(t) << t.error().message;
+    EXPECT_EQ(t->faces, 6);
+    ASSERT_EQ(t->levels.size(), 4u);
+    for (size_t k = 0; k < 4; ++k) {
+        const size_t faceBytes = size_t(8 >> k) * size_t(8 >> k) * 16;
+        ASSERT_EQ(t->levels[k].size(), 6 * faceBytes);
+        for (int f = 0; f < 6; ++f) EXPECT_EQ(read<float>(t->levels[k], size_t(f) * faceBytes), float(f + 10 * int(k)));
+    }
+    const std::string ktx2 = ktx2File(t.value()).value();
+    EXPECT_EQ(read<uint32_t>(ktx2, 36), 6u); // faceCount
+    EXPECT_EQ(read<uint32_t>(ktx2, 28), 0u); // pixelDepth
+    // DDS: face by face, each with its four levels; the cube flags in caps2 and the DX10 misc flags.
+    const std::string dds = ddsFile(t.value());
+    EXPECT_EQ(read<uint32_t>(dds, 4 + 108), 0x200u | 0xFC00u);
+    EXPECT_EQ(read<uint32_t>(dds, 128 + 8), 0x4u);
+    size_t at = 128 + 20;
+    for (int f = 0; f < 6; ++f)
+        for (int k = 0; k < 4; ++k) {
+            EXPECT_EQ(read<float>(dds, at), float(f + 10 * k)) << "face " << f << " level " << k;
+            at += size_t(8 >> k) * size_t(8 >> k) * 16;
+        }
+    EXPECT_EQ(at, dds.size());
+
+    std::vector<std::vector<LevelRows>> five = rowsOf(cube);
+    five[1].pop_back();
+    EXPECT_FALSE(encodeCubeTexture(five, TextureFormat::Rgba32F));
+}
+
+TEST(TextureContainer, CubeMapReadBackByKtxParse) {
+    const std::string module = ktxParseModule();
+    if (module.empty()) GTEST_SKIP() << "node and the npm package ktx-parse (scripts/setup installs it into .npm) not found";
+    test::TempDir dir("ndfmip_ktx_cube");
+    Result<EncodedTexture> t = encodeCubeTexture(rowsOf(numberedCube()), TextureFormat::Rgba32F);
+    ASSERT_TRUE(t);
+    const std::string file = dir.file("cube.ktx2");
+    std::ofstream(file, std::ios::binary) << ktx2File(t.value()).value();
+    // The first float of every face of every level, as the reader splits the level data.
+    const std::string json = runNode(dir,
+                                     "import { read } from '" + module + "';\n"
+                                     "import { readFileSync } from 'fs';\n"
+                                     "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
+                                     "const first = c.levels.map((l, k) => { const d = l.levelData; "
+                                     "const f = new Float32Array(d.buffer.slice(d.byteOffset, d.byteOffset + d.byteLength)); "
+                                     "const n = f.length / c.faceCount; return [...Array(c.faceCount).keys()].map(i => f[i * n]); });\n"
+                                     "console.log(JSON.stringify({faces: c.faceCount, w: c.pixelWidth, h: c.pixelHeight, first}));\n",
+                                     file);
+    EXPECT_NE(json.find("\"faces\":6,\"w\":8,\"h\":8"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"first\":[[0,1,2,3,4,5],[10,11,12,13,14,15],[20,21,22,23,24,25],[30,31,32,33,34,35]]"),
+              std::string::npos)
+        << json;
 }
 
 } // namespace

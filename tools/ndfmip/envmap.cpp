@@ -19,6 +19,7 @@ struct EnvmapArgs {
     int size = 0, levels = 0, samples = 1024;
     int dfgSize = 128, dfgSamples = 4096;
     bool half = false;
+    bool ktx2 = false;
     bool quiet = false;
 };
 
@@ -70,6 +71,7 @@ void runEnvmap(const EnvmapArgs& a) {
     bake.mapping = prefilter.mapping;
     bake.equirect = a.layout != "cube";
     bake.cube = a.layout != "equirect";
+    bake.ktx2 = a.ktx2;
     const double ggxMs = millisecondsSince(start);
 
     start = nowNanoseconds();
@@ -151,6 +153,9 @@ void addEnvmapCommand(CLI::App& app) {
         ->check(CLI::Range(1, 65536))
         ->capture_default_str();
     c->add_flag("--half", args->half, "store the images as 16-bit half floats");
+    c->add_flag("--ktx2", args->ktx2,
+                "also write the GGX levels as one KTX2 file per layout (ggx_cube.ktx2: a cube map; "
+                "ggx_equirect.ktx2), and dfg.ktx2; RGBA16F, every level a mip");
     c->add_flag("-q,--quiet", args->quiet, "print nothing but errors");
     c->callback([args] { runEnvmap(*args); });
 }

@@ -1,0 +1,405 @@
+// The GPU renderer under an environment, the split-sum way (environment_splitsum.h; Karis 2013):
+// the same lookups as src/env/splitsum_lighting.cpp and splitsum_shading.cpp, in float. Included
+// by the renderer (with #define NDFMIP_ENVIRONMENT) after raycast.glsl and before the method's
+// glue, whose ndfmipShadeEnvironment(p, albedo, hit, view) calls these.
+//
+// Textures, all read with texelFetch so the filtering is the CPU's to rounding:
+//   ndfmipEnvChain   the rule's prefiltered chain, equirect (environment frame, rotation
+//                    applied), its level k the texture's mip k
+//   ndfmipEnvAlbedo  the split sum's second factor: column n.v, row perceptual roughness
+//   ndfmipEnvMap     the map itself (the background where it is visible)
+
+uniform sampler2D ndfmipEnvChain;
+uniform int ndfmipEnvLevels;
+uniform int ndfmipEnvRule;          // 0 log2sigma, 1 filament, 2 unity, 3 unreal (EnvironmentLod)
+uniform float ndfmipEnvTexelAngle;  // a level-0 texel's angular height (log2sigma)
+uniform sampler2D ndfmipEnvAlbedo;
+uniform vec3 ndfmipEnvIrradiance[9]; // E_lm of order 2 (projectEnvironmentSh)
+uniform int ndfmipEnvBandFactors;    // 1: diffuse about a vMF band-attenuated
+uniform int ndfmipEnvVisible;        // 1: rays that miss the object see the map
+uniform sampler2D ndfmipEnvMap;
+uniform vec2 ndfmipEnvRotation;      // cos, sin of -Environment::rotation
+
+// Repeat wrapping for i >= -n (main.frag's ndfmipWrap1 comes after this file).
+int ndfmipEnvWrap(int i, int n) { return i < 0 ? i + n : (i >= n ? i - n : i); }
+
+// World (+Z up) to environment (+Y up): e = (-w.x, w.z, w.y) (environment_lighting.h).
+vec3 ndfmipWorldToEnvironment(vec3 w) { return vec3(-w.x, w.z, w.y); }
+
+// A tangent-frame direction in the environment frame (tangentToEnvironment).
+vec3 ndfmipTangentToEnvironment(NdfmipHit hit, vec3 t) {
+    return ndfmipWorldToEnvironment(t.x * hit.tangent + t.y * hit.bitangent + t.z * hit.normal);
+}
+
+// equirectCoordinates: u in [0, 1), v in [0, 1].
+vec2 ndfmipEquirectCoordinates(vec3 d) {
+    float u = 0.5f + atan(-d.x, d.z) / (2.0f * NDFMIP_PI);
+    if (u >= 1.0f) u -= 1.0f;
+    float v = 0.5f - asin(clamp(d.y / length(d), -1.0f, 1.0f)) / NDFMIP_PI;
+    return vec2(u, v);
+}
+
+// sampleEquirect on mip `k`: bilinear, longitude wrapping, past a pole the far side's row.
+vec3 ndfmipSampleEquirect(int k, vec3 d) {
+    // GL's mip size from level 0 (llvmpipe's textureSize takes one lane's level for all).
+    ivec2 size = max(textureSize(ndfmipEnvChain, 0) >> ivec2(k), ivec2(1));
+    vec2 uv = ndfmipEquirectCoordinates(d);
+    vec2 s = uv * vec2(size) - 0.5f;
+    vec2 s0 = floor(s);
+    vec2 f = s - s0;
+    vec3 sum = vec3(0.0f);
+    for (int j = 0; j < 2; ++j) {
+        for (int i = 0; i < 2; ++i) {
+            int x = int(s0.x) + i;
+            int y = int(s0.y) + j;
+            if (y < 0 || y >= size.y) {
+                y = y < 0 ? -1 - y : 2 * size.y - 1 - y;
+                x += size.x / 2;
+            }
+            x = ndfmipEnvWrap(x, size.x);
+            float w = (i == 1 ? f.x : 1.0f - f.x) * (j == 1 ? f.y : 1.0f - f.y);
+            sum += w * texelFetch(ndfmipEnvChain, ivec2(x, y), k).rgb;
+        }
+    }
+    return sum;
+}
+
+// sampleChain: the two levels about `lod`, blended.
+vec3 ndfmipSampleChain(float lod, vec3 d) {
+    lod = clamp(lod, 0.0f, float(ndfmipEnvLevels - 1));
+    int k0 = int(lod);
+    int k1 = min(k0 + 1, ndfmipEnvLevels - 1);
+    float f = lod - float(k0);
+    vec3 a = ndfmipSampleEquirect(k0, d);
+    if (f > 0.0f && k1 != k0) return (1.0f - f) * a + f * ndfmipSampleEquirect(k1, d);
+    return a;
+}
+
+// prefilteredRadiance: the rule's level for perceptual roughness r (environmentLodLevel), or
+// Toksvig's log2(sigma / theta0) with sigma = 2 sqrt(alpha^2/2 + normalVariance)
+// (reflectedSpread, log2SigmaLevel).
+vec3 ndfmipPrefilteredRadiance(vec3 reflected, float r, float normalVariance) {
+    float last = float(ndfmipEnvLevels - 1);
+    float lod = 0.0f;
+    if (ndfmipEnvRule == 0) {
+        float alpha = r * r;
+        float sigma = 2.0f * sqrt(max(alpha * alpha / 2.0f, 0.0f) + max(normalVariance, 0.0f));
+        lod = sigma > 0.0f ? clamp(log2(sigma / ndfmipEnvTexelAngle), 0.0f, last) : 0.0f;
+    } else {
+        r = clamp(r, 0.0f, 1.0f);
+        if (ndfmipEnvRule == 1) lod = r * (2.0f - r) * last;
+        if (ndfmipEnvRule == 2) lod = r * (1.7f - 0.7f * r) * 6.0f; // kUnitySpecCubeLodSteps
+        if (ndfmipEnvRule == 3) lod = last - (1.0f - 1.2f * log2(max(r, 0.001f)));
+        lod = clamp(lod, 0.0f, last);
+    }
+    return ndfmipSampleChain(lod, normalize(reflected));
+}
+
+// specularAlbedo: the table bilinear with clamped edges at (n.v, r).
+float ndfmipSpecularAlbedo(float mu, float r) {
+    ivec2 size = textureSize(ndfmipEnvAlbedo, 0);
+    vec2 x = clamp(vec2(clamp(mu, 0.0f, 1.0f), clamp(r, 0.0f, 1.0f)) * vec2(size) - 0.5f, vec2(0.0f),
+                   vec2(size - 1));
+    ivec2 x0 = ivec2(x);
+    ivec2 x1 = min(x0 + 1, size - 1);
+    vec2 f = x - vec2(x0);
+    float a = texelFetch(ndfmipEnvAlbedo, x0, 0).r;
+    float b = texelFetch(ndfmipEnvAlbedo, ivec2(x1.x, x0.y), 0).r;
+    float c = texelFetch(ndfmipEnvAlbedo, ivec2(x0.x, x1.y), 0).r;
+    float e = texelFetch(ndfmipEnvAlbedo, x1, 0).r;
+    return (1.0f - f.y) * ((1.0f - f.x) * a + f.x * b) + f.y * ((1.0f - f.x) * c + f.x * e);
+}
+
+// irradianceAt: Sum band_l E_lm Y_lm(n), clamped at 0 (truncation rings).
+vec3 ndfmipIrradiance(vec3 n, vec3 band) {
+    float g[NDFMIP_SH_MAX_COEFFICIENTS];
+    float a[NDFMIP_SH_MAX_ORDER + 1];
+    for (int l = 0; l <= NDFMIP_SH_MAX_ORDER; ++l) a[l] = 0.0f;
+    a[0] = band.x;
+    a[1] = band.y;
+    a[2] = band.z;
+    vec3 e = vec3(0.0f);
+    n = normalize(n);
+    for (int c = 0; c < 3; ++c) {
+        for (int k = 0; k < NDFMIP_SH_MAX_COEFFICIENTS; ++k) g[k] = k < 9 ? ndfmipEnvIrradiance[k][c] : 0.0f;
+        e[c] = ndfmipShConvolve(g, a, 2, n);
+    }
+    return max(e, vec3(0.0f));
+}
+
+// The mean of SH bands 1 and 2 over a vMF of concentration kappa relative to its mean
+// direction: 1, A(kappa), 1 - 3 A(kappa)/kappa, A = coth(kappa) - 1/kappa; the series where
+// float cancels.
+vec3 ndfmipVmfBandFactors(float kappa) {
+    if (!(kappa < 1e30f)) return vec3(1.0f);
+    if (kappa < 0.05f) return vec3(1.0f, kappa / 3.0f - kappa * kappa * kappa / 45.0f, kappa * kappa / 15.0f);
+    float a = (kappa > 20.0f ? 1.0f : 1.0f / tanh(kappa)) - 1.0f / kappa;
+    return vec3(1.0f, a, 1.0f - 3.0f * a / kappa);
+}
+
+// The perceptual roughness a lobe reads the chain and the table at: sqrt(alpha), Blinn-Phong
+// through alpha^2 = 2/(s + 2) (Walter et al.).
+float ndfmipBlinnPhongPerceptual(float s) { return sqrt(sqrt(2.0f / (max(s, 0.0f) + 2.0f))); }
+float ndfmipAlphaPerceptual(float alpha) { return sqrt(clamp(alpha, 0.0f, 1.0f)); }
+bool ndfmipHasLobe(NdfmipMaterial m) {
+    return m.brdf == NDFMIP_BLINN_PHONG || m.brdf == NDFMIP_BECKMANN || m.brdf == NDFMIP_GGX;
+}
+
+vec3 ndfmipUnitOrFlat(vec3 v) {
+    float len = length(v);
+    return len > 0.0f ? v / len : vec3(0.0f, 0.0f, 1.0f);
+}
+
+// albedo/pi E(n) about the unit tangent-frame normal n.
+vec3 ndfmipEnvDiffuse(NdfmipHit hit, vec3 albedo, vec3 n, vec3 band) {
+    return albedo * (1.0f / NDFMIP_PI) * ndfmipIrradiance(ndfmipTangentToEnvironment(hit, n), band);
+}
+
+// specular LD(reflect(-v, n), r) E(n.v, r) about the unit tangent-frame normal n; `albedoR`
+// the roughness the table is read at (Toksvig's log2sigma reads the chain at the material's).
+vec3 ndfmipEnvSpecular(NdfmipMaterial m, NdfmipHit hit, vec3 n, vec3 view, float r, float albedoR,
+                       float normalVariance) {
+    float mu = dot(n, view);
+    vec3 reflected = 2.0f * mu * n - view;
+    vec3 ld = ndfmipPrefilteredRadiance(ndfmipTangentToEnvironment(hit, reflected), r, normalVariance);
+    return m.specular * ld * ndfmipSpecularAlbedo(mu, albedoR);
+}
+
+// shadeNaiveSplitSum.
+vec3 ndfmipShadeNaiveEnvironment(NdfmipMaterial m, vec3 albedo, vec3 filtered, NdfmipHit hit, vec3 view) {
+    vec3 n = ndfmipUnitOrFlat(filtered);
+    vec3 out3 = ndfmipEnvDiffuse(hit, albedo, n, vec3(1.0f));
+    if (!ndfmipHasLobe(m)) return out3;
+    float r = m.brdf == NDFMIP_BLINN_PHONG ? ndfmipBlinnPhongPerceptual(m.exponent) : ndfmipAlphaPerceptual(m.roughness);
+    return out3 + ndfmipEnvSpecular(m, hit, n, view, r, r, 0.0f);
+}
+
+// shadeRoughnessMipsSplitSum: the naive shading at the stored roughness.
+vec3 ndfmipShadeRoughnessMipsEnvironment(NdfmipMaterial m, vec3 albedo, vec3 filtered, float stored, bool isAlpha,
+                                         NdfmipHit hit, vec3 view) {
+    float s = clamp(stored, 0.0f, 1.0f);
+    NdfmipMaterial widened = m;
+    widened.roughness = max(isAlpha ? s : s * s, 1e-4f);
+    return ndfmipShadeNaiveEnvironment(widened, albedo, filtered, hit, view);
+}
+
+// shadeToksvigSplitSum: diffuse about Na/|Na| with band 1 scaled by |Na| (its exact mean) and
+// band 2 as a vMF of that mean length; the lobe widened as ndfmipShadeToksvig (eq. 6 or the
+// roughness mapping), or for log2sigma the normals' sigma^2 (eq. 1) added to the spread.
+vec3 ndfmipShadeToksvigEnvironment(NdfmipMaterial m, vec3 albedo, vec3 na, NdfmipHit hit, vec3 view, int mapping,
+                                   float varianceScale) {
+    float len = min(length(na), 1.0f);
+    vec3 n = ndfmipUnitOrFlat(na);
+    vec3 band = vec3(1.0f);
+    if (ndfmipEnvBandFactors != 0 && len < 1.0f) band = ndfmipVmfBandFactors(ndfmipKappaFromLength(len));
+    if (ndfmipEnvBandFactors != 0) band.y = len;
+    vec3 out3 = ndfmipEnvDiffuse(hit, albedo, n, band);
+    if (!ndfmipHasLobe(m)) return out3;
+    float r = m.brdf == NDFMIP_BLINN_PHONG
+                  ? ndfmipBlinnPhongPerceptual(ndfmipToksvigFactor(len, m.exponent) * m.exponent)
+                  : ndfmipAlphaPerceptual(ndfmipMappedRoughness(mapping, len, m.roughness, varianceScale));
+    if (ndfmipEnvRule != 0) return out3 + ndfmipEnvSpecular(m, hit, n, view, r, r, 0.0f);
+    float base = m.brdf == NDFMIP_BLINN_PHONG ? ndfmipBlinnPhongPerceptual(m.exponent) : ndfmipAlphaPerceptual(m.roughness);
+    return out3 + ndfmipEnvSpecular(m, hit, n, view, base, r, len > 0.0f ? ndfmipToksvigSigma2(len) : 1e6f);
+}
+
+// One lobe of shadeVmfSplitSum, weight included: diffuse at mu band-attenuated by the vMF,
+// specular along the reflection about mu at the widened lobe's roughness (eqs. 29-30).
+vec3 ndfmipShadeVmfLobeEnvironment(NdfmipMaterial m, vec3 albedo, vec4 lobeTexel, NdfmipHit hit, vec3 view) {
+    NdfmipLobe lobe = ndfmipUnpackLobe(lobeTexel);
+    if (!(lobe.alpha > 0.0f)) return vec3(0.0f);
+    vec3 band = ndfmipEnvBandFactors != 0 ? ndfmipVmfBandFactors(lobe.kappa) : vec3(1.0f);
+    vec3 term = ndfmipEnvDiffuse(hit, albedo, lobe.mu, band);
+    if (ndfmipHasLobe(m)) {
+        float kappa = max(lobe.kappa, 1e-6f);
+        float r = m.brdf == NDFMIP_BLINN_PHONG
+                      ? ndfmipBlinnPhongPerceptual(kappa * m.exponent / (kappa + m.exponent))
+                      : ndfmipAlphaPerceptual(min(sqrt(m.roughness * m.roughness + 2.0f / kappa), 1.0f));
+        term += ndfmipEnvSpecular(m, hit, lobe.mu, view, r, r, 0.0f);
+    }
+    return lobe.alpha * term;
+}
+
+// environmentRadiance: the map's texel along world direction w (nearest, as stored).
+vec3 ndfmipEnvironmentBackground(vec3 w) {
+    vec3 d = ndfmipWorldToEnvironment(w);
+    float c = ndfmipEnvRotation.x;
+    float s = ndfmipEnvRotation.y;
+    d = vec3(c * d.x + s * d.z, d.y, -s * d.x + c * d.z); // rotateAboutY(d, -rotation)
+    ivec2 size = textureSize(ndfmipEnvMap, 0);
+    vec2 uv = ndfmipEquirectCoordinates(d);
+    ivec2 t = clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
+    return texelFetch(ndfmipEnvMap, t, 0).rgb;
+}
+
+// ---- the SH-lighting way (environment_sh_shading.h; Han et al. Sec. 8, eqs. 35 and 37) -------
+// ndfmipEnvSh holds the prepared lighting's coefficients of order ndfmipEnvShOrder, one column
+// per coefficient: row 0 L_lm, rows 1 .. 3 L'_lm of the axes x, y, z (the mean-normal cosine:
+// ndfmipEnvShAxes = 1) or row 1 L'_lm alone. For vmf they are in the environment frame; for sh
+// in the plane's tangent frame (rotated on the CPU, sh_rotation.h, once per frame).
+
+uniform sampler2D ndfmipEnvSh;
+uniform int ndfmipEnvShOrder;
+uniform int ndfmipEnvShAxes;
+uniform float ndfmipEnvShDiffuse[NDFMIP_SH_MAX_ORDER + 1];  // the material's A_l (ShShading)
+uniform float ndfmipEnvShSpecular[NDFMIP_SH_MAX_ORDER + 1];
+// sqrt((2l + 1)/(4 pi) (l - m)!/(l + m)!) at l (l + 1)/2 + m, m >= 0, from the CPU: the basis'
+// normalisation without a loop per coefficient (see ndfmipVmfBands on loop counts).
+uniform float ndfmipEnvShNormalisation[(NDFMIP_SH_MAX_ORDER + 1) * (NDFMIP_SH_MAX_ORDER + 2) / 2];
+
+// L'_lm for a mean normal (the frame of the columns): Sum_k n_k L'_k, or the prepared L'.
+vec3 ndfmipEnvReparameterised(int i, vec3 meanNormal) {
+    if (ndfmipEnvShAxes == 0) return texelFetch(ndfmipEnvSh, ivec2(i, 1), 0).rgb;
+    return meanNormal.x * texelFetch(ndfmipEnvSh, ivec2(i, 1), 0).rgb +
+           meanNormal.y * texelFetch(ndfmipEnvSh, ivec2(i, 2), 0).rgb +
+           meanNormal.z * texelFetch(ndfmipEnvSh, ivec2(i, 3), 0).rgb;
+}
+
+// The two sums of a vMF lobe about unit w (environment frame): Sum_l aD_l Sum_m L_lm Y_lm(w) and
+// Sum_l aS_l Sum_m L'_lm Y_lm(w), the real basis by the recurrence of ndfmipShConvolve (sh.glsl,
+// spherical_harmonics.cpp's convention).
+struct NdfmipShSums {
+    vec3 diffuse;
+    vec3 specular;
+};
+
+NdfmipShSums ndfmipEnvShSums(float aD[NDFMIP_SH_MAX_ORDER + 1], float aS[NDFMIP_SH_MAX_ORDER + 1], int order, vec3 w,
+                             vec3 meanNormal) {
+    NdfmipShSums sums;
+    sums.diffuse = vec3(0.0f);
+    sums.specular = vec3(0.0f);
+    float re = 1.0f;
+    float im = 0.0f;
+    float pmm = 1.0f;
+    for (int m = 0; m <= order; ++m) {
+        if (m > 0) {
+            float nextRe = re * w.x - im * w.y;
+            im = re * w.y + im * w.x;
+            re = nextRe;
+            pmm *= float(2 * m - 1);
+        }
+        float previous = 0.0f;
+        float current = pmm;
+        for (int l = m; l <= order; ++l) {
+            if (l == m + 1) {
+                previous = current;
+                current = float(2 * m + 1) * w.z * current;
+            } else if (l > m + 1) {
+                float next = (float(2 * l - 1) * w.z * current - float(l + m - 1) * previous) / float(l - m);
+                previous = current;
+                current = next;
+            }
+            float kLm = ndfmipEnvShNormalisation[l * (l + 1) / 2 + m] * current;
+            int centre = l * (l + 1);
+            vec3 radiance;
+            vec3 reparameterised;
+            if (m == 0) {
+                radiance = kLm * texelFetch(ndfmipEnvSh, ivec2(centre, 0), 0).rgb;
+                reparameterised = kLm * ndfmipEnvReparameterised(centre, meanNormal);
+            } else {
+                float c = 1.41421356f * kLm * re;
+                float s = 1.41421356f * kLm * im;
+                radiance = c * texelFetch(ndfmipEnvSh, ivec2(centre + m, 0), 0).rgb +
+                           s * texelFetch(ndfmipEnvSh, ivec2(centre - m, 0), 0).rgb;
+                reparameterised = c * ndfmipEnvReparameterised(centre + m, meanNormal) +
+                                  s * ndfmipEnvReparameterised(centre - m, meanNormal);
+            }
+            sums.diffuse += aD[l] * radiance;
+            sums.specular += aS[l] * reparameterised;
+        }
+    }
+    return sums;
+}
+
+// shadeShEnvironment on a plane: the lighting already in its tangent frame, where g is.
+// Diffuse Sum A_l^diffuse g_lm L_lm (eq. 35), specular Sum A_l^specular g_lm L'_lm (eq. 37) with
+// the cosine from footnote 5's mipmapped normal, each clamped at 0.
+vec3 ndfmipShadeShEnvironment(NdfmipMaterial m, vec3 albedo, float g[NDFMIP_SH_MAX_COEFFICIENTS], int order,
+                              NdfmipHit hit) {
+    order = min(order, ndfmipEnvShOrder);
+    vec3 meanNormal = ndfmipTangentToEnvironment(hit, ndfmipShMeanNormal(g[1], g[2], g[3]));
+    vec3 diffuse = vec3(0.0f);
+    vec3 specular = vec3(0.0f);
+    for (int l = 0; l <= order; ++l) {
+        vec3 d = vec3(0.0f);
+        vec3 s = vec3(0.0f);
+        for (int i = l * l; i <= l * (l + 2); ++i) {
+            d += g[i] * texelFetch(ndfmipEnvSh, ivec2(i, 0), 0).rgb;
+            s += g[i] * ndfmipEnvReparameterised(i, meanNormal);
+        }
+        diffuse += ndfmipEnvShDiffuse[l] * d;
+        specular += ndfmipEnvShSpecular[l] * s;
+    }
+    if (m.brdf == NDFMIP_LAMBERT) return albedo * max(diffuse, vec3(0.0f));
+    return albedo * max(diffuse, vec3(0.0f)) + m.specular * max(specular, vec3(0.0f));
+}
+
+// vmfBandFactors: A_l of the normalised vMF, i_l(kappa) / i_0(kappa), l <= order (at most
+// NDFMIP_SH_MAX_ORDER). From kappa = 32 the terminating series of i_l in e^-2kappa; below,
+// Miller's backward recurrence r_l = i_l / i_(l-1) = 1 / ((2l + 1)/kappa + r_(l+1)) from 0,
+// A_l = A_(l-1) r_l. The CPU starts it at order + 2 ceil(kappa) + 60 (double precision);
+// order + ceil(kappa) + 4 agrees with that to 1e-17. Loop counts matter here: llvmpipe's loop
+// limiter (65535 iterations per invocation, all loops together) cut the CPU's start short under
+// texel shading, which runs this per texel and lobe (errors of 10-50%).
+struct NdfmipVmfBands {
+    float a[NDFMIP_SH_MAX_ORDER + 1];
+};
+
+NdfmipVmfBands ndfmipVmfBands(float kappa, int order) {
+    NdfmipVmfBands bands;
+    for (int l = 0; l <= NDFMIP_SH_MAX_ORDER; ++l) bands.a[l] = l == 0 ? 1.0f : 0.0f;
+    if (kappa == 0.0f) return bands;
+    if (kappa >= 32.0f) {
+        float decay = exp(-2.0f * kappa);
+        for (int n = 1; n <= order; ++n) {
+            float term = 1.0f;
+            float minus = 1.0f;
+            float plus = 1.0f;
+            for (int j = 0; j < n; ++j) {
+                term *= float(n + j + 1) * float(n - j) / (float(j + 1) * 2.0f * kappa);
+                minus += j % 2 == 0 ? -term : term;
+                plus += term;
+            }
+            bands.a[n] = (minus - (n % 2 == 0 ? 1.0f : -1.0f) * decay * plus) / (1.0f - decay);
+        }
+        return bands;
+    }
+    float ratio = 0.0f;
+    for (int l = order + int(ceil(kappa)) + 4; l >= 1; --l) {
+        ratio = 1.0f / ((2.0f * float(l) + 1.0f) / kappa + ratio);
+        if (l <= order) bands.a[l] = ratio;
+    }
+    for (int l = 1; l <= order; ++l) bands.a[l] *= bands.a[l - 1];
+    return bands;
+}
+
+// One lobe of shadeVmfEnvironmentSh, weight included: no rotation, only Y_lm(mu) in the
+// environment frame (footnote 10). Diffuse Sum A_l^vMF A_l^diffuse Sum_m L_lm Y_lm(mu) (eq. 35);
+// specular Sum A_l^eff Sum_m L'_lm Y_lm(mu) (eq. 37), A^eff the widened Blinn-Phong lobe of
+// eq. 29 or, for Beckmann and GGX, the exact convolution A_l^vMF A_l^specular.
+vec3 ndfmipShadeVmfLobeEnvironmentSh(NdfmipMaterial m, vec3 albedo, vec4 lobeTexel, NdfmipHit hit) {
+    NdfmipLobe lobe = ndfmipUnpackLobe(lobeTexel);
+    if (!(lobe.alpha > 0.0f)) return vec3(0.0f);
+    int order = ndfmipEnvShOrder;
+    vec3 mu = normalize(ndfmipTangentToEnvironment(hit, lobe.mu));
+    NdfmipVmfBands bands = ndfmipVmfBands(lobe.kappa, max(order, 1)); // as the CPU's vmfBandFactors call
+    vec3 meanNormal = bands.a[1] * mu; // A(kappa) mu, the lobe's mean normal
+    float s = lobe.kappa * m.exponent / (lobe.kappa + m.exponent);
+    float widened = 1.0f; // blinnPhongCoefficients(s): A_0 = 1, A_1 = (s + 1)/(s + 2), A_l+2 = A_l (s - l)/(s + l + 3)
+    float widenedOdd = (s + 1.0f) / (s + 2.0f);
+    float aD[NDFMIP_SH_MAX_ORDER + 1];
+    float aS[NDFMIP_SH_MAX_ORDER + 1];
+    for (int l = 0; l <= order; ++l) {
+        aD[l] = bands.a[l] * ndfmipEnvShDiffuse[l];
+        aS[l] = bands.a[l] * ndfmipEnvShSpecular[l];
+        if (m.brdf == NDFMIP_BLINN_PHONG) {
+            aS[l] = l % 2 == 0 ? widened : widenedOdd;
+            if (l % 2 == 0) widened *= (s - float(l)) / (s + float(l) + 3.0f);
+            else widenedOdd *= (s - float(l)) / (s + float(l) + 3.0f);
+        }
+    }
+    NdfmipShSums sums = ndfmipEnvShSums(aD, aS, order, mu, meanNormal);
+    vec3 out3 = albedo * max(sums.diffuse, vec3(0.0f));
+    if (m.brdf != NDFMIP_LAMBERT) out3 += m.specular * max(sums.specular, vec3(0.0f));
+    return lobe.alpha * out3;
+}
