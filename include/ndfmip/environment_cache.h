@@ -15,10 +15,11 @@
 
 namespace ndfmip {
 
-// prepareSplitSum(lighting.environment, options) with options.rules = {rule}, the other options
-// at their defaults; the same object for every call with the same rule.
+// prepareSplitSum(lighting.environment, options) with options.rules = {rule} and
+// options.blinnPhongLobe = blinnPhongLobe, the other options at their defaults; the same object
+// for every call with the same rule and lobe.
 std::shared_ptr<const SplitSumLighting> cachedSplitSum(const EnvironmentLighting& lighting,
-                                                       EnvironmentLod rule);
+                                                       EnvironmentLod rule, bool blinnPhongLobe = false);
 
 // prepareShLighting(lighting.environment, order, view, cosine); the same object for every call with
 // the same order, cosine and view (compared exactly: an eval's renders share their camera). Only

@@ -87,6 +87,11 @@ struct SplitSumOptions {
     int albedoTableSize = 32;  // n.v x perceptual roughness entries
     int albedoSamples = 512;   // samples per entry
     bool vmfBandFactors = true; // diffuse about a vMF lobe (and Toksvig's Na) band-attenuated
+    // The engine rules' levels convolved with the Blinn-Phong lobe of exponent
+    // s_k = 2/alpha_k^2 - 2 (the inverse of blinnPhongAlpha) instead of GGX alpha_k = r_k^2: the
+    // chain a Blinn-Phong material reads at its own lobe (it reads a level by the roughness
+    // sqrt(blinnPhongAlpha(s)), so level k's lobe is its exponent's exactly).
+    bool blinnPhongLobe = false;
 };
 
 // One chain: level k is (size >> k) x (size >> k)/2 (at least 4 x 2 for the GGX chains), RGB, at perceptualRoughness[k] (0 for
@@ -98,6 +103,7 @@ struct SplitSumChain {
     std::vector<Image> levels;
     CubeMipChain cube;
     std::vector<double> perceptualRoughness; // one per level of either
+    bool blinnPhongLobe = false;             // SplitSumOptions::blinnPhongLobe
 };
 
 struct SplitSumLighting {
@@ -116,6 +122,9 @@ struct SplitSumLighting {
 // Prepares every chain of options.rules, the albedo table(s) and the irradiance SH.
 // Preconditions: options within the ranges above, a valid environment.
 SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& options = {});
+
+// The Blinn-Phong exponent of GGX/Beckmann alpha: 2/alpha^2 - 2, the inverse of blinnPhongAlpha.
+double blinnPhongExponent(double alpha);
 
 // A split-sum material check: tabulated lobes have no prefiltered form (error naming them);
 // every other BRDF is supported (Lambert: diffuse only). The shading functions give a

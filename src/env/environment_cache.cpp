@@ -10,6 +10,7 @@ namespace ndfmip {
 struct EnvironmentCache::Entry {
     enum class Kind { SplitSum, Sh } kind = Kind::SplitSum;
     EnvironmentLod rule = EnvironmentLod::Filament; // SplitSum
+    bool blinnPhongLobe = false;                    // SplitSum
     int order = 0;                                  // Sh
     SpecularCosine cosine = SpecularCosine::MeanNormal;
     glm::dvec3 view{0.};
@@ -42,19 +43,23 @@ std::shared_ptr<Entry> entryFor(EnvironmentCache& cache, Same same, Make make) {
 } // namespace
 
 std::shared_ptr<const SplitSumLighting> cachedSplitSum(const EnvironmentLighting& lighting,
-                                                       EnvironmentLod rule) {
+                                                       EnvironmentLod rule, bool blinnPhongLobe) {
     std::shared_ptr<Entry> e = entryFor(
         lighting.cache,
-        [&](const Entry& x) { return x.kind == Entry::Kind::SplitSum && x.rule == rule; },
+        [&](const Entry& x) {
+            return x.kind == Entry::Kind::SplitSum && x.rule == rule && x.blinnPhongLobe == blinnPhongLobe;
+        },
         [&] {
             auto made = std::make_shared<Entry>();
             made->kind = Entry::Kind::SplitSum;
             made->rule = rule;
+            made->blinnPhongLobe = blinnPhongLobe;
             return made;
         });
     std::call_once(e->once, [&] {
         SplitSumOptions options;
         options.rules = {rule};
+        options.blinnPhongLobe = blinnPhongLobe;
         e->splitSum = std::make_shared<const SplitSumLighting>(
             prepareSplitSum(lighting.environment, options));
     });

@@ -108,6 +108,8 @@ double reflectedSpread(double lobeVariance, double normalVariance) {
 
 double blinnPhongAlpha(double exponent) { return std::sqrt(2. / (std::max(exponent, 0.) + 2.)); }
 
+double blinnPhongExponent(double alpha) { return std::max(2. / std::max(alpha * alpha, 1e-12) - 2., 0.); }
+
 // ---- the lobe's directional albedo ----------------------------------------------------------
 
 double lobeAlbedo(Brdf brdf, double mu, double perceptualRoughness, int samples) {
@@ -115,7 +117,7 @@ double lobeAlbedo(Brdf brdf, double mu, double perceptualRoughness, int samples)
     if (brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx) return 0.;
     mu = std::clamp(mu, 1e-6, 1.);
     const double alpha = std::max(perceptualRoughness * perceptualRoughness, 1e-4);
-    const double exponent = 2. / (alpha * alpha) - 2.; // Blinn-Phong, inverse of blinnPhongAlpha
+    const double exponent = blinnPhongExponent(alpha);
     // h is drawn with pdf D(h) <n.h> / norm, norm = integral D <n.h>: 1 for the projected-area
     // normalised Beckmann and GGX, (s + 1)/(s + 2) for Blinn-Phong (normalised over solid angle).
     const double norm = brdf == Brdf::BlinnPhong ? (exponent + 1.) / (exponent + 2.) : 1.;
@@ -186,6 +188,7 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
         if (findChain(lighting, rule)) continue;
         SplitSumChain chain;
         chain.rule = rule;
+        chain.blinnPhongLobe = options.blinnPhongLobe && rule != EnvironmentLod::Log2Sigma;
         const int levels = chainLevels(rule, size, options.filamentLevels);
         if (rule == EnvironmentLod::Log2Sigma) {
             // Toksvig's chain is the plain mip chain, solid-angle-weighted 2x2 boxes, on cube
@@ -203,7 +206,10 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
             const double r = environmentLodRoughness(rule, k, levels);
             const int samples = options.samples << std::max(0, k - 1);
             // Never narrower than 4 x 2 (Unity's 7 levels from a small level 0 would run out).
-            chain.levels.push_back(prefilterGgxLevel(env, r, std::max(size >> k, 4), samples));
+            const int width = std::max(size >> k, 4);
+            chain.levels.push_back(chain.blinnPhongLobe
+                                       ? prefilterBlinnPhongLevel(env, blinnPhongExponent(r * r), width, samples)
+                                       : prefilterGgxLevel(env, r, width, samples));
             chain.perceptualRoughness.push_back(r);
         }
         lighting.chains.push_back(std::move(chain));

@@ -11,7 +11,8 @@ Status prepareSplitSumSetup(const Material& material, const RenderTextures& text
     if (!textures.environment) return Status::success();
     if (Status usable = checkSplitSumMaterial(material); !usable) return usable;
     setup.environmentLod = options.environmentLod;
-    setup.splitSum = cachedSplitSum(*textures.environment, options.environmentLod); // only the chain it reads
+    // Only the chain it reads; a Blinn-Phong material's convolved with its own lobe.
+    setup.splitSum = cachedSplitSum(*textures.environment, options.environmentLod, material.brdf == Brdf::BlinnPhong);
     return Status::success();
 }
 
