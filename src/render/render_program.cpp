@@ -273,6 +273,8 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     } else if (environment) {
         const SplitSumChain* chain = setup.splitSum ? findChain(*setup.splitSum, setup.environmentLod) : nullptr;
         if (!chain) return Error{"render --gpu: method " + quote(method) + " prepared no environment lighting"};
+        if (chain->levels.empty()) // the log2sigma rule's box chain, on cube faces
+            return Error{"render --gpu: --env-lod log2sigma (a box chain on cube faces) is rendered on the CPU only"};
         // One texture's mips: level k must be GL's size of level k.
         const Image& base = chain->levels.front();
         for (size_t k = 0; k < chain->levels.size(); ++k)
