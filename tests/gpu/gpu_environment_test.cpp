@@ -20,6 +20,8 @@
 namespace ndfmip {
 namespace {
 
+using test::bumpyMap;
+
 // A 128x64 sky with detail at every scale: a gradient, a ground, a small bright sun and
 // stripes in azimuth, so that every prefiltered level differs from the next.
 std::shared_ptr<const EnvironmentLighting> skyLighting(double rotation = 0.) {
@@ -32,19 +34,6 @@ std::shared_ptr<const EnvironmentLighting> skyLighting(double rotation = 0.) {
     });
     env.rotation = rotation;
     return std::make_shared<const EnvironmentLighting>(makeEnvironmentLighting(std::move(env)));
-}
-
-// 64x64 bumps: normals tilted up to ~40 degrees, varying within every texel block.
-SharedImage bumpyMap() {
-    auto image = std::make_shared<Image>(64, 64, 3);
-    for (int y = 0; y < 64; ++y)
-        for (int x = 0; x < 64; ++x) {
-            const glm::vec3 n = glm::normalize(
-                glm::vec3(0.8f * std::sin(0.7f * float(x) + 0.3f * float(y)), 0.6f * std::cos(1.1f * float(y)), 1.f));
-            float* p = image->at(x, y);
-            p[0] = n.x, p[1] = n.y, p[2] = n.z;
-        }
-    return image;
 }
 
 // A 32x32 view of a sphere (the map visible around it) or of a grazing plane, lit by the
