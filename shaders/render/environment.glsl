@@ -6,6 +6,8 @@
 // Textures, all read with texelFetch so the filtering is the CPU's to rounding:
 //   ndfmipEnvChain   the rule's prefiltered chain, equirect (environment frame, rotation
 //                    applied), its level k the texture's mip k
+//   ndfmipEnvCube    instead, with NDFMIP_ENVIRONMENT_CUBE, the log2sigma rule's box chain on
+//                    cube faces: six layers, its level k the mip k
 //   ndfmipEnvAlbedo  the split sum's second factor: column n.v, row perceptual roughness
 //   ndfmipEnvMap     the map itself (the background where it is visible)
 
@@ -64,14 +66,97 @@ vec3 ndfmipSampleEquirect(int k, vec3 d) {
     return sum;
 }
 
+#ifdef NDFMIP_ENVIRONMENT_CUBE
+// The log2sigma rule's box chain on cube faces (environment_cube_chain.h): layer f of mip k is
+// face f of level k, read as sampleCubeLevel reads it.
+uniform sampler2DArray ndfmipEnvCube;
+
+// cubeFaceDirection: face f's unit direction at face coordinates (s, t).
+vec3 ndfmipCubeFaceDirection(int face, vec2 st) {
+    float a = 2.0f * st.x - 1.0f;
+    float b = 1.0f - 2.0f * st.y;
+    vec3 d = face == 0 ? vec3(1.0f, b, -a)
+           : face == 1 ? vec3(-1.0f, b, a)
+           : face == 2 ? vec3(a, 1.0f, -b)
+           : face == 3 ? vec3(a, -1.0f, b)
+           : face == 4 ? vec3(a, b, 1.0f)
+                       : vec3(-a, b, -1.0f);
+    return normalize(d);
+}
+
+// cubeFaceCoordinates: the face d points into and (s, t) on it, clamped to [0, 1].
+int ndfmipCubeFaceCoordinates(vec3 d, out vec2 st) {
+    vec3 m = abs(d);
+    int face;
+    vec2 ab;
+    if (m.x >= m.y && m.x >= m.z) {
+        face = d.x > 0.0f ? 0 : 1;
+        ab = vec2((d.x > 0.0f ? -d.z : d.z) / m.x, d.y / m.x);
+    } else if (m.y >= m.z) {
+        face = d.y > 0.0f ? 2 : 3;
+        ab = vec2(d.x / m.y, (d.y > 0.0f ? -d.z : d.z) / m.y);
+    } else {
+        face = d.z > 0.0f ? 4 : 5;
+        ab = vec2((d.z > 0.0f ? d.x : -d.x) / m.z, d.y / m.z);
+    }
+    st = clamp(vec2(0.5f * (ab.x + 1.0f), 0.5f * (1.0f - ab.y)), vec2(0.0f), vec2(1.0f));
+    return face;
+}
+
+// cube_mip_chain.cpp's texelAt: texel (x, y) of `face` at mip k (n wide); one past an edge, the
+// adjacent face's texel under the extended plane's texel centre.
+vec3 ndfmipCubeTexel(int k, int n, int face, int x, int y) {
+    if (x < 0 || x >= n || y < 0 || y >= n) {
+        vec2 st;
+        face = ndfmipCubeFaceCoordinates(ndfmipCubeFaceDirection(face, (vec2(x, y) + 0.5f) / float(n)), st);
+        x = clamp(int(st.x * float(n)), 0, n - 1);
+        y = clamp(int(st.y * float(n)), 0, n - 1);
+    }
+    return texelFetch(ndfmipEnvCube, ivec3(x, y, face), k).rgb;
+}
+
+// sampleCubeLevel: bilinear on mip k; past a cube corner the other three texels' mean stands in
+// for the missing fourth.
+vec3 ndfmipSampleCubeLevel(int k, vec3 d) {
+    int n = max(textureSize(ndfmipEnvCube, 0).x >> k, 1);
+    vec2 st;
+    int face = ndfmipCubeFaceCoordinates(d, st);
+    vec2 p = st * float(n) - 0.5f;
+    ivec2 x0 = ivec2(floor(p));
+    vec2 f = p - vec2(x0);
+    vec3 t00 = ndfmipCubeTexel(k, n, face, x0.x, x0.y);
+    vec3 t10 = ndfmipCubeTexel(k, n, face, x0.x + 1, x0.y);
+    vec3 t01 = ndfmipCubeTexel(k, n, face, x0.x, x0.y + 1);
+    vec3 t11 = ndfmipCubeTexel(k, n, face, x0.x + 1, x0.y + 1);
+    bool outX0 = x0.x < 0;
+    bool outX1 = x0.x + 1 >= n;
+    bool outY0 = x0.y < 0;
+    bool outY1 = x0.y + 1 >= n;
+    if (outX0 && outY0) t00 = (t10 + t01 + t11) / 3.0f;
+    if (outX1 && outY0) t10 = (t00 + t11 + t01) / 3.0f;
+    if (outX0 && outY1) t01 = (t11 + t00 + t10) / 3.0f;
+    if (outX1 && outY1) t11 = (t01 + t10 + t00) / 3.0f;
+    return (1.0f - f.y) * ((1.0f - f.x) * t00 + f.x * t10) + f.y * ((1.0f - f.x) * t01 + f.x * t11);
+}
+#endif
+
+// One level of the chain: the equirect mip, or the cube faces' mip.
+vec3 ndfmipSampleLevel(int k, vec3 d) {
+#ifdef NDFMIP_ENVIRONMENT_CUBE
+    return ndfmipSampleCubeLevel(k, d);
+#else
+    return ndfmipSampleEquirect(k, d);
+#endif
+}
+
 // sampleChain: the two levels about `lod`, blended.
 vec3 ndfmipSampleChain(float lod, vec3 d) {
     lod = clamp(lod, 0.0f, float(ndfmipEnvLevels - 1));
     int k0 = int(lod);
     int k1 = min(k0 + 1, ndfmipEnvLevels - 1);
     float f = lod - float(k0);
-    vec3 a = ndfmipSampleEquirect(k0, d);
-    if (f > 0.0f && k1 != k0) return (1.0f - f) * a + f * ndfmipSampleEquirect(k1, d);
+    vec3 a = ndfmipSampleLevel(k0, d);
+    if (f > 0.0f && k1 != k0) return (1.0f - f) * a + f * ndfmipSampleLevel(k1, d);
     return a;
 }
 

@@ -1,5 +1,5 @@
 // One method on the GPU: its compiled program, the bake's layers as a mipmapped array texture,
-// Toksvig's table and, under an environment, the prefiltered chain, the albedo table and the map
+// Toksvig's table and, under an environment, the prefiltered chain (or the box chain on cube faces), the albedo table and the map
 // (a faceted-sphere scene: the mesh and Toksvig's normal cube map instead of the bake), drawn into whatever framebuffer is bound. The headless renderer
 // (gpu_renderer.cpp) draws into a float target and reads it back; the viewer draws into its
 // window.
@@ -34,6 +34,7 @@ class GpuMethod {
     GlProgram program_;
     unsigned planes_ = 0, lut_ = 0, vertexArray_ = 0;
     unsigned environmentChain_ = 0, environmentAlbedo_ = 0, environmentMap_ = 0;
+    unsigned environmentCube_ = 0; // the log2 sigma rule's box chain, six faces a level
     unsigned facetedMesh_ = 0, normalCube_ = 0; // faceted-sphere scenes
 };
 

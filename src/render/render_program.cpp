@@ -273,14 +273,16 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     } else if (environment) {
         const SplitSumChain* chain = setup.splitSum ? findChain(*setup.splitSum, setup.environmentLod) : nullptr;
         if (!chain) return Error{"render --gpu: method " + quote(method) + " prepared no environment lighting"};
-        if (chain->levels.empty()) // the log2sigma rule's box chain, on cube faces
-            return Error{"render --gpu: --env-lod log2sigma (a box chain on cube faces) is rendered on the CPU only"};
-        // One texture's mips: level k must be GL's size of level k.
-        const Image& base = chain->levels.front();
-        for (size_t k = 0; k < chain->levels.size(); ++k)
-            if (chain->levels[k].width != std::max(base.width >> k, 1) ||
-                chain->levels[k].height != std::max(base.height >> k, 1))
+        // One texture's mips (the log2sigma rule's cube faces: six layers of one): level k must
+        // be GL's size of level k.
+        const bool cube = !chain->cube.levels.empty();
+        const int levels = int(chain->perceptualRoughness.size());
+        for (int k = 0; k < levels; ++k) {
+            const Image& level = cube ? chain->cube.levels[size_t(k)][0] : chain->levels[size_t(k)];
+            const Image& base = cube ? chain->cube.levels.front()[0] : chain->levels.front();
+            if (level.width != std::max(base.width >> k, 1) || level.height != std::max(base.height >> k, 1))
                 return Error{"render --gpu: level " + std::to_string(k) + " of the prefiltered environment is not a mip level"};
+        }
         program.environmentChain = chain;
         program.environmentAlbedo = albedoChannel(*setup.splitSum, m.brdf);
         program.environment = textures.environment;
@@ -330,6 +332,8 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     }
     if (environment) defines += "#define NDFMIP_ENVIRONMENT\n";
     if (shLighting) defines += "#define NDFMIP_ENVIRONMENT_SH\n";
+    if (program.environmentChain && !program.environmentChain->cube.levels.empty())
+        defines += "#define NDFMIP_ENVIRONMENT_CUBE\n";
     if (shLighting && shader.bake == Method::Sh && scene.geometry.type != GeometryType::Plane)
         defines += "#define NDFMIP_ENVIRONMENT_SH_PER_HIT\n";
     program.fragmentParts.emplace_back("<defines>", defines);
@@ -375,6 +379,7 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         add(u, "ndfmipEnvSh", 2);
         add(u, "ndfmipEnvAlbedo", 3);
         add(u, "ndfmipEnvMap", 4);
+        add(u, "ndfmipEnvCube", 7);
         add(u, "ndfmipEnvVisible", program.environmentVisible ? 1 : 0);
         const double rotation = -textures.environment->environment.rotation;
         add(u, "ndfmipEnvRotation", glm::vec2(float(std::cos(rotation)), float(std::sin(rotation))));
@@ -396,7 +401,7 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         }
     } else if (environment) {
         const SplitSumLighting& lighting = *setup.splitSum;
-        add(u, "ndfmipEnvLevels", int(program.environmentChain->levels.size()));
+        add(u, "ndfmipEnvLevels", int(program.environmentChain->perceptualRoughness.size()));
         add(u, "ndfmipEnvRule", int(setup.environmentLod));
         add(u, "ndfmipEnvTexelAngle", float(lighting.texelAngle));
         for (size_t k = 0; k < 9; ++k)

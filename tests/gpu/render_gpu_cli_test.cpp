@@ -61,7 +61,8 @@ TEST(RenderGpuCli, EnvironmentScenesMatchTheCpu) {
             << R"(, "green_down": true}})";
     }
     for (const char* args :
-         {"--method toksvig --env-lod unreal", "--method vmf --lobes 2 --vmf-environment sh", "--method sh"}) {
+         {"--method toksvig --env-lod unreal", "--method toksvig --env-lod log2sigma",
+          "--method vmf --lobes 2 --vmf-environment sh", "--method sh"}) {
         const std::string cpu = (dir.path / "cpu.exr").string(), gpu = (dir.path / "gpu.exr").string();
         std::string output;
         const std::string common = "render " + test::shellArg(scene.string()) + " " + args + " -q";
