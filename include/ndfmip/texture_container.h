@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -48,6 +49,12 @@ struct LevelRows {
     std::function<void(int y, float* out)> row;
 };
 Result<EncodedTexture> encodeTexture(const std::vector<LevelRows>& levels, TextureFormat format);
+
+// The rows of an image: its own channels, or with channels > 0 that many, those it lacks
+// filled with `fill` (an RGB image as opaque RGBA: 4, 1). The first form reads `image`, which
+// must outlive the rows; the second keeps the image alive itself.
+LevelRows rowsOf(const Image& image, int channels = 0, float fill = 0.f);
+LevelRows rowsOf(std::shared_ptr<const Image> image, int channels = 0, float fill = 0.f);
 
 // A cube map: faces[k][f] is face f (order above) of level k; faces square, every level half
 // the size of the one before.

@@ -84,15 +84,6 @@ LevelRows perceptualRows(const Image& alpha) {
             }};
 }
 
-// Rows of an image the caller hands over (kept alive by the rows).
-LevelRows ownedRows(Image image) {
-    auto owned = std::make_shared<const Image>(std::move(image));
-    return {owned->width, owned->height, owned->channels, [owned](int y, float* out) {
-                const float* row = owned->at(0, y);
-                std::copy(row, row + size_t(owned->width) * size_t(owned->channels), out);
-            }};
-}
-
 // Writes the png16 files into `folder`; returns their names relative to the bake folder.
 Result<std::vector<std::string>> writePng16(const fs::path& folder, const Bake& bake,
                                             bool greenDown, const BakeWriteOptions& options) {
@@ -189,9 +180,9 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
             !s)
             return Error{s.error};
         auto packed = [&](size_t k) {
-            return ownedRows(packedMaterial(*engine, perceptual(*bake.levels[k][ggx]),
+            return rowsOf(std::make_shared<const Image>(packedMaterial(*engine, perceptual(*bake.levels[k][ggx]),
                                   k < options.metallic.size() ? options.metallic[k].get() : nullptr,
-                                  k < options.occlusion.size() ? options.occlusion[k].get() : nullptr));
+                                  k < options.occlusion.size() ? options.occlusion[k].get() : nullptr)));
         };
         if (ggx >= 0)
             if (Status s = writeMade(prefix + engine->packedFile, packed, TextureFormat::Rgba8Unorm); !s)

@@ -84,16 +84,6 @@ json ktx2Json(const EnvironmentBake& bake) {
     return files;
 }
 
-// An RGB image handed to the encoder as RGBA with alpha 1.
-LevelRows opaqueRows(const Image& image) {
-    return {image.width, image.height, 4, [&image](int y, float* out) {
-                for (int x = 0; x < image.width; ++x) {
-                    const float* p = image.at(x, y);
-                    for (int c = 0; c < 4; ++c) out[4 * x + c] = c < 3 && c < image.channels ? p[c] : 1.f;
-                }
-            }};
-}
-
 Status writeKtx2(const fs::path& file, const Result<EncodedTexture>& texture) {
     if (!texture) return Status::failure(file.string() + ": " + texture.error().message);
     Result<std::string> bytes = ktx2File(texture.value());
@@ -103,25 +93,23 @@ Status writeKtx2(const fs::path& file, const Result<EncodedTexture>& texture) {
 
 // The KTX2 files of ktx2Json.
 Status writeKtx2Files(const fs::path& staging, const EnvironmentBake& bake) {
-    std::vector<Image> faces; // every level's six faces, kept alive while encoding
     if (bake.cube) {
         std::vector<std::vector<LevelRows>> rows;
-        faces.reserve(bake.levels.size() * size_t(kCubeFaces));
         for (const PrefilteredLevel& level : bake.levels) {
             rows.emplace_back();
-            for (int face = 0; face < kCubeFaces; ++face) {
-                faces.push_back(cubeFaceFromEquirect(level.radiance, face, faceSize(level.radiance)));
-                rows.back().push_back(opaqueRows(faces.back()));
-            }
+            for (int face = 0; face < kCubeFaces; ++face)
+                rows.back().push_back(rowsOf(std::make_shared<const Image>(cubeFaceFromEquirect(
+                                                 level.radiance, face, faceSize(level.radiance))),
+                                             4, 1.f));
         }
         if (Status s = writeKtx2(staging / kCubeKtx2, encodeCubeTexture(rows, TextureFormat::Rgba16F)); !s) return s;
     }
     if (bake.equirect) {
         std::vector<LevelRows> rows;
-        for (const PrefilteredLevel& level : bake.levels) rows.push_back(opaqueRows(level.radiance));
+        for (const PrefilteredLevel& level : bake.levels) rows.push_back(rowsOf(level.radiance, 4, 1.f));
         if (Status s = writeKtx2(staging / kEquirectKtx2, encodeTexture(rows, TextureFormat::Rgba16F)); !s) return s;
     }
-    return writeKtx2(staging / kDfgKtx2, encodeTexture(std::vector<LevelRows>{opaqueRows(bake.dfg)}, TextureFormat::Rgba16F));
+    return writeKtx2(staging / kDfgKtx2, encodeTexture(std::vector<LevelRows>{rowsOf(bake.dfg, 4, 1.f)}, TextureFormat::Rgba16F));
 }
 
 json manifestJson(const EnvironmentBake& bake, const EnvironmentSource& source, bool half) {

@@ -336,14 +336,32 @@ Result<EncodedTexture> encodeCubeTexture(const std::vector<std::vector<LevelRows
     return cube;
 }
 
+LevelRows rowsOf(const Image& image, int channels, float fill) {
+    const int n = channels > 0 ? channels : image.channels;
+    return {image.width, image.height, n, [&image, n, fill](int y, float* out) {
+                const float* row = image.at(0, y);
+                if (n == image.channels) {
+                    std::copy(row, row + size_t(image.width) * size_t(n), out);
+                    return;
+                }
+                for (int x = 0; x < image.width; ++x)
+                    for (int c = 0; c < n; ++c)
+                        out[size_t(x) * size_t(n) + size_t(c)] =
+                            c < image.channels ? row[size_t(x) * size_t(image.channels) + size_t(c)] : fill;
+            }};
+}
+
+LevelRows rowsOf(std::shared_ptr<const Image> image, int channels, float fill) {
+    LevelRows rows = rowsOf(*image, channels, fill);
+    rows.row = [read = std::move(rows.row), image = std::move(image)](int y, float* out) { read(y, out); };
+    return rows;
+}
+
 Result<EncodedTexture> encodeTexture(const std::vector<const Image*>& levels, TextureFormat format) {
     std::vector<LevelRows> rows;
     for (const Image* image : levels) {
         if (!image || image->empty()) return Error{"texture: no levels to encode"};
-        rows.push_back({image->width, image->height, image->channels, [image](int y, float* out) {
-                            const float* row = image->at(0, y);
-                            std::copy(row, row + size_t(image->width) * size_t(image->channels), out);
-                        }});
+        rows.push_back(rowsOf(*image));
     }
     return encodeTexture(rows, format);
 }

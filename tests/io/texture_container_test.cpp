@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 
 #include <glm/glm.hpp>
@@ -68,6 +69,33 @@ std::vector<const Image*> pointers(const std::vector<Image>& levels) {
     std::vector<const Image*> out;
     for (const Image& image : levels) out.push_back(&image);
     return out;
+}
+
+// rowsOf hands an image over a row at a time: its own channels copied, more filled, fewer cut;
+// the owning form keeps the image alive after the caller drops it.
+TEST(TextureContainer, RowsOfAnImagePadCutAndOwn) {
+    Image rgb(2, 2, 3);
+    for (size_t i = 0; i < rgb.pixels.size(); ++i) rgb.pixels[i] = float(i) + 0.5f;
+    std::vector<float> row(8);
+    const LevelRows same = rowsOf(rgb);
+    EXPECT_EQ(same.channels, 3);
+    same.row(1, row.data());
+    EXPECT_EQ(std::vector<float>(row.begin(), row.begin() + 6), std::vector<float>(rgb.at(0, 1), rgb.at(0, 1) + 6));
+    const LevelRows opaque = rowsOf(rgb, 4, 1.f);
+    EXPECT_EQ(opaque.channels, 4);
+    opaque.row(1, row.data());
+    EXPECT_EQ(row, (std::vector<float>{6.5f, 7.5f, 8.5f, 1.f, 9.5f, 10.5f, 11.5f, 1.f}));
+    const LevelRows two = rowsOf(rgb, 2);
+    two.row(0, row.data());
+    EXPECT_EQ(std::vector<float>(row.begin(), row.begin() + 4), (std::vector<float>{0.5f, 1.5f, 3.5f, 4.5f}));
+    auto shared = std::make_shared<const Image>(rgb);
+    const std::weak_ptr<const Image> watch = shared;
+    LevelRows owned = rowsOf(std::move(shared), 4, 0.f);
+    EXPECT_FALSE(watch.expired());
+    owned.row(0, row.data());
+    EXPECT_EQ(row, (std::vector<float>{0.5f, 1.5f, 2.5f, 0.f, 3.5f, 4.5f, 5.5f, 0.f}));
+    owned.row = nullptr;
+    EXPECT_TRUE(watch.expired());
 }
 
 TEST(TextureContainer, Ktx2HeaderLevelIndexAndDescriptor) {
