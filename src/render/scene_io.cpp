@@ -437,16 +437,27 @@ Material readMaterial(const json& value, const std::string& path, const std::str
     return m;
 }
 
-EnvironmentRef readEnvironment(const json& value, const std::string& path, const std::string& baseDir) {
-    EnvironmentRef ref;
+// A file reference, a file name or an object with "path" and the `allowed` keys: sets `file`
+// (resolved against the scene's folder) and returns the object to read the other keys from,
+// or nullptr for a plain name.
+const json* readFileRef(const json& value, const std::string& path, const std::string& baseDir,
+                        std::initializer_list<std::string_view> allowed, const std::string& what, std::string& file) {
     if (value.is_string()) {
-        ref.path = resolvePath(pathText(value, path), baseDir);
-        return ref;
+        file = resolvePath(pathText(value, path), baseDir);
+        return nullptr;
     }
     if (!value.is_object())
         fail(path, "expected a file name or an object with \"path\", got " + shown(value));
-    checkKeys(value, path, {"path", "intensity", "rotation", "visible"}, "environment");
-    ref.path = resolvePath(pathText(required(value, path, "path"), at(path, "path")), baseDir);
+    checkKeys(value, path, allowed, what);
+    file = resolvePath(pathText(required(value, path, "path"), at(path, "path")), baseDir);
+    return &value;
+}
+
+EnvironmentRef readEnvironment(const json& file, const std::string& path, const std::string& baseDir) {
+    EnvironmentRef ref;
+    const json* object = readFileRef(file, path, baseDir, {"path", "intensity", "rotation", "visible"}, "environment", ref.path);
+    if (!object) return ref;
+    const json& value = *object;
     if (const json* v = find(value, "intensity")) ref.options.intensity = positive(*v, at(path, "intensity"));
     if (const json* v = find(value, "rotation")) {
         ref.options.rotationDegrees = number(*v, at(path, "rotation"));
@@ -457,18 +468,13 @@ EnvironmentRef readEnvironment(const json& value, const std::string& path, const
     return ref;
 }
 
-NormalMapRef readNormalMap(const json& value, const std::string& path, const std::string& baseDir) {
+NormalMapRef readNormalMap(const json& file, const std::string& path, const std::string& baseDir) {
     NormalMapRef ref;
-    if (value.is_string()) {
-        ref.path = resolvePath(pathText(value, path), baseDir);
-        return ref;
-    }
-    if (!value.is_object())
-        fail(path, "expected a file name or an object with \"path\", got " + shown(value));
-    checkKeys(value, path,
-              {"path", "green_down", "two_channel", "signed", "height_scale", "address"},
-              "normal_map");
-    ref.path = resolvePath(pathText(required(value, path, "path"), at(path, "path")), baseDir);
+    const json* object = readFileRef(file, path, baseDir,
+                                     {"path", "green_down", "two_channel", "signed", "height_scale", "address"},
+                                     "normal_map", ref.path);
+    if (!object) return ref;
+    const json& value = *object;
     DecodeOptions& d = ref.decode;
     if (const json* v = find(value, "green_down")) d.greenDown = flag(*v, at(path, "green_down"));
     if (const json* v = find(value, "two_channel"))
