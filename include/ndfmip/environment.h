@@ -205,6 +205,9 @@ struct EnvironmentBake {
     // Also one KTX2 file per layout holding every level as its mips (RGBA16F, alpha 1):
     // ggx_cube.ktx2 (a cube map) and ggx_equirect.ktx2; and dfg.ktx2 (the table, RGBA16F).
     bool ktx2 = false;
+    // The same textures as DDS (DX10 header, DXGI_FORMAT_R16G16B16A16_FLOAT; the cube map with
+    // each face's levels together): ggx_cube.dds, ggx_equirect.dds, dfg.dds.
+    bool dds = false;
 };
 
 // Writes DIR/sh.json (the coefficients), DIR/ggx_L<k>.exr (one equirectangular RGB image per

@@ -69,30 +69,39 @@ json shJson(const EnvironmentSh& sh) {
     };
 }
 
-const char* kCubeKtx2 = "ggx_cube.ktx2";
-const char* kEquirectKtx2 = "ggx_equirect.ktx2";
-const char* kDfgKtx2 = "dfg.ktx2";
+// The textures --ktx2 and --dds write, by the key the manifest names them under (the file's
+// stem as well).
+constexpr const char* kCubeTexture = "ggx_cube";
+constexpr const char* kEquirectTexture = "ggx_equirect";
+constexpr const char* kDfgTexture = "dfg";
 
-// The KTX2 files' names (an empty object without --ktx2).
-json ktx2Json(const EnvironmentBake& bake) {
+// The names of the files in one container (an empty object when it is not written).
+json textureFilesJson(const EnvironmentBake& bake, bool written, const std::string& extension, const char* format) {
     json files = json::object();
-    if (!bake.ktx2) return files;
-    if (bake.cube) files["ggx_cube"] = kCubeKtx2;
-    if (bake.equirect) files["ggx_equirect"] = kEquirectKtx2;
-    files["dfg"] = kDfgKtx2;
-    files["format"] = "VK_FORMAT_R16G16B16A16_SFLOAT, alpha 1; the GGX levels as the mips";
+    if (!written) return files;
+    if (bake.cube) files[kCubeTexture] = kCubeTexture + extension;
+    if (bake.equirect) files[kEquirectTexture] = kEquirectTexture + extension;
+    files[kDfgTexture] = kDfgTexture + extension;
+    files["format"] = std::string(format) + ", alpha 1; the GGX levels as the mips";
     return files;
 }
 
-Status writeKtx2(const fs::path& file, const Result<EncodedTexture>& texture) {
-    if (!texture) return Status::failure(file.string() + ": " + texture.error().message);
-    Result<std::string> bytes = ktx2File(texture.value());
-    if (!bytes) return Status::failure(file.string() + ": " + bytes.error().message);
-    return writeFileAtomic(file.string(), bytes.value());
+// One texture in each container asked for.
+Status writeTexture(const fs::path& staging, const EnvironmentBake& bake, const char* stem,
+                    const Result<EncodedTexture>& texture) {
+    for (const bool ktx2 : {true, false}) {
+        if (!(ktx2 ? bake.ktx2 : bake.dds)) continue;
+        const fs::path file = staging / (std::string(stem) + (ktx2 ? ".ktx2" : ".dds"));
+        if (!texture) return Status::failure(file.string() + ": " + texture.error().message);
+        Result<std::string> bytes = ktx2 ? ktx2File(texture.value()) : Result<std::string>(ddsFile(texture.value()));
+        if (!bytes) return Status::failure(file.string() + ": " + bytes.error().message);
+        if (Status s = writeFileAtomic(file.string(), bytes.value()); !s) return s;
+    }
+    return Status::success();
 }
 
-// The KTX2 files of ktx2Json.
-Status writeKtx2Files(const fs::path& staging, const EnvironmentBake& bake) {
+// The textures of textureFilesJson, RGBA16F: each encoded once, written as KTX2 and/or DDS.
+Status writeTextureFiles(const fs::path& staging, const EnvironmentBake& bake) {
     if (bake.cube) {
         std::vector<std::vector<LevelRows>> rows;
         for (const PrefilteredLevel& level : bake.levels) {
@@ -102,14 +111,17 @@ Status writeKtx2Files(const fs::path& staging, const EnvironmentBake& bake) {
                                                  level.radiance, face, faceSize(level.radiance))),
                                              4, 1.f));
         }
-        if (Status s = writeKtx2(staging / kCubeKtx2, encodeCubeTexture(rows, TextureFormat::Rgba16F)); !s) return s;
+        if (Status s = writeTexture(staging, bake, kCubeTexture, encodeCubeTexture(rows, TextureFormat::Rgba16F)); !s)
+            return s;
     }
     if (bake.equirect) {
         std::vector<LevelRows> rows;
         for (const PrefilteredLevel& level : bake.levels) rows.push_back(rowsOf(level.radiance, 4, 1.f));
-        if (Status s = writeKtx2(staging / kEquirectKtx2, encodeTexture(rows, TextureFormat::Rgba16F)); !s) return s;
+        if (Status s = writeTexture(staging, bake, kEquirectTexture, encodeTexture(rows, TextureFormat::Rgba16F)); !s)
+            return s;
     }
-    return writeKtx2(staging / kDfgKtx2, encodeTexture(std::vector<LevelRows>{rowsOf(bake.dfg, 4, 1.f)}, TextureFormat::Rgba16F));
+    return writeTexture(staging, bake, kDfgTexture,
+                        encodeTexture(std::vector<LevelRows>{rowsOf(bake.dfg, 4, 1.f)}, TextureFormat::Rgba16F));
 }
 
 json manifestJson(const EnvironmentBake& bake, const EnvironmentSource& source, bool half) {
@@ -158,7 +170,8 @@ json manifestJson(const EnvironmentBake& bake, const EnvironmentSource& source, 
                                    ? "r = 1 - sqrt(1 - lod), lod = r (2 - r) = k / (levels - 1)"
                                    : "r = lod = k / (levels - 1)"},
           {"levels", levels}}},
-        {"ktx2", ktx2Json(bake)},
+        {"ktx2", textureFilesJson(bake, bake.ktx2, ".ktx2", "VK_FORMAT_R16G16B16A16_SFLOAT")},
+        {"dds", textureFilesJson(bake, bake.dds, ".dds", "DXGI_FORMAT_R16G16B16A16_FLOAT")},
         {"dfg",
          {{"file", "dfg.exr"},
           {"size", bake.dfg.width},
@@ -191,9 +204,10 @@ Status checkReplaceable(const fs::path& dir) {
     if (!m.is_object() || m.value("tool", "") != "ndfmip" || m.value("kind", "") != "environment")
         return refuse(std::string("its ") + kManifest + " is not an ndfmip environment manifest");
     std::set<std::string> listed{kManifest, "sh.json", "dfg.exr"};
-    if (m.contains("ktx2") && m["ktx2"].is_object())
-        for (const auto& [key, file] : m["ktx2"].items())
-            if (key != "format" && file.is_string()) listed.insert(file.get<std::string>());
+    for (const char* container : {"ktx2", "dds"})
+        if (m.contains(container) && m[container].is_object())
+            for (const auto& [key, file] : m[container].items())
+                if (key != "format" && file.is_string()) listed.insert(file.get<std::string>());
     if (m.contains("ggx") && m["ggx"].is_object() && m["ggx"].contains("levels") &&
         m["ggx"]["levels"].is_array())
         for (const json& level : m["ggx"]["levels"])
@@ -231,8 +245,8 @@ Status writeEnvironment(const std::string& dirName, const EnvironmentBake& bake,
                         return s;
         }
         if (Status s = saveExr((staging / "dfg.exr").string(), bake.dfg, {}, half); !s) return s;
-        if (bake.ktx2)
-            if (Status s = writeKtx2Files(staging, bake); !s) return s;
+        if (bake.ktx2 || bake.dds)
+            if (Status s = writeTextureFiles(staging, bake); !s) return s;
         if (Status s = writeFileAtomic((staging / "sh.json").string(), shJson(bake.sh).dump(2) + "\n"); !s)
             return s;
         const std::string manifest =

@@ -172,6 +172,55 @@ TEST_F(EnvmapCli, Ktx2HoldsEveryLevelOfBothLayouts) {
     EXPECT_FALSE(fs::exists(out / "ggx_cube.ktx2"));
 }
 
+// --dds writes the textures --ktx2 does as DDS (DX10 header): the same half texels, a cube map's
+// faces each with its levels together where KTX2 keeps each level's faces together.
+TEST_F(EnvmapCli, DdsHoldsTheKtx2TexturesInDdsOrder) {
+    std::string output;
+    ASSERT_EQ(runCli(envmapArgs(map, "--layout both --ktx2 --dds"), &output), 0) << output;
+    const json manifest = json::parse(fileBytes(out / "environment.json"));
+    EXPECT_EQ(manifest["dds"]["ggx_cube"], "ggx_cube.dds");
+    EXPECT_EQ(manifest["dds"]["dfg"], "dfg.dds");
+    const std::string ktx2 = fileBytes(out / "ggx_cube.ktx2"), dds = fileBytes(out / "ggx_cube.dds");
+    auto u32 = [](const std::string& bytes, size_t at) {
+        uint32_t v = 0;
+        std::memcpy(&v, bytes.data() + at, 4);
+        return v;
+    };
+    ASSERT_GE(dds.size(), 148u);
+    EXPECT_EQ(dds.substr(0, 4), "DDS ");
+    EXPECT_EQ(u32(dds, 4 + 24), 2u);             // dwMipMapCount
+    EXPECT_EQ(u32(dds, 4 + 108), 0x200u | 0xFC00u); // DDSCAPS2_CUBEMAP and all six faces
+    EXPECT_EQ(u32(dds, 128), 10u);               // DXGI_FORMAT_R16G16B16A16_FLOAT
+    EXPECT_EQ(u32(dds, 128 + 8), 0x4u);          // D3D11_RESOURCE_MISC_TEXTURECUBE
+    size_t at = 148;
+    for (int face = 0; face < kCubeFaces; ++face)
+        for (uint32_t k = 0; k < 2; ++k) {
+            uint64_t offset = 0;
+            std::memcpy(&offset, ktx2.data() + 80 + 24 * k, 8);
+            const size_t faceBytes = size_t(8 >> k) * size_t(8 >> k) * 8;
+            EXPECT_EQ(dds.compare(at, faceBytes, ktx2, offset + size_t(face) * faceBytes, faceBytes), 0)
+                << "face " << face << " level " << k;
+            at += faceBytes;
+        }
+    EXPECT_EQ(at, dds.size());
+    const std::string flatKtx2 = fileBytes(out / "ggx_equirect.ktx2"), flat = fileBytes(out / "ggx_equirect.dds");
+    at = 148;
+    for (uint32_t k = 0; k < 2; ++k) {
+        uint64_t offset = 0, length = 0;
+        std::memcpy(&offset, flatKtx2.data() + 80 + 24 * k, 8);
+        std::memcpy(&length, flatKtx2.data() + 80 + 24 * k + 8, 8);
+        EXPECT_EQ(flat.compare(at, length, flatKtx2, offset, length), 0) << "level " << k;
+        at += length;
+    }
+    EXPECT_EQ(at, flat.size());
+    // DDS alone, and a rerun without it replaces the folder (its manifest listed the DDS files).
+    ASSERT_EQ(runCli(envmapArgs(map, "--layout cube --dds"), &output), 0) << output;
+    EXPECT_TRUE(fs::is_regular_file(out / "ggx_cube.dds"));
+    EXPECT_FALSE(fs::exists(out / "ggx_cube.ktx2"));
+    ASSERT_EQ(runCli(envmapArgs(map, "--layout cube"), &output), 0) << output;
+    EXPECT_FALSE(fs::exists(out / "ggx_cube.dds"));
+}
+
 TEST_F(EnvmapCli, RefusesBadInputWithOneLine) {
     expectCliRefuses(envmapArgs(tmp.file("missing.hdr")), {"missing.hdr"});
     expectNothingWritten();

@@ -20,6 +20,7 @@ struct EnvmapArgs {
     int dfgSize = 128, dfgSamples = 4096;
     bool half = false;
     bool ktx2 = false;
+    bool dds = false;
     bool quiet = false;
 };
 
@@ -72,6 +73,7 @@ void runEnvmap(const EnvmapArgs& a) {
     bake.equirect = a.layout != "cube";
     bake.cube = a.layout != "equirect";
     bake.ktx2 = a.ktx2;
+    bake.dds = a.dds;
     const double ggxMs = millisecondsSince(start);
 
     start = nowNanoseconds();
@@ -156,6 +158,9 @@ void addEnvmapCommand(CLI::App& app) {
     c->add_flag("--ktx2", args->ktx2,
                 "also write the GGX levels as one KTX2 file per layout (ggx_cube.ktx2: a cube map; "
                 "ggx_equirect.ktx2), and dfg.ktx2; RGBA16F, every level a mip");
+    c->add_flag("--dds", args->dds,
+                "the same textures as DDS (DX10 header, R16G16B16A16_FLOAT): ggx_cube.dds, "
+                "ggx_equirect.dds, dfg.dds");
     c->add_flag("-q,--quiet", args->quiet, "print nothing but errors");
     c->callback([args] { runEnvmap(*args); });
 }
