@@ -915,7 +915,8 @@ TEST(Cli, RenderUnderAnEnvironmentWithEveryRuleAndWay) {
     EXPECT_GT(centre, 0.f);
     for (const char* args : {"--method naive", "--method toksvig --env-lod log2sigma", "--method toksvig --env-lod unity",
                              "--method toksvig --env-lod unreal", "--method vmf --vmf-environment sh",
-                             "--method vmf --env-lod filament", "--method sh"}) {
+                             "--method vmf --env-lod filament", "--method sh", "--method sh --sh-views 18",
+                             "--method vmf --vmf-environment sh --sh-views 6"}) {
         r = cli("render " + scene + sky + " -q " + args + " -o " + shellQuoted(tmp.file("m.exr")));
         ASSERT_EQ(r.status, 0) << args << ": " << r.output;
         Result<SourceImage> image = loadImage(tmp.file("m.exr"));
@@ -929,6 +930,10 @@ TEST(Cli, RenderUnderAnEnvironmentWithEveryRuleAndWay) {
     expectCleanFailure(cli("render " + scene + sky + " --method vmf --vmf-environment cube -o " +
                            shellQuoted(tmp.file("x.exr"))),
                        {"--vmf-environment", "cube"});
+    for (const char* views : {"-1", "1027", "many"})
+        expectCleanFailure(cli("render " + scene + sky + " --method sh --sh-views " + views + " -o " +
+                               shellQuoted(tmp.file("x.exr"))),
+                           {"--sh-views"});
     expectCleanFailure(cli("render " + scene + sky + " --method lean -o " + shellQuoted(tmp.file("x.exr"))),
                        {"lean", "environment"});
     expectCleanFailure(cli("render " + scene + " --environment " + shellQuoted(tmp.file("nosky.exr")) + " -o " +
