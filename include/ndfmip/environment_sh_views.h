@@ -11,8 +11,9 @@
 // the octahedron's eight faces (|x| + |y| + |z| = 1) into f^2 triangles; the 4 f^2 + 2 corners are
 // the views (f = 1: the six axes; f = 2: 18; 4: 66; 8: 258). Why this grid: the cell of a view is
 // found in O(1) through the octahedral map v / (|x| + |y| + |z|), with no search; there are no
-// poles (a latitude-longitude grid crowds its views there and needs care at them); the spacing
-// is within a factor ~1.7 of uniform; and the counts step finely enough to be a knob.
+// poles (a latitude-longitude grid crowds its views there and needs care at them); nearest
+// neighbours are 45 degrees apart at f = 2, 18-27 at f = 4, 8-16 at f = 8 (within a factor 2 of
+// uniform); and the counts step finely enough to be a knob.
 // The weights: barycentric in the face's flat triangle grid (the octahedral map of the view),
 // so they are non-negative, sum to 1, are exactly 1 at a prepared view, and are continuous over
 // the sphere (on a shared edge or corner, both faces give the same weights).
