@@ -962,6 +962,21 @@ TEST(Cli, EvalUnderAnEnvironmentHasARowPerVariantAndSkipsTheRest) {
     expectCleanFailure(cli("eval " + map + sky + " -q --methods sh@unity -o " + shellQuoted(tmp.file("r3"))),
                        {"sh@unity"});
     EXPECT_FALSE(fs::exists(tmp.path / "r2"));
+    // --sh-views reaches the rows: eval looks straight down, a view of every set, so 6 views give
+    // the one prepared view's error.
+    const std::string sh = " -q --methods sh:4 --brdfs ggx --roughness 0.3 --footprints 4 --frames 0 --pixels 8 --spp 64";
+    ASSERT_EQ(cli("eval " + map + sky + sh + " -o " + shellQuoted(tmp.file("one"))).status, 0);
+    ASSERT_EQ(cli("eval " + map + sky + sh + " --sh-views 6 -o " + shellQuoted(tmp.file("six"))).status, 0);
+    auto shError = [&](const std::string& dir) {
+        const json rows = json::parse(fileBytes(tmp.path / dir / "report.json"));
+        for (const json& c : rows["cases"])
+            if (c["method"] == "sh:4") return c["rel_rmse"].get<double>();
+        return -1.;
+    };
+    EXPECT_GT(shError("one"), 0.);
+    EXPECT_NEAR(shError("six"), shError("one"), 1e-4);
+    expectCleanFailure(cli("eval " + map + sky + sh + " --sh-views 2000 -o " + shellQuoted(tmp.file("r4"))),
+                       {"--sh-views"});
 }
 
 TEST(Cli, RenderReportsBadScenesInOneLine) {
