@@ -7,6 +7,7 @@
 #include <benchmark/benchmark.h>
 
 #include "ndfmip/environment_sh_shading.h"
+#include "ndfmip/environment_sh_views.h"
 #include "ndfmip/sh_rotation.h"
 #include "ndfmip/spherical_harmonics.h"
 
@@ -57,6 +58,35 @@ void BM_PrepareShLighting(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_PrepareShLighting)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The sparse set of views (environment_sh_views.h) of the grid of frequency f (4 f^2 + 2 views):
+// L once, then L' per view.
+void BM_PrepareShViewSet(benchmark::State& state) {
+    const int f = int(state.range(0));
+    for (auto _ : state) {
+        ndfmip::ShViewSet set = ndfmip::prepareShViewSet(sky(), 8, f);
+        benchmark::DoNotOptimize(set.views.data());
+    }
+    state.counters["views"] = ndfmip::shViewCount(f);
+}
+BENCHMARK(BM_PrepareShViewSet)->Arg(1)->Arg(2)->Arg(4)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// What a pixel pays for its own view: the weights and the blend of L' (order 8, mean-normal axes).
+void BM_InterpolateShLighting(benchmark::State& state) {
+    static const ndfmip::ShViewSet set = [] {
+        ndfmip::Environment small;
+        small.radiance = ndfmip::resampleEquirect(sky().radiance, 64);
+        return ndfmip::prepareShViewSet(small, 8, 4);
+    }();
+    ndfmip::ShLighting lighting;
+    glm::dvec3 view = glm::normalize(glm::dvec3(0.3, 0.8, 0.5));
+    for (auto _ : state) {
+        ndfmip::interpolateShLighting(set, view, lighting);
+        benchmark::DoNotOptimize(lighting.reparameterisedAxes[0].data());
+        view.x = -view.x; // alternate between two cells
+    }
+}
+BENCHMARK(BM_InterpolateShLighting)->Unit(benchmark::kMicrosecond);
 
 // One texel's parameters under a smooth sky, order 8: the SH method's coefficients of a single
 // normal, four vMF lobes.

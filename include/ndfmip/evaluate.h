@@ -76,6 +76,7 @@ struct EvalOptions {
     // under an environment get rows; the others are listed in EvalResult::skipped.
     std::string environment;
     EnvironmentOptions environmentOptions;
+    int shViews = 0; // RenderOptions::shViews of every method row
     std::function<void(const std::string&)> log; // a progress line per map
     std::function<void(const std::string& map, const DecodeReport&)> decoded;
 };

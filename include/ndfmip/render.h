@@ -99,6 +99,11 @@ struct RenderOptions {
     // roughness-mips, vmf the engine way) and how vmf shades (sh always uses SH lighting).
     EnvironmentLod environmentLod = EnvironmentLod::Filament;
     EnvironmentWay vmfEnvironment = EnvironmentWay::Prefiltered;
+    // SH lighting (sh, vmf with EnvironmentWay::ShLighting): 0 prepares it for the one view at the
+    // image centre; N > 0 prepares the paper's sparse set of at least N views (the smallest
+    // octahedral grid with N or more, environment_sh_views.h) and each pixel reads the lighting
+    // interpolated at its own view. At most kMaxShViews (1026); CPU only.
+    int shViews = 0;
     EnvironmentEstimator environmentEstimator = EnvironmentEstimator::Mis;
 };
 

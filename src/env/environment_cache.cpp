@@ -8,15 +8,17 @@
 namespace ndfmip {
 
 struct EnvironmentCache::Entry {
-    enum class Kind { SplitSum, Sh } kind = Kind::SplitSum;
+    enum class Kind { SplitSum, Sh, ShViews } kind = Kind::SplitSum;
     EnvironmentLod rule = EnvironmentLod::Filament; // SplitSum
     bool blinnPhongLobe = false;                    // SplitSum
-    int order = 0;                                  // Sh
+    int order = 0;                                  // Sh, ShViews
+    int frequency = 0;                              // ShViews
     SpecularCosine cosine = SpecularCosine::MeanNormal;
     glm::dvec3 view{0.};
     std::once_flag once;
     std::shared_ptr<const SplitSumLighting> splitSum;
     std::shared_ptr<const ShLighting> sh;
+    std::shared_ptr<const ShViewSet> shViews;
 };
 
 namespace {
@@ -87,6 +89,29 @@ std::shared_ptr<const ShLighting> cachedShLighting(const EnvironmentLighting& li
             prepareShLighting(lighting.environment, order, view, cosine));
     });
     return e->sh;
+}
+
+std::shared_ptr<const ShViewSet> cachedShViewSet(const EnvironmentLighting& lighting, int order, int frequency,
+                                                 SpecularCosine cosine) {
+    std::shared_ptr<Entry> e = entryFor(
+        lighting.cache,
+        [&](const Entry& x) {
+            return x.kind == Entry::Kind::ShViews && x.order == order && x.frequency == frequency &&
+                   x.cosine == cosine;
+        },
+        [&] {
+            auto made = std::make_shared<Entry>();
+            made->kind = Entry::Kind::ShViews;
+            made->order = order;
+            made->frequency = frequency;
+            made->cosine = cosine;
+            return made;
+        });
+    std::call_once(e->once, [&] {
+        e->shViews = std::make_shared<const ShViewSet>(
+            prepareShViewSet(lighting.environment, order, frequency, cosine));
+    });
+    return e->shViews;
 }
 
 } // namespace ndfmip

@@ -5,17 +5,17 @@
 #include <cmath>
 
 #include "core/quadrature.h"
-#include "ndfmip/environment_sh_shading.h"
+#include "env/sh_lighting_internal.h"
 #include "ndfmip/spherical_harmonics.h"
 
 namespace ndfmip {
-namespace {
 
-// Ids for ShLighting::id: never 0, never repeated in a process.
-uint64_t nextLightingId() {
+uint64_t nextShLightingId() {
     static std::atomic<uint64_t> next{1};
     return next++;
 }
+
+namespace {
 
 // The weight of L(w_i) in the integral over w_i of L' Y_lm(h): the Jacobian 4 (w_i.h) cancels
 // against dh = dw_i / (4 (w_i.h)), leaving the cosine c alone.
@@ -51,13 +51,19 @@ void frameAbout(glm::dvec3 w, glm::dvec3& t1, glm::dvec3& t2) {
 
 ShLighting prepareShLighting(const Environment& env, int order, glm::dvec3 fixedView,
                              SpecularCosine cosine) {
+    ShLighting lighting = prepareReparameterisedSh(env, order, fixedView, cosine);
+    lighting.radiance = projectEnvironmentSh(env, order).radiance;
+    return lighting;
+}
+
+ShLighting prepareReparameterisedSh(const Environment& env, int order, glm::dvec3 fixedView,
+                                    SpecularCosine cosine) {
     assert(order >= 0 && order <= kMaxShOrder && glm::length(fixedView) > 0.);
     ShLighting lighting;
-    lighting.id = nextLightingId();
+    lighting.id = nextShLightingId();
     lighting.order = order;
     lighting.view = glm::normalize(fixedView);
     lighting.cosine = cosine;
-    lighting.radiance = projectEnvironmentSh(env, order).radiance;
 
     // L'_lm = sum over texels of L c Y_lm(h) dw_i at the texel centre, w_i the texel's direction as
     // seen (Environment::rotation applied). Rows summed in order afterwards: thread-independent.
@@ -99,7 +105,7 @@ ShLighting prepareShLighting(const RadianceFunction& radiance, int order, glm::d
                              SpecularCosine cosine, int nodes) {
     assert(order >= 0 && order <= kMaxShOrder && glm::length(fixedView) > 0. && nodes >= order + 1);
     ShLighting lighting;
-    lighting.id = nextLightingId();
+    lighting.id = nextShLightingId();
     lighting.order = order;
     lighting.view = glm::normalize(fixedView);
     lighting.cosine = cosine;

@@ -18,6 +18,7 @@
 
 #include "ndfmip/bake.h"
 #include "ndfmip/environment_sh_shading.h"
+#include "ndfmip/environment_sh_views.h"
 #include "ndfmip/environment_splitsum.h"
 #include "ndfmip/render.h"
 #include "ndfmip/sh_brdf.h"
@@ -78,17 +79,24 @@ struct ShaderSetup {
     glm::dvec3 environmentView{0., 0., 1.};
     EnvironmentLod environmentLod = EnvironmentLod::Filament;
     std::shared_ptr<const SplitSumLighting> splitSum; // prefiltered levels (the engine way)
-    std::shared_ptr<const ShLighting> shLighting;     // SH lighting (the paper's way)
+    std::shared_ptr<const ShLighting> shLighting;     // SH lighting (the paper's way), one view
+    std::shared_ptr<const ShViewSet> shViews;         // or a set of views (RenderOptions::shViews)
 };
+
+// The SH lighting a pixel reads: setup.shLighting, or with a set of views the lighting
+// interpolated at the pixel's own view (toEnvironment * v, v towards the camera in the tangent
+// frame), held per thread until the next call on that thread.
+const ShLighting& shLightingAt(const ShaderSetup& setup, glm::vec3 v, const glm::mat3& toEnvironment);
 
 // The prepare steps the methods share under an environment (nothing without one): the
 // prefiltered levels of options.environmentLod's rule, or the SH lighting of order
 // kEnvironmentShOrder for setup.environmentView (the specular cosine from the mean normal,
-// environment_sh_shading.h).
+// environment_sh_shading.h) or, with options.shViews > 0, for the set of views.
 constexpr int kEnvironmentShOrder = 8; // Han et al. Sec. 8: l* = 8
 Status prepareSplitSumSetup(const Material& material, const RenderTextures& textures, const RenderOptions& options,
                             ShaderSetup& setup);
-Status prepareShLightingSetup(const Material& material, const RenderTextures& textures, ShaderSetup& setup);
+Status prepareShLightingSetup(const Material& material, const RenderTextures& textures, const RenderOptions& options,
+                              ShaderSetup& setup);
 
 struct MethodShader {
     const char* name; // render and eval method name

@@ -237,6 +237,7 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
             return Error{refusal};
         if (!textures.environment)
             return Error{"render --gpu: the scene's environment " + quote(scene.environment.path) + " is not loaded"};
+        if (options.shViews != 0) return Error{"render --gpu: --sh-views is rendered on the CPU only"};
     }
     if (scene.lights.size() > size_t(kGpuMaxLights))
         return Error{"render --gpu: at most " + std::to_string(kGpuMaxLights) + " lights, the scene has " +

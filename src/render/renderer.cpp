@@ -8,6 +8,7 @@
 #include "environment_truth.h"
 #include "methods/method_unit.h"
 #include "ndfmip/environment_lighting.h"
+#include "ndfmip/environment_sh_views.h"
 #include "ndfmip/interpolated.h"
 #include "ndfmip/render.h"
 #include "ndfmip/vmf.h"
@@ -383,6 +384,9 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
                      std::to_string(options.environmentSamples)};
     if (!scene.environment.path.empty() && !textures.environment)
         return Error{"render: the scene's environment " + quote(scene.environment.path) + " is not loaded"};
+    if (options.shViews < 0 || options.shViews > kMaxShViews)
+        return Error{"render: SH views must be in 0 .. " + std::to_string(kMaxShViews) + ", got " +
+                     std::to_string(options.shViews)};
 
     Context ctx;
     ctx.scene = &scene;

@@ -503,6 +503,7 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
             truthOptions.truth = truthFilter;
             RenderOptions methodOptions = filtering;
             methodOptions.seed = a.seed;
+            methodOptions.shViews = a.shViews;
 
             for (const Setting& setting : settings) {
                 scene.material = setting.material;

@@ -915,7 +915,8 @@ TEST(Cli, RenderUnderAnEnvironmentWithEveryRuleAndWay) {
     EXPECT_GT(centre, 0.f);
     for (const char* args : {"--method naive", "--method toksvig --env-lod log2sigma", "--method toksvig --env-lod unity",
                              "--method toksvig --env-lod unreal", "--method vmf --vmf-environment sh",
-                             "--method vmf --env-lod filament", "--method sh"}) {
+                             "--method vmf --env-lod filament", "--method sh", "--method sh --sh-views 18",
+                             "--method vmf --vmf-environment sh --sh-views 6"}) {
         r = cli("render " + scene + sky + " -q " + args + " -o " + shellQuoted(tmp.file("m.exr")));
         ASSERT_EQ(r.status, 0) << args << ": " << r.output;
         Result<SourceImage> image = loadImage(tmp.file("m.exr"));
@@ -929,6 +930,10 @@ TEST(Cli, RenderUnderAnEnvironmentWithEveryRuleAndWay) {
     expectCleanFailure(cli("render " + scene + sky + " --method vmf --vmf-environment cube -o " +
                            shellQuoted(tmp.file("x.exr"))),
                        {"--vmf-environment", "cube"});
+    for (const char* views : {"-1", "1027", "many"})
+        expectCleanFailure(cli("render " + scene + sky + " --method sh --sh-views " + views + " -o " +
+                               shellQuoted(tmp.file("x.exr"))),
+                           {"--sh-views"});
     expectCleanFailure(cli("render " + scene + sky + " --method lean -o " + shellQuoted(tmp.file("x.exr"))),
                        {"lean", "environment"});
     expectCleanFailure(cli("render " + scene + " --environment " + shellQuoted(tmp.file("nosky.exr")) + " -o " +
@@ -957,6 +962,21 @@ TEST(Cli, EvalUnderAnEnvironmentHasARowPerVariantAndSkipsTheRest) {
     expectCleanFailure(cli("eval " + map + sky + " -q --methods sh@unity -o " + shellQuoted(tmp.file("r3"))),
                        {"sh@unity"});
     EXPECT_FALSE(fs::exists(tmp.path / "r2"));
+    // --sh-views reaches the rows: eval looks straight down, a view of every set, so 6 views give
+    // the one prepared view's error.
+    const std::string sh = " -q --methods sh:4 --brdfs ggx --roughness 0.3 --footprints 4 --frames 0 --pixels 8 --spp 64";
+    ASSERT_EQ(cli("eval " + map + sky + sh + " -o " + shellQuoted(tmp.file("one"))).status, 0);
+    ASSERT_EQ(cli("eval " + map + sky + sh + " --sh-views 6 -o " + shellQuoted(tmp.file("six"))).status, 0);
+    auto shError = [&](const std::string& dir) {
+        const json rows = json::parse(fileBytes(tmp.path / dir / "report.json"));
+        for (const json& c : rows["cases"])
+            if (c["method"] == "sh:4") return c["rel_rmse"].get<double>();
+        return -1.;
+    };
+    EXPECT_GT(shError("one"), 0.);
+    EXPECT_NEAR(shError("six"), shError("one"), 1e-4);
+    expectCleanFailure(cli("eval " + map + sky + sh + " --sh-views 2000 -o " + shellQuoted(tmp.file("r4"))),
+                       {"--sh-views"});
 }
 
 TEST(Cli, RenderReportsBadScenesInOneLine) {

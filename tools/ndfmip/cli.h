@@ -74,14 +74,18 @@ struct EnvironmentArgs {
 };
 void addEnvironmentOptions(CLI::App* command, EnvironmentArgs& args);
 
-// How the methods shade under an environment (render): --env-lod RULE, --vmf-environment WAY.
+// How the methods shade under an environment (render): --env-lod RULE, --vmf-environment WAY,
+// --sh-views N.
 struct EnvironmentShadingArgs {
     std::string lod = "filament";
     std::string vmfWay = "prefiltered";
+    int shViews = 0;
     // The choices into `o`; throws on an unknown name.
     void apply(RenderOptions& o) const;
 };
 void addEnvironmentShadingOptions(CLI::App* command, EnvironmentShadingArgs& args);
+// --sh-views N alone (eval; render takes it with the options above).
+void addShViewsOption(CLI::App* command, int& views);
 
 // Warns on stderr about suspicious normals that decoding found in `path`.
 void warnAboutDecode(const std::string& path, const DecodeReport& report);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "ndfmip/environment_sh_views.h"
 #include "ndfmip/io.h"
 #include "ndfmip/render.h"
 #include "ndfmip/limits.h"
@@ -164,6 +165,14 @@ void addEnvironmentShadingOptions(CLI::App* c, EnvironmentShadingArgs& a) {
                   "under an environment, vmf shades by prefiltered levels per lobe (prefiltered, the engine way) "
                   "or by SH lighting (sh, Han et al. eqs. 34-37)")
         ->capture_default_str();
+    addShViewsOption(c, a.shViews);
+}
+
+void addShViewsOption(CLI::App* c, int& views) {
+    c->add_option("--sh-views", views,
+                  "under an environment, SH lighting (sh, vmf with --vmf-environment sh) prepared for a set of at "
+                  "least N views, interpolated at each pixel's own view (0: one view, the image centre's; CPU only)")
+        ->check(CLI::Range(0, kMaxShViews))->capture_default_str();
 }
 
 void EnvironmentShadingArgs::apply(RenderOptions& o) const {
@@ -171,6 +180,7 @@ void EnvironmentShadingArgs::apply(RenderOptions& o) const {
         throw Failure("--env-lod " + quote(lod) + ": expected log2sigma, filament, unity or unreal");
     if (!environmentWayFromString(vmfWay, o.vmfEnvironment))
         throw Failure("--vmf-environment " + quote(vmfWay) + ": expected prefiltered or sh");
+    o.shViews = shViews;
 }
 
 EnvironmentOptions EnvironmentArgs::options(EnvironmentOptions base) const {

@@ -100,6 +100,7 @@ void addEvalCommand(CLI::App& app) {
         ->delimiter(',')->expected(2)->capture_default_str();
     addFilteringOptions(c, args->filtering);
     addEnvironmentOptions(c, args->environment);
+    addShViewsOption(c, a->shViews);
     c->add_option("--external-roughness", a->externalRoughness,
                   "NAME=PATTERN: another tool's perceptual-roughness mips (one file per level; PATTERN with "
                   "{level}, {stem} of the map, {roughness} the base alpha) beside the standard normal mipmap, "

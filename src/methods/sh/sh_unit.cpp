@@ -45,17 +45,17 @@ double shDensity(const LoadedBake& bake, int x, int y, glm::dvec3 w) {
     return sum;
 }
 
-Status prepareSh(const Material& m, const RenderTextures& textures, const RenderOptions&, ShaderSetup& setup) {
+Status prepareSh(const Material& m, const RenderTextures& textures, const RenderOptions& options, ShaderSetup& setup) {
     Result<ShShading> sh = shShadingFor(m, bakeShOrder(textures.bake));
     if (!sh) return Status::failure(sh.error().message);
     setup.sh = std::move(sh.value());
-    return prepareShLightingSetup(m, textures, setup);
+    return prepareShLightingSetup(m, textures, options, setup);
 }
 
 // Under an environment: Han et al. eqs. 35 and 37, the lighting rotated into the tangent frame.
 glm::vec3 shadeShEnvironmentParams(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo,
                                    glm::vec3 v, const glm::mat3& toEnvironment, const EnvironmentLighting&) {
-    return shadeShEnvironment(m, albedo, p, setup.sh, v, toEnvironment, *setup.shLighting);
+    return shadeShEnvironment(m, albedo, p, setup.sh, v, toEnvironment, shLightingAt(setup, v, toEnvironment));
 }
 
 glm::vec3 shadeShParams(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo, glm::vec3 l,

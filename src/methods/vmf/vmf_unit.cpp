@@ -55,7 +55,7 @@ Status prepareVmf(const Material& m, const RenderTextures& textures, const Rende
     Result<ShShading> sh = shShadingFor(m, kEnvironmentShOrder);
     if (!sh) return Status::failure(sh.error().message);
     setup.sh = std::move(sh.value());
-    return prepareShLightingSetup(m, textures, setup);
+    return prepareShLightingSetup(m, textures, options, setup);
 }
 
 // The lobe colours that follow the lobe planes, unpacked into `colors`; null for a bake without them.
@@ -88,8 +88,8 @@ glm::vec3 shadeVmfEnvironment(const ShaderSetup& setup, const Material& m, const
                                 setup.environmentLod);
     const VmfSpecularTransfer transfer =
         m.brdf == Brdf::BlinnPhong ? VmfSpecularTransfer::Widened : VmfSpecularTransfer::Convolved;
-    return shadeVmfEnvironmentSh(m, albedo, p, setup.vmfLobes, lobeColors, v, toEnvironment, *setup.shLighting,
-                                 setup.sh, transfer);
+    return shadeVmfEnvironmentSh(m, albedo, p, setup.vmfLobes, lobeColors, v, toEnvironment,
+                                 shLightingAt(setup, v, toEnvironment), setup.sh, transfer);
 }
 
 } // namespace
