@@ -318,21 +318,30 @@ vec3 ndfmipEnvironmentBackground(vec3 w) {
 }
 
 // ---- the SH-lighting way (environment_sh_shading.h; Han et al. Sec. 8, eqs. 35 and 37) -------
-// ndfmipEnvSh holds the prepared lighting's coefficients of order ndfmipEnvShOrder, one column
-// per coefficient: row 0 L_lm, rows 1 .. 3 L'_lm of the axes x, y, z (the mean-normal cosine:
-// ndfmipEnvShAxes = 1) or row 1 L'_lm alone. For vmf they are in the environment frame; for sh
-// on a plane in its tangent frame (rotated on the CPU, sh_rotation.h, once per frame); for sh on
-// a sphere (NDFMIP_ENVIRONMENT_SH_PER_HIT) in the environment frame, followed by a row of the
-// rotation's points and its pseudo-inverse, and rotated here into each hit's frame.
+// ndfmipEnvSh holds the prepared lighting's coefficients of order NDFMIP_ENV_SH_ORDER, one
+// column per coefficient: row 0 L_lm, rows 1 .. 3 L'_lm of the axes x, y, z (the mean-normal
+// cosine: NDFMIP_ENV_SH_AXES) or row 1 L'_lm alone. For vmf they are in the environment frame;
+// for sh on a plane in its tangent frame (rotated on the CPU, sh_rotation.h, once per frame); for
+// sh on a sphere (NDFMIP_ENVIRONMENT_SH_PER_HIT) in the environment frame, followed by a row of
+// the rotation's points and its pseudo-inverse, and rotated here into each hit's frame.
+//
+// The order, the rows and the rotation's points are the renderer's #defines, not uniforms: with
+// constant bounds the compiler unrolls the loops over bands and coefficients. That matters on
+// Mesa's llvmpipe, whose loop limiter ends a fragment's loops after 65535 iterations in all:
+// only the loops left (the rotation's points, the taps, the probes' texels) count against it.
+#ifdef NDFMIP_ENVIRONMENT_SH
+#ifdef NDFMIP_ENV_SH_AXES
+#define NDFMIP_ENV_SH_ROWS 4
+#else
+#define NDFMIP_ENV_SH_ROWS 2
+#endif
+#define NDFMIP_ENV_SH_COUNT ((NDFMIP_ENV_SH_ORDER + 1) * (NDFMIP_ENV_SH_ORDER + 1))
 
 uniform sampler2D ndfmipEnvSh;
-uniform int ndfmipEnvShOrder;
-uniform int ndfmipEnvShAxes;
 uniform float ndfmipEnvShDiffuse[NDFMIP_SH_MAX_ORDER + 1];  // the material's A_l (ShShading)
 uniform float ndfmipEnvShSpecular[NDFMIP_SH_MAX_ORDER + 1];
-// sqrt((2l + 1)/(4 pi) (l - m)!/(l + m)!) at l (l + 1)/2 + m, m >= 0, from the CPU: the basis'
-// normalisation without a loop per coefficient (see ndfmipVmfBands on loop counts).
-uniform float ndfmipEnvShNormalisation[(NDFMIP_SH_MAX_ORDER + 1) * (NDFMIP_SH_MAX_ORDER + 2) / 2];
+
+vec3 ndfmipEnvShPrepared(int i, int row) { return texelFetch(ndfmipEnvSh, ivec2(i, row), 0).rgb; }
 
 #ifdef NDFMIP_ENVIRONMENT_SH_PER_HIT
 // sh on a sphere: each hit has its own tangent frame T, so the lighting is rotated into it here,
@@ -340,78 +349,42 @@ uniform float ndfmipEnvShNormalisation[(NDFMIP_SH_MAX_ORDER + 1) * (NDFMIP_SH_MA
 // row read at T d_k and fitted back by the pseudo-inverse, exact to float rounding. Once per hit,
 // not per texel: texel shading shades the 8 texels of a probe against one rotated lighting, so
 // rotating the 2 or 4 RGB rows per hit costs less than rotating each texel's g (one channel, but
-// 8 times) and keeps llvmpipe's loop count (65535 per pixel, all loops) low: per point about
-// (order + 1)(order + 2)/2 + (order + 1)^2 iterations, 4 order + 4 points, so ~5.5k per hit at
-// order 8 and ~22k per pixel at the default 2 x 2 taps (3 x 3 taps at order 8 pass the limit).
-uniform int ndfmipEnvShPoints;
-vec3 ndfmipEnvShRotated[4 * NDFMIP_SH_MAX_COEFFICIENTS]; // row r of coefficient i at 4 i + r
+// 8 times). NDFMIP_ENV_SH_POINTS (4 order + 4) points.
+vec3 ndfmipEnvShRotated[NDFMIP_ENV_SH_ROWS * NDFMIP_ENV_SH_COUNT]; // row r of coefficient i at ROWS i + r
 // The hit frame (tangent, bitangent, normal) ndfmipEnvShRotated holds; zero: none yet.
 vec3 ndfmipEnvShFrame[3] = vec3[3](vec3(0.0f), vec3(0.0f), vec3(0.0f));
 
-vec3 ndfmipEnvShRow(int i, int row) { return ndfmipEnvShRotated[4 * i + row]; }
+vec3 ndfmipEnvShRow(int i, int row) { return ndfmipEnvShRotated[NDFMIP_ENV_SH_ROWS * i + row]; }
 
-void ndfmipEnvShRotate(NdfmipHit hit, int order) {
-    int rows = ndfmipEnvShAxes != 0 ? 4 : 2;
-    for (int k = 0; k < ndfmipEnvShPoints; ++k) {
-        vec3 d = normalize(ndfmipTangentToEnvironment(hit, texelFetch(ndfmipEnvSh, ivec2(k, rows), 0).rgb));
-        // Band l of each row at d, Sum_m L_lm Y_lm(d): the basis by ndfmipEnvShSums' recurrence.
-        vec3 s0[NDFMIP_SH_MAX_ORDER + 1];
-        vec3 s1[NDFMIP_SH_MAX_ORDER + 1];
-        vec3 s2[NDFMIP_SH_MAX_ORDER + 1];
-        vec3 s3[NDFMIP_SH_MAX_ORDER + 1];
-        for (int l = 0; l <= order; ++l) {
-            s0[l] = vec3(0.0f);
-            s1[l] = vec3(0.0f);
-            s2[l] = vec3(0.0f);
-            s3[l] = vec3(0.0f);
-        }
-        float re = 1.0f;
-        float im = 0.0f;
-        float pmm = 1.0f;
-        for (int m = 0; m <= order; ++m) {
-            if (m > 0) {
-                float nextRe = re * d.x - im * d.y;
-                im = re * d.y + im * d.x;
-                re = nextRe;
-                pmm *= float(2 * m - 1);
-            }
-            float previous = 0.0f;
-            float current = pmm;
-            for (int l = m; l <= order; ++l) {
-                if (l == m + 1) {
-                    previous = current;
-                    current = float(2 * m + 1) * d.z * current;
-                } else if (l > m + 1) {
-                    float next = (float(2 * l - 1) * d.z * current - float(l + m - 1) * previous) / float(l - m);
-                    previous = current;
-                    current = next;
-                }
-                float kLm = ndfmipEnvShNormalisation[l * (l + 1) / 2 + m] * current;
-                // Y_l,m = sqrt2 K P cos(m phi), Y_l,-m = sqrt2 K P sin(m phi); at m = 0, K P (im = 0).
-                float a = m == 0 ? kLm : 1.41421356f * kLm * re;
-                float b = 1.41421356f * kLm * im;
-                ivec2 plus = ivec2(l * (l + 1) + m, 0);
-                ivec2 minus = ivec2(l * (l + 1) - m, 0);
-                s0[l] += a * texelFetch(ndfmipEnvSh, plus, 0).rgb + b * texelFetch(ndfmipEnvSh, minus, 0).rgb;
-                s1[l] += a * texelFetch(ndfmipEnvSh, plus + ivec2(0, 1), 0).rgb +
-                         b * texelFetch(ndfmipEnvSh, minus + ivec2(0, 1), 0).rgb;
-                if (rows == 4) {
-                    s2[l] += a * texelFetch(ndfmipEnvSh, plus + ivec2(0, 2), 0).rgb +
-                             b * texelFetch(ndfmipEnvSh, minus + ivec2(0, 2), 0).rgb;
-                    s3[l] += a * texelFetch(ndfmipEnvSh, plus + ivec2(0, 3), 0).rgb +
-                             b * texelFetch(ndfmipEnvSh, minus + ivec2(0, 3), 0).rgb;
+void ndfmipEnvShRotate(NdfmipHit hit) {
+    for (int k = 0; k < NDFMIP_ENV_SH_POINTS; ++k) {
+        vec3 d = normalize(ndfmipTangentToEnvironment(hit, ndfmipEnvShPrepared(k, NDFMIP_ENV_SH_ROWS)));
+        NdfmipShBasis basis = ndfmipShBasisAt(d, NDFMIP_ENV_SH_ORDER);
+        for (int l = 0; l <= NDFMIP_ENV_SH_ORDER; ++l) {
+            // Band l of each row at T d_k: Sum_m L_lm Y_lm(T d_k).
+            vec3 band[NDFMIP_ENV_SH_ROWS];
+            for (int row = 0; row < NDFMIP_ENV_SH_ROWS; ++row) band[row] = vec3(0.0f);
+            for (int m = -NDFMIP_ENV_SH_ORDER; m <= NDFMIP_ENV_SH_ORDER; ++m) { // unrolled (sh.glsl)
+                if (m * m <= l * l) {
+                    int i = l * (l + 1) + m;
+                    for (int row = 0; row < NDFMIP_ENV_SH_ROWS; ++row) band[row] += basis.y[i] * ndfmipEnvShPrepared(i, row);
                 }
             }
-        }
-        // L_t,lm = Sum_k pseudoInverse_l[m, k] (band l at T d_k).
-        for (int l = 0; l <= order; ++l) {
-            for (int i = l * l; i <= l * (l + 2); ++i) {
-                float w = texelFetch(ndfmipEnvSh, ivec2(k, rows + 1 + i), 0).r;
-                bool first = k == 0;
-                ndfmipEnvShRotated[4 * i] = (first ? vec3(0.0f) : ndfmipEnvShRotated[4 * i]) + w * s0[l];
-                ndfmipEnvShRotated[4 * i + 1] = (first ? vec3(0.0f) : ndfmipEnvShRotated[4 * i + 1]) + w * s1[l];
-                ndfmipEnvShRotated[4 * i + 2] = (first ? vec3(0.0f) : ndfmipEnvShRotated[4 * i + 2]) + w * s2[l];
-                ndfmipEnvShRotated[4 * i + 3] = (first ? vec3(0.0f) : ndfmipEnvShRotated[4 * i + 3]) + w * s3[l];
+            // L_t,lm = Sum_k pseudoInverse_l[m, k] (band l at T d_k); a loop per row keeps each
+            // body small enough to unroll.
+            float w[2 * NDFMIP_ENV_SH_ORDER + 1];
+            for (int m = -NDFMIP_ENV_SH_ORDER; m <= NDFMIP_ENV_SH_ORDER; ++m) {
+                ivec2 at = ivec2(k, NDFMIP_ENV_SH_ROWS + 1 + l * (l + 1) + m);
+                w[m + NDFMIP_ENV_SH_ORDER] = m * m <= l * l ? texelFetch(ndfmipEnvSh, at, 0).r : 0.0f;
+            }
+            for (int row = 0; row < NDFMIP_ENV_SH_ROWS; ++row) {
+                for (int m = -NDFMIP_ENV_SH_ORDER; m <= NDFMIP_ENV_SH_ORDER; ++m) {
+                    if (m * m <= l * l) {
+                        int at = NDFMIP_ENV_SH_ROWS * (l * (l + 1) + m) + row;
+                        ndfmipEnvShRotated[at] = (k == 0 ? vec3(0.0f) : ndfmipEnvShRotated[at]) +
+                                                 w[m + NDFMIP_ENV_SH_ORDER] * band[row];
+                    }
+                }
             }
         }
     }
@@ -421,75 +394,51 @@ void ndfmipEnvShRotate(NdfmipHit hit, int order) {
 void ndfmipEnvShRotateFor(NdfmipHit hit) {
     if (hit.tangent == ndfmipEnvShFrame[0] && hit.bitangent == ndfmipEnvShFrame[1] && hit.normal == ndfmipEnvShFrame[2])
         return;
-    ndfmipEnvShRotate(hit, ndfmipEnvShOrder);
+    ndfmipEnvShRotate(hit);
     ndfmipEnvShFrame[0] = hit.tangent;
     ndfmipEnvShFrame[1] = hit.bitangent;
     ndfmipEnvShFrame[2] = hit.normal;
 }
 #else
-vec3 ndfmipEnvShRow(int i, int row) { return texelFetch(ndfmipEnvSh, ivec2(i, row), 0).rgb; }
+vec3 ndfmipEnvShRow(int i, int row) { return ndfmipEnvShPrepared(i, row); }
 #endif
 
 // L'_lm for a mean normal (the environment frame: the axes' index): Sum_k n_k L'_k, or the
 // prepared L'.
 vec3 ndfmipEnvReparameterised(int i, vec3 meanNormal) {
-    if (ndfmipEnvShAxes == 0) return ndfmipEnvShRow(i, 1);
+#ifdef NDFMIP_ENV_SH_AXES
     return meanNormal.x * ndfmipEnvShRow(i, 1) + meanNormal.y * ndfmipEnvShRow(i, 2) +
            meanNormal.z * ndfmipEnvShRow(i, 3);
+#else
+    return ndfmipEnvShRow(i, 1);
+#endif
 }
 
 // The two sums of a vMF lobe about unit w (environment frame): Sum_l aD_l Sum_m L_lm Y_lm(w) and
-// Sum_l aS_l Sum_m L'_lm Y_lm(w), the real basis by the recurrence of ndfmipShConvolve (sh.glsl,
-// spherical_harmonics.cpp's convention).
+// Sum_l aS_l Sum_m L'_lm Y_lm(w), the basis of sh.glsl's ndfmipShBasisAt.
 struct NdfmipShSums {
     vec3 diffuse;
     vec3 specular;
 };
 
-NdfmipShSums ndfmipEnvShSums(float aD[NDFMIP_SH_MAX_ORDER + 1], float aS[NDFMIP_SH_MAX_ORDER + 1], int order, vec3 w,
+NdfmipShSums ndfmipEnvShSums(float aD[NDFMIP_SH_MAX_ORDER + 1], float aS[NDFMIP_SH_MAX_ORDER + 1], vec3 w,
                              vec3 meanNormal) {
+    NdfmipShBasis basis = ndfmipShBasisAt(w, NDFMIP_ENV_SH_ORDER);
     NdfmipShSums sums;
     sums.diffuse = vec3(0.0f);
     sums.specular = vec3(0.0f);
-    float re = 1.0f;
-    float im = 0.0f;
-    float pmm = 1.0f;
-    for (int m = 0; m <= order; ++m) {
-        if (m > 0) {
-            float nextRe = re * w.x - im * w.y;
-            im = re * w.y + im * w.x;
-            re = nextRe;
-            pmm *= float(2 * m - 1);
-        }
-        float previous = 0.0f;
-        float current = pmm;
-        for (int l = m; l <= order; ++l) {
-            if (l == m + 1) {
-                previous = current;
-                current = float(2 * m + 1) * w.z * current;
-            } else if (l > m + 1) {
-                float next = (float(2 * l - 1) * w.z * current - float(l + m - 1) * previous) / float(l - m);
-                previous = current;
-                current = next;
+    for (int l = 0; l <= NDFMIP_ENV_SH_ORDER; ++l) {
+        vec3 radiance = vec3(0.0f);
+        vec3 reparameterised = vec3(0.0f);
+        for (int m = -NDFMIP_ENV_SH_ORDER; m <= NDFMIP_ENV_SH_ORDER; ++m) { // unrolled (sh.glsl)
+            if (m * m <= l * l) {
+                int i = l * (l + 1) + m;
+                radiance += basis.y[i] * ndfmipEnvShPrepared(i, 0);
+                reparameterised += basis.y[i] * ndfmipEnvReparameterised(i, meanNormal);
             }
-            float kLm = ndfmipEnvShNormalisation[l * (l + 1) / 2 + m] * current;
-            int centre = l * (l + 1);
-            vec3 radiance;
-            vec3 reparameterised;
-            if (m == 0) {
-                radiance = kLm * texelFetch(ndfmipEnvSh, ivec2(centre, 0), 0).rgb;
-                reparameterised = kLm * ndfmipEnvReparameterised(centre, meanNormal);
-            } else {
-                float c = 1.41421356f * kLm * re;
-                float s = 1.41421356f * kLm * im;
-                radiance = c * texelFetch(ndfmipEnvSh, ivec2(centre + m, 0), 0).rgb +
-                           s * texelFetch(ndfmipEnvSh, ivec2(centre - m, 0), 0).rgb;
-                reparameterised = c * ndfmipEnvReparameterised(centre + m, meanNormal) +
-                                  s * ndfmipEnvReparameterised(centre - m, meanNormal);
-            }
-            sums.diffuse += aD[l] * radiance;
-            sums.specular += aS[l] * reparameterised;
         }
+        sums.diffuse += aD[l] * radiance;
+        sums.specular += aS[l] * reparameterised;
     }
     return sums;
 }
@@ -497,19 +446,19 @@ NdfmipShSums ndfmipEnvShSums(float aD[NDFMIP_SH_MAX_ORDER + 1], float aS[NDFMIP_
 // shadeShEnvironment: the lighting in the hit's tangent frame, where g is (the plane's from the
 // CPU, a sphere's rotated per hit above). Diffuse Sum A_l^diffuse g_lm L_lm (eq. 35), specular
 // Sum A_l^specular g_lm L'_lm (eq. 37) with the cosine from footnote 5's mipmapped normal, each
-// clamped at 0.
-vec3 ndfmipShadeShEnvironment(NdfmipMaterial m, vec3 albedo, float g[NDFMIP_SH_MAX_COEFFICIENTS], int order,
-                              NdfmipHit hit) {
-    order = min(order, ndfmipEnvShOrder);
+// clamped at 0. Bands up to NDFMIP_ENV_SH_ORDER (at most the bake's order).
+vec3 ndfmipShadeShEnvironment(NdfmipMaterial m, vec3 albedo, float g[NDFMIP_SH_MAX_COEFFICIENTS], NdfmipHit hit) {
 #ifdef NDFMIP_ENVIRONMENT_SH_PER_HIT
     ndfmipEnvShRotateFor(hit);
 #endif
     vec3 meanNormal = ndfmipTangentToEnvironment(hit, ndfmipShMeanNormal(g[1], g[2], g[3]));
     vec3 diffuse = vec3(0.0f);
     vec3 specular = vec3(0.0f);
-    for (int l = 0; l <= order; ++l) {
+    for (int l = 0; l <= NDFMIP_ENV_SH_ORDER; ++l) {
         vec3 d = vec3(0.0f);
         vec3 s = vec3(0.0f);
+        // Not unrolled: per texel this is 90 iterations at order 8, and unrolled at each of
+        // main.frag's call sites it made llvmpipe's compile several times slower.
         for (int i = l * l; i <= l * (l + 2); ++i) {
             d += g[i] * ndfmipEnvShRow(i, 0);
             s += g[i] * ndfmipEnvReparameterised(i, meanNormal);
@@ -520,7 +469,6 @@ vec3 ndfmipShadeShEnvironment(NdfmipMaterial m, vec3 albedo, float g[NDFMIP_SH_M
     if (m.brdf == NDFMIP_LAMBERT) return albedo * max(diffuse, vec3(0.0f));
     return albedo * max(diffuse, vec3(0.0f)) + m.specular * max(specular, vec3(0.0f));
 }
-
 // vmfBandFactors: A_l of the normalised vMF, i_l(kappa) / i_0(kappa), l <= order (at most
 // NDFMIP_SH_MAX_ORDER). From kappa = 32 the terminating series of i_l in e^-2kappa; below,
 // Miller's backward recurrence r_l = i_l / i_(l-1) = 1 / ((2l + 1)/kappa + r_(l+1)) from 0,
@@ -567,7 +515,7 @@ NdfmipVmfBands ndfmipVmfBands(float kappa, int order) {
 vec3 ndfmipShadeVmfLobeEnvironmentSh(NdfmipMaterial m, vec3 albedo, vec4 lobeTexel, NdfmipHit hit) {
     NdfmipLobe lobe = ndfmipUnpackLobe(lobeTexel);
     if (!(lobe.alpha > 0.0f)) return vec3(0.0f);
-    int order = ndfmipEnvShOrder;
+    int order = NDFMIP_ENV_SH_ORDER;
     vec3 mu = normalize(ndfmipTangentToEnvironment(hit, lobe.mu));
     NdfmipVmfBands bands = ndfmipVmfBands(lobe.kappa, max(order, 1)); // as the CPU's vmfBandFactors call
     vec3 meanNormal = bands.a[1] * mu; // A(kappa) mu, the lobe's mean normal
@@ -585,8 +533,9 @@ vec3 ndfmipShadeVmfLobeEnvironmentSh(NdfmipMaterial m, vec3 albedo, vec4 lobeTex
             else widenedOdd *= (s - float(l)) / (s + float(l) + 3.0f);
         }
     }
-    NdfmipShSums sums = ndfmipEnvShSums(aD, aS, order, mu, meanNormal);
+    NdfmipShSums sums = ndfmipEnvShSums(aD, aS, mu, meanNormal);
     vec3 out3 = albedo * max(sums.diffuse, vec3(0.0f));
     if (m.brdf != NDFMIP_LAMBERT) out3 += m.specular * max(sums.specular, vec3(0.0f));
     return lobe.alpha * out3;
 }
+#endif // NDFMIP_ENVIRONMENT_SH

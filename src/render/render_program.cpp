@@ -337,6 +337,14 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         defines += "#define NDFMIP_ENVIRONMENT_CUBE\n";
     if (shLighting && shader.bake == Method::Sh && scene.geometry.type != GeometryType::Plane)
         defines += "#define NDFMIP_ENVIRONMENT_SH_PER_HIT\n";
+    // The SH lighting's order, rows and rotation points as constants (environment.glsl): its
+    // loops over bands and coefficients unroll, and llvmpipe's loop limiter no longer counts them.
+    if (shLighting) {
+        defines += "#define NDFMIP_ENV_SH_ORDER " + std::to_string(environmentShOrder) + "\n";
+        defines += "#define NDFMIP_ENV_SH_POINTS " +
+                   std::to_string(shRotationSampling(environmentShOrder).points.size()) + "\n";
+        if (setup.shLighting->cosine == SpecularCosine::MeanNormal) defines += "#define NDFMIP_ENV_SH_AXES\n";
+    }
     program.fragmentParts.emplace_back("<defines>", defines);
     std::vector<std::string> files(std::begin(kLibraryFiles), std::end(kLibraryFiles));
     if (environment) files.push_back("render/environment.glsl");
@@ -386,19 +394,10 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         add(u, "ndfmipEnvRotation", glm::vec2(float(std::cos(rotation)), float(std::sin(rotation))));
     }
     if (shLighting) {
-        add(u, "ndfmipEnvShOrder", environmentShOrder);
-        add(u, "ndfmipEnvShAxes", setup.shLighting->cosine == SpecularCosine::MeanNormal ? 1 : 0);
-        add(u, "ndfmipEnvShPoints", int(shRotationSampling(environmentShOrder).points.size()));
         for (int l = 0; l <= environmentShOrder; ++l) {
             const std::string index = "[" + std::to_string(l) + "]";
             add(u, "ndfmipEnvShDiffuse" + index, float(setup.sh.diffuse[size_t(l)]));
             add(u, "ndfmipEnvShSpecular" + index, float(setup.sh.specular[size_t(l)]));
-            double ratio = 1.; // (l - m)! / (l + m)!, m = 0 .. l
-            for (int azimuthal = 0; azimuthal <= l; ++azimuthal) { // m (m names the material here)
-                if (azimuthal > 0) ratio /= double(l + azimuthal) * double(l - azimuthal + 1);
-                add(u, "ndfmipEnvShNormalisation[" + std::to_string(l * (l + 1) / 2 + azimuthal) + "]",
-                    float(std::sqrt((2. * l + 1.) / (4. * M_PI) * ratio)));
-            }
         }
     } else if (environment) {
         const SplitSumLighting& lighting = *setup.splitSum;
