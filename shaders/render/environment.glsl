@@ -447,10 +447,9 @@ NdfmipShSums ndfmipEnvShSums(float aD[NDFMIP_SH_MAX_ORDER + 1], float aS[NDFMIP_
 // CPU, a sphere's rotated per hit above). Diffuse Sum A_l^diffuse g_lm L_lm (eq. 35), specular
 // Sum A_l^specular g_lm L'_lm (eq. 37) with the cosine from footnote 5's mipmapped normal, each
 // clamped at 0. Bands up to NDFMIP_ENV_SH_ORDER (at most the bake's order).
+// On a sphere (NDFMIP_ENVIRONMENT_SH_PER_HIT) the caller has rotated the lighting into hit's frame
+// (ndfmipEnvShRotateFor, once per hit in main.frag's ndfmipLookup).
 vec3 ndfmipShadeShEnvironment(NdfmipMaterial m, vec3 albedo, float g[NDFMIP_SH_MAX_COEFFICIENTS], NdfmipHit hit) {
-#ifdef NDFMIP_ENVIRONMENT_SH_PER_HIT
-    ndfmipEnvShRotateFor(hit);
-#endif
     vec3 meanNormal = ndfmipTangentToEnvironment(hit, ndfmipShMeanNormal(g[1], g[2], g[3]));
     vec3 diffuse = vec3(0.0f);
     vec3 specular = vec3(0.0f);

@@ -128,6 +128,11 @@ vec3 ndfmipLevelColour(float lod) {
 // along the major axis; parameters blended over all of them and shaded once, or every texel
 // shaded.
 vec3 ndfmipLookup(NdfmipHit hit, vec3 view, vec2 dx, vec2 dy) {
+#ifdef NDFMIP_ENVIRONMENT_SH_PER_HIT
+    // The SH lighting into this hit's frame, here once: called from the shading, which is inlined
+    // at both of this function's call sites, the unrolled rotation was compiled twice.
+    ndfmipEnvShRotateFor(hit);
+#endif
     vec2 size = vec2(textureSize(ndfmipPlanes, 0).xy);
     int probes = ndfmipProbes(dx, dy);
     vec2 axis = length(dx * size) >= length(dy * size) ? dx : dy;

@@ -192,8 +192,8 @@ TEST(GpuEnvironmentSh, OrderEightOnTheSphereAtTheDefaultRuleMatchesTheCpu) {
     }
 }
 
-// sh on the sphere at order 8 with 3 x 3 and 4 x 4 taps (9 and 16 hits per pixel, each rotating
-// the lighting into its own frame), texel shading and parameter blending: the SH loops are
+// sh on the sphere at order 8 with 4 x 4 taps and texel shading, and with 3 x 3 taps and parameter
+// blending (16 and 9 hits per pixel, each rotating the lighting into its own frame): the SH loops are
 // unrolled (the order is a compile-time constant), so llvmpipe's loop limit of 65535 iterations
 // per fragment is not reached (before, 3 x 3 taps came out 9% off).
 TEST(GpuEnvironmentSh, OrderEightOnTheSphereWithMoreTapsMatchesTheCpu) {
@@ -206,22 +206,23 @@ TEST(GpuEnvironmentSh, OrderEightOnTheSphereWithMoreTapsMatchesTheCpu) {
     t.bake = bakeMethod(Method::Sh, buildPyramid(t.normals), bake);
     Scene scene = environmentScene(true, Brdf::Ggx);
     scene.camera.width = scene.camera.height = 16; // the sphere fills most of it
-    for (int taps : {3, 4})
-        for (ShadeFilter filter : {ShadeFilter::Texel, ShadeFilter::Parameter}) {
-            RenderOptions options;
-            options.taps = taps;
-            options.shadeFilter = filter;
-            Result<Image> cpu = render(scene, t, "sh", options);
-            ASSERT_TRUE(cpu) << cpu.error().message;
-            Result<Image> gpu = renderGpu(scene, t, "sh", options);
-            ASSERT_TRUE(gpu) << gpu.error().message;
-            const Agreement a = agreement(gpu.value(), cpu.value());
-            std::printf("[ measured ] sh order 8 sphere, %d x %d taps, %s: mean relative error %.2e, relative RMSE "
-                        "%.2e\n",
-                        taps, taps, shadeFilterName(filter), a.meanRelative, a.relativeRmse);
-            EXPECT_LT(a.meanRelative, 1e-3) << taps << " taps " << shadeFilterName(filter);
-            EXPECT_LT(a.relativeRmse, 3e-3) << taps << " taps " << shadeFilterName(filter);
-        }
+    // Two programs, not four: each compiles for ~20 s on llvmpipe. 4 x 4 taps with texel shading
+    // is the most iterations (13k in the busiest SIMD group), 3 x 3 the case that failed before.
+    for (auto [taps, filter] : {std::pair{4, ShadeFilter::Texel}, std::pair{3, ShadeFilter::Parameter}}) {
+        RenderOptions options;
+        options.taps = taps;
+        options.shadeFilter = filter;
+        Result<Image> cpu = render(scene, t, "sh", options);
+        ASSERT_TRUE(cpu) << cpu.error().message;
+        Result<Image> gpu = renderGpu(scene, t, "sh", options);
+        ASSERT_TRUE(gpu) << gpu.error().message;
+        const Agreement a = agreement(gpu.value(), cpu.value());
+        std::printf("[ measured ] sh order 8 sphere, %d x %d taps, %s: mean relative error %.2e, relative RMSE "
+                    "%.2e\n",
+                    taps, taps, shadeFilterName(filter), a.meanRelative, a.relativeRmse);
+        EXPECT_LT(a.meanRelative, 1e-3) << taps << " taps " << shadeFilterName(filter);
+        EXPECT_LT(a.relativeRmse, 3e-3) << taps << " taps " << shadeFilterName(filter);
+    }
 }
 
 // An albedo map: its filtered chain multiplies the albedo (toksvig), or the vmf bake's lobe
