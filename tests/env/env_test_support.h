@@ -3,12 +3,17 @@
 #pragma once
 
 #include <cmath>
+#include <filesystem>
 #include <functional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <gtest/gtest.h>
 
 #include "ndfmip/environment.h"
+#include "test_support.h"
 
 namespace ndfmip::envtest {
 
@@ -25,6 +30,26 @@ inline Environment mapOf(int width, const Radiance& f) {
             for (int i = 0; i < 3; ++i) p[i] = float(c[i]);
         }
     return env;
+}
+
+// The shared maps found beside the checkout (venice_sunset_1k, studio_small_03_1k), each
+// resampled to width x width/2, with their file names; none where there is no ../shared.
+inline std::vector<std::pair<std::string, Environment>> sharedMapsAt(int width) {
+    std::vector<std::pair<std::string, Environment>> maps;
+    const std::filesystem::path dir = test::sharedEnvMaps();
+    if (dir.empty()) return maps;
+    for (const char* file : {"venice_sunset_1k.hdr", "studio_small_03_1k.hdr"}) {
+        if (!std::filesystem::exists(dir / file)) continue;
+        Result<Environment> loaded = loadEnvironment((dir / file).string());
+        if (!loaded) {
+            ADD_FAILURE() << loaded.error().message;
+            continue;
+        }
+        Environment env;
+        env.radiance = resampleEquirect(loaded.value().radiance, width);
+        maps.emplace_back(file, std::move(env));
+    }
+    return maps;
 }
 
 // Point i of `count` spread evenly over the sphere (a Fibonacci spiral).

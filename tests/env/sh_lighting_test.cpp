@@ -397,21 +397,13 @@ TEST(ShLighting, FixedViewErrorGrowsWithTheAngle) {
 }
 
 TEST(ShLighting, FixedViewErrorOnSharedMaps) {
-    const std::filesystem::path dir = test::sharedEnvMaps();
-    if (dir.empty()) GTEST_SKIP() << "no shared environment maps";
-    int maps = 0;
-    for (const char* file : {"venice_sunset_1k.hdr", "studio_small_03_1k.hdr"}) {
-        if (!std::filesystem::exists(dir / file)) continue;
-        Result<Environment> loaded = loadEnvironment((dir / file).string());
-        ASSERT_TRUE(loaded) << loaded.error().message;
-        Environment env;
-        env.radiance = resampleEquirect(loaded.value().radiance, 256);
-        const std::vector<double> errors = fixedViewErrors(env, {0., 2., 10., 40.}, file);
+    const auto maps = envtest::sharedMapsAt(256);
+    if (maps.empty()) GTEST_SKIP() << "no shared environment maps";
+    for (const auto& [file, env] : maps) {
+        const std::vector<double> errors = fixedViewErrors(env, {0., 2., 10., 40.}, file.c_str());
         EXPECT_EQ(errors[0], 0.);
         EXPECT_GT(errors[3], errors[1]);
-        ++maps;
     }
-    if (maps == 0) GTEST_SKIP() << "no shared environment maps";
 }
 
 // ---- against the truth

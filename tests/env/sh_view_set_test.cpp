@@ -241,20 +241,12 @@ TEST(ShViewSet, ErrorBetweenViewsFallsAsTheSetGrows) {
 }
 
 TEST(ShViewSet, ErrorBetweenViewsOnSharedMaps) {
-    const std::filesystem::path dir = test::sharedEnvMaps();
-    if (dir.empty()) GTEST_SKIP() << "no shared environment maps";
-    int maps = 0;
-    for (const char* file : {"venice_sunset_1k.hdr", "studio_small_03_1k.hdr"}) {
-        if (!std::filesystem::exists(dir / file)) continue;
-        Result<Environment> loaded = loadEnvironment((dir / file).string());
-        ASSERT_TRUE(loaded) << loaded.error().message;
-        Environment env;
-        env.radiance = resampleEquirect(loaded.value().radiance, 128);
-        const std::vector<double> errors = errorsBySetSize(env, {1, 2, 4}, file);
+    const auto maps = envtest::sharedMapsAt(128);
+    if (maps.empty()) GTEST_SKIP() << "no shared environment maps";
+    for (const auto& [file, env] : maps) {
+        const std::vector<double> errors = errorsBySetSize(env, {1, 2, 4}, file.c_str());
         for (size_t i = 1; i < errors.size(); ++i) EXPECT_LT(errors[i], errors[i - 1]);
-        ++maps;
     }
-    if (maps == 0) GTEST_SKIP() << "no shared environment maps";
 }
 
 // The sh shading keeps the lighting rotated into the last frame, per thread, keyed by the
