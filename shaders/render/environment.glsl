@@ -351,8 +351,6 @@ vec3 ndfmipEnvShPrepared(int i, int row) { return texelFetch(ndfmipEnvSh, ivec2(
 // rotating the 2 or 4 RGB rows per hit costs less than rotating each texel's g (one channel, but
 // 8 times). NDFMIP_ENV_SH_POINTS (4 order + 4) points.
 vec3 ndfmipEnvShRotated[NDFMIP_ENV_SH_ROWS * NDFMIP_ENV_SH_COUNT]; // row r of coefficient i at ROWS i + r
-// The hit frame (tangent, bitangent, normal) ndfmipEnvShRotated holds; zero: none yet.
-vec3 ndfmipEnvShFrame[3] = vec3[3](vec3(0.0f), vec3(0.0f), vec3(0.0f));
 
 vec3 ndfmipEnvShRow(int i, int row) { return ndfmipEnvShRotated[NDFMIP_ENV_SH_ROWS * i + row]; }
 
@@ -388,16 +386,6 @@ void ndfmipEnvShRotate(NdfmipHit hit) {
             }
         }
     }
-}
-
-// Rotates unless this hit's frame is the one held (the texels of a pixel sample share it).
-void ndfmipEnvShRotateFor(NdfmipHit hit) {
-    if (hit.tangent == ndfmipEnvShFrame[0] && hit.bitangent == ndfmipEnvShFrame[1] && hit.normal == ndfmipEnvShFrame[2])
-        return;
-    ndfmipEnvShRotate(hit);
-    ndfmipEnvShFrame[0] = hit.tangent;
-    ndfmipEnvShFrame[1] = hit.bitangent;
-    ndfmipEnvShFrame[2] = hit.normal;
 }
 #else
 vec3 ndfmipEnvShRow(int i, int row) { return ndfmipEnvShPrepared(i, row); }
@@ -448,7 +436,7 @@ NdfmipShSums ndfmipEnvShSums(float aD[NDFMIP_SH_MAX_ORDER + 1], float aS[NDFMIP_
 // Sum A_l^specular g_lm L'_lm (eq. 37) with the cosine from footnote 5's mipmapped normal, each
 // clamped at 0. Bands up to NDFMIP_ENV_SH_ORDER (at most the bake's order).
 // On a sphere (NDFMIP_ENVIRONMENT_SH_PER_HIT) the caller has rotated the lighting into hit's frame
-// (ndfmipEnvShRotateFor, once per hit in main.frag's ndfmipLookup).
+// (ndfmipEnvShRotate, once per hit in main.frag's ndfmipLookup).
 vec3 ndfmipShadeShEnvironment(NdfmipMaterial m, vec3 albedo, float g[NDFMIP_SH_MAX_COEFFICIENTS], NdfmipHit hit) {
     vec3 meanNormal = ndfmipTangentToEnvironment(hit, ndfmipShMeanNormal(g[1], g[2], g[3]));
     vec3 diffuse = vec3(0.0f);

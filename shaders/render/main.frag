@@ -131,7 +131,7 @@ vec3 ndfmipLookup(NdfmipHit hit, vec3 view, vec2 dx, vec2 dy) {
 #ifdef NDFMIP_ENVIRONMENT_SH_PER_HIT
     // The SH lighting into this hit's frame, here once: called from the shading, which is inlined
     // at both of this function's call sites, the unrolled rotation was compiled twice.
-    ndfmipEnvShRotateFor(hit);
+    ndfmipEnvShRotate(hit);
 #endif
     vec2 size = vec2(textureSize(ndfmipPlanes, 0).xy);
     int probes = ndfmipProbes(dx, dy);

@@ -1,8 +1,6 @@
 // What the methods prepare to shade under an environment (method_unit.h): the prefiltered levels
 // of one level rule, or the SH lighting for the image's view or for a set of views, all made once
 // per loaded map (environment_cache.h) and shared by every render under it.
-#include <string>
-
 #include "methods/method_unit.h"
 #include "ndfmip/environment_cache.h"
 
@@ -23,9 +21,6 @@ Status prepareShLightingSetup(const Material& material, const RenderTextures& te
     if (!textures.environment) return Status::success();
     if (material.brdf == Brdf::Tabulated)
         return Status::failure("render: SH lighting needs a Lambert, Blinn-Phong, Beckmann or GGX material");
-    if (options.shViews < 0 || options.shViews > kMaxShViews)
-        return Status::failure("render: SH views must be in 0 .. " + std::to_string(kMaxShViews) + ", got " +
-                               std::to_string(options.shViews));
     if (options.shViews > 0)
         setup.shViews = cachedShViewSet(*textures.environment, kEnvironmentShOrder, shViewFrequency(options.shViews));
     else

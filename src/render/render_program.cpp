@@ -278,9 +278,9 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         // be GL's size of level k.
         const bool cube = !chain->cube.levels.empty();
         const int levels = int(chain->perceptualRoughness.size());
+        const Image& base = cube ? chain->cube.levels.front()[0] : chain->levels.front();
         for (int k = 0; k < levels; ++k) {
             const Image& level = cube ? chain->cube.levels[size_t(k)][0] : chain->levels[size_t(k)];
-            const Image& base = cube ? chain->cube.levels.front()[0] : chain->levels.front();
             if (level.width != std::max(base.width >> k, 1) || level.height != std::max(base.height >> k, 1))
                 return Error{"render --gpu: level " + std::to_string(k) + " of the prefiltered environment is not a mip level"};
         }
