@@ -1,5 +1,6 @@
 // The environment folder (environment.h): sh.json, ggx_L<k>.exr, dfg.exr, the KTX2 files with
 // --ktx2, and environment.json, staged beside the folder and swapped in at the end like a bake (bake_dir.cpp).
+#include <array>
 #include <filesystem>
 #include <set>
 
@@ -100,16 +101,26 @@ Status writeTexture(const fs::path& staging, const EnvironmentBake& bake, const 
     return Status::success();
 }
 
+// Every level's six cube faces (cubeFaceFromEquirect), made once for the EXR faces and the
+// containers' cube map.
+using LevelFaces = std::array<Image, kCubeFaces>;
+std::vector<LevelFaces> cubeFaces(const EnvironmentBake& bake) {
+    std::vector<LevelFaces> faces(bake.levels.size());
+    for (size_t k = 0; k < bake.levels.size(); ++k) {
+        const Image& level = bake.levels[k].radiance;
+        for (int face = 0; face < kCubeFaces; ++face)
+            faces[k][size_t(face)] = cubeFaceFromEquirect(level, face, faceSize(level));
+    }
+    return faces;
+}
+
 // The textures of textureFilesJson, RGBA16F: each encoded once, written as KTX2 and/or DDS.
-Status writeTextureFiles(const fs::path& staging, const EnvironmentBake& bake) {
+Status writeTextureFiles(const fs::path& staging, const EnvironmentBake& bake, const std::vector<LevelFaces>& faces) {
     if (bake.cube) {
         std::vector<std::vector<LevelRows>> rows;
-        for (const PrefilteredLevel& level : bake.levels) {
+        for (const LevelFaces& level : faces) {
             rows.emplace_back();
-            for (int face = 0; face < kCubeFaces; ++face)
-                rows.back().push_back(rowsOf(std::make_shared<const Image>(cubeFaceFromEquirect(
-                                                 level.radiance, face, faceSize(level.radiance))),
-                                             4, 1.f));
+            for (const Image& face : level) rows.back().push_back(rowsOf(face, 4, 1.f));
         }
         if (Status s = writeTexture(staging, bake, kCubeTexture, encodeCubeTexture(rows, TextureFormat::Rgba16F)); !s)
             return s;
@@ -233,20 +244,20 @@ Status checkReplaceable(const fs::path& dir) {
 Status writeEnvironment(const std::string& dirName, const EnvironmentBake& bake,
                         const EnvironmentSource& source, bool half) {
     return writeFolderWhole(dirName, checkReplaceable, [&](const fs::path& staging) -> Status {
+        const std::vector<LevelFaces> faces = bake.cube ? cubeFaces(bake) : std::vector<LevelFaces>{};
         for (size_t k = 0; k < bake.levels.size(); ++k) {
-            const Image& level = bake.levels[k].radiance;
             if (bake.equirect)
-                if (Status s = saveExr((staging / levelFile(k)).string(), level, {}, half); !s) return s;
+                if (Status s = saveExr((staging / levelFile(k)).string(), bake.levels[k].radiance, {}, half); !s)
+                    return s;
             if (bake.cube)
                 for (int face = 0; face < kCubeFaces; ++face)
-                    if (Status s = saveExr((staging / faceFile(k, face)).string(),
-                                           cubeFaceFromEquirect(level, face, faceSize(level)), {}, half);
+                    if (Status s = saveExr((staging / faceFile(k, face)).string(), faces[k][size_t(face)], {}, half);
                         !s)
                         return s;
         }
         if (Status s = saveExr((staging / "dfg.exr").string(), bake.dfg, {}, half); !s) return s;
         if (bake.ktx2 || bake.dds)
-            if (Status s = writeTextureFiles(staging, bake); !s) return s;
+            if (Status s = writeTextureFiles(staging, bake, faces); !s) return s;
         if (Status s = writeFileAtomic((staging / "sh.json").string(), shJson(bake.sh).dump(2) + "\n"); !s)
             return s;
         const std::string manifest =
