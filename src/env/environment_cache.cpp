@@ -8,13 +8,17 @@
 namespace ndfmip {
 
 struct EnvironmentCache::Entry {
-    enum class Kind { SplitSum, Sh, ShViews } kind = Kind::SplitSum;
-    EnvironmentLod rule = EnvironmentLod::Filament; // SplitSum
-    bool blinnPhongLobe = false;                    // SplitSum
-    int order = 0;                                  // Sh, ShViews
-    int frequency = 0;                              // ShViews
-    SpecularCosine cosine = SpecularCosine::MeanNormal;
-    glm::dvec3 view{0.};
+    // What the data was prepared for; fields a kind does not use keep their defaults.
+    struct Key {
+        enum class Kind { SplitSum, Sh, ShViews } kind = Kind::SplitSum;
+        EnvironmentLod rule = EnvironmentLod::Filament; // SplitSum
+        bool blinnPhongLobe = false;                    // SplitSum
+        int order = 0;                                  // Sh, ShViews
+        int frequency = 0;                              // ShViews
+        SpecularCosine cosine = SpecularCosine::MeanNormal; // Sh, ShViews
+        glm::dvec3 view{0.};                            // Sh
+        bool operator==(const Key&) const = default;
+    } key;
     std::once_flag once;
     std::shared_ptr<const SplitSumLighting> splitSum;
     std::shared_ptr<const ShLighting> sh;
@@ -24,18 +28,19 @@ struct EnvironmentCache::Entry {
 namespace {
 
 using Entry = EnvironmentCache::Entry;
+using Kind = Entry::Key::Kind;
 
-// The entry matching `same`, or a new one made by `make` (at the end: newest last). For SH, the
-// oldest SH entries beyond kMaxCachedShViews are dropped; callers holding them keep their data.
-template <class Same, class Make>
-std::shared_ptr<Entry> entryFor(EnvironmentCache& cache, Same same, Make make) {
+// The entry of `key`, or a new one (at the end: newest last). For SH, the oldest SH entries
+// beyond kMaxCachedShViews are dropped; callers holding them keep their data.
+std::shared_ptr<Entry> entryFor(EnvironmentCache& cache, const Entry::Key& key) {
     std::lock_guard<std::mutex> lock(cache.mutex);
     for (const std::shared_ptr<Entry>& e : cache.entries)
-        if (same(*e)) return e;
-    std::shared_ptr<Entry> e = make();
+        if (e->key == key) return e;
+    auto e = std::make_shared<Entry>();
+    e->key = key;
     cache.entries.push_back(e);
-    if (e->kind == Entry::Kind::Sh) {
-        auto isSh = [](const std::shared_ptr<Entry>& x) { return x->kind == Entry::Kind::Sh; };
+    if (key.kind == Kind::Sh) {
+        auto isSh = [](const std::shared_ptr<Entry>& x) { return x->key.kind == Kind::Sh; };
         while (std::count_if(cache.entries.begin(), cache.entries.end(), isSh) > kMaxCachedShViews)
             cache.entries.erase(std::find_if(cache.entries.begin(), cache.entries.end(), isSh));
     }
@@ -46,18 +51,8 @@ std::shared_ptr<Entry> entryFor(EnvironmentCache& cache, Same same, Make make) {
 
 std::shared_ptr<const SplitSumLighting> cachedSplitSum(const EnvironmentLighting& lighting,
                                                        EnvironmentLod rule, bool blinnPhongLobe) {
-    std::shared_ptr<Entry> e = entryFor(
-        lighting.cache,
-        [&](const Entry& x) {
-            return x.kind == Entry::Kind::SplitSum && x.rule == rule && x.blinnPhongLobe == blinnPhongLobe;
-        },
-        [&] {
-            auto made = std::make_shared<Entry>();
-            made->kind = Entry::Kind::SplitSum;
-            made->rule = rule;
-            made->blinnPhongLobe = blinnPhongLobe;
-            return made;
-        });
+    std::shared_ptr<Entry> e =
+        entryFor(lighting.cache, {.kind = Kind::SplitSum, .rule = rule, .blinnPhongLobe = blinnPhongLobe});
     std::call_once(e->once, [&] {
         SplitSumOptions options;
         options.rules = {rule};
@@ -70,20 +65,8 @@ std::shared_ptr<const SplitSumLighting> cachedSplitSum(const EnvironmentLighting
 
 std::shared_ptr<const ShLighting> cachedShLighting(const EnvironmentLighting& lighting, int order,
                                                    glm::dvec3 view, SpecularCosine cosine) {
-    std::shared_ptr<Entry> e = entryFor(
-        lighting.cache,
-        [&](const Entry& x) {
-            return x.kind == Entry::Kind::Sh && x.order == order && x.cosine == cosine &&
-                   x.view == view;
-        },
-        [&] {
-            auto made = std::make_shared<Entry>();
-            made->kind = Entry::Kind::Sh;
-            made->order = order;
-            made->cosine = cosine;
-            made->view = view;
-            return made;
-        });
+    std::shared_ptr<Entry> e =
+        entryFor(lighting.cache, {.kind = Kind::Sh, .order = order, .cosine = cosine, .view = view});
     std::call_once(e->once, [&] {
         e->sh = std::make_shared<const ShLighting>(
             prepareShLighting(lighting.environment, order, view, cosine));
@@ -94,19 +77,7 @@ std::shared_ptr<const ShLighting> cachedShLighting(const EnvironmentLighting& li
 std::shared_ptr<const ShViewSet> cachedShViewSet(const EnvironmentLighting& lighting, int order, int frequency,
                                                  SpecularCosine cosine) {
     std::shared_ptr<Entry> e = entryFor(
-        lighting.cache,
-        [&](const Entry& x) {
-            return x.kind == Entry::Kind::ShViews && x.order == order && x.frequency == frequency &&
-                   x.cosine == cosine;
-        },
-        [&] {
-            auto made = std::make_shared<Entry>();
-            made->kind = Entry::Kind::ShViews;
-            made->order = order;
-            made->frequency = frequency;
-            made->cosine = cosine;
-            return made;
-        });
+        lighting.cache, {.kind = Kind::ShViews, .order = order, .frequency = frequency, .cosine = cosine});
     std::call_once(e->once, [&] {
         e->shViews = std::make_shared<const ShViewSet>(
             prepareShViewSet(lighting.environment, order, frequency, cosine));
