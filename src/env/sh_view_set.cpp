@@ -47,14 +47,11 @@ double snapped(double t) {
     return std::fabs(t - nearest) < 1e-9 ? nearest : t;
 }
 
-// sum_k w_k x_k over the interpolating views, the first product assigned (weight 1 copies
-// exactly).
-void blend(std::vector<glm::dvec3>& out, const ShViewSet& set, const ShViewWeights& w,
-           const std::vector<glm::dvec3> ShLighting::*member, int axis) {
-    auto source = [&](int k) -> const std::vector<glm::dvec3>& {
-        const ShLighting& view = set.views[size_t(w.index[k])];
-        return axis < 0 ? view.*member : view.reparameterisedAxes[axis];
-    };
+// sum_k w_k rows(view_k) over the interpolating views, the first product assigned (weight 1
+// copies exactly).
+template <class Rows>
+void blend(std::vector<glm::dvec3>& out, const ShViewSet& set, const ShViewWeights& w, Rows rows) {
+    auto source = [&](int k) -> const std::vector<glm::dvec3>& { return rows(set.views[size_t(w.index[k])]); };
     const std::vector<glm::dvec3>& first = source(0);
     out.resize(first.size());
     for (size_t i = 0; i < first.size(); ++i) out[i] = w.weight[0] * first[i];
@@ -143,9 +140,12 @@ void interpolateShLighting(const ShViewSet& set, glm::dvec3 view, ShLighting& ou
     out.radiance = set.radiance;
     if (set.cosine == SpecularCosine::MeanNormal) {
         out.reparameterised.clear();
-        for (int k = 0; k < 3; ++k) blend(out.reparameterisedAxes[k], set, w, nullptr, k);
+        for (int k = 0; k < 3; ++k)
+            blend(out.reparameterisedAxes[k], set, w,
+                  [k](const ShLighting& prepared) -> const std::vector<glm::dvec3>& { return prepared.reparameterisedAxes[k]; });
     } else {
-        blend(out.reparameterised, set, w, &ShLighting::reparameterised, -1);
+        blend(out.reparameterised, set, w,
+              [](const ShLighting& prepared) -> const std::vector<glm::dvec3>& { return prepared.reparameterised; });
         for (std::vector<glm::dvec3>& axis : out.reparameterisedAxes) axis.clear();
     }
 }
