@@ -71,19 +71,6 @@ vec3 ndfmipSampleEquirect(int k, vec3 d) {
 // face f of level k, read as sampleCubeLevel reads it.
 uniform sampler2DArray ndfmipEnvCube;
 
-// cubeFaceDirection: face f's unit direction at face coordinates (s, t).
-vec3 ndfmipCubeFaceDirection(int face, vec2 st) {
-    float a = 2.0f * st.x - 1.0f;
-    float b = 1.0f - 2.0f * st.y;
-    vec3 d = face == 0 ? vec3(1.0f, b, -a)
-           : face == 1 ? vec3(-1.0f, b, a)
-           : face == 2 ? vec3(a, 1.0f, -b)
-           : face == 3 ? vec3(a, -1.0f, b)
-           : face == 4 ? vec3(a, b, 1.0f)
-                       : vec3(-a, b, -1.0f);
-    return normalize(d);
-}
-
 // cubeFaceCoordinates: the face d points into and (s, t) on it, clamped to [0, 1].
 int ndfmipCubeFaceCoordinates(vec3 d, out vec2 st) {
     vec3 m = abs(d);
@@ -108,7 +95,8 @@ int ndfmipCubeFaceCoordinates(vec3 d, out vec2 st) {
 vec3 ndfmipCubeTexel(int k, int n, int face, int x, int y) {
     if (x < 0 || x >= n || y < 0 || y >= n) {
         vec2 st;
-        face = ndfmipCubeFaceCoordinates(ndfmipCubeFaceDirection(face, (vec2(x, y) + 0.5f) / float(n)), st);
+        vec2 ab = 2.0f * ((vec2(x, y) + 0.5f) / float(n)) - 1.0f; // the texel centre on the extended face
+        face = ndfmipCubeFaceCoordinates(normalize(ndfmipCubeFaceDirection(face, ab.x, ab.y)), st);
         x = clamp(int(st.x * float(n)), 0, n - 1);
         y = clamp(int(st.y * float(n)), 0, n - 1);
     }

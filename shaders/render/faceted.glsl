@@ -91,17 +91,8 @@ vec3 ndfmipInterpolatedOnPlane(int triangle, NdfmipRay ray, vec3 fallback) {
     return ndfmipInterpolate(triangle, u, v);
 }
 
-// OpenGL's face table, as the CPU's cubeFaceDirection and cubeFaceCoordinates: faces +x, -x,
-// +y, -y, +z, -z; (a, b) in [-1, 1]^2, a to the right, b down.
-vec3 ndfmipCubeFaceDirection(int face, float a, float b) {
-    if (face == 0) return vec3(1.0f, -b, -a);
-    if (face == 1) return vec3(-1.0f, -b, a);
-    if (face == 2) return vec3(a, 1.0f, b);
-    if (face == 3) return vec3(a, -1.0f, -b);
-    if (face == 4) return vec3(a, -b, 1.0f);
-    return vec3(-a, -b, -1.0f);
-}
-
+// The face d points into, as the CPU's cubeFaceCoordinates (ndfmipCubeFaceDirection's table:
+// cube_faces.glsl).
 int ndfmipCubeFace(vec3 d) {
     vec3 m = abs(d);
     if (m.x >= m.y && m.x >= m.z) return d.x >= 0.0f ? 0 : 1;

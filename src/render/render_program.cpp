@@ -194,8 +194,8 @@ Result<RenderProgram> interpolatedProgram(const Scene& scene, const std::string&
     if (method == kCubemapToksvig)
         program.normalCube = std::make_shared<const NormalCubeMap>(buildNormalCubeMap(cube.cubeSize));
 
-    std::vector<std::string> files = {"brdf.glsl", "toksvig.glsl", "render/raycast.glsl", "render/faceted.glsl",
-                                      "render/interpolated.frag"};
+    std::vector<std::string> files = {"brdf.glsl", "toksvig.glsl", "render/raycast.glsl", "render/cube_faces.glsl",
+                                      "render/faceted.glsl", "render/interpolated.frag"};
     program.fragmentParts.emplace_back("<defines>", "");
     for (const std::string& file : files) {
         Result<std::string> text = embedded(file);
@@ -347,7 +347,7 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     }
     program.fragmentParts.emplace_back("<defines>", defines);
     std::vector<std::string> files(std::begin(kLibraryFiles), std::end(kLibraryFiles));
-    if (environment) files.push_back("render/environment.glsl");
+    if (environment) files.insert(files.end(), {"render/cube_faces.glsl", "render/environment.glsl"});
     files.push_back(shader.glsl);
     files.push_back("render/main.frag");
     for (const std::string& file : files) {
