@@ -56,13 +56,13 @@ void BM_ToksvigBake(benchmark::State& state) {
 void BM_ShBake(benchmark::State& state) {
     const ndfmip::SharedImage& shared = syntheticMap(int(state.range(0)));
     ndfmip::BakeOptions options;
-    options.shOrder = int(state.range(1));
+    options.parameters["order"] = int(state.range(1));
     for (auto _ : state) {
         ndfmip::Pyramid p = ndfmip::buildPyramid(shared);
         ndfmip::Bake bake = ndfmip::bakeSh(p, options);
         benchmark::DoNotOptimize(bake.levels.back().front()->pixels.data());
     }
-    state.counters["bytes_per_texel_level0"] = double(ndfmip::shPlaneCount(options.shOrder) * 4 * sizeof(float));
+    state.counters["bytes_per_texel_level0"] = double(ndfmip::shPlaneCount(int(options.parameters["order"])) * 4 * sizeof(float));
 }
 
 BENCHMARK(BM_Memcpy)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();

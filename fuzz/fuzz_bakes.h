@@ -38,8 +38,8 @@ inline bool writeFuzzBakes(const std::filesystem::path& dir) {
          {Case{"naive", Method::Naive, true}, Case{"toksvig", Method::Toksvig, true},
           Case{"sh", Method::Sh, false}, Case{"vmf", Method::Vmf, false}}) {
         BakeOptions options;
-        options.shOrder = 2;
-        options.vmfLobes = 2;
+        options.parameters["order"] = 2;
+        options.parameters["lobes"] = 2;
         if (c.method == Method::Vmf) options.albedo = std::make_shared<const Image>(albedo);
         BakeWriteOptions write;
         write.png16 = c.png16;

@@ -19,6 +19,7 @@
 #include "ndfmip/evaluate.h"
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
+#include "ndfmip/method_parameters.h"
 #include "ndfmip/normal_map.h"
 #include "ndfmip/render.h"
 #include "ndfmip/scene.h"
@@ -222,10 +223,36 @@ py::dict levelDict(const PyBake& b, int level) {
     return planes;
 }
 
-PyBake bake(py::handle normals, const std::string& methodName, int order, int lobes, float baseRoughness,
-            py::object roughness, py::object albedo, float coherent, float lobeBudget, int maxIterations,
-            double tolerance, bool greenDown, bool twoChannel, bool signedValues, std::optional<float> height,
-            bool clamp) {
+// The method parameters given as keywords (lobes=2, max_iterations=5: the keys of the methods'
+// tables, method_parameters.h), each a number; Float ones at float precision, as the bake keeps
+// them. Which method takes them is checked where they are used.
+ParameterValues parameterValues(const py::dict& keywords) {
+    ParameterValues values;
+    for (const auto& [k, v] : keywords) {
+        const std::string key = py::str(k);
+        const MethodParameter* p = nullptr;
+        for (const auto& [method, parameter] : allMethodParameters())
+            if (key == parameter->key && parameter->commands != 0) p = parameter;
+        if (!p) throw NdfmipError("unknown keyword " + quote(key) + " (method parameters: " + [] {
+                  std::string keys;
+                  for (const auto& [method, parameter] : allMethodParameters())
+                      if (parameter->commands != 0 && keys.find(parameter->key) == std::string::npos)
+                          keys += (keys.empty() ? "" : ", ") + std::string(parameter->key);
+                  return keys;
+              }() + ")");
+        if (py::isinstance<py::bool_>(v) || !(py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v)))
+            throw NdfmipError(key + ": expected a number, not " + std::string(py::str(py::type::of(v).attr("__name__"))));
+        if (p->type == ParameterType::Integer && !py::isinstance<py::int_>(v))
+            throw NdfmipError(key + ": expected an integer, not " + std::string(py::str(v)));
+        const double value = v.cast<double>();
+        values[key] = p->type == ParameterType::Float ? double(float(value)) : value;
+    }
+    return values;
+}
+
+PyBake bake(py::handle normals, const std::string& methodName, const py::dict& parameters, float baseRoughness,
+            py::object roughness, py::object albedo, bool greenDown, bool twoChannel, bool signedValues,
+            std::optional<float> height, bool clamp) {
     const std::optional<Method> method = methodFromString(methodName);
     if (!method) throw NdfmipError("unknown method " + quote(methodName) + " (" + methodNames() + ")");
     PyBake out;
@@ -247,20 +274,11 @@ PyBake bake(py::handle normals, const std::string& methodName, int order, int lo
     out.source.width = map->width;
     out.source.height = map->height;
     BakeOptions options;
-    if (order != 0) options.shOrder = order;
-    if (lobes != 0) options.vmfLobes = lobes;
+    options.parameters = parameterValues(parameters);
     options.baseRoughness = baseRoughness;
-    options.vmfCoherence = coherent;
-    options.vmfLobeBudget = lobeBudget;
-    options.vmfMaxIterations = maxIterations;
-    options.vmfTolerance = tolerance;
     if (!roughness.is_none()) options.roughnessMap = toImage(roughness, "roughness", 1, 1);
     if (!albedo.is_none()) options.albedo = toImage(albedo, "albedo", 3, 4);
     py::gil_scoped_release release;
-    if (order != 0 && *method != Method::Sh) throw NdfmipError("order applies to method sh only");
-    if (lobes != 0 && *method != Method::Vmf) throw NdfmipError("lobes applies to method vmf only");
-    if (coherent != 0.f && *method != Method::Vmf) throw NdfmipError("coherent applies to method vmf only");
-    if (lobeBudget != 0.f && *method != Method::Vmf) throw NdfmipError("lobe_budget applies to method vmf only");
     check(checkBakeOptions(*method, options, map->width, map->height));
     out.bake = bakeMethod(*method, buildPyramid(map), options);
     return out;
@@ -307,9 +325,8 @@ void writeBakeDir(const PyBake& b, const std::string& dir, py::object exports, b
     check(writeBake(dir, b.bake, b.source, write));
 }
 
-py::dict bakeTo(const std::string& input, const std::string& output, const std::string& method, int order, int lobes,
-                const std::string& albedo, float coherent, float lobeBudget, int maxIterations, double tolerance,
-                bool half, const std::string& gloss, float maxExponent, float baseRoughness,
+py::dict bakeTo(const std::string& input, const std::string& output, const std::string& method,
+                const py::dict& parameters, const std::string& albedo, bool half, const std::string& gloss, float maxExponent, float baseRoughness,
                 const std::string& roughnessMap, const std::string& roughnessChannel,
                 const std::string& roughnessEncoding, const std::string& engine, const std::string& metallicChannel,
                 const std::string& occlusionChannel, py::object exports, const std::string& exportTextures,
@@ -318,13 +335,8 @@ py::dict bakeTo(const std::string& input, const std::string& output, const std::
     BakeFileOptions o =
         exportOptions(method, exports, exportTextures, normalFormat, roughnessFormat, zstd, engine, half);
     o.decode = decodeOptions(greenDown, twoChannel, signedValues, height, clamp);
-    o.order = order;
-    o.lobes = lobes;
+    o.parameters = parameterValues(parameters);
     o.albedo = albedo;
-    o.coherence = coherent;
-    o.lobeBudget = lobeBudget;
-    o.maxIterations = maxIterations;
-    o.tolerance = tolerance;
     o.gloss = gloss;
     o.maxExponent = maxExponent;
     o.baseRoughness = baseRoughness;
@@ -371,11 +383,35 @@ py::object inspect(const std::string& dir, int level, int x, int y, std::optiona
     return jsonLoads(text);
 }
 
+// The methods' parameter tables as Python sees them: one dict per parameter.
+py::list methodParameterTable() {
+    py::list table;
+    for (const auto& [method, p] : allMethodParameters()) {
+        if (p->commands == 0) continue;
+        py::list commands;
+        for (const auto& [bit, name] : {std::pair{kParameterBake, "bake"}, {kParameterRender, "render"},
+                                        {kParameterView, "view"}, {kParameterEval, "eval"}})
+            if (p->commands & bit) commands.append(name);
+        py::dict d;
+        d["method"] = methodName(method);
+        d["key"] = p->key;
+        d["flag"] = p->flag;
+        d["type"] = p->type == ParameterType::Integer ? "int" : "float";
+        d["min"] = p->min;
+        d["max"] = p->max;
+        d["default"] = p->defaultValue;
+        d["help"] = p->help;
+        d["commands"] = commands;
+        table.append(d);
+    }
+    return table;
+}
+
 // ---- render, compare, evaluate ------------------------------------------------------------------
 
 py::array renderScene(py::handle sceneObject, const std::optional<std::string>& methodArg, std::optional<int> spp,
                       const std::string& bakeDir, uint64_t seed, const std::string& truth, int taps, float lodBias,
-                      const std::string& lobeFilter, int anisotropy, int order, int lobes,
+                      const std::string& lobeFilter, int anisotropy, const py::dict& parameters,
                       const std::string& roughnessMapping, const std::string& baseDir) {
     Result<Scene> scene = Error{};
     if (py::isinstance<py::dict>(sceneObject)) {
@@ -404,10 +440,8 @@ py::array renderScene(py::handle sceneObject, const std::optional<std::string>& 
     check(checkRenderOptions(options));
     SceneTextureOptions load;
     load.bakeDir = bakeDir;
-    load.shOrder = order;
-    load.vmfLobes = lobes;
-    if (!(order >= 1 && order <= 30)) throw NdfmipError("order " + std::to_string(order) + ": expected 1 .. 30");
-    if (!(lobes >= 1 && lobes <= 8)) throw NdfmipError("lobes " + std::to_string(lobes) + ": expected 1 .. 8");
+    load.bakeParameters = parameterValues(parameters);
+    check(checkCommandParameterValues(load.bakeParameters, kParameterRender, ParameterNaming::Key));
     Result<Image> image = Error{};
     {
         py::gil_scoped_release release;
@@ -523,19 +557,18 @@ PYBIND11_MODULE(_ndfmip, m) {
         .def("write", &writeBakeDir, "dir"_a, "exports"_a, "half"_a, "export_textures"_a, "normal_format"_a,
              "roughness_format"_a, "zstd"_a, "engine"_a);
 
-    m.def("bake", &bake, "normals"_a, "method"_a, "order"_a, "lobes"_a, "base_roughness"_a, "roughness"_a, "albedo"_a,
-          "coherent"_a, "lobe_budget"_a, "max_iterations"_a, "tolerance"_a, "green_down"_a, "two_channel"_a,
-          "signed"_a, "height"_a, "clamp"_a);
+    m.def("bake", &bake, "normals"_a, "method"_a, "parameters"_a, "base_roughness"_a, "roughness"_a, "albedo"_a,
+          "green_down"_a, "two_channel"_a, "signed"_a, "height"_a, "clamp"_a);
     m.def("read_bake", &readBakeDir, "dir"_a);
-    m.def("bake_to", &bakeTo, "input"_a, "output"_a, "method"_a, "order"_a, "lobes"_a, "albedo"_a, "coherent"_a,
-          "lobe_budget"_a, "max_iterations"_a, "tolerance"_a, "half"_a, "gloss"_a, "max_exponent"_a,
+    m.def("bake_to", &bakeTo, "input"_a, "output"_a, "method"_a, "parameters"_a, "albedo"_a, "half"_a, "gloss"_a, "max_exponent"_a,
           "base_roughness"_a, "roughness_map"_a, "roughness_channel"_a, "roughness_encoding"_a, "engine"_a,
           "metallic_channel"_a, "occlusion_channel"_a, "exports"_a, "export_textures"_a, "normal_format"_a,
           "roughness_format"_a, "zstd"_a, "force"_a, "green_down"_a, "two_channel"_a, "signed"_a, "height"_a,
           "clamp"_a);
     m.def("inspect", &inspect, "dir"_a, "level"_a, "x"_a, "y"_a, "exponent"_a);
     m.def("render", &renderScene, "scene"_a, "method"_a, "spp"_a, "bake"_a, "seed"_a, "truth"_a, "taps"_a,
-          "lod_bias"_a, "lobe_filter"_a, "anisotropy"_a, "order"_a, "lobes"_a, "roughness_mapping"_a, "base_dir"_a);
+          "lod_bias"_a, "lobe_filter"_a, "anisotropy"_a, "parameters"_a, "roughness_mapping"_a, "base_dir"_a);
+    m.def("method_parameters", &methodParameterTable);
     m.def("compare", &compare, "a"_a, "b"_a, "channel"_a);
 
     py::class_<EvalOptions>(m, "EvalOptions")

@@ -46,18 +46,17 @@ struct PlaneInfo {
 // Index of the plane called `name`, or -1.
 int findPlane(const std::vector<PlaneInfo>& planes, const std::string& name);
 
+// A method's own options by key, as its parameter table (method_parameters.h) names them:
+// sh's "order", vmf's "lobes", "coherent" ... A key not given takes the table's default.
+using ParameterValues = std::map<std::string, double>;
+
 struct BakeOptions {
+    ParameterValues parameters; // the method's own options (method_parameters.h)
     float baseRoughness = 0.f; // alpha of the material before filtering (roughness planes)
     // toksvig: the material's own alpha per texel (one channel, level-0 sized), in place of
     // baseRoughness: level k's roughness is sqrt(mean alpha0^2 + c sigma^2) over the texel's
     // footprint (variances add: the material's lobe widths and the normals' spread).
     SharedImage roughnessMap;
-    int shOrder = 7;           // sh: highest band l* ((l*+1)^2 coefficients), 1 .. kMaxShOrder
-    int vmfLobes = 4;          // vmf: lobes per texel J, 1 .. 8
-    int vmfMaxIterations = 50; // vmf: EM iterations per texel at most
-    double vmfTolerance = 1e-5; // vmf: relative log-likelihood gain that ends EM
-    float vmfCoherence = 0.f;  // vmf: C of the alignment term (eq. 32); 0 = lobes not aligned
-    float vmfLobeBudget = 0.f; // vmf: lobes by error budget (VmfFitOptions::lobeBudget); 0 = J everywhere
     SharedImage albedo;        // vmf: colour per lobe (eq. 31) from this map, level-0 sized
     // Called after each level is done: (levels done, levels in all).
     std::function<void(int, int)> progress;
@@ -166,8 +165,9 @@ struct LoadedBake {
     std::vector<Image> level;         // planes of the requested level
 };
 
-// The manifest's facts (no images), checked: method, parameters in range (sh order 1 ..
-// kMaxShOrder, vmf lobes 1 .. 8), exactly the method's planes, the source size within the input
+// The manifest's facts (no images), checked: method, parameters in range (those the method's
+// table records: sh order 1 .. kMaxShOrder, vmf lobes 1 .. kMaxVmfBakeLobes), exactly the
+// method's planes, the source size within the input
 // limits, one level per step of the GPU mip rule with its size, and level files that are plain
 // names inside the folder. Errors are one line starting with `name`, naming the key.
 Result<LoadedBake> parseBakeManifest(const std::string& json, const std::string& name);

@@ -18,13 +18,10 @@ namespace ndfmip {
 struct BakeFileOptions {
     std::string method = "toksvig";  // --method: naive, toksvig, sh, vmf, lean
     DecodeOptions decode;            // --green-down, --two-channel, --signed, --height, --clamp
-    int order = 0;                   // --order (sh): 0 = the default l* = 7
-    int lobes = 0;                   // --lobes (vmf): 0 = the default J = 4
+    // The method's own options that were given (--order, --lobes, --coherent ...: its parameter
+    // table, method_parameters.h), by key; the rest take the table's defaults.
+    ParameterValues parameters;
     std::string albedo;              // --albedo (vmf): colour map file
-    float coherence = 0.f;           // --coherent (vmf)
-    float lobeBudget = 0.f;          // --lobe-budget (vmf)
-    int maxIterations = 50;          // --max-iterations (vmf)
-    double tolerance = 1e-5;         // --tolerance (vmf)
     bool half = false;               // --half
     std::string gloss;               // --gloss: gloss map file
     float maxExponent = 0.f;         // --max-exponent: S0 of gloss 1.0
@@ -76,7 +73,7 @@ struct BakeFileReport {
 Result<BakeFileReport> bakeFile(const std::string& input, const std::string& output,
                                 const BakeFileOptions& options);
 
-// BakeOptions ranges (sh order, vmf lobes, iterations, tolerance, coherence, budget, roughness)
+// BakeOptions ranges (the method's parameters as its table says, the base roughness)
 // and per-texel maps of the right size, one channel for the roughness map and 3 for the albedo,
 // with finite values: what bakeMethod needs before it is called on a width x height map.
 Status checkBakeOptions(Method method, const BakeOptions& options, int width, int height);

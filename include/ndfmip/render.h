@@ -136,8 +136,7 @@ Result<SharedImage> loadAlbedo(const std::string& path, int width, int height);
 // How `ndfmip render` gets a scene's textures for `method` (a name render() takes).
 struct SceneTextureOptions {
     std::string bakeDir; // a bake folder to draw; empty: the scene's, or else baked on the fly
-    int shOrder = 7;     // sh baked on the fly
-    int vmfLobes = 4;    // vmf baked on the fly
+    ParameterValues bakeParameters; // the method's own options for a bake made on the fly
     std::function<void(const DecodeReport&)> decoded; // once the normal map is decoded (warnings)
 };
 

@@ -29,6 +29,10 @@ namespace ndfmip {
 // Lobes one fit handles at most (the paper uses 4 to 6).
 constexpr int kMaxVmfLobes = 16;
 
+// Lobes a vmf bake stores per texel at most (its --lobes range): the shaders hold a texel's
+// lobes in arrays of this size.
+constexpr int kMaxVmfBakeLobes = 8;
+
 // Default cap on kappa. A lobe's mean length is stored in float (packLobe): at kappa = 1e5 the
 // distance 1 - r = 1e-5 keeps about 7 bits, enough for kappa to 1%. Sharper lobes (angular
 // width 1/sqrt(kappa) < 3 mrad) shade like this one under any BRDF narrower than s ~ 1e5.

@@ -24,7 +24,7 @@ PathLike = Union[str, "os.PathLike[str]"]
 
 __all__ = [
     "Bake", "Error", "bake", "bake_to", "compare", "decode", "evaluate", "inspect", "load_image",
-    "normals_from_array", "read_bake", "render", "set_limits", "__version__",
+    "method_parameters", "normals_from_array", "read_bake", "render", "set_limits", "__version__",
 ]
 
 
@@ -105,26 +105,30 @@ class Bake:
         return f"<ndfmip.Bake {self.method} {s['width']}x{s['height']}, {len(self)} levels>"
 
 
-def bake(normals: Union[PathLike, np.ndarray], method: str = "toksvig", *, order: Optional[int] = None,
-         lobes: Optional[int] = None, base_roughness: float = 0.0, roughness: Optional[np.ndarray] = None,
-         albedo: Optional[np.ndarray] = None, coherent: float = 0.0, lobe_budget: float = 0.0,
-         max_iterations: int = 50, tolerance: float = 1e-5, green_down: bool = False,
-         two_channel: bool = False, signed: bool = False, height: Optional[float] = None,
-         clamp: bool = False) -> Bake:
+def method_parameters() -> List[Dict[str, Any]]:
+    """Every method's own parameters, as the methods declare them: method, key (the keyword
+    bake(), bake_to() and render() take), flag (the command line's), type, min, max, default,
+    help and the commands that take it."""
+    return _ndfmip.method_parameters()
+
+
+def bake(normals: Union[PathLike, np.ndarray], method: str = "toksvig", *, base_roughness: float = 0.0,
+         roughness: Optional[np.ndarray] = None, albedo: Optional[np.ndarray] = None,
+         green_down: bool = False, two_channel: bool = False, signed: bool = False,
+         height: Optional[float] = None, clamp: bool = False, **parameters: float) -> Bake:
     """Bakes a normal map in memory with ``method`` (naive, toksvig, sh, vmf, lean).
 
     normals: a file (decoded with green_down ... clamp, as decode()) or unit normals
-    (float32 (H, W, 3), e.g. from decode()). order: sh's highest band (default 7); lobes: vmf's
-    lobes per texel (default 4); coherent, lobe_budget, max_iterations, tolerance: vmf's EM
-    (as --coherent, --lobe-budget, --max-iterations, --tolerance); base_roughness: the
-    material's alpha; roughness: toksvig, the material's alpha per texel (float32 (H, W));
-    albedo: vmf, linear RGB per texel (float32 (H, W, 3)).
+    (float32 (H, W, 3), e.g. from decode()). base_roughness: the material's alpha; roughness:
+    toksvig, the material's alpha per texel (float32 (H, W)); albedo: vmf, linear RGB per texel
+    (float32 (H, W, 3)). parameters: the method's own, by key (method_parameters()): order (sh's
+    highest band, default 7); lobes (vmf's lobes per texel, default 4), coherent, lobe_budget,
+    max_iterations, tolerance (as --coherent, --lobe-budget, --max-iterations, --tolerance).
     """
     if not isinstance(normals, (str, os.PathLike, np.ndarray)):
         raise Error(f"normals: expected a file path or a numpy array, not {type(normals).__name__}")
-    native = _ndfmip.bake(normals, method, order or 0, lobes or 0, base_roughness, roughness, albedo,
-                          coherent, lobe_budget, max_iterations, tolerance, green_down, two_channel,
-                          signed, height, clamp)
+    native = _ndfmip.bake(normals, method, parameters, base_roughness, roughness, albedo, green_down,
+                          two_channel, signed, height, clamp)
     return Bake(native)
 
 
@@ -133,9 +137,8 @@ def read_bake(dir: PathLike) -> Bake:
     return Bake(_ndfmip.read_bake(os.fspath(dir)))
 
 
-def bake_to(input: PathLike, output: PathLike, method: str = "toksvig", *, order: Optional[int] = None,
-            lobes: Optional[int] = None, albedo: Optional[PathLike] = None, coherent: float = 0.0,
-            lobe_budget: float = 0.0, max_iterations: int = 50, tolerance: float = 1e-5, half: bool = False,
+def bake_to(input: PathLike, output: PathLike, method: str = "toksvig", *,
+            albedo: Optional[PathLike] = None, half: bool = False,
             gloss: Optional[PathLike] = None, max_exponent: float = 0.0, base_roughness: float = 0.0,
             roughness_map: Optional[PathLike] = None, roughness_channel: str = "r",
             roughness_encoding: str = "perceptual", engine: Optional[str] = None,
@@ -143,9 +146,10 @@ def bake_to(input: PathLike, output: PathLike, method: str = "toksvig", *, order
             exports: Union[None, str, Sequence[str]] = None, export_textures: str = "normal,roughness,planes",
             normal_format: str = "bc5", roughness_format: str = "bc4", zstd: int = 0, force: bool = False,
             green_down: bool = False, two_channel: bool = False, signed: bool = False,
-            height: Optional[float] = None, clamp: bool = False) -> Dict[str, Any]:
+            height: Optional[float] = None, clamp: bool = False, **parameters: float) -> Dict[str, Any]:
     """``ndfmip bake INPUT -o OUTPUT`` for one map, with the same options (by the same names:
-    --lobe-budget is lobe_budget, --export is exports) and the same files, byte for byte.
+    --lobe-budget is lobe_budget, --export is exports; the method's own parameters as
+    keywords, method_parameters()) and the same files, byte for byte.
 
     Skips the map when OUTPUT already holds a bake of the same source, options and version
     (the cache key in its manifest) unless force. Returns what happened: status ("baked" or
@@ -154,8 +158,8 @@ def bake_to(input: PathLike, output: PathLike, method: str = "toksvig", *, order
     def path(p: Optional[PathLike]) -> str:
         return "" if p is None else os.fspath(p)
 
-    return _ndfmip.bake_to(os.fspath(input), os.fspath(output), method, order or 0, lobes or 0, path(albedo),
-                           coherent, lobe_budget, max_iterations, tolerance, half, path(gloss), max_exponent,
+    return _ndfmip.bake_to(os.fspath(input), os.fspath(output), method, parameters, path(albedo),
+                           half, path(gloss), max_exponent,
                            base_roughness, path(roughness_map), roughness_channel, roughness_encoding,
                            engine or "", metallic_channel or "", occlusion_channel or "", exports,
                            export_textures, normal_format, roughness_format, zstd, force, green_down,
@@ -170,19 +174,21 @@ def inspect(dir: PathLike, level: int, x: int, y: int, exponent: Optional[float]
 
 def render(scene: Union[PathLike, Dict[str, Any]], method: Optional[str] = None, spp: Optional[int] = None, *,
            bake: Optional[PathLike] = None, seed: int = 1, truth: str = "box", taps: int = 2,
-           lod_bias: float = -0.5, lobe_filter: str = "texel", anisotropy: int = 1, order: int = 7,
-           lobes: int = 4, roughness_mapping: str = "ours", base_dir: Optional[PathLike] = None) -> np.ndarray:
+           lod_bias: float = -0.5, lobe_filter: str = "texel", anisotropy: int = 1,
+           roughness_mapping: str = "ours", base_dir: Optional[PathLike] = None,
+           **parameters: float) -> np.ndarray:
     """A scene (a file, or its JSON as a dict; docs/SCENES.md) drawn as ``ndfmip render``
     draws it: RGB radiance, float32 (H, W, 3).
 
     method: a method, toksvig-lut, roughness-mips, exact or groundtruth (default: the
     scene's); spp: samples per pixel (default 1, ground truth 64); bake: a bake folder instead
-    of baking the map; order, lobes: sh and vmf baked on the fly; base_dir: where a dict's
+    of baking the map; parameters: for a method baked on the fly (order: sh's, default 7;
+    lobes: vmf's, default 4; method_parameters()); base_dir: where a dict's
     relative paths start (default: the working directory).
     """
     return _ndfmip.render(scene if isinstance(scene, dict) else os.fspath(scene), method, spp,
                           "" if bake is None else os.fspath(bake), seed, truth, taps, lod_bias, lobe_filter,
-                          anisotropy, order, lobes, roughness_mapping,
+                          anisotropy, parameters, roughness_mapping,
                           "" if base_dir is None else os.fspath(base_dir))
 
 

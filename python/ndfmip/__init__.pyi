@@ -35,27 +35,26 @@ class Bake:
               export_textures: str = ..., normal_format: str = ..., roughness_format: str = ..., zstd: int = ...,
               engine: str = ...) -> None: ...
 
-def bake(normals: Union[PathLike, FloatArray], method: str = ..., *, order: Optional[int] = ...,
-         lobes: Optional[int] = ..., base_roughness: float = ..., roughness: Optional[FloatArray] = ...,
-         albedo: Optional[FloatArray] = ..., coherent: float = ..., lobe_budget: float = ...,
-         max_iterations: int = ..., tolerance: float = ..., green_down: bool = ..., two_channel: bool = ...,
-         signed: bool = ..., height: Optional[float] = ..., clamp: bool = ...) -> Bake: ...
+def method_parameters() -> List[Dict[str, Any]]: ...
+def bake(normals: Union[PathLike, FloatArray], method: str = ..., *, base_roughness: float = ...,
+         roughness: Optional[FloatArray] = ..., albedo: Optional[FloatArray] = ..., green_down: bool = ...,
+         two_channel: bool = ..., signed: bool = ..., height: Optional[float] = ..., clamp: bool = ...,
+         **parameters: float) -> Bake: ...
 def read_bake(dir: PathLike) -> Bake: ...
-def bake_to(input: PathLike, output: PathLike, method: str = ..., *, order: Optional[int] = ...,
-            lobes: Optional[int] = ..., albedo: Optional[PathLike] = ..., coherent: float = ...,
-            lobe_budget: float = ..., max_iterations: int = ..., tolerance: float = ..., half: bool = ...,
+def bake_to(input: PathLike, output: PathLike, method: str = ..., *, albedo: Optional[PathLike] = ...,
+            half: bool = ...,
             gloss: Optional[PathLike] = ..., max_exponent: float = ..., base_roughness: float = ...,
             roughness_map: Optional[PathLike] = ..., roughness_channel: str = ..., roughness_encoding: str = ...,
             engine: Optional[str] = ..., metallic_channel: Optional[str] = ...,
             occlusion_channel: Optional[str] = ..., exports: Union[None, str, Sequence[str]] = ...,
             export_textures: str = ..., normal_format: str = ..., roughness_format: str = ..., zstd: int = ...,
             force: bool = ..., green_down: bool = ..., two_channel: bool = ..., signed: bool = ...,
-            height: Optional[float] = ..., clamp: bool = ...) -> Dict[str, Any]: ...
+            height: Optional[float] = ..., clamp: bool = ..., **parameters: float) -> Dict[str, Any]: ...
 def inspect(dir: PathLike, level: int, x: int, y: int, exponent: Optional[float] = ...) -> Dict[str, Any]: ...
 def render(scene: Union[PathLike, Dict[str, Any]], method: Optional[str] = ..., spp: Optional[int] = ..., *,
            bake: Optional[PathLike] = ..., seed: int = ..., truth: str = ..., taps: int = ...,
-           lod_bias: float = ..., lobe_filter: str = ..., anisotropy: int = ..., order: int = ..., lobes: int = ...,
-           roughness_mapping: str = ..., base_dir: Optional[PathLike] = ...) -> FloatArray: ...
+           lod_bias: float = ..., lobe_filter: str = ..., anisotropy: int = ...,
+           roughness_mapping: str = ..., base_dir: Optional[PathLike] = ..., **parameters: float) -> FloatArray: ...
 def compare(a: Union[PathLike, FloatArray], b: Union[PathLike, FloatArray],
             channel: Optional[int] = ...) -> Dict[str, Optional[float]]: ...
 def evaluate(maps: Iterable[PathLike], output: Optional[PathLike] = ..., *, methods: Optional[Sequence[str]] = ...,

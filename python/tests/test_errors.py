@@ -39,6 +39,27 @@ def test_bad_options():
     raises("unknown method", ndfmip.render, ROOT / "scenes" / "aligned_ortho.json", "nope")
     raises("spp 0", ndfmip.render, ROOT / "scenes" / "aligned_ortho.json", "toksvig", 0)
     raises("--footprints", ndfmip.evaluate, [BUNDLED_MAP], footprints=[0])
+    # The method parameters are the methods' tables' keys, typed and ranged as there.
+    raises("unknown keyword 'bands'", ndfmip.bake, BUNDLED_MAP, "sh", bands=3)
+    raises("lobes: expected an integer", ndfmip.bake, BUNDLED_MAP, "vmf", lobes=2.5)
+    raises("lobes: expected a number", ndfmip.bake, BUNDLED_MAP, "vmf", lobes=True)
+    raises("max_iterations applies to method vmf only", ndfmip.bake, BUNDLED_MAP, "toksvig", max_iterations=5)
+    raises("--max-iterations applies to --method vmf only", ndfmip.bake_to, BUNDLED_MAP, "/tmp/never.bake",
+           "toksvig", max_iterations=5)
+    raises("lobes 9", ndfmip.render, ROOT / "scenes" / "aligned_ortho.json", "vmf", lobes=9)
+    raises("unknown parameter 'coherent'", ndfmip.render, ROOT / "scenes" / "aligned_ortho.json", "vmf",
+           coherent=1.0)  # a bake option, not one of a render's
+
+
+def test_method_parameters_are_the_tables():
+    table = ndfmip.method_parameters()
+    lobes = [p for p in table if p["key"] == "lobes"]
+    assert len(lobes) == 1 and lobes[0]["method"] == "vmf" and lobes[0]["flag"] == "--lobes"
+    assert (lobes[0]["min"], lobes[0]["max"], lobes[0]["default"], lobes[0]["type"]) == (1, 8, 4, "int")
+    assert set(lobes[0]["commands"]) == {"bake", "render", "view", "eval"}
+    order = [p for p in table if p["key"] == "order"]
+    assert order and order[0]["method"] == "sh" and "render" in order[0]["commands"]
+    assert all(p["min"] <= p["default"] <= p["max"] for p in table)
 
 
 def test_bad_arrays():

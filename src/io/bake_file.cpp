@@ -16,6 +16,7 @@
 #include "ndfmip/engine_presets.h"
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
+#include "ndfmip/method_parameters.h"
 #include "ndfmip/render.h"
 #include "ndfmip/spherical_harmonics.h"
 #include "ndfmip/toksvig.h"
@@ -77,13 +78,9 @@ void requireOneOf(const char* option, const std::string& value, const std::set<s
 void checkFileOptions(const BakeFileOptions& a) {
     auto method = methodFromString(a.method);
     if (!method) fail("unknown method " + quote(a.method) + " (" + methodNames() + ")");
-    // The ranges the command line's parser holds its options to, for callers without it.
-    if (a.order != 0) requireRange("--order", a.order, 1, kMaxShOrder);
-    if (a.lobes != 0) requireRange("--lobes", a.lobes, 1, 8);
-    requireRange("--coherent", a.coherence, 0.0, 1e6);
-    requireRange("--lobe-budget", a.lobeBudget, 0.0, 10.0);
-    requireRange("--max-iterations", a.maxIterations, 1, 10000);
-    requireRange("--tolerance", a.tolerance, 0.0, 1.0);
+    // The ranges the command line's parser holds its options to, for callers without it; the
+    // method's own options as its table says (and those of other methods refused).
+    if (Status s = checkParameterValues(*method, a.parameters, ParameterNaming::Flag); !s) fail(s.error);
     requireRange("--base-roughness", a.baseRoughness, 0.0, 1.0);
     if (a.maxExponent != 0.f) requireRange("--max-exponent", a.maxExponent, 1e-3, 1e6);
     if (a.decode.height) requireRange("--height", a.decode.heightScale, 1e-6, 1e6);
@@ -95,12 +92,7 @@ void checkFileOptions(const BakeFileOptions& a) {
     requireOneOf("--normal-format", a.normalFormat, {"bc5", "rg16", "rgba8"});
     requireOneOf("--roughness-format", a.roughnessFormat, {"bc4", "r16f"});
 
-    if (a.order != 0 && *method != Method::Sh) fail("--order applies to --method sh only");
-    if (a.lobes != 0 && *method != Method::Vmf) fail("--lobes applies to --method vmf only");
     if (!a.albedo.empty() && *method != Method::Vmf) fail("--albedo applies to --method vmf only");
-    if (a.coherence != 0.f && *method != Method::Vmf) fail("--coherent applies to --method vmf only");
-    if (a.lobeBudget != 0.f && *method != Method::Vmf) fail("--lobe-budget applies to --method vmf only");
-    if (a.lobeBudget != 0.f && a.coherence != 0.f) fail("--lobe-budget does not apply to coherent lobes");
     // Without --export the bake is the EXR planes; with it, exactly what it lists.
     std::set<std::string> exports =
         commaList(a.exportFormat.empty() ? "exr" : a.exportFormat, "--export", {"png16", "ktx2", "dds", "exr"});
@@ -145,9 +137,8 @@ BakeWriteOptions writeOptionsOf(const BakeFileOptions& a) {
 // with the same text, the same sources and the same version write the same files.
 std::string optionsText(const BakeFileOptions& a) {
     const DecodeOptions& d = a.decode;
-    const nlohmann::json options = {
-        {"method", a.method}, {"order", a.order}, {"lobes", a.lobes}, {"coherent", a.coherence},
-        {"lobe_budget", a.lobeBudget}, {"max_iterations", a.maxIterations}, {"tolerance", a.tolerance},
+    nlohmann::json options = {
+        {"method", a.method},
         {"half", a.half}, {"max_exponent", a.maxExponent}, {"base_roughness", a.baseRoughness},
         {"roughness_channel", a.roughnessChannel}, {"roughness_encoding", a.roughnessEncoding},
         {"engine", a.engine}, {"metallic_channel", a.metallicChannel}, {"occlusion_channel", a.occlusionChannel},
@@ -155,6 +146,18 @@ std::string optionsText(const BakeFileOptions& a) {
         {"roughness_format", a.roughnessFormat}, {"zstd", a.zstd},
         {"green_down", d.greenDown}, {"two_channel", d.twoChannel}, {"signed", d.signedValues},
         {"height", d.height}, {"height_scale", d.heightScale}, {"clamp", d.address == AddressMode::Clamp}};
+    // Every method's bake parameters, given or not, each as its type is written (the keys stay
+    // those of earlier versions, so their bakes stay up to date).
+    for (const auto& [method, p] : allMethodParameters()) {
+        if (!(p->commands & kParameterBake)) continue;
+        auto given = a.parameters.find(p->key);
+        const double value = given != a.parameters.end() ? given->second
+                             : p->keyedZeroWhenUnset      ? 0.0
+                                                          : p->defaultValue;
+        if (p->type == ParameterType::Integer) options[p->key] = int64_t(value);
+        else if (p->type == ParameterType::Float) options[p->key] = float(value);
+        else options[p->key] = value;
+    }
     return options.dump();
 }
 
@@ -258,12 +261,7 @@ BakeFileReport bakeOrThrow(const std::string& input, const std::string& output, 
     Pyramid pyramid = buildPyramid(std::make_shared<const Image>(std::move(normals)));
     BakeOptions options;
     options.baseRoughness = a.baseRoughness;
-    if (a.order != 0) options.shOrder = a.order;
-    if (a.lobes != 0) options.vmfLobes = a.lobes;
-    options.vmfMaxIterations = a.maxIterations;
-    options.vmfTolerance = a.tolerance;
-    options.vmfCoherence = a.coherence;
-    options.vmfLobeBudget = a.lobeBudget;
+    options.parameters = a.parameters;
     if (!a.albedo.empty()) {
         Result<SharedImage> albedo = loadAlbedo(a.albedo, width, height);
         if (!albedo) fail(albedo.error().message);
@@ -344,14 +342,8 @@ Result<BakeFileReport> bakeFile(const std::string& input, const std::string& out
 
 Status checkBakeOptions(Method method, const BakeOptions& o, int width, int height) {
     try {
-        if (method == Method::Sh) requireRange("order", o.shOrder, 1, kMaxShOrder);
-        if (method == Method::Vmf) requireRange("lobes", o.vmfLobes, 1, 8);
-        requireRange("max_iterations", o.vmfMaxIterations, 1, 10000);
-        requireRange("tolerance", o.vmfTolerance, 0.0, 1.0);
-        requireRange("coherent", o.vmfCoherence, 0.0, 1e6);
-        requireRange("lobe_budget", o.vmfLobeBudget, 0.0, 10.0);
+        if (Status s = checkParameterValues(method, o.parameters, ParameterNaming::Key); !s) fail(s.error);
         requireRange("base_roughness", o.baseRoughness, 0.0, 1.0);
-        if (o.vmfLobeBudget != 0.f && o.vmfCoherence != 0.f) fail("lobe_budget does not apply to coherent lobes");
         if (o.roughnessMap) {
             const Image& r = *o.roughnessMap;
             if (method != Method::Toksvig) fail("roughness: applies to method toksvig (its roughness planes)");

@@ -126,8 +126,9 @@ void readParameters(const json& m, LoadedBake& bake) {
         bake.parameters[key] = value.get<double>();
     }
     // Those the method's commands use, in the ranges a bake writes.
-    for (const RequiredParameter& r : methodUnit(bake.method).required) {
-        if (r.integer) {
+    for (const MethodParameter& r : methodUnit(bake.method).parameters) {
+        if (!r.recorded) continue;
+        if (r.type == ParameterType::Integer) {
             integerAt(parameters, "parameters", r.key, int64_t(r.min), int64_t(r.max));
             continue;
         }

@@ -93,9 +93,9 @@ Status checkBakeMemory(const std::string& name, Method method, const BakeOptions
                        int64_t width, int64_t height) {
     const int64_t need = bakeMemoryEstimate(method, options, width, height);
     if (need <= gLimits.maxMemoryBytes) return Status::success();
-    BakeParameters parameters;
-    if (method == Method::Sh) parameters["order"] = options.shOrder;
-    if (method == Method::Vmf) parameters["lobes"] = options.vmfLobes;
+    BakeParameters parameters; // those a bake records name it
+    for (const MethodParameter& p : methodParameters(method))
+        if (p.recorded) parameters[p.key] = parameterValue(method, options.parameters, p.key);
     const std::string what = methodUnit(method).describe(parameters);
     return Status::failure(name + ": a " + what + " of a " + count(width) + "x" +
                            count(height) + " map needs about " + byteSize(need) +

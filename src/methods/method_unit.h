@@ -20,6 +20,7 @@
 #include "ndfmip/environment_sh_shading.h"
 #include "ndfmip/environment_sh_views.h"
 #include "ndfmip/environment_splitsum.h"
+#include "ndfmip/method_parameters.h"
 #include "ndfmip/render.h"
 #include "ndfmip/sh_brdf.h"
 #include "ndfmip/method_shading.h"
@@ -27,13 +28,6 @@
 namespace ndfmip {
 
 using BakeParameters = std::map<std::string, double>;
-
-// A parameter a bake of the method must record, with its range (manifest check).
-struct RequiredParameter {
-    const char* key;
-    double min, max;
-    bool integer;
-};
 
 struct InspectOptions {
     bool hasExponent = false; // --exponent given
@@ -48,7 +42,12 @@ struct MethodUnit {
     // The planes a bake with these parameters has, in order (names, channel counts, linear);
     // `colours`: a vmf bake with lobe colours.
     std::vector<PlaneInfo> (*planes)(const BakeParameters& parameters, bool colours);
-    std::vector<RequiredParameter> required;
+    // The method's own options (method_parameters.h): the commands' flags, their checks, the
+    // cache key, the manifest's ranges (those `recorded`) and eval's specs come from it.
+    std::vector<MethodParameter> parameters;
+    // Rules between the given values that the ranges alone do not say (null: none); a problem
+    // names the parameters as `naming` says.
+    Status (*checkParameters)(const ParameterValues& values, ParameterNaming naming);
     // Bytes per level-0 texel that the bake holds beyond the decoded normals and the pyramid.
     double (*bakeBytesPerTexel)(const BakeOptions& options);
     // "sh order 7", "vmf with 4 lobes": the bake named in messages.

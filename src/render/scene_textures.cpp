@@ -9,6 +9,7 @@
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
 #include "ndfmip/render.h"
+#include "ndfmip/method_parameters.h"
 #include "ndfmip/vmf.h"
 
 namespace ndfmip {
@@ -82,9 +83,10 @@ Result<RenderTextures> loadSceneTextures(const Scene& scene, const std::string& 
             textures.bake = std::move(bake.value());
         } else {
             BakeOptions bakeOptions;
-            bakeOptions.shOrder = options.shOrder;
-            bakeOptions.vmfLobes = options.vmfLobes;
+            bakeOptions.parameters = parametersOf(shader->bake, options.bakeParameters);
             bakeOptions.albedo = albedo;
+            if (Status s = checkCommandParameterValues(options.bakeParameters, kParameterRender, ParameterNaming::Key); !s)
+                return Error{s.error};
             if (Status s = checkBakeMemory(scene.normalMap.path, shader->bake, bakeOptions, textures.normals->width,
                                            textures.normals->height);
                 !s)

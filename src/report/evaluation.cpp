@@ -265,25 +265,17 @@ MethodSpec methodSpecOf(const std::string& label) {
     spec.method = *method;
     spec.render = methodName(*method);
     if (!order.empty()) {
-        // vmf:J or vmf:J:BUDGET (lobes by error budget).
-        std::string budget;
-        if (size_t colon = order.find(':'); colon != std::string::npos) {
-            budget = order.substr(colon + 1);
-            order = order.substr(0, colon);
+        // sh:ORDER, vmf:J or vmf:J:BUDGET: the values in the method's table's spec order.
+        std::vector<std::string> values;
+        for (size_t from = 0;;) {
+            const size_t colon = order.find(':', from);
+            values.push_back(order.substr(from, colon == std::string::npos ? std::string::npos : colon - from));
+            if (colon == std::string::npos) break;
+            from = colon + 1;
         }
-        char* end = nullptr;
-        long l = std::strtol(order.c_str(), &end, 10);
-        const bool sh = *method == Method::Sh, vmf = *method == Method::Vmf;
-        const long most = sh ? kMaxShOrder : 8;
-        char* budgetEnd = nullptr;
-        const float b = budget.empty() ? 0.f : std::strtof(budget.c_str(), &budgetEnd);
-        const bool budgetOk = budget.empty() || (vmf && *budgetEnd == '\0' && b >= 0.f && b <= 10.f);
-        if ((!sh && !vmf) || *end != '\0' || l < 1 || l > most || !budgetOk)
-            fail("--methods: " + quote(label) + ": sh takes an order 1 .. " + std::to_string(kMaxShOrder) +
-                          ", vmf a lobe count 1 .. 8 and optionally :BUDGET (0 .. 10), other methods nothing");
-        if (sh) spec.options.shOrder = int(l);
-        if (vmf) spec.options.vmfLobes = int(l);
-        spec.options.vmfLobeBudget = b;
+        Result<ParameterValues> parsed = parseParameterSpec(*method, label, values);
+        if (!parsed) fail(parsed.error().message);
+        spec.options.parameters = parsed.value();
     }
     return spec;
 }
@@ -402,7 +394,8 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
                 fail("--aligned: footprint " + std::to_string(f) + " is not a power of two (one texel of a level)");
     std::vector<MethodSpec> specs;
     for (const std::string& m : a.methods) specs.push_back(methodSpec(m));
-    for (MethodSpec& spec : specs) spec.options.vmfCoherence = a.coherence;
+    for (MethodSpec& spec : specs)
+        if (spec.method == Method::Vmf && spec.baked && a.coherence != 0.f) spec.options.parameters["coherent"] = a.coherence;
     for (const MethodSpec& spec : specs)
         if ((spec.lod || spec.way) && a.environment.empty())
             fail("--methods: " + quote(spec.label) + ": a variant after @ applies under --environment only");

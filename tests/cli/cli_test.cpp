@@ -22,6 +22,7 @@
 #include "ndfmip/image.h"
 #include "ndfmip/io.h"
 #include "ndfmip/toksvig.h"
+#include "ndfmip/method_parameters.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -1070,7 +1071,32 @@ TEST(Cli, VmfBakeWithAlbedoPrintsLobesWithColours) {
                        {"--lobes"});
     expectCleanFailure(cli("bake " + shellQuoted(map) + " --method toksvig --lobes 2 -o " + shellQuoted((tmp.path / "b5").string())),
                        {"--lobes"});
+    // Every option of the method's table applies to it alone, EM's limits too.
+    expectCleanFailure(cli("bake " + shellQuoted(map) + " --method toksvig --max-iterations 5 -o " +
+                           shellQuoted((tmp.path / "b6").string())),
+                       {"--max-iterations applies to --method vmf only"});
+    expectCleanFailure(cli("bake " + shellQuoted(map) + " --method vmf --coherent 1 --lobe-budget 0.01 -o " +
+                           shellQuoted((tmp.path / "b7").string())),
+                       {"--lobe-budget does not apply to coherent lobes"});
     EXPECT_FALSE(fs::exists(tmp.path / "b2"));
+    EXPECT_FALSE(fs::exists(tmp.path / "b6"));
+}
+
+// The methods' own options come from their parameter tables: each flag once, with the table's
+// range and default in its help, on every command that takes it.
+TEST(Cli, MethodOptionsComeFromTheParameterTables) {
+    const CliRun bake = cli("bake --help");
+    ASSERT_EQ(bake.status, 0);
+    for (const auto& [method, p] : allMethodParameters()) {
+        if (!(p->commands & kParameterBake)) continue;
+        EXPECT_NE(bake.output.find(p->flag), std::string::npos) << p->flag;
+        EXPECT_NE(bake.output.find(p->help), std::string::npos) << p->help;
+    }
+    EXPECT_NE(bake.output.find("vmf: lobes per texel J (default 4)"), std::string::npos);
+    const CliRun render = cli("render --help");
+    ASSERT_EQ(render.status, 0);
+    EXPECT_NE(render.output.find("sh baked on the fly: highest band l*"), std::string::npos);
+    EXPECT_EQ(render.output.find("--max-iterations"), std::string::npos); // bake only
 }
 
 // Coherent lobes (eq. 32): slot j of neighbouring texels matches far better, and the rendered

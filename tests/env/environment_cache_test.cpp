@@ -132,8 +132,8 @@ TEST(EnvironmentCache, RendersAreBitIdenticalWithAndWithoutTheCache) {
           Case{"vmf", Method::Vmf, EnvironmentLod::Unity, EnvironmentWay::Prefiltered},
           Case{"vmf", Method::Vmf, EnvironmentLod::Filament, EnvironmentWay::ShLighting}}) {
         BakeOptions bake;
-        bake.shOrder = 4;
-        bake.vmfLobes = 2;
+        bake.parameters["order"] = 4;
+        bake.parameters["lobes"] = 2;
         textures.bake = bakeMethod(c.bake, pyramid, bake);
         RenderOptions options;
         options.environmentLod = c.lod;

@@ -250,7 +250,7 @@ TEST(VmfMerge, TheTopTexelOfTheBundledWallKeepsABroadLobe) {
     ASSERT_TRUE(map.ok()) << map.error().message;
     const Pyramid pyramid = buildPyramid(map.value());
     BakeOptions options;
-    options.vmfLobes = 4;
+    options.parameters["lobes"] = 4;
     const Bake bake = bakeVmf(pyramid, options);
     const int top = int(pyramid.levels.size()) - 1;
     std::vector<Image> shaded, truth;

@@ -70,8 +70,8 @@ RenderTextures texturesFor(const std::string& method, std::shared_ptr<const Envi
     t.environment = std::move(lighting);
     const Pyramid pyramid = buildPyramid(t.normals);
     BakeOptions options;
-    options.vmfLobes = 3;
-    options.shOrder = 6;
+    options.parameters["lobes"] = 3;
+    options.parameters["order"] = 6;
     t.bake = bakeMethod(*methodFromString(method == kRoughnessMips ? "naive" : method), pyramid, options);
     if (method == kRoughnessMips) { // Toksvig's alpha, as an engine's roughness mips would hold
         BakeOptions base;
@@ -176,7 +176,7 @@ TEST(GpuEnvironmentSh, OrderEightOnTheSphereAtTheDefaultRuleMatchesTheCpu) {
     t.normals = bumpyMap();
     t.environment = skyLighting(0.7);
     BakeOptions options;
-    options.shOrder = 8;
+    options.parameters["order"] = 8;
     t.bake = bakeMethod(Method::Sh, buildPyramid(t.normals), options);
     for (Brdf brdf : {Brdf::Ggx, Brdf::Lambert}) {
         const Scene scene = environmentScene(true, brdf);
@@ -202,7 +202,7 @@ TEST(GpuEnvironmentSh, OrderEightOnTheSphereWithMoreTapsMatchesTheCpu) {
     t.normals = bumpyMap();
     t.environment = skyLighting(0.7);
     BakeOptions bake;
-    bake.shOrder = 8;
+    bake.parameters["order"] = 8;
     t.bake = bakeMethod(Method::Sh, buildPyramid(t.normals), bake);
     Scene scene = environmentScene(true, Brdf::Ggx);
     scene.camera.width = scene.camera.height = 16; // the sphere fills most of it
@@ -246,7 +246,7 @@ TEST(GpuEnvironmentAlbedo, AlbedoChainsAndLobeColoursMatchTheCpu) {
             const Pyramid pyramid = buildPyramid(t.normals);
             t.albedo = albedoMips(pyramid, colours);
             BakeOptions options;
-            options.vmfLobes = 2;
+            options.parameters["lobes"] = 2;
             options.albedo = colours;
             t.bake = bakeMethod(*methodFromString(method), pyramid, options);
             if (std::string(method) == "vmf") {

@@ -53,8 +53,8 @@ RenderTextures texturesFor(const std::string& method) {
     t.normals = bumpyMap();
     const Pyramid pyramid = buildPyramid(t.normals);
     BakeOptions options;
-    options.shOrder = 6;
-    options.vmfLobes = 3;
+    options.parameters["order"] = 6;
+    options.parameters["lobes"] = 3;
     const std::string bake = method == kToksvigLut ? "toksvig" : method == kRoughnessMips ? "naive" : method;
     t.bake = bakeMethod(*methodFromString(bake), pyramid, options);
     if (method == kRoughnessMips) { // roughness from Toksvig's, as an engine's mips would hold

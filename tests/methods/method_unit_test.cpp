@@ -25,8 +25,8 @@ SharedImage bumpyNormals() {
 
 BakeOptions smallOptions() {
     BakeOptions o;
-    o.shOrder = 3;
-    o.vmfLobes = 2;
+    o.parameters["order"] = 3;
+    o.parameters["lobes"] = 2;
     return o;
 }
 
@@ -36,8 +36,10 @@ TEST(MethodUnit, PlanesAreWhatTheBakeMakes) {
         SCOPED_TRACE(unit.name);
         const Bake bake = unit.bake(pyramid, smallOptions());
         EXPECT_EQ(bake.method, unit.method);
-        for (const RequiredParameter& r : unit.required) {
+        for (const MethodParameter& r : unit.parameters) {
+            if (!r.recorded || !(r.commands & kParameterBake)) continue;
             ASSERT_TRUE(bake.parameters.count(r.key)) << r.key;
+            EXPECT_EQ(bake.parameters.at(r.key), smallOptions().parameters.at(r.key)) << r.key;
             EXPECT_GE(bake.parameters.at(r.key), r.min);
             EXPECT_LE(bake.parameters.at(r.key), r.max);
         }

@@ -28,7 +28,7 @@ TEST(AlignedTruth, FlatMapEveryMethodEqualsTheTruth) {
         // sh reproduces a lobe only up to its order: at l* = 30 a lobe of s = 4 keeps all but
         // ~exp(-30^2/4) of itself.
         BakeOptions options;
-        options.shOrder = 30;
+        options.parameters["order"] = 30;
         const float s = m == Method::Sh ? 4.f : 64.f;
         Bake bake = bakeMethod(m, p, options);
         for (int k = 0; k < int(p.levels.size()); ++k) {

@@ -91,8 +91,8 @@ std::vector<double> compareRows(float tilt, double tolerance) {
     for (const Row& row : kRows) {
         RenderTextures baked = textures;
         BakeOptions bake;
-        bake.shOrder = 7;
-        bake.vmfLobes = 2;
+        bake.parameters["order"] = 7;
+        bake.parameters["lobes"] = 2;
         baked.bake = bakeMethod(bakeOf(row.method), pyramid, bake);
         RenderOptions options;
         options.environmentLod = row.lod;

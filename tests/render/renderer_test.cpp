@@ -160,7 +160,7 @@ TEST(Renderer, ShOnAFlatMapIsTheTruncatedLegendreSeries) {
             RenderTextures t;
             t.normals = std::make_shared<const Image>(flat);
             BakeOptions options;
-            options.shOrder = order;
+            options.parameters["order"] = order;
             t.bake = bakeSh(buildPyramid(t.normals), options);
             Result<Image> image = render(alignedScene(4, m, light), t, "sh", {});
             ASSERT_TRUE(image.ok()) << image.error().message;
@@ -181,7 +181,7 @@ TEST(Renderer, ShMipsAreTheMeanOfTheirChildren) {
     const Image normals = test::randomNormals(16, 8, 1.2f, 11);
     Pyramid p = buildPyramid(normals);
     BakeOptions options;
-    options.shOrder = 4;
+    options.parameters["order"] = 4;
     Bake bake = bakeSh(p, options);
     ASSERT_EQ(bake.planes.size(), size_t(shPlaneCount(4)));
     ASSERT_EQ(bake.planes.size(), 7u); // 25 coefficients, 4 per plane
@@ -246,7 +246,7 @@ TEST(Renderer, VmfLobesReproduceATwoSpikeNdf) {
         t.normals = std::make_shared<const Image>(map);
         Result<Image> truth = blockTruth(scene, t, 4);
         BakeOptions options;
-        options.vmfLobes = 2;
+        options.parameters["lobes"] = 2;
         t.bake = bakeVmf(buildPyramid(t.normals), options);
         Result<Image> vmf = render(scene, t, "vmf", plainLookup());
         ASSERT_TRUE(truth.ok() && vmf.ok());
@@ -257,7 +257,7 @@ TEST(Renderer, VmfLobesReproduceATwoSpikeNdf) {
         }
         EXPECT_GT(peak, 0.05f) << "the highlight is in view";
         // One lobe must widen to cover both spikes and misses the truth.
-        options.vmfLobes = 1;
+        options.parameters["lobes"] = 1;
         t.bake = bakeVmf(buildPyramid(t.normals), options);
         Result<Image> single = render(scene, t, "vmf", plainLookup());
         ASSERT_TRUE(single.ok());
@@ -293,7 +293,7 @@ TEST(Renderer, VmfLobeColoursFollowTheirNormals) {
     t.albedo = albedoMips(pyramid, albedo);
     Result<Image> truth = blockTruth(scene, t, 4);
     BakeOptions options;
-    options.vmfLobes = 2;
+    options.parameters["lobes"] = 2;
     options.albedo = albedo;
     t.bake = bakeVmf(pyramid, options);
     ASSERT_GE(findPlane(t.bake.planes, "color1"), 0);
@@ -563,7 +563,7 @@ TEST(MeasuringStick, TexelFilteringIsExactForLobesThatHoldTheirTexelsNormals) {
     RenderTextures t = texturesFor(normals, Method::Naive);
     Result<Image> exact = render(scene, t, kExact, plainLookup());
     BakeOptions options;
-    options.vmfLobes = 4;
+    options.parameters["lobes"] = 4;
     t.bake = bakeVmf(buildPyramid(t.normals), options);
     RenderOptions texel = plainLookup();
     texel.shadeFilter = ShadeFilter::Texel;

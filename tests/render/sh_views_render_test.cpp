@@ -59,8 +59,8 @@ RenderTextures shTextures(const std::string& method) {
     t.normals = std::make_shared<const Image>(test::randomNormals(64, 64, 0.4f, 5));
     t.environment = std::make_shared<const EnvironmentLighting>(makeEnvironmentLighting(envtest::mapOf(64, sunSky)));
     BakeOptions bake;
-    bake.shOrder = 7;
-    bake.vmfLobes = 2;
+    bake.parameters["order"] = 7;
+    bake.parameters["lobes"] = 2;
     t.bake = bakeMethod(method == "sh" ? Method::Sh : Method::Vmf, buildPyramid(t.normals), bake);
     return t;
 }

@@ -47,8 +47,8 @@ TEST(WebglView, FragmentShaderIsGlslEs300ForEveryMethod) {
         RenderTextures t;
         t.normals = pyramid.base;
         BakeOptions options;
-        options.shOrder = 5;
-        options.vmfLobes = 3;
+        options.parameters["order"] = 5;
+        options.parameters["lobes"] = 3;
         t.bake = bakeMethod(shader.bake, pyramid, options);
         if (std::string(shader.name) == kRoughnessMips) {
             for (const auto& level : t.bake.levels) t.roughness.push_back(level[0]);

@@ -36,13 +36,8 @@ struct BakeArgs {
     float baseRoughness = 0.f;
     std::string roughnessMap, roughnessChannel = "r", roughnessEncoding = "perceptual";
     std::string engine, metallicChannel, occlusionChannel; // channels of the roughness map
-    int order = 0; // sh: 0 = the default l* = 7
-    int lobes = 0; // vmf: 0 = the default J = 4
+    MethodParameterArgs methodParameters; // --order, --lobes ...: the methods' own options
     std::string albedo; // vmf: colour per lobe
-    float coherence = 0.f;
-    float lobeBudget = 0.f;
-    int maxIterations = 50;
-    double tolerance = 1e-5;
     bool half = false;
     bool quiet = false;
     // Batch: parallel maps, rebake up-to-date ones, shard, JSON lines.
@@ -58,13 +53,8 @@ BakeFileOptions fileOptions(const BakeArgs& a) {
     BakeFileOptions o;
     o.method = a.method;
     o.decode = a.input_options.resolved();
-    o.order = a.order;
-    o.lobes = a.lobes;
+    o.parameters = a.methodParameters.given();
     o.albedo = a.albedo;
-    o.coherence = a.coherence;
-    o.lobeBudget = a.lobeBudget;
-    o.maxIterations = a.maxIterations;
-    o.tolerance = a.tolerance;
     o.half = a.half;
     o.gloss = a.gloss;
     o.maxExponent = a.maxExponent;
@@ -350,22 +340,9 @@ void addBakeCommand(CLI::App& app) {
                   "N shards, this one's index from JOB_COMPLETION_INDEX (Kubernetes) or SLURM_ARRAY_TASK_ID (Slurm)")
         ->check(CLI::Range(1, 1000000));
     c->add_option("--method", args->method, methodSummaries())->capture_default_str();
-    c->add_option("--order", args->order, "sh: highest band l* ((l*+1)^2 coefficients; default 7)")
-        ->check(CLI::Range(1, kMaxShOrder));
+    addMethodParameterOptions(c, kParameterBake, args->methodParameters);
     c->add_flag("--half", args->half, "store the planes as 16-bit half floats");
-    c->add_option("--lobes", args->lobes, "vmf: lobes per texel J (default 4)")->check(CLI::Range(1, 8));
     c->add_option("--albedo", args->albedo, "vmf: colour map (sRGB PNG/JPEG or linear EXR): a colour per lobe");
-    c->add_option("--coherent", args->coherence,
-                  "vmf: C of the alignment term (eq. 32): lobes fitted top-down, slot j matched across texels")
-        ->check(CLI::Range(0.f, 1e6f));
-    c->add_option("--lobe-budget", args->lobeBudget,
-                  "vmf: merge a texel's lobes while a merge loses at most this much (Runnalls' bound, "
-                  "e.g. 0.01): fewer lobes where more buy little; 0 = J everywhere")
-        ->check(CLI::Range(0.f, 10.f));
-    c->add_option("--max-iterations", args->maxIterations, "vmf: EM iterations per texel at most")
-        ->check(CLI::Range(1, 10000))->capture_default_str();
-    c->add_option("--tolerance", args->tolerance, "vmf: relative log-likelihood gain that ends EM")
-        ->check(CLI::Range(0.0, 1.0))->capture_default_str();
     addInputOptions(c, args->input_options);
     c->add_option("--roughness-map", args->roughnessMap,
                   "toksvig: the material's roughness per texel (same size as the map), combined with the "

@@ -10,6 +10,7 @@
 
 #include "core/clock.h" // nowNanoseconds, millisecondsSince
 #include "ndfmip/bake.h"
+#include "ndfmip/method_parameters.h"
 #include "ndfmip/normal_map.h"
 #include "ndfmip/roughness.h"
 #include "ndfmip/scene.h"
@@ -86,6 +87,20 @@ struct EnvironmentShadingArgs {
 void addEnvironmentShadingOptions(CLI::App* command, EnvironmentShadingArgs& args);
 // --sh-views N alone (eval; render takes it with the options above).
 void addShViewsOption(CLI::App* command, int& views);
+
+// The methods' own options a command takes (`use`: a ParameterCommand bit), registered from
+// their parameter tables: one option per flag, its range and help from the table.
+struct MethodParameterArgs {
+    std::map<std::string, int64_t> integers; // by key: what the parser fills
+    std::map<std::string, double> numbers;
+    std::map<std::string, float> floats;
+    std::map<std::string, CLI::Option*> options;
+    // The values given on the command line (Float ones at float precision, as the bake keeps them).
+    ParameterValues given() const;
+    // The value of `key` for `method`: given, or the table's default.
+    double value(Method method, const std::string& key) const;
+};
+void addMethodParameterOptions(CLI::App* command, unsigned use, MethodParameterArgs& args);
 
 // Warns on stderr about suspicious normals that decoding found in `path`.
 void warnAboutDecode(const std::string& path, const DecodeReport& report);

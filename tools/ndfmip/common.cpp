@@ -36,6 +36,51 @@ void addInputOptions(CLI::App* command, InputOptions& o) {
     command->add_flag("--clamp", o.clamp, "the map does not tile (default: wrap)");
 }
 
+ParameterValues MethodParameterArgs::given() const {
+    ParameterValues values;
+    for (const auto& [key, option] : options) {
+        if (option->count() == 0) continue;
+        if (integers.count(key)) values[key] = double(integers.at(key));
+        else if (floats.count(key)) values[key] = double(floats.at(key));
+        else values[key] = numbers.at(key);
+    }
+    return values;
+}
+
+double MethodParameterArgs::value(Method method, const std::string& key) const {
+    return parameterValue(method, given(), key);
+}
+
+void addMethodParameterOptions(CLI::App* command, unsigned use, MethodParameterArgs& args) {
+    // A flag that several methods take is one option; its help names them all.
+    std::map<std::string, std::vector<std::pair<Method, const MethodParameter*>>> byKey;
+    std::vector<std::string> order;
+    for (const auto& entry : allMethodParameters()) {
+        if (!(entry.second->commands & use)) continue;
+        auto& takers = byKey[entry.second->key];
+        if (takers.empty()) order.push_back(entry.second->key);
+        takers.push_back(entry);
+    }
+    for (const std::string& key : order) {
+        const MethodParameter& p = *byKey[key].front().second;
+        std::string methods;
+        for (const auto& [method, unused] : byKey[key]) methods += (methods.empty() ? "" : ", ") + std::string(methodName(method));
+        char shown[32];
+        std::snprintf(shown, sizeof shown, "%g", p.defaultValue);
+        const std::string help = methods + (use == kParameterBake ? "" : " baked on the fly") + ": " + p.help +
+                                 " (default " + shown + ")";
+        CLI::Option* option = nullptr;
+        if (p.type == ParameterType::Integer)
+            option = command->add_option(p.flag, args.integers[key], help)
+                         ->check(CLI::Range(int64_t(p.min), int64_t(p.max)));
+        else if (p.type == ParameterType::Float)
+            option = command->add_option(p.flag, args.floats[key], help)->check(CLI::Range(float(p.min), float(p.max)));
+        else
+            option = command->add_option(p.flag, args.numbers[key], help)->check(CLI::Range(p.min, p.max));
+        args.options[key] = option;
+    }
+}
+
 void warnAboutDecode(const std::string& path, const DecodeReport& report) {
     auto percent = [&](size_t n) { return 100.0 * double(n) / double(report.texels); };
     if (report.offUnitLength * 20 > report.texels)

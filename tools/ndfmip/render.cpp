@@ -29,8 +29,7 @@ struct RenderArgs {
     int spp = 0; // 0: 1 for a method, 64 for the ground truth
     int anisotropy = 1;
     int frames = 0;
-    int order = 7; // sh baked on the fly
-    int lobes = 4; // vmf baked on the fly
+    MethodParameterArgs methodParameters; // --order, --lobes: methods baked on the fly
     uint64_t seed = 1;
     bool nearest = false;
     FilteringArgs filtering;
@@ -88,8 +87,7 @@ void runRender(const RenderArgs& a) {
     const long long start = nowNanoseconds();
     SceneTextureOptions load;
     load.bakeDir = a.bake;
-    load.shOrder = a.order;
-    load.vmfLobes = a.lobes;
+    load.bakeParameters = a.methodParameters.given();
     if (!a.quiet) load.decoded = [&](const DecodeReport& report) { warnAboutDecode(scene->normalMap.path, report); };
     Result<RenderTextures> loaded = loadSceneTextures(scene.value(), method, load);
     if (!loaded) throw Failure(loaded.error().message);
@@ -181,10 +179,7 @@ void addRenderCommand(CLI::App& app) {
     c->add_flag("--nearest", a->nearest, "the same as --truth box");
     c->add_option("--aniso", a->anisotropy, "methods: anisotropic probes along the footprint (1 = trilinear)")
         ->check(CLI::Range(1, 64))->capture_default_str();
-    c->add_option("--lobes", a->lobes, "vmf baked on the fly: lobes per texel J")
-        ->check(CLI::Range(1, 8))->capture_default_str();
-    c->add_option("--order", a->order, "sh baked on the fly: highest band l*")
-        ->check(CLI::Range(1, kMaxShOrder))->capture_default_str();
+    addMethodParameterOptions(c, kParameterRender, a->methodParameters);
     c->add_option("--bake", a->bake, "use this bake directory instead of baking the scene's map");
     c->add_option("--roughness-mapping", a->mapping,
                   "toksvig with beckmann/ggx: ours, hdrp, filament, godot or unreal")

@@ -17,6 +17,7 @@
 
 #include "gpu/gpu_method.h"
 #include "ndfmip/io.h"
+#include "ndfmip/vmf.h"
 #endif
 
 namespace ndfmip::cli {
@@ -24,8 +25,7 @@ namespace {
 
 struct ViewArgs {
     std::string scene, bake;
-    int order = 7;
-    int lobes = 4;
+    MethodParameterArgs methodParameters; // --order, --lobes: the bakes made on start
     std::string method; // at start (default: the scene's)
     bool split = false, levels = false;
     int frames = 0;     // quit after this many frames (0: when the window closes)
@@ -75,11 +75,13 @@ struct Viewer {
         const std::string key = bakeKey(shader);
         auto it = bakes.find(key);
         if (it != bakes.end()) return it->second;
+        const Method method = findShader(shader)->bake;
         BakeOptions o;
-        o.shOrder = args.order;
-        o.vmfLobes = state.lobes;
+        o.parameters = args.methodParameters.given();
+        o.parameters["lobes"] = state.lobes;
+        o.parameters = parametersOf(method, o.parameters);
         std::fprintf(stderr, "view: baking %s ...\n", key.c_str());
-        return bakes[key] = bakeMethod(findShader(shader)->bake, pyramid, o);
+        return bakes[key] = bakeMethod(method, pyramid, o);
     }
 
     // Draws `shader` over the whole window (the scissor keeps it to its half when split).
@@ -113,7 +115,7 @@ void onKey(GLFWwindow* window, int key, int, int action, int mods) {
     const size_t n = s.methods.size();
     if (key == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(window, GLFW_TRUE);
     if (key == GLFW_KEY_TAB) s.method = (mods & GLFW_MOD_SHIFT) ? (s.method + n - 1) % n : (s.method + 1) % n;
-    if (key == GLFW_KEY_EQUAL || key == GLFW_KEY_KP_ADD) s.lobes = std::min(s.lobes + 1, 8);
+    if (key == GLFW_KEY_EQUAL || key == GLFW_KEY_KP_ADD) s.lobes = std::min(s.lobes + 1, kMaxVmfBakeLobes);
     if (key == GLFW_KEY_MINUS || key == GLFW_KEY_KP_SUBTRACT) s.lobes = std::max(s.lobes - 1, 1);
     if (key == GLFW_KEY_S) s.split = !s.split;
     if (key == GLFW_KEY_F) s.levels = !s.levels;
@@ -126,7 +128,7 @@ void onKey(GLFWwindow* window, int key, int, int action, int mods) {
         s.distance = glm::length(offset);
         s.azimuth = std::atan2(offset.y, offset.x);
         s.elevation = std::asin(glm::clamp(offset.z / s.distance, -1.f, 1.f));
-        s.lobes = v->args.lobes;
+        s.lobes = int(v->args.methodParameters.value(Method::Vmf, "lobes"));
         if (!v->scene.lights.empty()) {
             const glm::vec3 d = glm::normalize(v->scene.lights.front().direction);
             s.lightAzimuth = std::atan2(d.y, d.x);
@@ -272,9 +274,7 @@ void addViewCommand(CLI::App& app) {
     CLI::App* c = app.add_subcommand("view", "draw a scene in a window with the GPU renderer, interactively");
     c->add_option("scene", a->scene, "scene file (JSON)")->required();
     c->add_option("--bake", a->bake, "use this bake directory for its method");
-    c->add_option("--order", a->order, "sh: highest band l* of the bake made on start")
-        ->check(CLI::Range(1, 10))->capture_default_str();
-    c->add_option("--lobes", a->lobes, "vmf: lobes at start (+/- change them)")->check(CLI::Range(1, 8))->capture_default_str();
+    addMethodParameterOptions(c, kParameterView, a->methodParameters); // vmf's lobes at start; +/- change them
     c->add_option("--method", a->method, "method at start (default: the scene's)");
     c->add_flag("--split", a->split, "start in split screen (right: toksvig)");
     c->add_flag("--mip-levels", a->levels, "start with the mip level as false colour");

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "ndfmip/bake.h"
+#include "ndfmip/method_parameters.h"
 #include "ndfmip/spherical_harmonics.h"
 
 namespace ndfmip {
@@ -12,7 +13,7 @@ namespace ndfmip {
 int shPlaneCount(int order) { return (shCount(order) + 3) / 4; }
 
 Bake bakeSh(const Pyramid& pyramid, const BakeOptions& options) {
-    const int order = options.shOrder;
+    const int order = int(parameterValue(Method::Sh, options.parameters, "order"));
     const int coefficients = shCount(order), planeCount = shPlaneCount(order);
     Bake bake;
     bake.method = Method::Sh;

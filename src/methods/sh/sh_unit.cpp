@@ -76,9 +76,14 @@ MethodUnit shUnit() {
         for (int p = 0; p < shPlaneCount(orderOf(parameters)); ++p) planes.push_back(planeOf("sh" + std::to_string(p), 4, true));
         return planes;
     };
-    u.required = {{"order", 1, kMaxShOrder, true}};
+    // The highest band, for bakes of its own, bakes made on the fly and eval's sh:ORDER.
+    u.parameters = {{.key = "order", .flag = "--order", .type = ParameterType::Integer, .min = 1,
+                     .max = kMaxShOrder, .defaultValue = 7, .help = "highest band l* ((l*+1)^2 coefficients)",
+                     .commands = kParameterBake | kParameterRender | kParameterView | kParameterEval,
+                     .recorded = true, .specPosition = 0, .keyedZeroWhenUnset = true}};
     u.bakeBytesPerTexel = [](const BakeOptions& o) {
-        return 16.0 * ((shCount(std::clamp(o.shOrder, 0, kMaxShOrder)) + 3) / 4) * 4.0 / 3.0;
+        const int order = int(parameterValue(Method::Sh, o.parameters, "order"));
+        return 16.0 * ((shCount(std::clamp(order, 0, kMaxShOrder)) + 3) / 4) * 4.0 / 3.0;
     };
     u.describe = [](const BakeParameters& parameters) {
         return "sh bake of order " + std::to_string(orderOf(parameters));

@@ -4,21 +4,24 @@
 #include <string>
 
 #include "ndfmip/bake.h"
+#include "ndfmip/method_parameters.h"
 #include "ndfmip/vmf.h"
 
 namespace ndfmip {
 
 Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
-    const int lobes = options.vmfLobes;
+    auto parameter = [&](const char* key) { return parameterValue(Method::Vmf, options.parameters, key); };
+    const int lobes = int(parameter("lobes"));
+    const float coherence = float(parameter("coherent")), lobeBudget = float(parameter("lobe_budget"));
     VmfFitOptions fit;
-    fit.maxIterations = options.vmfMaxIterations;
-    fit.tolerance = options.vmfTolerance;
+    fit.maxIterations = int(parameter("max_iterations"));
+    fit.tolerance = parameter("tolerance");
     // Coherent lobes (eq. 32) take kappa from r_j . mu_j, the exact M-step of the alignment
     // objective: with kappa from |r_j| the pull costs the sharp lobes of the fine levels much
     // of their likelihood.
-    fit.coherence = options.vmfCoherence;
-    fit.alignedKappa = options.vmfCoherence > 0.f;
-    fit.lobeBudget = options.vmfLobeBudget;
+    fit.coherence = coherence;
+    fit.alignedKappa = coherence > 0.f;
+    fit.lobeBudget = lobeBudget;
     VmfFitStats stats;
     std::vector<VmfLevel> levels = fitVmfPyramid(pyramid, lobes, fit, &stats);
     const bool colors = options.albedo != nullptr;
@@ -34,11 +37,11 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
     bake.parameters["em_mean_iterations"] = stats.meanIterations;
     bake.parameters["em_most_iterations"] = stats.maxIterations;
     bake.parameters["em_not_converged"] = double(stats.notConverged);
-    bake.parameters["lobe_budget"] = options.vmfLobeBudget;
+    bake.parameters["lobe_budget"] = lobeBudget;
     bake.parameters["mean_lobes"] = stats.texels ? double(stats.lobes) / double(stats.texels) : 0.0;
-    bake.parameters["coherence"] = options.vmfCoherence;
+    bake.parameters["coherence"] = coherence;
     bake.parameters["lobe_mismatch_degrees"] = lobeMismatch(levels);
-    const std::string slot = options.vmfCoherence > 0.f ? " (coherent slot, eq. 32)" : " (slot by decreasing alpha)";
+    const std::string slot = coherence > 0.f ? " (coherent slot, eq. 32)" : " (slot by decreasing alpha)";
     for (int j = 0; j < lobes; ++j)
         bake.planes.push_back({"lobe" + std::to_string(j),
                                {"alpha", "alpha r mu.x", "alpha r mu.y", "alpha r mu.z"},

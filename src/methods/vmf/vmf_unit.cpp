@@ -48,7 +48,8 @@ void inspectVmf(nlohmann::json& out, const LoadedBake& bake, int x, int y, const
 Status prepareVmf(const Material& m, const RenderTextures& textures, const RenderOptions& options, ShaderSetup& setup) {
     setup.vmfLobes = bakeVmfLobes(textures.bake);
     setup.vmfColors = findPlane(textures.bake.planes, "color0") >= 0;
-    if (setup.vmfLobes < 1 || setup.vmfLobes > 8) return Status::failure("render: vmf bakes have 1 to 8 lobes");
+    if (setup.vmfLobes < 1 || setup.vmfLobes > kMaxVmfBakeLobes)
+        return Status::failure("render: vmf bakes have 1 to " + std::to_string(kMaxVmfBakeLobes) + " lobes");
     if (!textures.environment) return Status::success();
     if (options.vmfEnvironment == EnvironmentWay::Prefiltered) return prepareSplitSumSetup(m, textures, options, setup);
     // The paper's way: the lobes' transfer functions against SH lighting of order 8.
@@ -59,7 +60,7 @@ Status prepareVmf(const Material& m, const RenderTextures& textures, const Rende
 }
 
 // The lobe colours that follow the lobe planes, unpacked into `colors`; null for a bake without them.
-const glm::vec3* unpackedColors(const ShaderSetup& setup, const float* p, glm::vec3 colors[8]) {
+const glm::vec3* unpackedColors(const ShaderSetup& setup, const float* p, glm::vec3 colors[kMaxVmfBakeLobes]) {
     if (!setup.vmfColors) return nullptr;
     for (int j = 0; j < setup.vmfLobes; ++j) {
         const float* c = p + 4 * setup.vmfLobes + 3 * j;
@@ -71,7 +72,7 @@ const glm::vec3* unpackedColors(const ShaderSetup& setup, const float* p, glm::v
 // Lobe planes (4 channels each), then colour planes (3 each) when the bake has them.
 glm::vec3 shadeVmfParams(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo, glm::vec3 l,
                          glm::vec3 v) {
-    glm::vec3 colors[8];
+    glm::vec3 colors[kMaxVmfBakeLobes];
     return shadeVmf(m, albedo, p, setup.vmfLobes, unpackedColors(setup, p, colors), l, v);
 }
 
@@ -81,7 +82,7 @@ glm::vec3 shadeVmfParams(const ShaderSetup& setup, const Material& m, const floa
 // without eq. 30's equivalent-roughness step).
 glm::vec3 shadeVmfEnvironment(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo,
                               glm::vec3 v, const glm::mat3& toEnvironment, const EnvironmentLighting&) {
-    glm::vec3 colors[8];
+    glm::vec3 colors[kMaxVmfBakeLobes];
     const glm::vec3* lobeColors = unpackedColors(setup, p, colors);
     if (setup.splitSum)
         return shadeVmfSplitSum(m, albedo, p, setup.vmfLobes, lobeColors, v, toEnvironment, *setup.splitSum,
@@ -90,6 +91,28 @@ glm::vec3 shadeVmfEnvironment(const ShaderSetup& setup, const Material& m, const
         m.brdf == Brdf::BlinnPhong ? VmfSpecularTransfer::Widened : VmfSpecularTransfer::Convolved;
     return shadeVmfEnvironmentSh(m, albedo, p, setup.vmfLobes, lobeColors, v, toEnvironment,
                                  shLightingAt(setup, v, toEnvironment), setup.sh, transfer);
+}
+
+// The bake's options: the lobe count (also for bakes made on the fly and eval's vmf:J:BUDGET),
+// the EM's limits, coherent lobes and the error budget.
+std::vector<MethodParameter> vmfParameters() {
+    constexpr unsigned everywhere = kParameterBake | kParameterRender | kParameterView | kParameterEval;
+    return {{.key = "lobes", .flag = "--lobes", .type = ParameterType::Integer, .min = 1, .max = kMaxVmfBakeLobes,
+             .defaultValue = 4, .help = "lobes per texel J", .commands = everywhere, .recorded = true,
+             .specPosition = 0, .keyedZeroWhenUnset = true},
+            {.key = "coherent", .flag = "--coherent", .type = ParameterType::Float, .min = 0, .max = 1e6,
+             .defaultValue = 0, .help = "C of the alignment term (eq. 32): lobes fitted top-down, slot j matched "
+                                        "across texels",
+             .commands = kParameterBake},
+            {.key = "lobe_budget", .flag = "--lobe-budget", .type = ParameterType::Float, .min = 0, .max = 10,
+             .defaultValue = 0,
+             .help = "merge a texel's lobes while a merge loses at most this much (Runnalls' bound, e.g. 0.01): "
+                     "fewer lobes where more buy little; 0 = J everywhere",
+             .commands = kParameterBake | kParameterEval, .specPosition = 1},
+            {.key = "max_iterations", .flag = "--max-iterations", .type = ParameterType::Integer, .min = 1,
+             .max = 10000, .defaultValue = 50, .help = "EM iterations per texel at most", .commands = kParameterBake},
+            {.key = "tolerance", .flag = "--tolerance", .type = ParameterType::Double, .min = 0, .max = 1,
+             .defaultValue = 1e-5, .help = "relative log-likelihood gain that ends EM", .commands = kParameterBake}};
 }
 
 } // namespace
@@ -107,10 +130,17 @@ MethodUnit vmfUnit() {
         for (int j = 0; colours && j < lobes; ++j) planes.push_back(planeOf("color" + std::to_string(j), 3, true));
         return planes;
     };
-    u.required = {{"lobes", 1, 8, true}};
+    u.parameters = vmfParameters();
+    u.checkParameters = [](const ParameterValues& values, ParameterNaming naming) {
+        if (values.count("lobe_budget") && values.at("lobe_budget") != 0.0 && values.count("coherent") &&
+            values.at("coherent") != 0.0)
+            return Status::failure(std::string(naming == ParameterNaming::Flag ? "--lobe-budget" : "lobe_budget") +
+                                   " does not apply to coherent lobes");
+        return Status::success();
+    };
     // Fitted lobes (32 bytes each) and their offsets, then the lobe and colour planes.
     u.bakeBytesPerTexel = [](const BakeOptions& o) {
-        const int lobes = std::clamp(o.vmfLobes, 1, 8);
+        const int lobes = std::clamp(int(parameterValue(Method::Vmf, o.parameters, "lobes")), 1, kMaxVmfBakeLobes);
         return (4.0 + lobes * (32.0 + 16.0 + (o.albedo ? 12.0 : 0.0))) * 4.0 / 3.0;
     };
     u.describe = [](const BakeParameters& parameters) {
