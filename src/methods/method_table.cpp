@@ -94,6 +94,14 @@ PlaneInfo planeOf(const std::string& name, int channels, bool linear) {
 
 nlohmann::json jsonVec3(const float* v) { return {v[0], v[1], v[2]}; }
 
+void addUniform(std::vector<UniformValue>& u, const std::string& name, int value) {
+    u.push_back({name, true, {float(value)}});
+}
+
+void addUniform(std::vector<UniformValue>& u, const std::string& name, float value) {
+    u.push_back({name, false, {value}});
+}
+
 int requirePlane(const LoadedBake& bake, const std::string& name) {
     const int p = findPlane(bake.planes, name);
     if (p < 0) throw std::runtime_error("bake has no plane '" + name + "'");

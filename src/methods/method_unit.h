@@ -97,6 +97,15 @@ Status prepareSplitSumSetup(const Material& material, const RenderTextures& text
 Status prepareShLightingSetup(const Material& material, const RenderTextures& textures, const RenderOptions& options,
                               ShaderSetup& setup);
 
+// A uniform of the GPU renderer's fragment shader (render_program.h).
+struct UniformValue {
+    std::string name;
+    bool integer = false;
+    std::vector<float> values; // 1 to 3 components
+};
+
+constexpr int kGpuMaxShOrder = 10; // NDFMIP_SH_MAX_ORDER in shaders/sh.glsl
+
 struct MethodShader {
     const char* name; // render and eval method name
     Method bake;      // the bake it reads
@@ -116,7 +125,23 @@ struct MethodShader {
     glm::vec3 (*shadeEnvironment)(const ShaderSetup& setup, const Material& material, const float* params,
                                   glm::vec3 albedo, glm::vec3 view, const glm::mat3& tangentToEnvironment,
                                   const EnvironmentLighting& lighting);
+    // The GPU renderer's part (render_program.cpp); null where the glue needs nothing of it.
+    // Texture layers the glue reads after the planes' (`levels` of them, one per bake level):
+    // roughness-mips' roughness.
+    Status (*gpuLayers)(const RenderTextures& textures, size_t levels, std::vector<std::vector<const Image*>>& layers);
+    // The glue's #defines (`layers`: the planes' layers and the extra ones).
+    std::string (*gpuDefines)(const ShaderSetup& setup, int layers);
+    // The glue's uniforms, or why the GPU cannot draw this setup.
+    Status (*gpuUniforms)(const ShaderSetup& setup, std::vector<UniformValue>& uniforms);
+    // Under SH lighting: the planes hold coefficients in the tangent frame (sh), so the lighting
+    // is rotated into it (per hit on a curved surface); otherwise the glue turns its lobes into
+    // the environment's frame.
+    bool shLightingInTangentFrame;
 };
+
+// A uniform's value, for the gpuUniforms hooks.
+void addUniform(std::vector<UniformValue>& uniforms, const std::string& name, int value);
+void addUniform(std::vector<UniformValue>& uniforms, const std::string& name, float value);
 
 const std::vector<MethodShader>& methodShaders();
 const MethodShader* findShader(const std::string& name); // null if none

@@ -266,7 +266,7 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         const Geometry& g = scene.geometry;
         const glm::mat3 frame = tangentToEnvironment(g.tangent, glm::cross(g.normal, g.tangent), g.normal);
         const int order = environmentShOrder;
-        if (shader.bake != Method::Sh) program.environmentSh = shLightingRows(lighting, order, nullptr);
+        if (!shader.shLightingInTangentFrame) program.environmentSh = shLightingRows(lighting, order, nullptr);
         else if (g.type == GeometryType::Plane) program.environmentSh = shLightingRows(lighting, order, &frame);
         else program.environmentSh = shLightingRowsToRotate(lighting, order);
         program.environment = textures.environment;
@@ -289,10 +289,6 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         program.environment = textures.environment;
         program.environmentVisible = scene.environment.visible;
     }
-    if (shader.bake == Method::Sh && setup.sh.order > kGpuMaxShOrder)
-        return Error{"render --gpu: sh bakes up to order " + std::to_string(kGpuMaxShOrder) + " (this one is " +
-                     std::to_string(setup.sh.order) + ")"};
-
     // Layers: the linear planes, then the roughness mips (roughness-mips), then the albedo map.
     auto& layers = program.layers;
     for (size_t p = 0; p < bake.planes.size(); ++p) {
@@ -302,13 +298,8 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         for (const auto& level : bake.levels) chain.push_back(level[p].get());
         layers.push_back(chain);
     }
-    if (method == kRoughnessMips) {
-        if (textures.roughness.size() != bake.levels.size())
-            return Error{"render --gpu: roughness-mips needs a roughness image per level"};
-        std::vector<const Image*> chain;
-        for (const SharedImage& r : textures.roughness) chain.push_back(r.get());
-        layers.push_back(chain);
-    }
+    if (shader.gpuLayers)
+        if (Status s = shader.gpuLayers(textures, bake.levels.size(), layers); !s) return Error{s.error};
     const int methodLayers = int(layers.size());
     const bool albedoMap = !textures.albedo.empty();
     if (albedoMap) {
@@ -324,18 +315,12 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
                 return Error{"render --gpu: level " + std::to_string(k) + " of a texture differs in size from the bake's"};
 
     // The fragment shader: defines, the library, the ray caster, the method's glue, the main.
-    std::string defines;
-    if (shader.bake == Method::Sh || shader.bake == Method::Vmf)
-        defines += "#define NDFMIP_LAYERS " + std::to_string(methodLayers) + "\n";
-    if (shader.bake == Method::Vmf) {
-        defines += "#define NDFMIP_LOBES " + std::to_string(setup.vmfLobes) + "\n";
-        if (setup.vmfColors) defines += "#define NDFMIP_LOBE_COLOURS\n";
-    }
+    std::string defines = shader.gpuDefines ? shader.gpuDefines(setup, methodLayers) : "";
     if (environment) defines += "#define NDFMIP_ENVIRONMENT\n";
     if (shLighting) defines += "#define NDFMIP_ENVIRONMENT_SH\n";
     if (program.environmentChain && !program.environmentChain->cube.levels.empty())
         defines += "#define NDFMIP_ENVIRONMENT_CUBE\n";
-    if (shLighting && shader.bake == Method::Sh && scene.geometry.type != GeometryType::Plane)
+    if (shLighting && shader.shLightingInTangentFrame && scene.geometry.type != GeometryType::Plane)
         defines += "#define NDFMIP_ENVIRONMENT_SH_PER_HIT\n";
     // The SH lighting's order, rows and rotation points as constants (environment.glsl): its
     // loops over bands and coefficients unroll, and llvmpipe's loop limiter no longer counts them.
@@ -367,20 +352,8 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     add(u, "ndfmipHasAlbedoMap", albedoMap ? 1 : 0);
     add(u, "ndfmipLevelCount", int(bake.levels.size()));
     add(u, "ndfmipPlanes", 0);
-    if (method == kToksvigLut) add(u, "ndfmipLut", 1);
-    if (shader.bake == Method::Toksvig && method != kToksvigLut) {
-        add(u, "ndfmipMapping", int(setup.mapping));
-        add(u, "ndfmipVarianceScale", setup.varianceScale);
-    }
-    if (method == kRoughnessMips) add(u, "ndfmipRoughnessIsAlpha", setup.roughnessIsAlpha ? 1 : 0);
-    if (shader.bake == Method::Sh) {
-        add(u, "ndfmipShOrder", setup.sh.order);
-        for (int l = 0; l <= setup.sh.order; ++l) {
-            const std::string index = "[" + std::to_string(l) + "]";
-            add(u, "ndfmipShDiffuse" + index, float(setup.sh.diffuse[size_t(l)]));
-            add(u, "ndfmipShSpecular" + index, float(setup.sh.specular[size_t(l)]));
-        }
-    }
+    if (shader.gpuUniforms)
+        if (Status s = shader.gpuUniforms(setup, u); !s) return Error{s.error};
     if (environment) {
         // Every sampler on its unit, used or not: two of different types on one unit (0, the
         // planes' array) make the draw invalid.

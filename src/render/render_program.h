@@ -16,13 +16,6 @@
 namespace ndfmip {
 
 constexpr int kGpuMaxLights = 16; // NDFMIP_MAX_LIGHTS in shaders/render/main.frag
-constexpr int kGpuMaxShOrder = 10; // NDFMIP_SH_MAX_ORDER in shaders/sh.glsl
-
-struct UniformValue {
-    std::string name;
-    bool integer = false;
-    std::vector<float> values; // 1 to 3 components
-};
 
 struct RenderProgram {
     const MethodShader* shader = nullptr;

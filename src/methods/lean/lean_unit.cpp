@@ -46,7 +46,8 @@ std::vector<MethodShader> leanShaders() {
         return Status::success();
     };
     auto lobe = [](const ShaderSetup&, const Material& m, const float* p, glm::vec3 h) { return leanLobe(m, p, h); };
-    return {{"lean", Method::Lean, "render/lean.glsl", none, shadeLeanParams, lobe, nullptr}};
+    return {{"lean", Method::Lean, "render/lean.glsl", none, shadeLeanParams, lobe, nullptr, nullptr, nullptr, nullptr,
+             false}};
 }
 
 } // namespace ndfmip

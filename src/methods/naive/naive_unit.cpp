@@ -76,9 +76,23 @@ std::vector<MethodShader> naiveShaders() {
         const float alpha = glm::max(setup.roughnessIsAlpha ? r : r * r, 1e-4f);
         return length > 0.f ? specularLobe(m.brdf, glm::dot(n, h) / length, m.exponent, alpha) : 0.f;
     };
-    return {{"naive", Method::Naive, "render/naive.glsl", prepareNaive, shadeNaiveParams, lobe, shadeNaiveEnvironment},
+    // roughness-mips reads an engine's roughness per level after the mean normals.
+    auto roughnessLayers = [](const RenderTextures& textures, size_t levels, std::vector<std::vector<const Image*>>& layers) {
+        if (textures.roughness.size() != levels)
+            return Status::failure("render --gpu: roughness-mips needs a roughness image per level");
+        std::vector<const Image*> chain;
+        for (const SharedImage& r : textures.roughness) chain.push_back(r.get());
+        layers.push_back(chain);
+        return Status::success();
+    };
+    auto roughnessUniforms = [](const ShaderSetup& setup, std::vector<UniformValue>& u) {
+        addUniform(u, "ndfmipRoughnessIsAlpha", setup.roughnessIsAlpha ? 1 : 0);
+        return Status::success();
+    };
+    return {{"naive", Method::Naive, "render/naive.glsl", prepareNaive, shadeNaiveParams, lobe, shadeNaiveEnvironment,
+             nullptr, nullptr, nullptr, false},
             {kRoughnessMips, Method::Naive, "render/roughness_mips.glsl", prepareRoughnessMips, shadeRoughnessMips,
-             roughLobe, shadeRoughnessMipsEnvironment}};
+             roughLobe, shadeRoughnessMipsEnvironment, roughnessLayers, nullptr, roughnessUniforms, false}};
 }
 
 } // namespace ndfmip

@@ -98,7 +98,22 @@ std::vector<MethodShader> shShaders() {
     auto lobe = [](const ShaderSetup& setup, const Material&, const float* p, glm::vec3 h) {
         return shLobe(p, setup.sh, h);
     };
-    return {{"sh", Method::Sh, "render/sh.glsl", prepareSh, shadeShParams, lobe, shadeShEnvironmentParams}};
+    auto defines = [](const ShaderSetup&, int layers) { return "#define NDFMIP_LAYERS " + std::to_string(layers) + "\n"; };
+    // The BRDF's A_l per band (eq. 17) beside the coefficients, up to the GLSL arrays' size.
+    auto uniforms = [](const ShaderSetup& setup, std::vector<UniformValue>& u) {
+        if (setup.sh.order > kGpuMaxShOrder)
+            return Status::failure("render --gpu: sh bakes up to order " + std::to_string(kGpuMaxShOrder) +
+                                   " (this one is " + std::to_string(setup.sh.order) + ")");
+        addUniform(u, "ndfmipShOrder", setup.sh.order);
+        for (int l = 0; l <= setup.sh.order; ++l) {
+            const std::string index = "[" + std::to_string(l) + "]";
+            addUniform(u, "ndfmipShDiffuse" + index, float(setup.sh.diffuse[size_t(l)]));
+            addUniform(u, "ndfmipShSpecular" + index, float(setup.sh.specular[size_t(l)]));
+        }
+        return Status::success();
+    };
+    return {{"sh", Method::Sh, "render/sh.glsl", prepareSh, shadeShParams, lobe, shadeShEnvironmentParams, nullptr,
+             defines, uniforms, true}};
 }
 
 } // namespace ndfmip

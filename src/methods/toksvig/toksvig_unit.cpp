@@ -90,9 +90,19 @@ std::vector<MethodShader> toksvigShaders() {
     auto lutLobe = [](const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 h) {
         return toksvigLutLobe(m, glm::vec3(p[0], p[1], p[2]), setup.lut, h);
     };
+    auto closedFormUniforms = [](const ShaderSetup& setup, std::vector<UniformValue>& u) {
+        addUniform(u, "ndfmipMapping", int(setup.mapping));
+        addUniform(u, "ndfmipVarianceScale", setup.varianceScale);
+        return Status::success();
+    };
+    auto lutUniforms = [](const ShaderSetup&, std::vector<UniformValue>& u) {
+        addUniform(u, "ndfmipLut", 1); // the table's texture unit
+        return Status::success();
+    };
     return {{"toksvig", Method::Toksvig, "render/toksvig.glsl", prepareClosedForm, shadeClosedForm, lobe,
-             shadeClosedFormEnvironment},
-            {kToksvigLut, Method::Toksvig, "render/toksvig_lut.glsl", prepareLut, shadeLut, lutLobe, nullptr}};
+             shadeClosedFormEnvironment, nullptr, nullptr, closedFormUniforms, false},
+            {kToksvigLut, Method::Toksvig, "render/toksvig_lut.glsl", prepareLut, shadeLut, lutLobe, nullptr, nullptr,
+             nullptr, lutUniforms, false}};
 }
 
 } // namespace ndfmip

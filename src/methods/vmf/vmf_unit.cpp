@@ -158,7 +158,14 @@ std::vector<MethodShader> vmfShaders() {
     auto lobe = [](const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 h) {
         return vmfLobe(m, p, setup.vmfLobes, h);
     };
-    return {{"vmf", Method::Vmf, "render/vmf.glsl", prepareVmf, shadeVmfParams, lobe, shadeVmfEnvironment}};
+    auto defines = [](const ShaderSetup& setup, int layers) {
+        std::string text = "#define NDFMIP_LAYERS " + std::to_string(layers) + "\n";
+        text += "#define NDFMIP_LOBES " + std::to_string(setup.vmfLobes) + "\n";
+        if (setup.vmfColors) text += "#define NDFMIP_LOBE_COLOURS\n";
+        return text;
+    };
+    return {{"vmf", Method::Vmf, "render/vmf.glsl", prepareVmf, shadeVmfParams, lobe, shadeVmfEnvironment, nullptr,
+             defines, nullptr, false}};
 }
 
 } // namespace ndfmip
