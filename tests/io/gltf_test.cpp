@@ -1,7 +1,12 @@
 // glTF in, GLB out: every image and buffer byte kept, every property kept, and the texture
 // sharing rule of filterGltf.
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
+#include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -9,10 +14,13 @@
 #include "io/gltf_asset.h"
 #include "ndfmip/gltf.h"
 #include "ndfmip/io.h"
+#include "ndfmip/limits.h"
 #include "test_support.h"
 
 namespace ndfmip {
 namespace {
+
+namespace fs = std::filesystem;
 
 std::string bundledNormalMap() {
     return test::fileBytes(std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png");
@@ -28,6 +36,44 @@ std::string materialMapPng() {
             p[2] = float((x / 16 + y / 16) % 2);
         }
     return encodePng(m, 8).value();
+}
+
+// The input limits in force for one test.
+struct ScopedLimits {
+    InputLimits saved = inputLimits();
+    explicit ScopedLimits(const InputLimits& limits) { setInputLimits(limits); }
+    ~ScopedLimits() { setInputLimits(saved); }
+};
+
+// A GLB of the given chunks (type, bytes) as they are, with header version `version` and a
+// header length of the bytes written plus `lengthSlack`.
+std::string glbOfChunks(const std::vector<std::pair<uint32_t, std::string>>& chunks,
+                        uint32_t version = 2) {
+    std::string body;
+    for (const auto& [type, bytes] : chunks) {
+        test::appendU32(body, uint32_t(bytes.size()));
+        test::appendU32(body, type);
+        body += bytes;
+    }
+    std::string out;
+    test::appendU32(out, 0x46546C67);
+    test::appendU32(out, version);
+    test::appendU32(out, uint32_t(12 + body.size()));
+    return out + body;
+}
+
+constexpr uint32_t kJson = 0x4E4F534A, kBin = 0x004E4942;
+
+std::string padded(std::string text, char with) {
+    text.resize((text.size() + 3) / 4 * 4, with);
+    return text;
+}
+
+void expectRefusal(const Result<GltfAsset>& r, const std::string& path, const std::string& says) {
+    ASSERT_FALSE(r) << path << " read, expected: " << says;
+    EXPECT_EQ(r.error().message.rfind(path + ": ", 0), 0u) << r.error().message;
+    EXPECT_EQ(r.error().message.find('\n'), std::string::npos) << r.error().message;
+    EXPECT_NE(r.error().message.find(says), std::string::npos) << r.error().message;
 }
 
 TEST(GltfAsset, GltfToGlbKeepsEveryImageAndBufferByteForByte) {
@@ -126,6 +172,148 @@ TEST(GltfAsset, BrokenContainersAreOneLineErrors) {
     Result<GltfAsset> cut = readGltf(dir.file("cut.glb"));
     ASSERT_FALSE(cut);
     EXPECT_NE(cut.error().message.find("JSON chunk"), std::string::npos) << cut.error().message;
+}
+
+// The GLB container is read strictly: version 2, the header's length, JSON first, at most one
+// BIN chunk right after it, chunks 4-byte aligned; the asset's glTF version 2.x.
+TEST(GltfAsset, GlbContainerIsReadStrictly) {
+    test::TempDir dir("gltf_strict");
+    const test::TestAsset asset = test::quadAsset();
+    const std::string json = padded(asset.json.dump(), ' '), bin = padded(asset.bin, '\0');
+    auto check = [&](const std::string& name, const std::string& bytes, const std::string& says) {
+        const std::string path = dir.file(name);
+        test::writeBytes(path, bytes);
+        Result<GltfAsset> r = readGltf(path);
+        if (says.empty()) {
+            ASSERT_TRUE(r) << name << ": " << r.error().message;
+            EXPECT_EQ(r->buffers.at(0), asset.bin);
+        } else {
+            expectRefusal(r, path, says);
+        }
+    };
+    check("good.glb", glbOfChunks({{kJson, json}, {kBin, bin}}), "");
+    // Chunks of unknown types after BIN are skipped, as the format says.
+    check("extra.glb", glbOfChunks({{kJson, json}, {kBin, bin}, {0x12345678, "abcd"}}), "");
+    check("v1.glb", glbOfChunks({{kJson, json}, {kBin, bin}}, 1), "GLB version 1");
+    check("v99.glb", glbOfChunks({{kJson, json}, {kBin, bin}}, 99), "GLB version 99");
+    check("trailing.glb", glbOfChunks({{kJson, json}, {kBin, bin}}) + std::string(8, '\0'),
+          "8 bytes after the end of the GLB");
+    std::string longer = glbOfChunks({{kJson, json}, {kBin, bin}});
+    const uint32_t claimed = uint32_t(longer.size() + 4); // 4 bytes more than the file has
+    std::memcpy(&longer[8], &claimed, 4);
+    check("short.glb", longer, "the GLB header declares");
+    check("twobins.glb", glbOfChunks({{kJson, json}, {kBin, bin}, {kBin, bin}}),
+          "a second BIN chunk");
+    check("binfirst.glb", glbOfChunks({{kBin, bin}, {kJson, json}}), "first chunk is not JSON");
+    check("twojson.glb", glbOfChunks({{kJson, json}, {kJson, json}, {kBin, bin}}),
+          "a second JSON chunk");
+    check("unaligned.glb", glbOfChunks({{kJson, json + "  "}, {kBin, bin}}), "not a multiple of 4");
+    // The glTF version, in a GLB and in a .gltf.
+    test::TestAsset three = asset;
+    three.json["asset"]["version"] = "3.0";
+    check("three.glb", glbOfChunks({{kJson, padded(three.json.dump(), ' ')}, {kBin, bin}}),
+          "asset.version '3.0'");
+    three.json.erase("asset");
+    check("noversion.glb", glbOfChunks({{kJson, padded(three.json.dump(), ' ')}, {kBin, bin}}),
+          "no asset.version");
+    test::TestAsset one = asset;
+    one.json["asset"]["version"] = "1.0";
+    const std::string gltf = test::writeGltf(dir.path, one, {});
+    expectRefusal(readGltf(gltf), gltf, "asset.version '1.0'");
+}
+
+// A .gltf's JSON, data URIs aside, is held to the text limit before it is parsed.
+TEST(GltfAsset, GltfJsonIsHeldToTheTextLimit) {
+    test::TempDir dir("gltf_text");
+    InputLimits limits = inputLimits();
+    limits.maxTextFileBytes = 64 << 10;
+    ScopedLimits scoped(limits);
+    test::TestAsset asset = test::quadAsset();
+    for (int k = 0; k < 30000; ++k) asset.json["nodes"].push_back(test::OrderedJson::object());
+    const std::string nodes = test::writeGltf(dir.path, asset, {});
+    expectRefusal(readGltf(nodes), nodes, "above the limit of 64.0 KiB");
+    // An embedded image larger than the limit is no structure: it reads.
+    test::TestAsset embedded = test::quadAsset();
+    Image noise(160, 160, 3);
+    uint32_t state = 12345;
+    for (float& v : noise.pixels) {
+        state = state * 1664525u + 1013904223u; // an LCG's high byte: incompressible enough
+        v = float(state >> 24) / 255.f;
+    }
+    const std::string png = encodePng(noise, 8).value();
+    ASSERT_GT(png.size(), size_t(64 << 10));
+    embedded.json["images"][0]["uri"] = "data:image/png;base64," + test::base64(png);
+    embedded.json["images"].erase(1);
+    const std::string path = test::writeGltf(dir.path, embedded, {});
+    Result<GltfAsset> read = readGltf(path);
+    ASSERT_TRUE(read) << read.error().message;
+    EXPECT_EQ(gltfImageBytes(read.value(), 0).value(), png);
+}
+
+// Buffer and image uris name files inside the asset's folder; anything else needs allowOutside,
+// and NUL or control characters are refused always.
+TEST(GltfAsset, UrisStayInsideTheAssetFolder) {
+    test::TempDir dir("gltf_uris");
+    const fs::path folder = dir.path / "asset";
+    fs::create_directories(folder / "sub");
+    const test::TestAsset asset = test::quadAsset();
+    test::writeBytes(dir.path / "outside.bin", asset.bin);
+    test::writeBytes(folder / "quad.bin", asset.bin);
+    fs::create_symlink("../outside.bin", folder / "link.bin");
+    const std::string absolute = (dir.path / "outside.bin").string();
+    auto withBufferUri = [&](const std::string& uri) {
+        test::TestAsset a = asset;
+        a.json["images"] = test::OrderedJson::array();
+        a.json["buffers"][0]["uri"] = uri;
+        const std::string path = (folder / "asset.gltf").string();
+        test::writeBytes(path, a.json.dump());
+        return path;
+    };
+    struct Case {
+        std::string uri, says;
+        bool allowed; // read with allowOutside
+    };
+    const std::vector<Case> refused = {
+        {absolute, "an absolute path", true},
+        {"file://" + absolute, "file: uri", true},
+        {"../outside.bin", "'..' climbs", true},
+        {"sub/../../outside.bin", "'..' climbs", true},
+        {"%2e%2e/outside.bin", "'..' climbs", true},
+        {"sub%2F..%2F..%2Foutside.bin", "percent-encoded separator", true},
+        {"link.bin", "real path", true},
+        {"quad.bin%00.png", "NUL or control character", false},
+        {"quad.bin\x01", "NUL or control character", false},
+        {"http://example.com/quad.bin", "ndfmip reads files only", false},
+    };
+    for (const Case& c : refused) {
+        const std::string path = withBufferUri(c.uri);
+        Result<GltfAsset> r = readGltf(path);
+        expectRefusal(r, path, c.says);
+        if (!r) {
+            EXPECT_NE(r.error().message.find(quote(c.uri)), std::string::npos) << r.error().message;
+        }
+        Result<GltfAsset> allowed = readGltf(path, true);
+        EXPECT_EQ(bool(allowed), c.allowed) << c.uri;
+        if (allowed) {
+            EXPECT_EQ(allowed->buffers.at(0), asset.bin) << c.uri;
+        }
+    }
+    // Inside the folder, by any spelling.
+    for (const std::string uri : {"quad.bin", "sub/../quad.bin", "./quad.bin", "qu%61d.bin"}) {
+        Result<GltfAsset> r = readGltf(withBufferUri(uri));
+        ASSERT_TRUE(r) << uri << ": " << r.error().message;
+        EXPECT_EQ(r->buffers.at(0), asset.bin);
+    }
+    // Images too.
+    test::writeBytes(dir.path / "outside.png", bundledNormalMap());
+    test::TestAsset a = asset;
+    a.json["buffers"][0]["uri"] = "quad.bin";
+    a.json["images"][0]["uri"] = "../outside.png";
+    a.json["images"].erase(1);
+    const std::string path = (folder / "image.gltf").string();
+    test::writeBytes(path, a.json.dump());
+    expectRefusal(readGltf(path), path, "image 0 '../outside.png': '..' climbs");
+    EXPECT_TRUE(readGltf(path, true));
 }
 
 // A texture that another material reads without a normal map keeps its plain form there; the
