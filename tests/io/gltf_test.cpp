@@ -1,5 +1,7 @@
 // glTF in, GLB out: every image and buffer byte kept, every property kept, and the texture
 // sharing rule of filterGltf.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -348,6 +350,142 @@ TEST(GltfFilter, SharedTextureIsCopiedForTheFilteredMaterial) {
     ASSERT_EQ(filtered->materials.size(), 2u);
     EXPECT_FALSE(filtered->materials[0].madeRoughnessMap);
     EXPECT_TRUE(filtered->materials[1].madeRoughnessMap);
+}
+
+// Every image of a GLB is read by a texture (as its source or through an extension) and every
+// bufferView by an accessor or an image: nothing orphaned.
+void expectNothingOrphaned(const test::Glb& glb) {
+    std::set<size_t> images, views;
+    for (const auto& texture : glb.json["textures"]) {
+        if (texture.contains("source")) images.insert(texture["source"].get<size_t>());
+        if (texture.contains("extensions"))
+            for (const auto& [name, extension] : texture["extensions"].items())
+                if (extension.contains("source")) images.insert(extension["source"].get<size_t>());
+    }
+    for (size_t i = 0; i < glb.json["images"].size(); ++i) {
+        EXPECT_TRUE(images.count(i)) << "image " << i << " is read by no texture";
+        views.insert(glb.json["images"][i]["bufferView"].get<size_t>());
+    }
+    for (const auto& accessor : glb.json["accessors"]) views.insert(accessor["bufferView"].get<size_t>());
+    for (size_t v = 0; v < glb.json["bufferViews"].size(); ++v)
+        EXPECT_TRUE(views.count(v)) << "bufferView " << v << " is read by nothing";
+    // And the binary chunk holds nothing past the last bufferView (save alignment).
+    size_t end = 0;
+    for (const auto& view : glb.json["bufferViews"])
+        end = std::max(end, view.value("byteOffset", size_t(0)) + view["byteLength"].get<size_t>());
+    EXPECT_LE(glb.bin.size(), (end + 3) / 4 * 4);
+}
+
+// Materials that read the same images with the same options share one decode, one bake and one
+// set of images: the output grows by the materials' JSON alone.
+TEST(GltfFilter, SharedImagesAreDecodedAndBakedOnce) {
+    test::TempDir dir("gltf_lean");
+    auto filtered = [&](int clones, bool otherFactor) {
+        test::TestAsset asset = test::quadAsset();
+        for (int k = 0; k < clones; ++k) {
+            auto wall = asset.json["materials"][0];
+            wall["name"] = "Wall " + std::to_string(k);
+            asset.json["materials"].push_back(wall);
+        }
+        if (otherFactor) {
+            auto wall = asset.json["materials"][0];
+            wall["pbrMetallicRoughness"]["roughnessFactor"] = 0.7;
+            asset.json["materials"].push_back(wall);
+        }
+        const fs::path folder = dir.path / (std::to_string(clones) + (otherFactor ? "f" : ""));
+        fs::create_directories(folder);
+        const std::string path = test::writeGlb(
+            folder / "in.glb", asset,
+            {{"image/png", bundledNormalMap()}, {"image/png", materialMapPng()}});
+        Result<GltfFiltered> r = filterGltf(path);
+        EXPECT_TRUE(r) << r.error().message;
+        return r ? std::move(r.value()) : GltfFiltered{};
+    };
+    const GltfFiltered base = filtered(0, false), many = filtered(60, false);
+    // Two images (normal, material map); two bakes: 'Wall' (its map, factor 0.9) and 'Plain'
+    // (no map, factor 0.5), however many materials read them.
+    for (const GltfFiltered* f : {&base, &many}) {
+        EXPECT_EQ(f->decodedImages, 2);
+        EXPECT_EQ(f->bakes, 2);
+    }
+    ASSERT_EQ(many.materials.size(), base.materials.size() + 60);
+    const test::Glb a = test::parseGlb(base.glb), b = test::parseGlb(many.glb);
+    ASSERT_TRUE(a.ok && b.ok);
+    EXPECT_EQ(b.json["images"].size(), a.json["images"].size());
+    EXPECT_EQ(b.json["textures"].size(), a.json["textures"].size());
+    EXPECT_EQ(b.bin, a.bin);
+    // Each clone reads what 'Wall' reads.
+    const size_t wallJson = b.json["materials"][0].dump().size();
+    for (size_t m = 3; m < b.json["materials"].size(); ++m) {
+        auto clone = b.json["materials"][m];
+        clone["name"] = "Wall";
+        EXPECT_EQ(clone, b.json["materials"][0]) << "material " << m;
+    }
+    // 60 materials of ("Wall k": 2 or 3 more name bytes) and a comma each, JSON padding aside.
+    EXPECT_LE(many.glb.size(), base.glb.size() + 60 * (wallJson + 1 + 3) + 3);
+    expectNothingOrphaned(b);
+    // Another roughnessFactor is another bake, of the same decoded images.
+    const GltfFiltered other = filtered(0, true);
+    EXPECT_EQ(other.decodedImages, 2);
+    EXPECT_EQ(other.bakes, 3);
+}
+
+// --max-memory is checked against the size the normal image's header declares, before it is
+// decoded: a PNG header of 16000x16000 with nothing after it is refused for memory.
+TEST(GltfFilter, MemoryLimitIsCheckedBeforeDecoding) {
+    test::TempDir dir("gltf_memory");
+    InputLimits limits = inputLimits();
+    limits.maxMemoryBytes = int64_t(1) << 30;
+    ScopedLimits scoped(limits);
+    std::string png = "\x89PNG\r\n\x1a\n";
+    test::appendU32(png, 0x0D000000); // length 13, big-endian
+    png += "IHDR";
+    for (uint32_t side : {16000u, 16000u})
+        for (int shift : {24, 16, 8, 0}) png += char((side >> shift) & 0xFF);
+    png += std::string("\x08\x02\x00\x00\x00", 5);
+    test::appendU32(png, 0); // CRC, not checked before the size
+    const std::string path = test::writeGlb(dir.path / "in.glb", test::quadAsset(),
+                                            {{"image/png", png}, {"image/png", materialMapPng()}});
+    Result<GltfFiltered> r = filterGltf(path);
+    ASSERT_FALSE(r);
+    const std::string& m = r.error().message;
+    EXPECT_EQ(m.rfind(path + ": material 0 'Wall'", 0), 0u) << m;
+    EXPECT_NE(m.find("16000x16000 normal map needs about"), std::string::npos) << m;
+    EXPECT_NE(m.find("above the limit of 1.0 GiB; --max-memory"), std::string::npos) << m;
+}
+
+// ndfmip gltf on its own output replaces its own images: nothing orphaned, the same materials
+// and textures, the same size; a third pass gives the second's bytes.
+TEST(GltfFilter, RerunOnItsOwnOutputReplacesItsImages) {
+    for (bool shared : {false, true}) {
+        test::TempDir dir("gltf_rerun");
+        test::TestAsset asset = test::quadAsset();
+        // Material 1 reads the ORM texture without a normal map: 'Wall' gets a copy of it.
+        if (shared)
+            asset.json["materials"][1]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {
+                {"index", 1}};
+        const std::string input = test::writeGltf(
+            dir.path, asset, {{"normal.png", bundledNormalMap()}, {"orm.png", materialMapPng()}});
+        std::vector<std::string> passes;
+        std::string from = input;
+        for (int pass = 0; pass < 3; ++pass) {
+            Result<GltfFiltered> r = filterGltf(from);
+            ASSERT_TRUE(r) << r.error().message;
+            EXPECT_EQ(r->replacedImages, pass == 0 ? 0 : 4) << "pass " << pass; // BC5, RGBA8 x2, PNG
+            passes.push_back(r->glb);
+            from = dir.file("pass" + std::to_string(pass) + ".glb");
+            test::writeBytes(from, r->glb);
+        }
+        const test::Glb first = test::parseGlb(passes[0]), second = test::parseGlb(passes[1]);
+        ASSERT_TRUE(first.ok && second.ok);
+        for (const char* key : {"materials", "textures", "images", "bufferViews", "accessors"})
+            EXPECT_EQ(second.json[key], first.json[key]) << key << (shared ? ", shared" : "");
+        EXPECT_EQ(second.bin, first.bin);
+        EXPECT_LE(std::abs(double(passes[1].size()) - double(passes[0].size())),
+                  0.01 * double(passes[0].size()));
+        EXPECT_EQ(passes[2], passes[1]);
+        expectNothingOrphaned(second);
+    }
 }
 
 } // namespace
