@@ -385,13 +385,14 @@ class Filter {
             if (buffer != -2) buffer = b;
             cut = std::min(cut, view.value("byteOffset", uint64_t(0)));
         }
-        for (size_t v = 0; v < views.size() - ourViews.size(); ++v) {
+        const size_t kept = views.size() - ourViews.size();
+        for (size_t v = 0; v < kept; ++v) {
             const json& view = views[v];
             if (view.value("buffer", int64_t(-1)) == buffer &&
                 view.value("byteOffset", uint64_t(0)) + view.value("byteLength", uint64_t(0)) > cut)
                 buffer = -2;
         }
-        for (size_t v = views.size(); v-- > views.size() - ourViews.size();) views.erase(v);
+        while (views.size() > kept) views.erase(views.size() - 1);
         if (buffer >= 0 && size_t(buffer) < asset_.buffers.size() &&
             cut <= asset_.buffers[size_t(buffer)].size()) {
             asset_.buffers[size_t(buffer)].resize(size_t(cut));
