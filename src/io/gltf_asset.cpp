@@ -1,5 +1,5 @@
 // glTF in and GLB out. The container comes from gltf_container.cpp; the JSON is kept
-// as nlohmann's ordered_json so that every property, known to tinygltf or not, is written back
+// as nlohmann's ordered_json so that every property, known to ndfmip or not, is written back
 // as it was, and no image or buffer is decoded or re-encoded.
 #include "io/gltf_asset.h"
 
