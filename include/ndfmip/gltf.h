@@ -25,6 +25,15 @@ struct GltfFiltered {
     std::string glb; // the whole output file
     std::vector<GltfMaterialReport> materials;
     std::vector<std::string> warnings; // one line each, e.g. normals facing into the surface
+    int decodedImages = 0; // images decoded: each distinct image once
+    int bakes = 0;         // Toksvig bakes: one per distinct normal image, material map and options
+    int replacedImages = 0; // images of an earlier ndfmip gltf pass found and replaced
+};
+
+struct GltfOptions {
+    // Buffer and image uris may name files outside the asset's folder (absolute paths, file:,
+    // '..'); by default they are refused.
+    bool allowOutside = false;
 };
 
 // Reads `path` (.gltf with its files, or .glb) and filters every material that has a
@@ -42,6 +51,10 @@ struct GltfFiltered {
 // image that is missing, undecodable or no normal map (1 or 2 channels, or more than half its
 // texels more than 10% off unit length or facing into the surface), a metallic-roughness image
 // of another size, texture coordinates or transforms that differ between the two textures.
+// Materials that read the same images with the same options share one bake and its images.
+// An asset that ndfmip gltf wrote (its images and textures marked in their extras "ndfmip")
+// is first put back as it was, so a second pass replaces the first's images.
+Result<GltfFiltered> filterGltf(const std::string& path, const GltfOptions& options);
 Result<GltfFiltered> filterGltf(const std::string& path);
 
 } // namespace ndfmip

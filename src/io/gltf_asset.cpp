@@ -1,5 +1,5 @@
-// glTF in and GLB out. The container comes from tinygltf (gltf_container.cpp); the JSON is kept
-// as nlohmann's ordered_json so that every property, known to tinygltf or not, is written back
+// glTF in and GLB out. The container comes from gltf_container.cpp; the JSON is kept
+// as nlohmann's ordered_json so that every property, known to ndfmip or not, is written back
 // as it was, and no image or buffer is decoded or re-encoded.
 #include "io/gltf_asset.h"
 
@@ -38,21 +38,6 @@ void appendU32(std::string& out, uint32_t v) {
     out.append(b, sizeof b);
 }
 
-// "%20" and friends, as a uri names a file.
-std::string percentDecoded(const std::string& uri) {
-    std::string out;
-    for (size_t i = 0; i < uri.size(); ++i) {
-        if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit((unsigned char)uri[i + 1]) &&
-            std::isxdigit((unsigned char)uri[i + 2])) {
-            out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
-            i += 2;
-        } else {
-            out += uri[i];
-        }
-    }
-    return out;
-}
-
 std::string sniffMimeType(std::string_view b) {
     auto starts = [&](std::string_view magic) { return b.substr(0, magic.size()) == magic; };
     if (starts("\x89PNG\r\n\x1a\n")) return "image/png";
@@ -83,16 +68,6 @@ int64_t indexOf(const json& object, const char* key) {
     return v >= 0 ? v : -1;
 }
 
-// Why image `index` (given by a uri) has no bytes: the file tinygltf could not open.
-std::string missingImageProblem(const std::string& uri, const fs::path& base) {
-    if (uri.rfind("data:", 0) == 0)
-        return "its data URI cannot be decoded (glTF embeds PNG or JPEG)";
-    const fs::path file = base / percentDecoded(uri);
-    Result<std::string> bytes = readRegularFile(file.string(), inputLimits().maxImageFileBytes);
-    if (!bytes) return bytes.error().message;
-    return file.string() + ": cannot read";
-}
-
 int appendBufferView(GltfAsset& asset, std::string bytes) {
     json& buffers = asset.json["buffers"];
     json& views = asset.json["bufferViews"];
@@ -103,20 +78,15 @@ int appendBufferView(GltfAsset& asset, std::string bytes) {
     return int(views.size() - 1);
 }
 
-Result<GltfAsset> readAsset(const std::string& path) {
-    Result<GltfContainer> container = readGltfContainer(path);
+Result<GltfAsset> readAsset(const std::string& path, bool allowOutside) {
+    Result<GltfContainer> container = readGltfContainer(path, allowOutside);
     if (!container) return container.error();
-    const GltfContainer& c = container.value();
-    const fs::path base = fs::path(path).parent_path();
+    GltfContainer& c = container.value();
+    const fs::path folder = fs::path(path).parent_path();
 
     GltfAsset asset;
-    try {
-        asset.json = json::parse(c.json);
-    } catch (const std::exception& e) {
-        return Error{path + ": " + oneLine(e.what())};
-    }
-    if (!asset.json.is_object()) return Error{path + ": the glTF JSON is not an object"};
-    asset.buffers = c.buffers;
+    asset.json = std::move(c.json);
+    asset.buffers = std::move(c.buffers);
     if (!asset.json.contains("buffers")) asset.json["buffers"] = json::array();
     if (!asset.json.contains("bufferViews")) asset.json["bufferViews"] = json::array();
     if (asset.buffers.size() != asset.json["buffers"].size() ||
@@ -126,23 +96,23 @@ Result<GltfAsset> readAsset(const std::string& path) {
     // Images given by a uri become bufferViews: a GLB holds everything.
     json& images = asset.json["images"];
     if (images.is_null()) images = json::array();
-    if (!images.is_array() || images.size() != c.imageBytes.size())
-        return Error{path + ": images do not match the asset's JSON"};
+    if (!images.is_array()) return Error{path + ": images is not an array"};
     for (size_t i = 0; i < images.size(); ++i) {
         json& image = images[i];
         asset.imageLabels.push_back(imageLabel(image, int(i)));
-        if (!image.contains("uri")) continue;
-        std::string data = c.imageBytes[i];
-        const std::string uri = image["uri"].is_string() ? image["uri"].get<std::string>() : "";
-        if (data.empty())
-            return Error{path + ": " + asset.imageLabels[i] + ": " +
-                         missingImageProblem(uri, base)};
+        if (!image.is_object() || !image.contains("uri")) continue;
+        if (!image["uri"].is_string())
+            return Error{path + ": " + asset.imageLabels[i] + ": uri is no string"};
+        Result<UriBytes> read =
+            readGltfUri(image["uri"].get<std::string>(), folder, allowOutside);
+        if (!read) return Error{path + ": " + asset.imageLabels[i] + ": " + read.error().message};
+        std::string data = std::move(read->bytes);
         // Only image files are embedded, whatever the asset declares: a uri may name any file.
         const std::string sniffed = sniffMimeType(data);
         if (sniffed.empty())
             return Error{path + ": " + asset.imageLabels[i] +
                          ": not an image file (glTF embeds PNG or JPEG)"};
-        std::string mime = image.value("mimeType", c.imageMimeTypes[i]);
+        std::string mime = image.value("mimeType", read->mimeType);
         if (mime.empty()) mime = sniffed;
         image.erase("uri");
         image["bufferView"] = appendBufferView(asset, std::move(data));
@@ -153,9 +123,9 @@ Result<GltfAsset> readAsset(const std::string& path) {
 
 } // namespace
 
-Result<GltfAsset> readGltf(const std::string& path) {
+Result<GltfAsset> readGltf(const std::string& path, bool allowOutside) {
     try {
-        return readAsset(path);
+        return readAsset(path, allowOutside);
     } catch (const json::exception& e) { // a property of an unexpected type
         return Error{path + ": " + oneLine(e.what())};
     }

@@ -1,6 +1,6 @@
 // A glTF asset in memory, to be changed and written back as one GLB: its JSON as read (key
-// order kept, every property kept) and every buffer's bytes. tinygltf reads the container (GLB
-// chunks, external files, data URIs); nothing is decoded or re-encoded, so images and buffers
+// order kept, every property kept) and every buffer's bytes. gltf_container.h reads the container
+// (GLB chunks, external files, data URIs); nothing is decoded or re-encoded, so images and buffers
 // come out byte for byte as they went in.
 #pragma once
 
@@ -23,8 +23,9 @@ struct GltfAsset {
 // first bytes, whatever the name). Every image that had a uri becomes a bufferView of a new
 // buffer with its mimeType (taken from the asset, a data URI or the bytes), so afterwards every
 // image is a bufferView. Errors, one line starting with `path`: not glTF, unreadable JSON,
-// a missing or unreadable buffer or image file, an image of a format glTF cannot embed.
-Result<GltfAsset> readGltf(const std::string& path);
+// a missing or unreadable buffer or image file, an image of a format glTF cannot embed, a uri
+// that leaves the asset's folder (unless `allowOutside`; readGltfUri has the rules).
+Result<GltfAsset> readGltf(const std::string& path, bool allowOutside = false);
 
 // The bytes of image `index` (a bufferView after readGltf); an error when the index, its
 // bufferView or the view's range is out of bounds.

@@ -1,23 +1,40 @@
-// The glTF container as tinygltf reads it, handed over as plain bytes (tinygltf lives in
-// gltf_container.cpp alone: its JSON names must not meet nlohmann's ordered_json elsewhere).
+// The glTF container, read by ndfmip itself: a GLB's chunks checked strictly, the JSON parsed
+// once under the text limit, and the bytes that buffer and image uris name (base64 data URIs,
+// or files inside the asset's folder).
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "ndfmip/result.h"
 
 namespace ndfmip {
 
 struct GltfContainer {
-    std::string json;                    // the JSON text (a GLB's first chunk)
-    std::vector<std::string> buffers;    // every buffer's bytes, resolved
-    std::vector<std::string> imageBytes; // images given by a uri: their bytes (empty: unreadable)
-    std::vector<std::string> imageMimeTypes; // from a data URI's header, else empty
+    nlohmann::ordered_json json;      // the JSON (a GLB's first chunk), parsed once
+    std::vector<std::string> buffers; // every buffer's bytes, resolved
 };
 
-// Reads `path` (.gltf, or .glb recognised by its first bytes): external files beside it through
-// readRegularFile, data URIs decoded, nothing decoded as an image. Errors start with `path`.
-Result<GltfContainer> readGltfContainer(const std::string& path);
+// Reads `path` (.gltf, or .glb recognised by its first bytes). A GLB must be version 2 with its
+// header's length, a JSON chunk first, at most one BIN chunk right after it, every chunk
+// 4-byte aligned; asset.version must be 2.x. The JSON outside data URIs is held to the text
+// limit (InputLimits::maxTextFileBytes). Buffers resolve as readGltfUri says. Errors, one
+// line, start with `path`.
+Result<GltfContainer> readGltfContainer(const std::string& path, bool allowOutside = false);
+
+struct UriBytes {
+    std::string bytes;
+    std::string mimeType; // a data URI's, else empty
+};
+
+// The bytes a glTF uri names: a base64 data URI, or a file relative to `folder`. Absolute
+// paths, schemes (file:), '..' out of the folder, percent-encoded separators and files whose
+// real path leaves the folder are refused unless `allowOutside`; NUL and control characters,
+// raw or percent-encoded, always. Errors are the problem alone: the caller names the asset.
+Result<UriBytes> readGltfUri(const std::string& uri, const std::filesystem::path& folder,
+                             bool allowOutside);
 
 } // namespace ndfmip

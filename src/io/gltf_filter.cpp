@@ -8,10 +8,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
 #include <set>
+#include <string_view>
+#include <tuple>
 
 #include "io/gltf_asset.h"
 #include "ndfmip/bake.h"
@@ -30,6 +33,24 @@ using Pointer = json::json_pointer;
 
 const char* kDdsExtension = "MSFT_texture_dds";
 const char* kDdsMimeType = "image/vnd-ms.dds"; // as MSFT_texture_dds specifies
+// The extras key on every image and texture ndfmip adds: a later pass finds them by it.
+const char* kMark = "ndfmip";
+
+// Marks `object` as ndfmip's (extras.ndfmip = role); extras of another type than an object
+// are the copied texture's own and give way.
+void markOurs(json& object, json role) {
+    if (!object["extras"].is_object()) object["extras"] = json::object();
+    object["extras"][kMark] = std::move(role);
+}
+
+// The mark, or null when `object` is none of ndfmip's.
+const json* markOf(const json& object) {
+    if (!object.is_object()) return nullptr;
+    auto extras = object.find("extras");
+    if (extras == object.end() || !extras->is_object()) return nullptr;
+    auto mark = extras->find(kMark);
+    return mark == extras->end() ? nullptr : &*mark;
+}
 
 // Thrown inside this file only, caught by filterGltf: one line, starting with the path.
 struct GltfProblem {
@@ -115,6 +136,46 @@ std::string percentText(size_t part, size_t whole) {
     return text;
 }
 
+double elapsedMs(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+        .count();
+}
+
+// Width and height as a PNG's or JPEG's header declares them (the formats glTF embeds), read
+// before anything is decoded; nullopt for other formats or a header cut short.
+std::optional<std::pair<int64_t, int64_t>> declaredSize(std::string_view b) {
+    auto be = [&](size_t at, int bytes) {
+        int64_t v = 0;
+        for (int k = 0; k < bytes; ++k) v = v << 8 | int64_t(static_cast<unsigned char>(b[at + size_t(k)]));
+        return v;
+    };
+    if (b.size() >= 24 && b.substr(0, 8) == "\x89PNG\r\n\x1a\n" && b.substr(12, 4) == "IHDR")
+        return std::pair(be(16, 4), be(20, 4));
+    if (b.size() < 4 || b.substr(0, 3) != "\xFF\xD8\xFF") return std::nullopt;
+    size_t at = 2;
+    while (at + 4 <= b.size()) {
+        if (static_cast<unsigned char>(b[at]) != 0xFF) return std::nullopt;
+        const int marker = static_cast<unsigned char>(b[at + 1]);
+        if (marker == 0xFF) { // fill byte
+            ++at;
+            continue;
+        }
+        if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD8)) { // no length
+            at += 2;
+            continue;
+        }
+        if (marker == 0xD9 || marker == 0xDA) return std::nullopt; // no frame header before data
+        const bool frame = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 &&
+                           marker != 0xCC;
+        if (frame) {
+            if (at + 9 > b.size()) return std::nullopt;
+            return std::pair(be(at + 7, 2), be(at + 5, 2));
+        }
+        at += 2 + size_t(be(at + 2, 2));
+    }
+    return std::nullopt;
+}
+
 // Every material of the asset and the texture slot each reads: the core slots and any
 // textureInfo inside the material's extensions (KHR_materials_clearcoat and the like).
 std::vector<TextureUse> textureUses(const json& materials) {
@@ -149,6 +210,7 @@ class Filter {
 
     GltfFiltered run() {
         json& root = asset_.json;
+        stripEarlierPass();
         const json empty = json::array();
         const json& materials = root.contains("materials") ? root["materials"] : empty;
         if (!materials.is_array()) refuse(path_ + ": materials is not an array");
@@ -157,7 +219,19 @@ class Filter {
             if (member(materials[m], "normalTexture")) jobs.push_back(plan(m));
         if (jobs.empty()) refuse(path_ + ": no material has a normalTexture: nothing to correct");
         originalTextures_ = root["textures"].size();
-        for (const MaterialJob& job : jobs) filter(job);
+        // One normal image at a time: its chain is built once, serves every material that reads
+        // it, and is dropped before the next (memory does not grow with the material count).
+        std::vector<std::optional<GltfMaterialReport>> reports(jobs.size());
+        std::set<int> done;
+        for (const MaterialJob& job : jobs) {
+            if (!done.insert(job.normalImage).second) continue;
+            std::vector<size_t> group;
+            for (size_t j = 0; j < jobs.size(); ++j)
+                if (jobs[j].normalImage == job.normalImage) group.push_back(j);
+            filterGroup(jobs, group, reports);
+        }
+        for (std::optional<GltfMaterialReport>& report : reports)
+            result_.materials.push_back(std::move(*report));
         assignTextures();
         json& used = root["extensionsUsed"];
         if (!used.is_array()) used = json::array();
@@ -170,6 +244,162 @@ class Filter {
     }
 
   private:
+    // An asset that ndfmip gltf wrote is put back as it was: its marked images and textures
+    // removed (with their bufferViews and bytes when they are the last ones, as ndfmip wrote
+    // them), the DDS links it added to the asset's own textures dropped, the materials it gave a
+    // texture of its own given back their roughnessFactor and metallicRoughnessTexture.
+    void stripEarlierPass() {
+        json& root = asset_.json;
+        json& images = root["images"];
+        std::vector<bool> ourImage(images.size(), false);
+        for (size_t i = 0; i < images.size(); ++i) ourImage[i] = markOf(images[i]) != nullptr;
+        if (std::find(ourImage.begin(), ourImage.end(), true) == ourImage.end()) return;
+        if (!root.contains("textures")) root["textures"] = json::array();
+        json& textures = root["textures"];
+        if (!textures.is_array()) refuse(path_ + ": textures is not an array");
+
+        // Texture by texture: ours go (their uses redirected or restored), the asset's own lose
+        // the DDS link to one of our images.
+        std::vector<int> newTexture(textures.size());
+        const auto ours = [&](const json& index) {
+            return index.is_number_integer() && index.get<int64_t>() >= 0 &&
+                   size_t(index.get<int64_t>()) < ourImage.size() &&
+                   ourImage[size_t(index.get<int64_t>())];
+        };
+        for (size_t t = 0; t < textures.size(); ++t) {
+            json& texture = textures[t];
+            newTexture[t] = markOf(texture) ? -1 : int(t);
+            if (!texture.is_object() || !texture.contains("extensions")) continue;
+            json& extensions = texture["extensions"];
+            if (extensions.is_object() && extensions.contains(kDdsExtension)) {
+                const json& dds = extensions[kDdsExtension];
+                if (dds.is_object() && dds.contains("source") && ours(dds["source"]))
+                    extensions.erase(kDdsExtension);
+            }
+            if (extensions.is_object() && extensions.empty()) texture.erase("extensions");
+        }
+        json& materials = root["materials"];
+        if (materials.is_null()) materials = json::array();
+        for (const TextureUse& use : textureUses(materials)) {
+            if (use.texture < 0 || size_t(use.texture) >= textures.size() ||
+                newTexture[size_t(use.texture)] >= 0)
+                continue;
+            const json& mark = *markOf(textures[size_t(use.texture)]);
+            json& info = root[use.at];
+            if (mark.is_object() && mark.contains("copyOf")) {
+                info["index"] = mark["copyOf"];
+                continue;
+            }
+            if (!mark.is_object() || !mark.contains("made")) continue; // refused below
+            const int64_t original = mark.value("metallicRoughnessTexture", int64_t(-1));
+            const std::string slot = use.at.back();
+            if (slot == "metallicRoughnessTexture") {
+                json& pbr = root[use.at.parent_pointer()];
+                pbr["roughnessFactor"] = mark.value("roughnessFactor", 1.0);
+                if (original >= 0)
+                    info["index"] = original;
+                else
+                    pbr.erase("metallicRoughnessTexture");
+            } else if (slot == "occlusionTexture" && original >= 0) {
+                info["index"] = original;
+            }
+        }
+        // What still reads one of ours cannot be put back.
+        for (const TextureUse& use : textureUses(materials))
+            if (use.texture >= 0 && size_t(use.texture) < textures.size() &&
+                newTexture[size_t(use.texture)] < 0)
+                refuse(path_ + ": " + use.at.to_string() + " reads texture " +
+                       std::to_string(use.texture) +
+                       ", which an earlier ndfmip gltf made and this one would remove");
+        // Renumber: textures, then images.
+        int next = 0;
+        for (int& t : newTexture)
+            if (t >= 0) t = next++;
+        for (const TextureUse& use : textureUses(materials))
+            if (use.texture >= 0 && size_t(use.texture) < newTexture.size())
+                root[use.at]["index"] = newTexture[size_t(use.texture)];
+        for (size_t t = textures.size(); t-- > 0;)
+            if (newTexture[t] < 0) textures.erase(t);
+
+        std::vector<int> newImage(images.size());
+        next = 0;
+        for (size_t i = 0; i < images.size(); ++i) newImage[i] = ourImage[i] ? -1 : next++;
+        auto renumber = [&](json& holder, const std::string& where) {
+            if (!holder.is_object() || !holder.contains("source")) return;
+            json& source = holder["source"];
+            if (!source.is_number_integer() || source.get<int64_t>() < 0 ||
+                size_t(source.get<int64_t>()) >= newImage.size())
+                return;
+            const int to = newImage[size_t(source.get<int64_t>())];
+            if (to < 0)
+                refuse(path_ + ": " + where + " reads image " + source.dump() +
+                       ", which an earlier ndfmip gltf made and this one would remove");
+            source = to;
+        };
+        for (size_t t = 0; t < textures.size(); ++t) {
+            const std::string where = "texture " + std::to_string(t);
+            renumber(textures[t], where);
+            if (textures[t].is_object() && textures[t].contains("extensions") &&
+                textures[t]["extensions"].is_object())
+                for (auto& [name, extension] : textures[t]["extensions"].items())
+                    renumber(extension, where + " (" + name + ")");
+        }
+
+        // Their bufferViews, when they are the last ones and nothing else reads them, and
+        // their bytes, when they end the buffer.
+        json& views = root["bufferViews"];
+        std::set<size_t> ourViews;
+        for (size_t i = 0; i < images.size(); ++i)
+            if (ourImage[i] && images[i].contains("bufferView") &&
+                images[i]["bufferView"].is_number_unsigned())
+                ourViews.insert(images[i]["bufferView"].get<size_t>());
+        for (size_t i = 0; i < images.size(); ++i)
+            if (!ourImage[i] && images[i].is_object() && images[i].contains("bufferView") &&
+                images[i]["bufferView"].is_number_unsigned())
+                ourViews.erase(images[i]["bufferView"].get<size_t>());
+        if (root.contains("accessors") && root["accessors"].is_array())
+            for (const json& accessor : root["accessors"])
+                if (accessor.is_object() && accessor.contains("bufferView") &&
+                    accessor["bufferView"].is_number_unsigned())
+                    ourViews.erase(accessor["bufferView"].get<size_t>());
+        for (size_t i = images.size(); i-- > 0;)
+            if (ourImage[i]) images.erase(i);
+        result_.replacedImages = int(std::count(ourImage.begin(), ourImage.end(), true));
+        const bool suffix = views.is_array() && !ourViews.empty() &&
+                            *ourViews.begin() == views.size() - ourViews.size() &&
+                            *ourViews.rbegin() == views.size() - 1;
+        if (!suffix) {
+            if (!ourViews.empty())
+                result_.warnings.push_back(path_ + ": the earlier pass's " +
+                                           std::to_string(ourViews.size()) +
+                                           " bufferViews are no longer the last ones: kept");
+            return;
+        }
+        // Every view ours reads one buffer and nothing kept reads past the first of them.
+        int64_t buffer = -1;
+        uint64_t cut = std::numeric_limits<uint64_t>::max();
+        for (size_t v : ourViews) {
+            const json& view = views[v];
+            const int64_t b = view.value("buffer", int64_t(-1));
+            if (buffer >= 0 && b != buffer) buffer = -2;
+            if (buffer != -2) buffer = b;
+            cut = std::min(cut, view.value("byteOffset", uint64_t(0)));
+        }
+        const size_t kept = views.size() - ourViews.size();
+        for (size_t v = 0; v < kept; ++v) {
+            const json& view = views[v];
+            if (view.value("buffer", int64_t(-1)) == buffer &&
+                view.value("byteOffset", uint64_t(0)) + view.value("byteLength", uint64_t(0)) > cut)
+                buffer = -2;
+        }
+        while (views.size() > kept) views.erase(views.size() - 1);
+        if (buffer >= 0 && size_t(buffer) < asset_.buffers.size() &&
+            cut <= asset_.buffers[size_t(buffer)].size()) {
+            asset_.buffers[size_t(buffer)].resize(size_t(cut));
+            root["buffers"][size_t(buffer)]["byteLength"] = cut;
+        }
+    }
+
     // What material m reads, checked.
     MaterialJob plan(size_t m) {
         const json& root = asset_.json;
@@ -219,6 +449,7 @@ class Filter {
         if (!bytes) refuse(path_ + ": " + bytes.error().message);
         Result<SourceImage> decoded = decodeImage(bytes.value(), name);
         if (!decoded) refuse(decoded.error().message);
+        ++result_.decodedImages;
         return std::move(decoded.value());
     }
 
@@ -226,6 +457,7 @@ class Filter {
     Image normalsOrRefuse(const MaterialJob& job) {
         const std::string name =
             job.where + ", normalTexture " + asset_.imageLabels[size_t(job.normalImage)];
+        checkMemoryBeforeDecoding(job, name);
         const SourceImage source = decodeOrRefuse(job.normalImage, name);
         if (source.image.channels < 3)
             refuse(name + ": has " + std::to_string(source.image.channels) +
@@ -283,24 +515,132 @@ class Filter {
         return rgba;
     }
 
-    int addDds(const std::vector<Image>& levels, TextureFormat format, const std::string& name) {
+    int addDds(const std::vector<Image>& levels, TextureFormat format, const std::string& name,
+               const std::string& role) {
         std::vector<const Image*> pointers;
         for (const Image& level : levels) pointers.push_back(&level);
         Result<EncodedTexture> texture = encodeTexture(pointers, format);
         if (!texture) refuse(path_ + ": " + texture.error().message);
-        return addGltfImage(asset_, ddsFile(texture.value()), kDdsMimeType, name);
+        const int image = addGltfImage(asset_, ddsFile(texture.value()), kDdsMimeType, name);
+        markOurs(asset_.json["images"][size_t(image)], role);
+        return image;
     }
 
-    void filter(const MaterialJob& job) {
+    // --max-memory against the size the normal image's header declares, before it is decoded:
+    // the bake, and beside it the material map as RGBA, its alpha, the averaged and encoded
+    // levels and, with a normalTexture.scale, the scaled normals' pyramid.
+    void checkMemoryBeforeDecoding(const MaterialJob& job, const std::string& name) {
+        Result<std::string> bytes = gltfImageBytes(asset_, job.normalImage);
+        if (!bytes) return; // decodeOrRefuse names the problem
+        const std::optional<std::pair<int64_t, int64_t>> size = declaredSize(bytes.value());
+        if (!size) return;
+        if (Status s = checkImageSize(name, size->first, size->second); !s) refuse(s.error);
+        BakeOptions options;
+        options.roughnessMap = std::make_shared<Image>();
+        const double texels = double(size->first) * double(size->second);
+        const double beside = 16 + 4 + 16 * 4.0 / 3 * 2 + 12 * 4.0 / 3 + (job.scale != 1.f ? 28 : 0);
+        const int64_t need =
+            bakeMemoryEstimate(Method::Toksvig, options, size->first, size->second) +
+            int64_t(beside * texels);
+        if (need > inputLimits().maxMemoryBytes)
+            refuse(name + ": filtering a " + std::to_string(size->first) + "x" +
+                   std::to_string(size->second) + " normal map needs about " + byteSize(need) +
+                   ", above the limit of " + byteSize(inputLimits().maxMemoryBytes) +
+                   "; --max-memory raises it");
+    }
+
+    // The materials of `group` (indices into jobs), which all read one normal image: it is
+    // decoded and its pyramid built once; each distinct material map and option set is baked
+    // once and its DDS shared by the materials that read it.
+    void filterGroup(const std::vector<MaterialJob>& jobs, const std::vector<size_t>& group,
+                     std::vector<std::optional<GltfMaterialReport>>& reports) {
+        const MaterialJob& first = jobs[group.front()];
         const auto start = std::chrono::steady_clock::now();
-        auto normals = std::make_shared<Image>(normalsOrRefuse(job));
-        const int width = normals->width, height = normals->height;
-        // R, G, B, A of the material map (all 1 without one), and alpha_0 = (G roughnessFactor)^2.
-        auto rgba = std::make_shared<Image>(width, height, 4);
+        auto normals = std::make_shared<Image>(normalsOrRefuse(first));
+        const Pyramid pyramid = buildPyramid(SharedImage(normals));
+        const int levels = int(pyramid.levels.size());
+
+        // The normal texture's levels: the mean normal's direction, (n + 1)/2 (one file per image).
+        std::vector<Image> encoded;
+        for (int k = 0; k < levels; ++k) {
+            const Image& mean = levelMean(pyramid, k);
+            Image e(mean.width, mean.height, 3);
+            for (size_t i = 0; i < e.texelCount(); ++i) {
+                float n[3];
+                normalizeOrFlat(&mean.pixels[3 * i], n);
+                for (int c = 0; c < 3; ++c) e.pixels[3 * i + size_t(c)] = 0.5f * (n[c] + 1.f);
+            }
+            encoded.push_back(std::move(e));
+        }
+        const int normalDds =
+            addDds(encoded, TextureFormat::Bc5Unorm,
+                   "ndfmip BC5 mips of " + asset_.imageLabels[size_t(first.normalImage)],
+                   "BC5 normal mips");
+        encoded.clear();
+        const double normalMilliseconds = elapsedMs(start);
+
+        std::map<int, std::shared_ptr<const Image>> maps; // material image -> RGBA, for this group
+        std::map<std::tuple<int, float, float, bool>, Baked> baked;
+        for (size_t j : group) {
+            const MaterialJob& job = jobs[j];
+            const auto key =
+                std::tuple(job.roughnessImage, job.roughnessFactor, job.scale, job.makeMap);
+            auto it = baked.find(key);
+            if (it == baked.end()) {
+                const auto bakeStart = std::chrono::steady_clock::now();
+                std::shared_ptr<const Image>& rgba = maps[job.roughnessImage];
+                if (!rgba) rgba = materialRgba(job, *normals);
+                Baked b = bakeMaterial(job, pyramid, normals, rgba);
+                b.milliseconds = elapsedMs(bakeStart);
+                it = baked.emplace(key, std::move(b)).first;
+            }
+            Baked& b = it->second;
+            wants_[(Pointer("/materials") / job.material / "normalTexture").to_string()] =
+                normalDds;
+            if (job.makeMap) {
+                madeTexture(job, b);
+            } else {
+                const Pointer materialAt = Pointer("/materials") / job.material;
+                wants_[(materialAt / "pbrMetallicRoughness" / "metallicRoughnessTexture")
+                           .to_string()] = b.dds;
+                // ORM packing: the occlusion read from the same texture (R) gets the same levels.
+                const json* occlusion = member(asset_.json[materialAt], "occlusionTexture");
+                const json* index = occlusion ? member(*occlusion, "index") : nullptr;
+                if (index && *index == job.roughnessTexture)
+                    wants_[(materialAt / "occlusionTexture").to_string()] = b.dds;
+            }
+            reports[j] = GltfMaterialReport{job.name,      normals->width, normals->height,
+                                            levels,        job.makeMap,    b.clampedTexels,
+                                            normalMilliseconds + b.milliseconds};
+        }
+    }
+
+    // R, G, B, A of the material map (all 1 without one).
+    std::shared_ptr<const Image> materialRgba(const MaterialJob& job, const Image& normals) {
+        auto rgba = std::make_shared<Image>(normals.width, normals.height, 4);
         if (job.roughnessTexture >= 0)
-            *rgba = materialMapOrRefuse(job, *normals);
+            *rgba = materialMapOrRefuse(job, normals);
         else
             std::fill(rgba->pixels.begin(), rgba->pixels.end(), 1.f);
+        return rgba;
+    }
+
+    // One material map and option set baked: its RGBA8 DDS of every level and level 0, the
+    // PNG core source should a texture of our own be made.
+    struct Baked {
+        int dds = -1;
+        Image level0;   // with makeMap: the level the core PNG is made of
+        int png = -1;   // that PNG's image, once made
+        std::map<std::pair<int, int>, int> madeTextures; // (roughness texture, normal texture)
+        size_t clampedTexels = 0;
+        double milliseconds = 0.0;
+    };
+
+    Baked bakeMaterial(const MaterialJob& job, const Pyramid& pyramid,
+                       const std::shared_ptr<Image>& normals,
+                       const std::shared_ptr<const Image>& rgba) {
+        const int width = normals->width, height = normals->height;
+        // alpha_0 = (G roughnessFactor)^2.
         auto alpha = std::make_shared<Image>(width, height, 1);
         for (size_t i = 0; i < alpha->texelCount(); ++i) {
             const float r = rgba->pixels[4 * i + 1] * job.roughnessFactor;
@@ -311,7 +651,6 @@ class Filter {
         if (Status s = checkBakeMemory(job.where, Method::Toksvig, options, width, height); !s)
             refuse(s.error);
 
-        const Pyramid pyramid = buildPyramid(SharedImage(normals));
         // normalTexture.scale widens the normals' spread as a loader applies it: n.xy * scale.
         std::optional<Pyramid> scaled;
         if (job.scale != 1.f) {
@@ -324,31 +663,12 @@ class Filter {
             scaled = buildPyramid(SharedImage(s));
         }
         const Bake bake = bakeToksvig(scaled ? *scaled : pyramid, options);
+        ++result_.bakes;
         const int ggx = findPlane(bake.planes, "roughness_ggx");
         const int levels = int(pyramid.levels.size());
 
-        // The normal texture's levels: the mean normal's direction, (n + 1)/2 (one file per image).
-        if (!normalDds_.count(job.normalImage)) {
-            std::vector<Image> encoded;
-            for (int k = 0; k < levels; ++k) {
-                const Image& mean = levelMean(pyramid, k);
-                Image e(mean.width, mean.height, 3);
-                for (size_t i = 0; i < e.texelCount(); ++i) {
-                    float n[3];
-                    normalizeOrFlat(&mean.pixels[3 * i], n);
-                    for (int c = 0; c < 3; ++c) e.pixels[3 * i + size_t(c)] = 0.5f * (n[c] + 1.f);
-                }
-                encoded.push_back(std::move(e));
-            }
-            normalDds_[job.normalImage] =
-                addDds(encoded, TextureFormat::Bc5Unorm,
-                       "ndfmip BC5 mips of " + asset_.imageLabels[size_t(job.normalImage)]);
-        }
-        wants_[(Pointer("/materials") / job.material / "normalTexture").to_string()] =
-            normalDds_[job.normalImage];
-
         // The material map's levels: R, B, A averaged, G the filtered roughness.
-        GltfMaterialReport report{job.name, width, height, levels, job.makeMap, 0, 0.0};
+        Baked out;
         const std::vector<SharedImage> averaged = albedoMips(pyramid, rgba);
         std::vector<Image> material;
         for (int k = 0; k < levels; ++k) {
@@ -357,52 +677,52 @@ class Filter {
             for (size_t i = 0; i < level.texelCount(); ++i) {
                 const float r = std::sqrt(std::max(a.pixels[i], 0.f));
                 float g = job.makeMap ? r : r / job.roughnessFactor;
-                if (g > 1.f + 1e-4f) ++report.clampedTexels;
+                if (g > 1.f + 1e-4f) ++out.clampedTexels;
                 level.pixels[4 * i + 1] = std::min(g, 1.f);
             }
             material.push_back(std::move(level));
         }
         const std::string label =
             job.roughnessImage >= 0 ? asset_.imageLabels[size_t(job.roughnessImage)] : "no image";
-        const int dds = addDds(material, TextureFormat::Rgba8Unorm,
-                               "ndfmip RGBA8 metallicRoughness mips of material " +
-                                   std::to_string(job.material) + " (" + label + ")");
-        if (job.makeMap)
-            madeTexture(job, material.front(), dds);
-        else {
-            const Pointer materialAt = Pointer("/materials") / job.material;
-            wants_[(materialAt / "pbrMetallicRoughness" / "metallicRoughnessTexture").to_string()] =
-                dds;
-            // ORM packing: the occlusion read from the same texture (R) gets the same levels.
-            const json* occlusion = member(asset_.json[materialAt], "occlusionTexture");
-            const json* index = occlusion ? member(*occlusion, "index") : nullptr;
-            if (index && *index == job.roughnessTexture)
-                wants_[(materialAt / "occlusionTexture").to_string()] = dds;
-        }
-        report.milliseconds =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                .count();
-        result_.materials.push_back(std::move(report));
+        out.dds = addDds(material, TextureFormat::Rgba8Unorm,
+                         "ndfmip RGBA8 metallicRoughness mips of material " +
+                             std::to_string(job.material) + " (" + label + ")",
+                         "RGBA8 metallicRoughness mips");
+        if (job.makeMap) out.level0 = std::move(material.front());
+        return out;
     }
 
     // A metallicRoughnessTexture of our own: level 0 as its PNG core source, the DDS as its
     // extension, roughnessFactor 1 (G holds the whole roughness).
-    void madeTexture(const MaterialJob& job, const Image& level0, int dds) {
-        Result<std::string> png = encodePng(level0, 8);
-        if (!png) refuse(job.where + ": " + png.error().message);
-        const int source =
-            addGltfImage(asset_, std::move(png.value()), "image/png",
-                         "ndfmip metallicRoughness of material " + std::to_string(job.material));
+    // The texture carries what the material had, so that a later pass can put it back.
+    void madeTexture(const MaterialJob& job, Baked& b) {
+        if (b.png < 0) {
+            Result<std::string> png = encodePng(b.level0, 8);
+            if (!png) refuse(job.where + ": " + png.error().message);
+            b.png = addGltfImage(asset_, std::move(png.value()), "image/png",
+                                 "ndfmip metallicRoughness of material " +
+                                     std::to_string(job.material));
+            markOurs(asset_.json["images"][size_t(b.png)], "metallicRoughness level 0");
+            b.level0 = Image();
+        }
         json& textures = asset_.json["textures"];
-        json texture = json::object();
-        const int samplerFrom =
-            job.roughnessTexture >= 0 ? job.roughnessTexture : job.normalTexture;
-        if (const json* sampler = member(textures[size_t(samplerFrom)], "sampler"))
-            texture["sampler"] = *sampler;
-        texture["source"] = source;
-        texture["extensions"][kDdsExtension]["source"] = dds;
-        textures.push_back(texture);
-        const int index = int(textures.size() - 1);
+        const auto madeKey = std::pair(job.roughnessTexture, job.normalTexture);
+        auto made = b.madeTextures.find(madeKey);
+        if (made == b.madeTextures.end()) {
+            json texture = json::object();
+            const int samplerFrom =
+                job.roughnessTexture >= 0 ? job.roughnessTexture : job.normalTexture;
+            if (const json* sampler = member(textures[size_t(samplerFrom)], "sampler"))
+                texture["sampler"] = *sampler;
+            texture["source"] = b.png;
+            texture["extensions"][kDdsExtension]["source"] = b.dds;
+            texture["extras"][kMark] = {{"made", "metallicRoughnessTexture"},
+                                        {"roughnessFactor", job.roughnessFactor},
+                                        {"metallicRoughnessTexture", job.roughnessTexture}};
+            textures.push_back(texture);
+            made = b.madeTextures.emplace(madeKey, int(textures.size() - 1)).first;
+        }
+        const int index = made->second;
 
         json& material = asset_.json["materials"][job.material];
         json& pbr = material["pbrMetallicRoughness"];
@@ -448,6 +768,7 @@ class Filter {
                 if (dds < 0) continue;
                 json copy = textures[size_t(texture)];
                 copy["extensions"][kDdsExtension] = {{"source", dds}};
+                markOurs(copy, json{{"copyOf", texture}});
                 textures.push_back(copy);
                 for (const auto& [use, want] : uses)
                     if (want == dds) asset_.json[use.at]["index"] = textures.size() - 1;
@@ -459,14 +780,17 @@ class Filter {
     GltfAsset& asset_;
     GltfFiltered result_;
     size_t originalTextures_ = 0;
-    std::map<int, int> normalDds_;     // normal image -> its DDS image
     std::map<std::string, int> wants_; // slot (JSON pointer) -> the DDS image it should read
 };
 
 } // namespace
 
 Result<GltfFiltered> filterGltf(const std::string& path) {
-    Result<GltfAsset> asset = readGltf(path);
+    return filterGltf(path, GltfOptions{});
+}
+
+Result<GltfFiltered> filterGltf(const std::string& path, const GltfOptions& options) {
+    Result<GltfAsset> asset = readGltf(path, options.allowOutside);
     if (!asset) return asset.error();
     try {
         return Filter(path, asset.value()).run();

@@ -389,5 +389,57 @@ TEST(GltfCli, BadInputIsRefusedWithOneLineAndNoOutput) {
     EXPECT_TRUE(test::leftovers(f.dir.path).empty());
 }
 
+// Buffer and image uris outside the asset's folder are refused, naming the asset and the uri,
+// unless --allow-outside is given.
+TEST(GltfCli, UrisOutsideTheFolderNeedAllowOutside) {
+    Fixture f;
+    const fs::path folder = f.dir.path / "asset";
+    fs::create_directories(folder);
+    test::TestAsset a = f.asset;
+    a.json["buffers"][0]["uri"] = "../quad.bin";
+    a.json["images"][0]["uri"] = "../normal.png";
+    a.json["images"][1]["uri"] = "../orm.png";
+    const std::string input = (folder / "outside.gltf").string();
+    test::writeBytes(input, a.json.dump());
+    const std::string out = f.dir.file("out.glb");
+    test::expectCliRefuses("gltf " + test::shellArg(input) + " -o " + test::shellArg(out),
+                           {"outside.gltf", "buffer 0 '../quad.bin'", "--allow-outside"});
+    EXPECT_FALSE(fs::exists(out));
+    std::string output;
+    ASSERT_EQ(test::runCli("gltf " + test::shellArg(input) + " -o " + test::shellArg(out) +
+                               " --allow-outside -q",
+                           &output),
+              0)
+        << output;
+    const test::Glb glb = test::parseGlb(test::fileBytes(out));
+    ASSERT_TRUE(glb.ok);
+    EXPECT_EQ(test::glbImage(glb, 0), f.normalPng);
+}
+
+// ndfmip gltf on its own output replaces its images: the same size, the same image count.
+TEST(GltfCli, RerunOnItsOwnOutputKeepsItsSize) {
+    Fixture f;
+    const std::string first = f.dir.file("first.glb"), second = f.dir.file("second.glb");
+    std::string output;
+    ASSERT_EQ(test::runCli("gltf " + test::shellArg(f.gltf) + " -o " + test::shellArg(first) +
+                               " -q",
+                           &output),
+              0)
+        << output;
+    ASSERT_EQ(test::runCli("gltf " + test::shellArg(first) + " -o " + test::shellArg(second),
+                           &output),
+              0)
+        << output;
+    EXPECT_NE(output.find("4 images of an earlier ndfmip gltf replaced"), std::string::npos)
+        << output;
+    const std::string a = test::fileBytes(first), b = test::fileBytes(second);
+    EXPECT_LE(std::abs(double(b.size()) - double(a.size())), 0.01 * double(a.size()));
+    const test::Glb ga = test::parseGlb(a), gb = test::parseGlb(b);
+    ASSERT_TRUE(ga.ok && gb.ok);
+    EXPECT_EQ(gb.json["images"].size(), ga.json["images"].size());
+    EXPECT_EQ(gb.json["bufferViews"].size(), ga.json["bufferViews"].size());
+    EXPECT_EQ(gb.json["materials"], ga.json["materials"]);
+}
+
 } // namespace
 } // namespace ndfmip

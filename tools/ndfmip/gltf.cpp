@@ -13,6 +13,7 @@ namespace {
 struct GltfArgs {
     std::string input, output, engine = "gltf";
     bool quiet = false;
+    GltfOptions options;
 };
 
 void runGltf(const GltfArgs& a) {
@@ -24,13 +25,15 @@ void runGltf(const GltfArgs& a) {
     if (std::filesystem::path(a.output).extension() != ".glb")
         throw Failure(a.output + ": the output is a binary glTF: name it .glb");
     const long long start = nowNanoseconds();
-    Result<GltfFiltered> filtered = filterGltf(a.input);
+    Result<GltfFiltered> filtered = filterGltf(a.input, a.options);
     if (!filtered) throw Failure(filtered.error().message);
     if (!a.quiet)
         for (const std::string& warning : filtered->warnings)
             std::fprintf(stderr, "ndfmip: warning: %s\n", warning.c_str());
     if (Status s = writeFileAtomic(a.output, filtered->glb); !s) throw Failure(s.error);
     if (a.quiet) return;
+    if (filtered->replacedImages)
+        std::printf("%d images of an earlier ndfmip gltf replaced\n", filtered->replacedImages);
     for (const GltfMaterialReport& m : filtered->materials) {
         std::string notes;
         if (m.madeRoughnessMap) notes += "; metallicRoughnessTexture made, roughnessFactor 1";
@@ -59,6 +62,9 @@ void addGltfCommand(CLI::App& app) {
         ->required();
     c->add_option("--engine", args->engine, "conventions of the output: gltf only (glTF 2.0's own)")
         ->capture_default_str();
+    c->add_flag("--allow-outside", args->options.allowOutside,
+                "read buffer and image uris outside the asset's folder (absolute paths, file:, "
+                "'..'); refused by default");
     c->add_flag("-q,--quiet", args->quiet, "print nothing but errors");
     c->callback([args] { runGltf(*args); });
 }
