@@ -42,6 +42,10 @@ ErrorStats compareToTruth(const std::vector<Image>& images, const std::vector<Im
 // Every map rendered from straight above at each footprint (texels per pixel side), with every
 // method and as the ground truth, for every material setting; docs/RENDERING.md. The defaults
 // are the command's (its option names in brackets).
+// vmf's C of eq. 32 in eval's engine view: lobe slots that match across texels and levels, so
+// that blending their parameters blends like lobes.
+constexpr float kEngineViewCoherence = 1.f;
+
 struct EvalOptions {
     std::vector<std::string> maps;
     DecodeOptions decode;
@@ -62,15 +66,24 @@ struct EvalOptions {
     std::vector<float> calibrationScales{0.25f, 0.5f, 0.75f, 1.f, 1.5f, 2.f, 3.f, 4.f};
     bool allImages = false;
     bool webgl = true;     // the report's live WebGL2 view of the first map
-    float coherence = 0.f; // vmf methods: C of eq. 32
+    // The view (--view): lab (the renderer's default rule: 2 x 2 taps, LOD bias -0.5, each
+    // texel shaded), engine (what an engine's one trilinear lookup gives: 1 tap, LOD bias 0,
+    // parameters blended, vmf baked with coherent lobes) or aligned (as `aligned`). It is a
+    // name for the options below that are left unset; those that are set win.
+    std::string view = "lab";
+    std::optional<float> coherence; // vmf methods: C of eq. 32; unset: 0, or kEngineViewCoherence in the engine view
     bool aligned = false;  // each pixel exactly one texel of a level
+    // The camera's elevation above the plane in degrees (--elevation): 90 looks straight down;
+    // lower tilts it about the texel grid's x axis (a pixel covers footprint / sin(elevation)
+    // texels along the view), the light near the view's mirror direction. 5 .. 90.
+    float elevation = 90.f;
     std::vector<float> offset{0.31f, 0.17f}; // the pixel grid's shift from the texel grid, in pixels
     std::vector<std::string> externalRoughness; // NAME=PATTERN
     std::string externalEncoding = "perceptual"; // or alpha
     std::string truth = "box";                   // or bilinear
     std::optional<int> taps;      // unset: 1 when aligned, else RenderOptions' default
     std::optional<float> lodBias; // unset: 0 when aligned, else RenderOptions' default
-    std::string lobeFilter = "texel"; // or parameter
+    std::optional<std::string> lobeFilter; // texel or parameter; unset: texel, or parameter in the engine view
     // An environment map (environment.h) that lights every view instead of the directional light:
     // the truth is sampled under it (its noise recorded), and only methods whose shader shades
     // under an environment get rows; the others are listed in EvalResult::skipped.

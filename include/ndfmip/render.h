@@ -210,7 +210,9 @@ inline UvFootprint uvFootprint(const Camera& camera, const SurfaceHit& hit, floa
     return uvFootprint(cameraFrame(camera), hit, px, py);
 }
 
-// Whether the view of `scene` lets a box-surface truth be integrated exactly (RenderOptions::exact).
+// Whether the view of `scene` lets a box-surface truth be integrated exactly (RenderOptions::exact):
+// an orthographic camera whose image rows run along one axis of a plane's texel grid (straight
+// down, or tilted about that axis), directional lights, no environment.
 bool exactBoxView(const Scene& scene);
 
 // GPU LOD: log2 of the longer footprint axis measured in level-0 texels.

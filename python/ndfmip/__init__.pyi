@@ -62,7 +62,8 @@ def evaluate(maps: Iterable[PathLike], output: Optional[PathLike] = ..., *, meth
              exponents: Optional[Sequence[float]] = ..., roughness: Optional[Sequence[float]] = ...,
              pixels: int = ..., spp: int = ..., frames: int = ..., seed: int = ..., aligned: bool = ...,
              offset: Sequence[float] = ..., truth: str = ..., taps: Optional[int] = ...,
-             lod_bias: Optional[float] = ..., lobe_filter: str = ..., coherent: float = ...,
+             lod_bias: Optional[float] = ..., lobe_filter: Optional[str] = ..., coherent: Optional[float] = ..., view: str = ...,
+             elevation: float = ...,
              calibrate: bool = ..., all_images: bool = ..., webgl: Optional[bool] = ..., green_down: bool = ...,
              two_channel: bool = ..., signed: bool = ..., height: Optional[float] = ...,
              clamp: bool = ...) -> Dict[str, Any]: ...

@@ -53,3 +53,11 @@ def test_evaluate_returns_the_cli_report(cli, tmp_path):
     aligned = ndfmip.evaluate([BUNDLED_MAP], methods=["toksvig", "exact"], footprints=[4], brdfs=["ggx"],
                               roughness=[0.2], frames=0, aligned=True)
     assert aligned["setup"]["taps"] == 1 and aligned["setup"]["lod_bias"] == 0
+    # The engine view, as the tool's --view engine: one lookup, parameters blended, coherent lobes.
+    engine_args = dict(methods=["vmf:2"], footprints=[4], brdfs=["ggx"], roughness=[0.3], frames=0, pixels=16)
+    run_cli(cli, "eval", BUNDLED_MAP, "--view", "engine", "--methods", "vmf:2", "--footprints", "4", "--brdfs", "ggx",
+            "--roughness", "0.3", "--frames", "0", "--pixels", "16", "-o", tmp_path / "engine", "-q")
+    engine = ndfmip.evaluate([BUNDLED_MAP], view="engine", **engine_args)
+    assert engine == json.loads((tmp_path / "engine" / "report.json").read_text())
+    setup = engine["setup"]
+    assert (setup["eval_view"], setup["taps"], setup["lobe_filter"], setup["coherent"]) == ("engine", 1, "parameter", 1)

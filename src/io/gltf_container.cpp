@@ -11,6 +11,8 @@
 #include <optional>
 #include <string_view>
 
+#include <openssl/evp.h>
+
 #include "io/input_file.h"
 #include "ndfmip/limits.h"
 
@@ -53,32 +55,19 @@ size_t structureBytes(std::string_view text) {
     return n;
 }
 
+// Standard base64 (RFC 4648), as data URIs carry it, decoded by OpenSSL; missing padding is
+// added, as some writers leave it out.
 std::optional<std::string> base64Decoded(std::string_view text) {
-    auto value = [](char c) -> int {
-        if (c >= 'A' && c <= 'Z') return c - 'A';
-        if (c >= 'a' && c <= 'z') return c - 'a' + 26;
-        if (c >= '0' && c <= '9') return c - '0' + 52;
-        if (c == '+') return 62;
-        if (c == '/') return 63;
-        return -1;
-    };
-    while (!text.empty() && text.back() == '=') text.remove_suffix(1);
-    std::string out;
-    out.reserve(text.size() / 4 * 3 + 3);
-    uint32_t bits = 0;
-    int count = 0;
-    for (char c : text) {
-        const int v = value(c);
-        if (v < 0) return std::nullopt;
-        bits = bits << 6 | uint32_t(v);
-        if (++count == 4) {
-            out += char(bits >> 16), out += char(bits >> 8), out += char(bits);
-            bits = 0, count = 0;
-        }
-    }
-    if (count == 1) return std::nullopt;
-    if (count == 2) out += char(bits >> 4);
-    if (count == 3) out += char(bits >> 10), out += char(bits >> 2);
+    if (text.size() % 4 == 1 || text.size() > size_t(std::numeric_limits<int>::max()) - 3) return std::nullopt;
+    std::string padded(text);
+    while (padded.size() % 4 != 0) padded += '=';
+    size_t pads = 0;
+    while (pads < 2 && pads < padded.size() && padded[padded.size() - 1 - pads] == '=') ++pads;
+    std::string out(padded.size() / 4 * 3, '\0');
+    const int n = EVP_DecodeBlock(reinterpret_cast<unsigned char*>(out.data()),
+                                  reinterpret_cast<const unsigned char*>(padded.data()), int(padded.size()));
+    if (n < 0 || size_t(n) < pads) return std::nullopt;
+    out.resize(size_t(n) - pads); // EVP_DecodeBlock counts the padding's zero bytes
     return out;
 }
 

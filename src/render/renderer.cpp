@@ -590,11 +590,14 @@ bool exactBoxView(const Scene& scene) {
         if (light.type != LightType::Directional) return false;
     const CameraFrame frame = cameraFrame(scene.camera);
     const Geometry& g = scene.geometry;
-    // Looking straight down the plane's normal, with the texel grid along the image axes.
-    const float facing = std::abs(glm::dot(frame.forward, glm::normalize(g.normal)));
-    const float along = std::abs(glm::dot(frame.right, glm::normalize(g.tangent)));
-    const float across = std::abs(glm::dot(frame.up, glm::normalize(g.tangent)));
-    return facing > 1.f - 1e-6f && (along > 1.f - 1e-6f || across > 1.f - 1e-6f);
+    // The image's rows along one axis of the texel grid (the camera may tilt about it): each
+    // pixel then covers a rectangle of texels, seen from one direction.
+    const glm::vec3 normal = glm::normalize(g.normal), tangent = glm::normalize(g.tangent);
+    const glm::vec3 bitangent = glm::cross(normal, tangent);
+    const float facing = std::abs(glm::dot(frame.forward, normal));
+    const float alongTangent = std::abs(glm::dot(frame.right, tangent));
+    const float alongBitangent = std::abs(glm::dot(frame.right, bitangent));
+    return facing > 1e-3f && (alongTangent > 1.f - 1e-6f || alongBitangent > 1.f - 1e-6f);
 }
 
 } // namespace ndfmip

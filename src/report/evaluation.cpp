@@ -58,7 +58,8 @@ void checkRanges(const EvalOptions& a) {
     range("--pixels", a.maxPixels, 8, 2048);
     if (a.spp != 0) range("--spp", a.spp, 1, 1 << 16);
     range("--frames", a.frames, 0, 256);
-    range("--coherent", a.coherence, 0.0, 1e6);
+    if (a.coherence) range("--coherent", *a.coherence, 0.0, 1e6);
+    range("--elevation", a.elevation, 5.0, 90.0);
     if (a.taps) range("--taps", *a.taps, 1, 16);
     if (a.lodBias) range("--lod-bias", *a.lodBias, -16.0, 16.0);
 }
@@ -144,23 +145,31 @@ std::vector<Setting> settingsOf(const EvalOptions& a) {
 }
 
 // The view of one footprint: world units are maps (1 unit = the map's width in texels, on
-// both axes), the camera looks straight down, `pixels` pixels square.
-Scene evalScene(int mapWidth, int mapHeight, int footprint, int pixels, glm::vec2 shift) {
+// both axes), an orthographic camera `pixels` pixels square, `elevation` degrees above the plane
+// (90: straight down) and tilted about the texel grid's x axis, so that a pixel covers footprint
+// texels across and footprint / sin(elevation) along the view, and the truth is still one exact
+// integral per pixel (exactBoxView).
+Scene evalScene(int mapWidth, int mapHeight, int footprint, int pixels, glm::vec2 shift, float elevation = 90.f) {
     Scene s;
     const float pixelWorld = float(footprint) / float(mapWidth);
     const float viewWorld = pixelWorld * float(pixels);
+    const bool down = elevation >= 90.f;
+    const float e = glm::radians(elevation), stretch = down ? 1.f : 1.f / std::sin(e);
     // `shift` pixels off the texel grid, the same for every footprint.
-    const glm::vec3 offset(shift.x * pixelWorld, shift.y * pixelWorld, 0.f);
+    const glm::vec3 offset(shift.x * pixelWorld, shift.y * pixelWorld * stretch, 0.f);
     s.camera.type = CameraType::Orthographic;
-    s.camera.eye = glm::vec3(0.f, 0.f, 10.f) + offset;
+    const glm::vec3 towardsEye = down ? glm::vec3(0.f, 0.f, 1.f) : glm::vec3(0.f, -std::cos(e), std::sin(e));
+    s.camera.eye = 10.f * towardsEye + offset;
     s.camera.target = offset;
-    s.camera.up = {0.f, 1.f, 0.f};
+    s.camera.up = down ? glm::vec3(0.f, 1.f, 0.f) : glm::vec3(0.f, std::sin(e), std::cos(e));
     s.camera.orthoHeight = viewWorld;
     s.camera.width = s.camera.height = pixels;
-    const float size = 2.f * std::ceil(0.5f * viewWorld + 1.f);
+    const float size = 2.f * std::ceil(0.5f * viewWorld * stretch + 1.f);
     s.geometry.size = {size, size};
     s.geometry.tiling = {size, size * float(mapWidth) / float(mapHeight)};
-    const float polar = glm::radians(25.f), azimuth = glm::radians(30.f);
+    // Straight down: 25 degrees off the normal. Tilted: near the mirror direction of the view
+    // (the glancing highlight a distant floor shows), 30 degrees aside in azimuth.
+    const float polar = glm::radians(down ? 25.f : 90.f - elevation), azimuth = glm::radians(down ? 30.f : 120.f);
     Light light;
     light.direction = {std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar)};
     s.lights = {light};
@@ -370,7 +379,29 @@ std::vector<ExternalRoughness> externalRows(const std::vector<std::string>& spec
     return rows;
 }
 
-EvalResult evaluateOrThrow(const EvalOptions& a) {
+// The options with the view's rule where they leave it open: lab (the renderer's default rule),
+// engine (one trilinear lookup, parameters blended, vmf's lobes coherent: eq. 32, what hardware
+// filtering needs) or aligned (one texel per pixel).
+EvalOptions withView(EvalOptions a) {
+    if (a.view != "lab" && a.view != "engine" && a.view != "aligned")
+        fail("--view " + quote(a.view) + ": expected lab, engine or aligned");
+    if (a.aligned && a.view == "engine") fail("--aligned and --view engine: give one");
+    if ((a.aligned || a.view == "aligned") && a.elevation < 90.f)
+        fail("--elevation: an aligned view looks straight down (--elevation 90)");
+    if (a.aligned) a.view = "aligned";
+    a.aligned = a.view == "aligned";
+    if (a.view == "engine") {
+        if (!a.taps) a.taps = 1;
+        if (!a.lodBias) a.lodBias = 0.f;
+        if (!a.lobeFilter) a.lobeFilter = "parameter";
+        if (!a.coherence) a.coherence = kEngineViewCoherence;
+    }
+    if (!a.lobeFilter) a.lobeFilter = "texel";
+    return a;
+}
+
+EvalResult evaluateOrThrow(const EvalOptions& options) {
+    const EvalOptions a = withView(options);
     checkRanges(a);
     const std::vector<Setting> settings = settingsOf(a);
     const std::vector<ExternalRoughness> externals = externalRows(a.externalRoughness);
@@ -378,8 +409,8 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
         fail("--external-encoding: " + quote(a.externalEncoding) + " is not perceptual or alpha");
     RenderOptions filtering;
     if (!truthFilterFromString(a.truth, filtering.truth)) fail("--truth: " + quote(a.truth) + " is not box or bilinear");
-    if (!shadeFilterFromString(a.lobeFilter, filtering.shadeFilter))
-        fail("--lobe-filter: " + quote(a.lobeFilter) + " is not parameter or texel");
+    if (!shadeFilterFromString(*a.lobeFilter, filtering.shadeFilter))
+        fail("--lobe-filter: " + quote(*a.lobeFilter) + " is not parameter or texel");
     // Aligned: one plain lookup per pixel unless the filtering rule is given.
     filtering.taps = a.taps.value_or(a.aligned ? 1 : filtering.taps);
     filtering.lodBias = a.lodBias.value_or(a.aligned ? 0.f : filtering.lodBias);
@@ -395,7 +426,8 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
     std::vector<MethodSpec> specs;
     for (const std::string& m : a.methods) specs.push_back(methodSpec(m));
     for (MethodSpec& spec : specs)
-        if (spec.method == Method::Vmf && spec.baked && a.coherence != 0.f) spec.options.parameters["coherent"] = a.coherence;
+        if (spec.method == Method::Vmf && spec.baked && a.coherence.value_or(0.f) != 0.f)
+            spec.options.parameters["coherent"] = *a.coherence;
     for (const MethodSpec& spec : specs)
         if ((spec.lod || spec.way) && a.environment.empty())
             fail("--methods: " + quote(spec.label) + ": a variant after @ applies under --environment only");
@@ -484,7 +516,7 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
         for (int footprint : a.footprints) {
             const int pixels = std::clamp((std::max(map.normals->width, map.normals->height) + footprint - 1) / footprint,
                                           32, std::max(32, a.maxPixels));
-            Scene scene = evalScene(map.normals->width, map.normals->height, footprint, pixels, shift);
+            Scene scene = evalScene(map.normals->width, map.normals->height, footprint, pixels, shift, a.elevation);
             if (lighting) { // the environment replaces the directional light
                 scene.lights.clear();
                 scene.environment.path = a.environment;
@@ -624,14 +656,24 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
     json root;
     root["version"] = NDFMIP_VERSION;
     root["maps"] = a.maps;
-    root["setup"] = {{"view", "orthographic, straight down"}, {"light", "directional, 25 deg off the normal"},
+    char viewText[96], lightText[96];
+    if (a.elevation >= 90.f) {
+        std::snprintf(viewText, sizeof viewText, "orthographic, straight down");
+        std::snprintf(lightText, sizeof lightText, "directional, 25 deg off the normal");
+    } else {
+        std::snprintf(viewText, sizeof viewText, "orthographic, %g deg above the plane", a.elevation);
+        std::snprintf(lightText, sizeof lightText, "directional, %g deg above the plane, 30 deg from the mirror azimuth",
+                      a.elevation);
+    }
+    root["setup"] = {{"view", viewText}, {"light", lightText}, {"elevation_degrees", a.elevation},
                      {"footprints", a.footprints}, {"methods", a.methods}, {"frames", a.frames},
                      {"truth", a.truth},
                      {"truth_spp", truthFilter == TruthFilter::Box ? json("exact integral, no samples")
                                    : a.spp > 0 ? json(a.spp) : json("max(64, footprint^2), at most 1024")},
                      {"aligned", a.aligned}, {"offset", {shift.x, shift.y}},
                      {"taps", filtering.taps}, {"lod_bias", filtering.lodBias},
-                     {"lobe_filter", a.lobeFilter},
+                     {"lobe_filter", *a.lobeFilter}, {"eval_view", a.view},
+                     {"coherent", a.coherence.value_or(0.f)},
                      {"seed", a.seed}};
     if (lighting) {
         root["setup"]["light"] = "environment";
@@ -670,7 +712,7 @@ EvalResult evaluateOrThrow(const EvalOptions& a) {
               "max(64, footprint^2) samples per pixel up to 1024";
     char filter[160];
     std::snprintf(filter, sizeof filter, "%d x %d sub-samples per pixel, LOD bias %g, %s filtering",
-                  filtering.taps, filtering.taps, filtering.lodBias, a.lobeFilter.c_str());
+                  filtering.taps, filtering.taps, filtering.lodBias, a.lobeFilter->c_str());
     if (lighting) {
         char noiseText[128];
         std::snprintf(noiseText, sizeof noiseText, "%.3f%%", 100. * truthNoise);

@@ -980,6 +980,83 @@ TEST(Cli, EvalUnderAnEnvironmentHasARowPerVariantAndSkipsTheRest) {
                        {"--sh-views"});
 }
 
+// --view names a set of options: the engine view is one trilinear lookup with the parameters
+// blended and vmf's lobes coherent, exactly what those options give by hand; options given
+// beside it win.
+TEST(Cli, EvalViewsAreNamesForTheirOptions) {
+    TempDir tmp("eval-view");
+    const std::string map = shellQuoted(std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png");
+    const std::string common = " -q --no-webgl --methods toksvig,vmf:2 --brdfs ggx --roughness 0.3 --footprints 4 "
+                               "--frames 0 --pixels 16 -o ";
+    auto run = [&](const std::string& name, const std::string& options) {
+        CliRun r = cli("eval " + map + " " + options + common + shellQuoted(tmp.file(name)));
+        EXPECT_EQ(r.status, 0) << r.output;
+        return json::parse(fileBytes(tmp.path / name / "report.json"));
+    };
+    auto errors = [](const json& report) {
+        std::map<std::string, double> e;
+        for (const json& c : report["cases"]) e[c["method"].get<std::string>()] = c["rel_rmse"].get<double>();
+        return e;
+    };
+    const json engine = run("engine", "--view engine");
+    const json& setup = engine["setup"];
+    EXPECT_EQ(setup["eval_view"], "engine");
+    EXPECT_EQ(setup["taps"], 1);
+    EXPECT_EQ(setup["lod_bias"], 0.0);
+    EXPECT_EQ(setup["lobe_filter"], "parameter");
+    EXPECT_EQ(setup["coherent"], 1.0);
+    const json byHand = run("by-hand", "--taps 1 --lod-bias 0 --lobe-filter parameter --coherent 1");
+    EXPECT_EQ(byHand["setup"]["eval_view"], "lab");
+    EXPECT_EQ(errors(engine), errors(byHand));
+    // Plain (not coherent) lobes in the same view differ: the view's bake is its own.
+    const json plain = run("plain", "--view engine --coherent 0");
+    EXPECT_NE(errors(plain).at("vmf:2"), errors(engine).at("vmf:2"));
+    EXPECT_EQ(errors(plain).at("toksvig"), errors(engine).at("toksvig"));
+    const json lab = run("lab", "--view engine --taps 2 --lod-bias -0.5 --lobe-filter texel");
+    EXPECT_EQ(lab["setup"]["taps"], 2);
+    EXPECT_EQ(lab["setup"]["lobe_filter"], "texel");
+    const json aligned = run("aligned", "--view aligned");
+    EXPECT_EQ(aligned["setup"]["aligned"], true);
+    EXPECT_EQ(aligned["setup"]["taps"], 1);
+    expectCleanFailure(cli("eval " + map + " --aligned --view engine" + common + shellQuoted(tmp.file("bad"))),
+                       {"--view engine"});
+    expectCleanFailure(cli("eval " + map + " --view grazing" + common + shellQuoted(tmp.file("bad"))), {"--view"});
+    EXPECT_FALSE(fs::exists(tmp.path / "bad"));
+}
+
+// A tilted view: the truth stays one exact integral per pixel, a flat map is drawn exactly by
+// every method, and exact is still the floor of the bumpy map's rows.
+TEST(Cli, EvalAtAnElevationKeepsAnExactTruth) {
+    TempDir tmp("eval-elevation");
+    writePng16(tmp.file("flat.png"), encodeNormals(flatNormals(16, 16)));
+    const std::string bumpy = shellQuoted(std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png");
+    const std::string options = " -q --no-webgl --elevation 30 --methods naive,toksvig,vmf:2,exact --brdfs ggx "
+                                "--roughness 0.3 --footprints 4,16 --frames 0 --pixels 32 -o ";
+    CliRun r = cli("eval " + shellQuoted(tmp.file("flat.png")) + " " + bumpy + options + shellQuoted(tmp.file("r")));
+    ASSERT_EQ(r.status, 0) << r.output;
+    const json report = json::parse(fileBytes(tmp.path / "r" / "report.json"));
+    EXPECT_EQ(report["setup"]["elevation_degrees"], 30.0);
+    EXPECT_EQ(report["setup"]["view"], "orthographic, 30 deg above the plane");
+    EXPECT_EQ(report["setup"]["truth_spp"], "exact integral, no samples");
+    std::map<std::pair<int, std::string>, double> bumpyError;
+    for (const json& c : report["cases"]) {
+        const std::string method = c["method"];
+        if (method == "groundtruth") continue;
+        if (c["map"].get<std::string>().find("flat") != std::string::npos)
+            EXPECT_LT(c["rel_rmse"].get<double>(), 1e-5) << method;
+        else
+            bumpyError[{c["footprint"].get<int>(), method}] = c["rel_rmse"].get<double>();
+    }
+    for (int f : {4, 16}) {
+        EXPECT_GT(bumpyError.at({f, "naive"}), 0.0);
+        EXPECT_LE(bumpyError.at({f, "exact"}), bumpyError.at({f, "toksvig"}) + 1e-9) << f;
+        EXPECT_LE(bumpyError.at({f, "exact"}), bumpyError.at({f, "naive"}) + 1e-9) << f;
+    }
+    expectCleanFailure(cli("eval " + bumpy + " --aligned --elevation 30" + options + shellQuoted(tmp.file("bad"))),
+                       {"--elevation"});
+    EXPECT_FALSE(fs::exists(tmp.path / "bad"));
+}
+
 TEST(Cli, RenderReportsBadScenesInOneLine) {
     TempDir tmp("render-bad");
     writeFile(tmp.path / "bad.json", R"({"camera": {"width": "abc"}})");

@@ -530,6 +530,47 @@ TEST(MeasuringStick, ExactBoxTruthAgreesWithSupersampling) {
     EXPECT_FALSE(exactBoxView(grazingScene(allMaterials()[1])));
 }
 
+// A camera tilted about the texel grid's x axis still sees each pixel as a rectangle of texels
+// from one direction: the sample-free truth agrees with supersampling there too, and on a flat
+// map it is the BRDF's own value at the view and light.
+TEST(MeasuringStick, ExactBoxTruthHoldsForATiltedOrthographicView) {
+    const Image normals = test::randomNormals(16, 16, 0.8f, 23);
+    for (float elevation : {30.f, 60.f}) {
+        Scene scene = shiftedScene(5, allMaterials()[1], {0.f, 0.5f, 0.6f}, {0.37f, 0.21f});
+        const float e = glm::radians(elevation);
+        scene.camera.eye = scene.camera.target + 10.f * glm::vec3(0.f, -std::cos(e), std::sin(e));
+        scene.camera.up = {0.f, std::sin(e), std::cos(e)};
+        ASSERT_TRUE(exactBoxView(scene)) << elevation;
+        for (const Material& m : allMaterials()) {
+            scene.material = m;
+            const RenderTextures t = texturesFor(normals, Method::Naive);
+            RenderOptions exact;
+            Result<Image> a = render(scene, t, kGroundTruth, exact);
+            RenderOptions sampled = exact;
+            sampled.exact = false;
+            sampled.spp = 16384;
+            Result<Image> b = render(scene, t, kGroundTruth, sampled);
+            ASSERT_TRUE(a.ok() && b.ok());
+            EXPECT_LT(relativeRmse(a.value(), b.value()), 0.01) << brdfName(m.brdf) << " at " << elevation;
+        }
+        // A flat map: every pixel is the BRDF at the fixed view and light.
+        scene.material = allMaterials()[1];
+        Image flatMap(16, 16, 3);
+        for (size_t i = 0; i < flatMap.texelCount(); ++i) flatMap.pixels[3 * i + 2] = 1.f;
+        const RenderTextures flat = texturesFor(flatMap, Method::Naive);
+        Result<Image> image = render(scene, flat, kGroundTruth, RenderOptions{});
+        ASSERT_TRUE(image.ok());
+        const glm::vec3 v = glm::normalize(scene.camera.eye - scene.camera.target);
+        const glm::vec3 l = glm::normalize(scene.lights.front().direction);
+        const glm::vec3 expected = shadeNormal(scene.material, glm::vec3(0.f, 0.f, 1.f), l, glm::normalize(l + v));
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(image->at(2, 2)[c], expected[c], 1e-4f * (1.f + expected[c]));
+    }
+    // Rolled about the view, the rows no longer follow the grid: sampled.
+    Scene rolled = shiftedScene(5, allMaterials()[1], {0.f, 0.5f, 0.6f}, {0.f, 0.f});
+    rolled.camera.eye = rolled.camera.target + 10.f * glm::vec3(0.3f, -0.5f, 0.8f);
+    EXPECT_FALSE(exactBoxView(rolled));
+}
+
 TEST(MeasuringStick, ExactMethodIsTheTruthWhereEachLookupIsOneTexel) {
     // 16 texels over 4 pixels: one lookup reads one level-2 texel (plain rule), or 2 x 2
     // sub-samples read one level-1 texel each; either way 'exact' shades exactly the pixel.

@@ -24,7 +24,6 @@ struct EvalArgs {
 void runEval(EvalOptions o, const EvalArgs& a) {
     o.decode = a.input.resolved();
     o.truth = a.filtering.truth;
-    o.lobeFilter = a.filtering.lobeFilter;
     if (!a.quiet) {
         o.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
         o.decoded = [](const std::string& map, const DecodeReport& report) { warnAboutDecode(map, report); };
@@ -89,8 +88,20 @@ void addEvalCommand(CLI::App& app) {
         ->check(CLI::Range(0, 256))->capture_default_str();
     c->add_option("--seed", a->seed, "jitter seed")->capture_default_str();
     c->add_flag("--calibrate", a->calibrate, "also compare engines' roughness mappings on GGX");
-    c->add_option("--coherent", a->coherence, "vmf methods: coherent lobes with alignment strength C (eq. 32)")
+    c->add_option_function<float>(
+           "--coherent", [a](float value) { a->coherence = value; },
+           "vmf methods: coherent lobes with alignment strength C (eq. 32); default 0, " +
+               std::to_string(int(kEngineViewCoherence)) + " in the engine view")
         ->check(CLI::Range(0.f, 1e6f));
+    c->add_option("--elevation", a->elevation,
+                  "the camera's elevation above the plane in degrees: 90 looks straight down; lower tilts it "
+                  "(orthographic, the truth still exact), the light near the view's mirror direction")
+        ->check(CLI::Range(5.f, 90.f))->capture_default_str();
+    c->add_option("--view", a->view,
+                  "lab (the renderer's default rule), engine (what an engine's one trilinear lookup gives: "
+                  "--taps 1 --lod-bias 0 --lobe-filter parameter, vmf's lobes coherent) or aligned (as --aligned); "
+                  "options given beside it win")
+        ->check(CLI::IsMember({"lab", "engine", "aligned"}))->capture_default_str();
     c->add_option("--calibration-roughness", a->calibrationRoughness, "base alphas of the calibration")
         ->delimiter(',')->check(CLI::Range(1e-3f, 1.f))->capture_default_str();
     c->add_flag("--all-images", a->allImages, "images of every setting (default: s=32 and the first GGX alpha)");
@@ -111,9 +122,10 @@ void addEvalCommand(CLI::App& app) {
     c->add_flag("-q,--quiet", args->quiet, "no progress or warnings");
     c->callback([args, c] {
         EvalOptions o = args->options;
-        // Aligned views take one plain lookup per pixel unless the filtering rule is given.
-        if (c->count("--taps") != 0 || !o.aligned) o.taps = args->filtering.taps;
-        if (c->count("--lod-bias") != 0 || !o.aligned) o.lodBias = args->filtering.lodBias;
+        // The filtering rule as given; what is not given is the view's (evaluate.h).
+        if (c->count("--taps") != 0) o.taps = args->filtering.taps;
+        if (c->count("--lod-bias") != 0) o.lodBias = args->filtering.lodBias;
+        if (c->count("--lobe-filter") != 0) o.lobeFilter = args->filtering.lobeFilter;
         if (!args->environment.path.empty()) {
             o.environment = args->environment.path;
             o.environmentOptions = args->environment.options();
