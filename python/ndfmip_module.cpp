@@ -20,6 +20,7 @@
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
 #include "ndfmip/normal_map.h"
+#include "ndfmip/paths.h"
 #include "ndfmip/render.h"
 #include "ndfmip/scene.h"
 
@@ -28,9 +29,10 @@ using namespace ndfmip;
 
 namespace {
 
-// Every failure the library reports; Python sees ndfmip.Error (a ValueError) with its one line.
+// Every failure the library reports; Python sees ndfmip.Error (a ValueError) with its one line,
+// made printable (a byte that is not UTF-8 could not even become a Python str).
 struct NdfmipError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+    explicit NdfmipError(const std::string& message) : std::runtime_error(printable(message, 4096)) {}
 };
 
 template <class T> T take(Result<T> result) {
@@ -127,7 +129,15 @@ bool isPath(py::handle object) {
     return py::isinstance<py::str>(object) || py::isinstance(object, py::module_::import("os").attr("PathLike"));
 }
 
-std::string pathOf(py::handle object) { return py::str(py::module_::import("os").attr("fspath")(object)); }
+// A path from Python, refused when it holds NUL or control characters (paths.h).
+const std::string& checkedPath(const std::string& path) {
+    check(checkUntrustedPath(path));
+    return path;
+}
+
+std::string pathOf(py::handle object) {
+    return checkedPath(py::str(py::module_::import("os").attr("fspath")(object)));
+}
 
 // ---- decoding ---------------------------------------------------------------------------------
 
@@ -151,7 +161,7 @@ py::array decode(const std::string& path, bool greenDown, bool twoChannel, bool 
     Result<Image> normals = Error{};
     {
         py::gil_scoped_release release;
-        normals = loadNormalMap(path, d, nullptr);
+        normals = loadNormalMap(checkedPath(path), d, nullptr);
     }
     return toArray(take(std::move(normals)));
 }
@@ -173,7 +183,7 @@ py::array loadImageArray(const std::string& path) {
     Result<SourceImage> source = Error{};
     {
         py::gil_scoped_release release;
-        source = loadImage(path);
+        source = loadImage(checkedPath(path));
     }
     return toArray(take(std::move(source)).image);
 }
@@ -267,6 +277,7 @@ PyBake bake(py::handle normals, const std::string& methodName, int order, int lo
 }
 
 PyBake readBakeDir(const std::string& dir) {
+    checkedPath(dir);
     py::gil_scoped_release release;
     PyBake out;
     out.bake = take(loadBake(dir));
@@ -301,6 +312,7 @@ void writeBakeDir(const PyBake& b, const std::string& dir, py::object exports, b
                   const std::string& roughnessFormat, int zstd, const std::string& engine) {
     const BakeFileOptions o =
         exportOptions(methodName(b.bake.method), exports, exportTextures, normalFormat, roughnessFormat, zstd, engine, half);
+    checkedPath(dir); // before a cleanup beside a path that a NUL would cut short
     py::gil_scoped_release release;
     const BakeWriteOptions write = take(bakeWriteOptions(o));
     recoverInterruptedBake(dir);
@@ -315,6 +327,7 @@ py::dict bakeTo(const std::string& input, const std::string& output, const std::
                 const std::string& occlusionChannel, py::object exports, const std::string& exportTextures,
                 const std::string& normalFormat, const std::string& roughnessFormat, int zstd, bool force,
                 bool greenDown, bool twoChannel, bool signedValues, std::optional<float> height, bool clamp) {
+    for (const std::string* path : {&input, &output, &albedo, &gloss, &roughnessMap}) checkedPath(*path);
     BakeFileOptions o =
         exportOptions(method, exports, exportTextures, normalFormat, roughnessFormat, zstd, engine, half);
     o.decode = decodeOptions(greenDown, twoChannel, signedValues, height, clamp);
@@ -363,6 +376,7 @@ py::object jsonLoads(const std::string& text) { return py::module_::import("json
 
 py::object inspect(const std::string& dir, int level, int x, int y, std::optional<float> exponent) {
     std::string text;
+    checkedPath(dir);
     {
         py::gil_scoped_release release;
         const LoadedBake bake = take(readBake(dir, level));
@@ -377,6 +391,8 @@ py::array renderScene(py::handle sceneObject, const std::optional<std::string>& 
                       const std::string& bakeDir, uint64_t seed, const std::string& truth, int taps, float lodBias,
                       const std::string& lobeFilter, int anisotropy, int order, int lobes,
                       const std::string& roughnessMapping, const std::string& baseDir) {
+    checkedPath(bakeDir);
+    checkedPath(baseDir);
     Result<Scene> scene = Error{};
     if (py::isinstance<py::dict>(sceneObject)) {
         const std::string text = py::str(py::module_::import("json").attr("dumps")(sceneObject));

@@ -16,6 +16,7 @@
 #include "ndfmip/engine_presets.h"
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
+#include "ndfmip/paths.h"
 #include "ndfmip/render.h"
 #include "ndfmip/spherical_harmonics.h"
 #include "ndfmip/toksvig.h"
@@ -223,6 +224,9 @@ SharedImage roughnessAlpha(const BakeFileOptions& a, const Image& map) {
 
 BakeFileReport bakeOrThrow(const std::string& input, const std::string& output, const BakeFileOptions& a) {
     checkFileOptions(a);
+    // Before anything is cleaned up or created under a path that a NUL would cut short.
+    for (const std::string* path : {&input, &output, &a.gloss, &a.albedo, &a.roughnessMap})
+        if (Status s = checkUntrustedPath(*path); !s) fail(s.error);
     const Method method = *methodFromString(a.method);
     BakeWriteOptions write = writeOptionsOf(a);
     recoverInterruptedBake(output);

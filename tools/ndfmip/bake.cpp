@@ -324,7 +324,7 @@ void runBake(const BakeArgs& args) {
     }
     if (!args.json)
         for (const MapResult& r : jobs)
-            if (r.status == "failed") std::fprintf(stderr, "  failed: %s\n", r.error.c_str());
+            if (r.status == "failed") std::fprintf(stderr, "  failed: %s\n", shortened(r.error, 1024).c_str());
     if (!failures.empty())
         throw Failure(std::to_string(failures.size()) + " of " + std::to_string(jobs.size()) + " maps failed");
 }

