@@ -34,6 +34,13 @@ Image flatMap(int width, int height) {
     return map;
 }
 
+// An equirectangular map of one radiance everywhere.
+Image uniformSky(float radiance) {
+    Image sky(64, 32, 3);
+    for (float& v : sky.pixels) v = radiance;
+    return sky;
+}
+
 class HostileSurfaces : public ::testing::Test {
   protected:
     TempDir tmp{"hostile_surfaces"};
@@ -50,6 +57,47 @@ class HostileSurfaces : public ::testing::Test {
         return "bake " + shellArg(input) + " -q " + extra + " -o " + shellArg(out.string());
     }
 };
+
+// ---- every float an environment folder holds is finite ----------------------------------------
+
+TEST_F(HostileSurfaces, EnvmapIntensityThatOverflowsIsRefused) {
+    const std::string sky = tmp.file("bright.exr");
+    ASSERT_TRUE(saveExr(sky, uniformSky(1e33f)));
+    // 1e33 is a float; times 1e6 it is not.
+    expectCliRefuses(envmapArgs(sky, "--intensity 1e6"), {sky, "intensity", "not a finite number"});
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_TRUE(leftovers(tmp.path).empty());
+    // Within range it is written, every value finite (JSON has no inf: it would be null).
+    std::string output;
+    ASSERT_EQ(runCli(envmapArgs(sky, "--intensity 1"), &output), 0) << output;
+    const json sh = json::parse(fileBytes(out / "sh.json"));
+    for (const json& band : sh["radiance"])
+        for (const json& rgb : band)
+            for (const json& v : rgb) EXPECT_TRUE(v.is_number()) << v;
+}
+
+TEST_F(HostileSurfaces, EnvmapRadianceAboveHalfRangeIsRefusedUnderHalf) {
+    const std::string sun = tmp.file("sun.exr");
+    ASSERT_TRUE(saveExr(sun, uniformSky(1e5f)));
+    // The largest half float is 65504: 1e5 would be stored as inf.
+    expectCliRefuses(envmapArgs(sun, "--half"), {sun, "65504", "--half"});
+    EXPECT_FALSE(fs::exists(out));
+    // The KTX2 textures are half floats too, --half or not.
+    expectCliRefuses(envmapArgs(sun, "--ktx2"), {sun, "65504", "KTX2"});
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_TRUE(leftovers(tmp.path).empty());
+    // As 32-bit floats it is stored as it is; and at 65504, --half holds it (the prefilter's
+    // rounding may lift it a little: up to 65520 a half float rounds down to 65504, not to inf).
+    std::string output;
+    ASSERT_EQ(runCli(envmapArgs(sun, ""), &output), 0) << output;
+    Result<SourceImage> level = loadImage((out / "ggx_L0.exr").string());
+    ASSERT_TRUE(level) << level.error().message;
+    EXPECT_NEAR(level->image.pixels[0], 1e5f, 1e5f * 1e-4f);
+    fs::remove_all(out);
+    const std::string edge = tmp.file("edge.exr");
+    ASSERT_TRUE(saveExr(edge, uniformSky(65504.f)));
+    ASSERT_EQ(runCli(envmapArgs(edge, "--half"), &output), 0) << output;
+}
 
 // ---- paths with control characters ------------------------------------------------------------
 
