@@ -113,6 +113,40 @@ TEST_F(HostileSurfaces, ControlCharactersInPathsAreRefused) {
     EXPECT_TRUE(leftovers(tmp.path).empty());
 }
 
+// ---- shard numbers parsed whole ---------------------------------------------------------------
+
+TEST_F(HostileSurfaces, ShardNumbersOutOfRangeOrEmptyAreRefused) {
+    const std::string pattern = shellArg((tmp.path / "o" / "{stem}").string());
+    for (const std::string shard : {"1/99999999999", "", "0/4294967297", "-0x1/2", "+1/2", "1/2 ", " 1/2", "1/", "/2",
+                                    "2/2", "0/0"}) {
+        SCOPED_TRACE(shard);
+        expectCliRefuses("bake " + shellArg(map) + " -q --shard " + shellArg(shard) + " -o " + pattern,
+                         {"--shard '" + shard + "'", "expected I/N"});
+    }
+    EXPECT_FALSE(fs::exists(tmp.path / "o"));
+    // Indices from an indexed job's environment, parsed whole: INT64_MIN, past INT64_MAX, trailing
+    // bytes, exponents and spaces are all refused by name.
+    for (const char* variable : {"SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"})
+        for (const std::string value : {"-9223372036854775808", "9223372036854775808", "12abc", "1e3", " 1", "+1"}) {
+            SCOPED_TRACE(std::string(variable) + "=" + value);
+            ::setenv(variable, value.c_str(), 1);
+            expectCliRefuses("bake " + shellArg(map) + " -q --shards 4 -o " + pattern,
+                             {std::string(variable) + "='" + value + "'", "not an integer"});
+            ::unsetenv(variable);
+        }
+    // SLURM_ARRAY_TASK_MIN cannot make the difference overflow either.
+    ::setenv("SLURM_ARRAY_TASK_ID", "2147483647", 1);
+    ::setenv("SLURM_ARRAY_TASK_MIN", "-2147483648", 1);
+    expectCliRefuses("bake " + shellArg(map) + " -q --shards 4 -o " + pattern, {"shard index 4294967295"});
+    ::unsetenv("SLURM_ARRAY_TASK_ID");
+    ::unsetenv("SLURM_ARRAY_TASK_MIN");
+    EXPECT_FALSE(fs::exists(tmp.path / "o"));
+    // A good one still bakes: shard 0 of 1 holds every map.
+    std::string output;
+    ASSERT_EQ(runCli("bake " + shellArg(map) + " -q --shard 0/1 -o " + pattern, &output), 0) << output;
+    EXPECT_TRUE(fs::exists(tmp.path / "o" / "map" / "manifest.json"));
+}
+
 // ---- messages ---------------------------------------------------------------------------------
 
 TEST_F(HostileSurfaces, BytesThatAreNotTextAreEscapedInMessages) {
