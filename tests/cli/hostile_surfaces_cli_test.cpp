@@ -147,6 +147,37 @@ TEST_F(HostileSurfaces, ShardNumbersOutOfRangeOrEmptyAreRefused) {
     EXPECT_TRUE(fs::exists(tmp.path / "o" / "map" / "manifest.json"));
 }
 
+// ---- the cache skip checks the files, not only the manifest ----------------------------------
+
+TEST_F(HostileSurfaces, AnUpToDateBakeWithAMissingOrEmptyFileIsBakedAgain) {
+    const std::string args = "bake " + shellArg(map) + " --export exr,png16 -o " + shellArg(out.string());
+    std::string output;
+    ASSERT_EQ(runCli(args, &output), 0) << output;
+    ASSERT_EQ(runCli(args, &output), 0) << output;
+    ASSERT_NE(output.find("up to date"), std::string::npos) << output; // the cache works
+    const auto whole = snapshot(out);
+    const json manifest = json::parse(fileBytes(out / "manifest.json"));
+    const std::string level = manifest["levels"].back()["files"].begin()->get<std::string>();
+    const std::string exported = manifest["exports"]["png16"][0].get<std::string>();
+    for (const std::string& file : {level, exported}) {
+        for (const bool empty : {false, true}) {
+            SCOPED_TRACE(file + (empty ? " emptied" : " deleted"));
+            if (empty)
+                writeBytes(out / file, "");
+            else
+                fs::remove(out / file);
+            ASSERT_EQ(runCli(args, &output), 0) << output;
+            EXPECT_EQ(output.find("up to date"), std::string::npos) << output;
+            EXPECT_EQ(snapshot(out), whole); // baked again, the same bytes
+            EXPECT_EQ(runCli("inspect " + shellArg(out.string()) + " --texel 0,0 --level " +
+                                 std::to_string(manifest["levels"].size() - 1),
+                             &output),
+                      0)
+                << output;
+        }
+    }
+}
+
 // ---- messages ---------------------------------------------------------------------------------
 
 TEST_F(HostileSurfaces, BytesThatAreNotTextAreEscapedInMessages) {
