@@ -178,6 +178,85 @@ TEST_F(HostileSurfaces, AnUpToDateBakeWithAMissingOrEmptyFileIsBakedAgain) {
     }
 }
 
+// ---- outputs that are links or name folders ---------------------------------------------------
+
+TEST_F(HostileSurfaces, AnOutputThatIsALinkIsRefusedAndKept) {
+    const fs::path real = tmp.path / "real.bake";
+    std::string output;
+    ASSERT_EQ(runCli("bake " + shellArg(map) + " -q -o " + shellArg(real.string()), &output), 0) << output;
+    const auto earlier = snapshot(real);
+    fs::create_directory_symlink("real.bake", out);
+    expectCliRefuses(bakeArgs(map, "--method naive"), {out.string(), "symbolic link", "real.bake"});
+    EXPECT_TRUE(fs::is_symlink(fs::symlink_status(out)));
+    EXPECT_EQ(fs::read_symlink(out), fs::path("real.bake"));
+    EXPECT_EQ(snapshot(real), earlier);
+    // An environment folder is written the same way.
+    const std::string sky = tmp.file("sky.exr");
+    ASSERT_TRUE(saveExr(sky, uniformSky(1.f)));
+    expectCliRefuses(envmapArgs(sky, ""), {out.string(), "symbolic link"});
+    EXPECT_TRUE(fs::is_symlink(fs::symlink_status(out)));
+    EXPECT_EQ(snapshot(real), earlier);
+    EXPECT_TRUE(leftovers(tmp.path).empty());
+}
+
+TEST_F(HostileSurfaces, MapNamesWhoseStemIsADotFolderAreRefused) {
+    fs::create_directories(tmp.path / "maps");
+    const fs::path outs = tmp.path / "outs";
+    fs::create_directories(outs);
+    writeBytes(outs / "keep.txt", "mine");
+    for (const char* name : {"..png", "...png"}) {
+        SCOPED_TRACE(name);
+        const fs::path odd = tmp.path / "maps" / name;
+        fs::copy_file(map, odd);
+        expectCliRefuses("bake " + shellArg(odd.string()) + " -q -o " + shellArg((outs / "{stem}").string()),
+                         {name, "{stem}", "names a folder"});
+        fs::remove(odd);
+    }
+    EXPECT_EQ(snapshot(outs), (std::map<std::string, std::string>{{"keep.txt", "mine"}}));
+    EXPECT_FALSE(fs::exists(tmp.path / "manifest.json"));
+    EXPECT_TRUE(leftovers(tmp.path).empty());
+}
+
+// A flat plane under one light, 4x4: quick to render.
+json planeScene(const std::string& normalMap) {
+    return {{"camera",
+             {{"type", "orthographic"},
+              {"eye", {0, 0, 1}},
+              {"target", {0, 0, 0}},
+              {"up", {0, 1, 0}},
+              {"ortho_height", 2},
+              {"width", 4},
+              {"height", 4}}},
+            {"object", {{"type", "plane"}}},
+            {"lights", {{{"type", "directional"}, {"direction", {0, 0, 1}}}}},
+            {"normal_map", normalMap}};
+}
+
+TEST_F(HostileSurfaces, ARenderThatCannotWriteItsPngKeepsTheEarlierExr) {
+    const std::string scene = tmp.file("scene.json");
+    writeBytes(scene, planeScene("map.png").dump());
+    const std::string exr = tmp.file("r.exr");
+    const std::string render = "render " + shellArg(scene) + " -q --method groundtruth --spp 1 -o " + shellArg(exr);
+    std::string output;
+    ASSERT_EQ(runCli(render, &output), 0) << output;
+    struct stat before {};
+    ASSERT_EQ(::stat(exr.c_str(), &before), 0);
+    // The PNG's name is taken by a folder: the render fails, and neither file changes.
+    fs::remove(tmp.file("r.png"));
+    fs::create_directories(tmp.path / "r.png" / "inside");
+    expectCliRefuses(render, {tmp.file("r.png"), "cannot write"});
+    struct stat after {};
+    ASSERT_EQ(::stat(exr.c_str(), &after), 0);
+    EXPECT_EQ(after.st_ino, before.st_ino) << "the EXR was replaced";
+    EXPECT_TRUE(fs::is_directory(tmp.path / "r.png" / "inside"));
+    EXPECT_TRUE(leftovers(tmp.path).empty());
+    // With its name free again both are written.
+    fs::remove_all(tmp.path / "r.png");
+    ASSERT_EQ(runCli(render, &output), 0) << output;
+    EXPECT_TRUE(fs::is_regular_file(tmp.file("r.png")));
+    EXPECT_TRUE(leftovers(tmp.path).empty());
+}
+
 // ---- messages ---------------------------------------------------------------------------------
 
 TEST_F(HostileSurfaces, BytesThatAreNotTextAreEscapedInMessages) {

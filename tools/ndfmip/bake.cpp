@@ -177,9 +177,15 @@ std::string outputFor(const std::string& pattern, const std::string& input) {
         {"{name}", path.filename().string()},
         {"{parent}", path.parent_path().filename().string()}};
     std::string out = pattern;
-    for (const auto& [field, value] : fields)
+    for (const auto& [field, value] : fields) {
+        // "..png" has the stem "." and "...png" the stem "..": out/{stem} would be out/ itself or
+        // the folder above it.
+        if ((value == "." || value == "..") && out.find(field) != std::string::npos)
+            throw Failure(quote(input) + ": its " + field + " is " + quote(value) + ", which names a folder, not a bake; "
+                          "rename the map or use another field in -o");
         for (size_t at = out.find(field); at != std::string::npos; at = out.find(field, at + value.size()))
             out.replace(at, field.size(), value);
+    }
     return out;
 }
 
