@@ -46,3 +46,14 @@ def test_nul_and_control_characters_in_paths_are_refused(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.png"]
     assert not (tmp_path.parent / "elsewhere").exists()
 
+
+def test_float32_with_metadata_is_float32():
+    tagged = np.dtype(np.float32, metadata={"unit": "normal"})
+    normals = np.zeros((4, 4, 3), tagged)
+    normals[..., 2] = 1
+    assert normals.dtype == np.float32 and normals.dtype.metadata
+    assert len(ndfmip.bake(normals, "naive")) == 3
+    # What does differ is named: the byte order.
+    message = raises("expected dtype float32 in native byte order, not >f4", ndfmip.bake,
+                     flat(4, 4).astype(">f4"))
+    assert "not float32" not in message

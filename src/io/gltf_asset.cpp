@@ -13,6 +13,7 @@
 
 #include "io/gltf_container.h"
 #include "io/input_file.h"
+#include "ndfmip/io.h"
 #include "ndfmip/limits.h"
 
 namespace fs = std::filesystem;
@@ -90,7 +91,10 @@ std::string missingImageProblem(const std::string& uri, const fs::path& base) {
     const fs::path file = base / percentDecoded(uri);
     Result<std::string> bytes = readRegularFile(file.string(), inputLimits().maxImageFileBytes);
     if (!bytes) return bytes.error().message;
-    return file.string() + ": cannot read";
+    // Readable after all: the reason is in the bytes (an empty file, a format glTF lacks).
+    Result<SourceImage> decoded = decodeImage(bytes.value(), file.string());
+    if (!decoded) return decoded.error().message;
+    return file.string() + ": cannot read (not a PNG or JPEG image, the formats glTF embeds)";
 }
 
 int appendBufferView(GltfAsset& asset, std::string bytes) {

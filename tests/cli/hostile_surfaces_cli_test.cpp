@@ -269,5 +269,15 @@ TEST_F(HostileSurfaces, BytesThatAreNotTextAreEscapedInMessages) {
     EXPECT_EQ(output.find("\xC3("), std::string::npos) << output;
 }
 
+TEST_F(HostileSurfaces, AnImageAGltfNamesSaysWhyItCannotBeRead) {
+    // Read, but not decodable: the decoder's reason, not a bare "cannot read".
+    const fs::path folder = tmp.path / "asset";
+    fs::create_directories(folder);
+    const std::string gltf = writeGltf(folder, quadAsset(), {{"empty.png", ""}, {"orm.png", "GIF89a"}});
+    const std::string glb = tmp.file("out.glb");
+    expectCliRefuses("gltf " + shellArg(gltf) + " -q -o " + shellArg(glb), {"empty.png", "file is empty"});
+    EXPECT_FALSE(fs::exists(glb));
+}
+
 } // namespace
 } // namespace ndfmip::test
