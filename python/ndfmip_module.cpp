@@ -91,10 +91,20 @@ py::array_t<float, py::array::c_style> floatArray(py::handle object, const std::
         throw NdfmipError(what + ": expected shape (H, W, C) with C = " + want + (minChannels == 1 ? " (or (H, W))" : "") +
                           ", not (" + shape + ")");
     }
-    if (array.shape(0) > inputLimits().maxSide || array.shape(1) > inputLimits().maxSide)
-        throw NdfmipError(what + ": " + std::to_string(array.shape(1)) + "x" + std::to_string(array.shape(0)) +
-                          " is above the input limits");
-    return py::array_t<float, py::array::c_style>::ensure(array);
+    // The limits (set_limits) hold before anything is copied: a broadcast view of 12 bytes can
+    // stand for gigabytes.
+    check(checkImageSize(what, array.shape(1), array.shape(0)));
+    const int64_t bytes = int64_t(array.shape(0)) * int64_t(array.shape(1)) * int64_t(channels) * 4;
+    if (bytes > inputLimits().maxMemoryBytes)
+        throw NdfmipError(what + ": " + std::to_string(array.shape(1)) + "x" + std::to_string(array.shape(0)) + "x" +
+                          std::to_string(channels) + " float32 needs " + byteSize(bytes) + ", above the limit of " +
+                          byteSize(inputLimits().maxMemoryBytes) + "; set_limits(max_memory_gib=...) raises it");
+    auto contiguous = py::array_t<float, py::array::c_style>::ensure(array);
+    // ensure() gives an empty handle (and clears the error) when the copy fails.
+    if (!contiguous)
+        throw NdfmipError(what + ": cannot make a C-contiguous float32 copy of " + byteSize(bytes) +
+                          " (out of memory?)");
+    return contiguous;
 }
 
 // The image an array came from when ndfmip made it and it still covers the whole image.

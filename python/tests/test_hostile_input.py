@@ -47,6 +47,33 @@ def test_nul_and_control_characters_in_paths_are_refused(tmp_path):
     assert not (tmp_path.parent / "elsewhere").exists()
 
 
+def test_the_limits_hold_before_an_array_is_copied(limits):
+    limits(max_pixels=1)
+    raises("above the limit", ndfmip.bake, flat(32, 32))
+    limits(max_pixels=1 << 30, max_memory_gib=0.001)
+    # 12 bytes standing for 20000 x 20000 x 3 floats (4.5 GiB): refused before any copy.
+    huge = np.broadcast_to(np.float32([0, 0, 1]), (20000, 20000, 3))
+    for call in (ndfmip.bake, ndfmip.normals_from_array):
+        raises(r"needs 4\.5 GiB, above the limit", call, huge)
+    raises(r"needs 4\.5 GiB", ndfmip.compare, huge, huge)
+
+
+def test_a_copy_that_memory_cannot_hold_raises(limits):
+    # Limits raised past what the process may hold: the copy itself fails and must raise, not crash.
+    import resource
+    limits(max_pixels=1 << 40, max_memory_gib=1e6)
+    with open("/proc/self/status") as status:
+        used = next(int(line.split()[1]) << 10 for line in status if line.startswith("VmSize:"))
+    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    resource.setrlimit(resource.RLIMIT_AS, (used + (4 << 30), hard))
+    try:
+        # 16 bytes standing for 32768 x 32768 x 4 floats (16 GiB), more than the 4 GiB left.
+        huge = np.broadcast_to(np.float32([0, 0, 1, 1]), (32768, 32768, 4))
+        raises("cannot make a C-contiguous float32 copy", ndfmip.normals_from_array, huge)
+    finally:
+        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
+
+
 def test_float32_with_metadata_is_float32():
     tagged = np.dtype(np.float32, metadata={"unit": "normal"})
     normals = np.zeros((4, 4, 3), tagged)
