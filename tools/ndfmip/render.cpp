@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "io/crash_recovery.h"
 #include "methods/method_unit.h"
 #include "ndfmip/gpu_render.h"
 #include "ndfmip/interpolated.h"
@@ -64,9 +65,12 @@ void warnAboutShTruncation(const Material& m, int order) {
 }
 
 // The EXR and its PNG preview (none when `png` is empty) as a pair: both are written to
-// temporaries beside their names (PATH.tmp-PID-render, which the next write of PATH removes
-// after a kill) and renamed only once both are written, so a failure leaves the earlier pair.
+// temporaries beside their names (PATH.tmp-PID-render, which the next render removes after a
+// kill) and renamed only once both are written, so a failure leaves the earlier pair.
 void writePairOrFail(const std::string& exr, const Image& image, const std::string& png, const Image& preview) {
+    // What a killed earlier run left beside either name (the temporaries below included).
+    removeStaleTemporaries(exr);
+    if (!png.empty()) removeStaleTemporaries(png);
     const std::string suffix = ".tmp-" + std::to_string(::getpid()) + "-render";
     const std::string exrTemp = exr + suffix, pngTemp = png.empty() ? "" : png + suffix;
     auto fail = [&](const std::string& message, const std::string& temp, const std::string& file) {
