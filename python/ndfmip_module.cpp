@@ -75,9 +75,12 @@ py::array_t<float, py::array::c_style> floatArray(py::handle object, const std::
         throw NdfmipError(what + ": expected a numpy array, not " + std::string(py::str(py::type::of(object).attr("__name__"))));
     auto array = py::reinterpret_borrow<py::array>(object);
     // Equality, not identity: a float32 dtype with metadata is float32 all the same.
-    if (!array.dtype().equal(py::dtype::of<float>()))
-        throw NdfmipError(what + ": expected dtype float32 in native byte order, not " +
+    if (!array.dtype().equal(py::dtype::of<float>())) {
+        // Say what differs: a float32 of the other byte order prints as >f4.
+        const bool swapped = array.dtype().kind() == 'f' && array.dtype().itemsize() == 4;
+        throw NdfmipError(what + ": expected dtype float32" + (swapped ? " in native byte order" : "") + ", not " +
                           std::string(py::str(array.dtype())) + " (convert with .astype(numpy.float32))");
+    }
     std::string shape;
     for (ssize_t d = 0; d < array.ndim(); ++d) {
         if (d) shape += ", ";
