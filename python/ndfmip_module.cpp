@@ -21,6 +21,7 @@
 #include "ndfmip/limits.h"
 #include "ndfmip/method_parameters.h"
 #include "ndfmip/normal_map.h"
+#include "ndfmip/paths.h"
 #include "ndfmip/render.h"
 #include "ndfmip/scene.h"
 
@@ -29,9 +30,10 @@ using namespace ndfmip;
 
 namespace {
 
-// Every failure the library reports; Python sees ndfmip.Error (a ValueError) with its one line.
+// Every failure the library reports; Python sees ndfmip.Error (a ValueError) with its one line,
+// made printable (a byte that is not UTF-8 could not even become a Python str).
 struct NdfmipError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+    explicit NdfmipError(const std::string& message) : std::runtime_error(printable(message, 4096)) {}
 };
 
 template <class T> T take(Result<T> result) {
@@ -73,9 +75,13 @@ py::array_t<float, py::array::c_style> floatArray(py::handle object, const std::
     if (!py::isinstance<py::array>(object))
         throw NdfmipError(what + ": expected a numpy array, not " + std::string(py::str(py::type::of(object).attr("__name__"))));
     auto array = py::reinterpret_borrow<py::array>(object);
-    if (!array.dtype().is(py::dtype::of<float>()))
-        throw NdfmipError(what + ": expected dtype float32, not " + std::string(py::str(array.dtype())) +
-                          " (convert with .astype(numpy.float32))");
+    // Equality, not identity: a float32 dtype with metadata is float32 all the same.
+    if (!array.dtype().equal(py::dtype::of<float>())) {
+        // Say what differs: a float32 of the other byte order prints as >f4.
+        const bool swapped = array.dtype().kind() == 'f' && array.dtype().itemsize() == 4;
+        throw NdfmipError(what + ": expected dtype float32" + (swapped ? " in native byte order" : "") + ", not " +
+                          std::string(py::str(array.dtype())) + " (convert with .astype(numpy.float32))");
+    }
     std::string shape;
     for (ssize_t d = 0; d < array.ndim(); ++d) {
         if (d) shape += ", ";
@@ -89,10 +95,20 @@ py::array_t<float, py::array::c_style> floatArray(py::handle object, const std::
         throw NdfmipError(what + ": expected shape (H, W, C) with C = " + want + (minChannels == 1 ? " (or (H, W))" : "") +
                           ", not (" + shape + ")");
     }
-    if (array.shape(0) > inputLimits().maxSide || array.shape(1) > inputLimits().maxSide)
-        throw NdfmipError(what + ": " + std::to_string(array.shape(1)) + "x" + std::to_string(array.shape(0)) +
-                          " is above the input limits");
-    return py::array_t<float, py::array::c_style>::ensure(array);
+    // The limits (set_limits) hold before anything is copied: a broadcast view of 12 bytes can
+    // stand for gigabytes.
+    check(checkImageSize(what, array.shape(1), array.shape(0)));
+    const int64_t bytes = int64_t(array.shape(0)) * int64_t(array.shape(1)) * int64_t(channels) * 4;
+    if (bytes > inputLimits().maxMemoryBytes)
+        throw NdfmipError(what + ": " + std::to_string(array.shape(1)) + "x" + std::to_string(array.shape(0)) + "x" +
+                          std::to_string(channels) + " float32 needs " + byteSize(bytes) + ", above the limit of " +
+                          byteSize(inputLimits().maxMemoryBytes) + "; set_limits(max_memory_gib=...) raises it");
+    auto contiguous = py::array_t<float, py::array::c_style>::ensure(array);
+    // ensure() gives an empty handle (and clears the error) when the copy fails.
+    if (!contiguous)
+        throw NdfmipError(what + ": cannot make a C-contiguous float32 copy of " + byteSize(bytes) +
+                          " (out of memory?)");
+    return contiguous;
 }
 
 // The image an array came from when ndfmip made it and it still covers the whole image.
@@ -128,7 +144,15 @@ bool isPath(py::handle object) {
     return py::isinstance<py::str>(object) || py::isinstance(object, py::module_::import("os").attr("PathLike"));
 }
 
-std::string pathOf(py::handle object) { return py::str(py::module_::import("os").attr("fspath")(object)); }
+// A path from Python, refused when it holds NUL or control characters (paths.h).
+const std::string& checkedPath(const std::string& path) {
+    check(checkUntrustedPath(path));
+    return path;
+}
+
+std::string pathOf(py::handle object) {
+    return checkedPath(py::str(py::module_::import("os").attr("fspath")(object)));
+}
 
 // ---- decoding ---------------------------------------------------------------------------------
 
@@ -152,7 +176,7 @@ py::array decode(const std::string& path, bool greenDown, bool twoChannel, bool 
     Result<Image> normals = Error{};
     {
         py::gil_scoped_release release;
-        normals = loadNormalMap(path, d, nullptr);
+        normals = loadNormalMap(checkedPath(path), d, nullptr);
     }
     return toArray(take(std::move(normals)));
 }
@@ -174,7 +198,7 @@ py::array loadImageArray(const std::string& path) {
     Result<SourceImage> source = Error{};
     {
         py::gil_scoped_release release;
-        source = loadImage(path);
+        source = loadImage(checkedPath(path));
     }
     return toArray(take(std::move(source)).image);
 }
@@ -285,6 +309,7 @@ PyBake bake(py::handle normals, const std::string& methodName, const py::dict& p
 }
 
 PyBake readBakeDir(const std::string& dir) {
+    checkedPath(dir);
     py::gil_scoped_release release;
     PyBake out;
     out.bake = take(loadBake(dir));
@@ -319,6 +344,7 @@ void writeBakeDir(const PyBake& b, const std::string& dir, py::object exports, b
                   const std::string& roughnessFormat, int zstd, const std::string& engine) {
     const BakeFileOptions o =
         exportOptions(methodName(b.bake.method), exports, exportTextures, normalFormat, roughnessFormat, zstd, engine, half);
+    checkedPath(dir); // before a cleanup beside a path that a NUL would cut short
     py::gil_scoped_release release;
     const BakeWriteOptions write = take(bakeWriteOptions(o));
     recoverInterruptedBake(dir);
@@ -332,6 +358,7 @@ py::dict bakeTo(const std::string& input, const std::string& output, const std::
                 const std::string& occlusionChannel, py::object exports, const std::string& exportTextures,
                 const std::string& normalFormat, const std::string& roughnessFormat, int zstd, bool force,
                 bool greenDown, bool twoChannel, bool signedValues, std::optional<float> height, bool clamp) {
+    for (const std::string* path : {&input, &output, &albedo, &gloss, &roughnessMap}) checkedPath(*path);
     BakeFileOptions o =
         exportOptions(method, exports, exportTextures, normalFormat, roughnessFormat, zstd, engine, half);
     o.decode = decodeOptions(greenDown, twoChannel, signedValues, height, clamp);
@@ -375,6 +402,7 @@ py::object jsonLoads(const std::string& text) { return py::module_::import("json
 
 py::object inspect(const std::string& dir, int level, int x, int y, std::optional<float> exponent) {
     std::string text;
+    checkedPath(dir);
     {
         py::gil_scoped_release release;
         const LoadedBake bake = take(readBake(dir, level));
@@ -413,6 +441,8 @@ py::array renderScene(py::handle sceneObject, const std::optional<std::string>& 
                       const std::string& bakeDir, uint64_t seed, const std::string& truth, int taps, float lodBias,
                       const std::string& lobeFilter, int anisotropy, const py::dict& parameters,
                       const std::string& roughnessMapping, const std::string& baseDir) {
+    checkedPath(bakeDir);
+    checkedPath(baseDir);
     Result<Scene> scene = Error{};
     if (py::isinstance<py::dict>(sceneObject)) {
         const std::string text = py::str(py::module_::import("json").attr("dumps")(sceneObject));

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdio>
 
 #include "ndfmip/io.h"
 
@@ -95,6 +96,14 @@ Result<Environment> makeEnvironment(Image image, const std::string& name,
                              " is not a finite number"};
             negative |= value < 0.f;
             out[c] = std::max(value, 0.f) * options.intensity;
+            // Checked after the scale too: 1e33 times an intensity of 1e6 is no float.
+            if (!std::isfinite(out[c])) {
+                char times[64];
+                std::snprintf(times, sizeof times, " (%g) times intensity %g", double(value),
+                              double(options.intensity));
+                return Error{name + ": texel " + texelName(i, image.width) + times +
+                             " is not a finite number"};
+            }
         }
         counted.negativeTexels += negative;
     }

@@ -17,6 +17,7 @@
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
 #include "ndfmip/method_parameters.h"
+#include "ndfmip/paths.h"
 #include "ndfmip/render.h"
 #include "ndfmip/spherical_harmonics.h"
 #include "ndfmip/toksvig.h"
@@ -226,6 +227,9 @@ SharedImage roughnessAlpha(const BakeFileOptions& a, const Image& map) {
 
 BakeFileReport bakeOrThrow(const std::string& input, const std::string& output, const BakeFileOptions& a) {
     checkFileOptions(a);
+    // Before anything is cleaned up or created under a path that a NUL would cut short.
+    for (const std::string* path : {&input, &output, &a.gloss, &a.albedo, &a.roughnessMap})
+        if (Status s = checkUntrustedPath(*path); !s) fail(s.error);
     const Method method = *methodFromString(a.method);
     BakeWriteOptions write = writeOptionsOf(a);
     recoverInterruptedBake(output);
@@ -325,11 +329,33 @@ Result<std::string> bakeCacheKey(const BakeFileOptions& options, const std::stri
     }
 }
 
+namespace {
+
+// Whether `file` is a regular file (not a link) with some bytes: the manifest records no sizes,
+// and no image, KTX2 or DDS file is empty.
+bool presentFile(const std::filesystem::path& file) {
+    std::error_code ec;
+    const std::filesystem::file_status status = std::filesystem::symlink_status(file, ec);
+    if (ec || !std::filesystem::is_regular_file(status)) return false;
+    const auto size = std::filesystem::file_size(file, ec);
+    return !ec && size > 0;
+}
+
+} // namespace
+
 bool bakeUpToDate(const std::string& dir, const std::string& cacheKey) {
     Result<std::string> text = readRegularFile(dir + "/manifest.json", inputLimits().maxTextFileBytes);
     if (!text) return false;
     Result<LoadedBake> bake = parseBakeManifest(text.value(), dir);
-    return bake && bake->source.cacheKey == cacheKey;
+    if (!bake || bake->source.cacheKey != cacheKey) return false;
+    // A file deleted or emptied since: bake again rather than skip and leave a broken bake.
+    const std::filesystem::path folder(dir);
+    for (const std::vector<std::string>& files : bake->levelFiles)
+        for (const std::string& name : files)
+            if (!presentFile(folder / name)) return false;
+    for (const std::string& name : bake->exports)
+        if (!presentFile(folder / name)) return false;
+    return true;
 }
 
 Result<BakeFileReport> bakeFile(const std::string& input, const std::string& output, const BakeFileOptions& options) {

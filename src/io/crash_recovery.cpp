@@ -18,6 +18,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "ndfmip/paths.h"
+
 namespace fs = std::filesystem;
 
 namespace ndfmip {
@@ -173,8 +175,14 @@ fs::path folderPath(const std::string& name) {
 
 Status writeFolderWhole(const std::string& name, const std::function<Status(const fs::path& dir)>& replaceable,
                         const std::function<Status(const fs::path& staging)>& fill) {
+    if (Status s = checkUntrustedPath(name); !s) return s;
     const fs::path dir = folderPath(name);
     std::error_code ec;
+    // A link is refused, not replaced by the new folder (which would cut it from what it points
+    // to) nor followed (the staging folder would be made beside the link, not its target).
+    if (fs::is_symlink(fs::symlink_status(dir, ec)))
+        return Status::failure(name + ": is a symbolic link (to " + fs::read_symlink(dir, ec).string() +
+                               "); give the folder itself to replace it");
     const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
     if (!fs::is_directory(parent, ec))
         return Status::failure(name + ": parent folder " + parent.string() +

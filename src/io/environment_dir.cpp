@@ -1,6 +1,8 @@
 // The environment folder (environment.h): sh.json, ggx_L<k>.exr, dfg.exr, the KTX2 files with
 // --ktx2, and environment.json, staged beside the folder and swapped in at the end like a bake (bake_dir.cpp).
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <set>
 
@@ -239,10 +241,43 @@ Status checkReplaceable(const fs::path& dir) {
     return Status::success();
 }
 
+// Every value written finite, and within the half-float range where it is stored as one (--half,
+// and the RGBA16F KTX2/DDS textures), where 1e5 would become inf. Refused rather than clamped:
+// a clamped sun is a different light, and the caller can lower the intensity or drop --half.
+Status checkStorable(const EnvironmentBake& bake, const EnvironmentSource& source, bool half) {
+    // 65504 is the largest half float; below 65520 a value still rounds to it, not to inf.
+    constexpr float kHalfRoundsToInf = 65520.f;
+    const bool toHalf = half || bake.ktx2 || bake.dds;
+    for (size_t k = 0; k < bake.levels.size(); ++k) {
+        const Image& level = bake.levels[k].radiance;
+        for (size_t i = 0; i < level.pixels.size(); ++i) {
+            const float v = level.pixels[i];
+            if (std::isfinite(v) && (!toHalf || std::abs(v) < kHalfRoundsToInf)) continue;
+            const size_t texel = i / size_t(level.channels);
+            char text[160];
+            std::snprintf(text, sizeof text, ": GGX level %zu texel (%zu, %zu) has radiance %g, ", k,
+                          texel % size_t(level.width), texel / size_t(level.width), double(v));
+            const std::string why =
+                !std::isfinite(v)
+                    ? "not a finite number"
+                    : std::string("above 65504, the largest half float, which ") +
+                          (half ? "--half" : "the KTX2/DDS textures (RGBA16F)") +
+                          " cannot store; lower --intensity" + (half ? " or drop --half" : "");
+            return Status::failure(source.path + text + why);
+        }
+    }
+    for (const auto* coefficients : {&bake.sh.radiance, &bake.sh.irradiance})
+        for (const glm::dvec3& c : *coefficients)
+            if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
+                return Status::failure(source.path + ": its SH coefficients are not finite numbers");
+    return Status::success();
+}
+
 } // namespace
 
 Status writeEnvironment(const std::string& dirName, const EnvironmentBake& bake,
                         const EnvironmentSource& source, bool half) {
+    if (Status s = checkStorable(bake, source, half); !s) return s;
     return writeFolderWhole(dirName, checkReplaceable, [&](const fs::path& staging) -> Status {
         const std::vector<LevelFaces> faces = bake.cube ? cubeFaces(bake) : std::vector<LevelFaces>{};
         for (size_t k = 0; k < bake.levels.size(); ++k) {

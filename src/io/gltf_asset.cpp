@@ -13,6 +13,7 @@
 
 #include "io/gltf_container.h"
 #include "io/input_file.h"
+#include "ndfmip/io.h"
 #include "ndfmip/limits.h"
 
 namespace fs = std::filesystem;

@@ -30,6 +30,7 @@
 #include "io/image_formats.h"
 #include "io/input_file.h"
 #include "ndfmip/limits.h"
+#include "ndfmip/paths.h"
 
 #include <Iex.h>
 #include <ImfChannelList.h>
@@ -602,6 +603,7 @@ Status savePng(const std::string& path, const Image& image, int bitsPerChannel) 
 }
 
 Status writeFileAtomic(const std::string& path, const std::string& bytes) {
+    if (Status s = checkUntrustedPath(path); !s) return s;
     removeStaleTemporaries(path); // what a killed earlier run left beside the same file
     std::string temp = tempPathFor(path);
     if (int err = writeNewFile(temp, bytes); err != 0) {

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "ndfmip/limits.h"
+#include "ndfmip/paths.h"
 
 namespace ndfmip {
 namespace {
@@ -28,6 +29,7 @@ const char* fileKind(mode_t mode) {
 } // namespace
 
 Result<int> openRegularFile(const std::string& path) {
+    if (Status s = checkUntrustedPath(path); !s) return Error{s.error};
     // O_NONBLOCK: opening a FIFO without a writer would otherwise wait forever. The type is
     // checked on the open descriptor, so the file cannot be swapped between check and read.
     int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);

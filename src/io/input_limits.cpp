@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "methods/method_unit.h"
+#include "ndfmip/paths.h"
 #include "ndfmip/spherical_harmonics.h"
 
 namespace ndfmip {
@@ -28,20 +29,7 @@ std::string pixelsText(int64_t n) {
 } // namespace
 
 std::string shortened(std::string_view text, size_t maxChars) {
-    std::string out;
-    size_t end = text.size();
-    if (end > maxChars) {
-        end = maxChars;
-        // Back up to the start of a UTF-8 sequence so the cut leaves no half character.
-        while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;
-    }
-    out.reserve(end + 3);
-    for (size_t i = 0; i < end; ++i) {
-        unsigned char c = static_cast<unsigned char>(text[i]);
-        out += c < 0x20 || c == 0x7F ? '?' : char(c);
-    }
-    if (end < text.size()) out += "\xE2\x80\xA6"; // U+2026 HORIZONTAL ELLIPSIS
-    return out;
+    return printable(text, maxChars);
 }
 
 std::string quote(std::string_view text, size_t maxChars) {

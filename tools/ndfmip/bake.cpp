@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cctype>
+#include <charconv>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -45,6 +47,7 @@ struct BakeArgs {
     bool force = false;
     bool json = false;
     std::string shard;
+    bool shardGiven = false; // --shard '' is an error, not no shard
     int shards = 0;
 };
 
@@ -164,9 +167,15 @@ std::string outputFor(const std::string& pattern, const std::string& input) {
         {"{name}", path.filename().string()},
         {"{parent}", path.parent_path().filename().string()}};
     std::string out = pattern;
-    for (const auto& [field, value] : fields)
+    for (const auto& [field, value] : fields) {
+        // "..png" has the stem "." and "...png" the stem "..": out/{stem} would be out/ itself or
+        // the folder above it.
+        if ((value == "." || value == "..") && out.find(field) != std::string::npos)
+            throw Failure(quote(input) + ": its " + field + " is " + quote(value) + ", which names a folder, not a bake; "
+                          "rename the map or use another field in -o");
         for (size_t at = out.find(field); at != std::string::npos; at = out.find(field, at + value.size()))
             out.replace(at, field.size(), value);
+    }
     return out;
 }
 
@@ -178,28 +187,40 @@ int shardOf(const std::string& input, int shards) {
     return int(h % uint64_t(shards));
 }
 
+// The decimal integer that is all of `text` (digits, an optional leading '-'), if it fits an
+// int64_t: no sign '+', no spaces, no trailing bytes, no wrap-around (sscanf and strtol allow all).
+std::optional<int64_t> wholeInteger(std::string_view text) {
+    int64_t n = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+    return n;
+}
+
 // --shard i/N, or --shards N with i from an indexed job's environment (Kubernetes Indexed Job,
 // Slurm array); {0, 1} without either.
 std::pair<int, int> shardOrFail(const BakeArgs& a) {
-    if (!a.shard.empty() && a.shards != 0) throw Failure("--shard and --shards both pick the shard: give one");
-    int index = 0, count = 1;
-    if (!a.shard.empty()) {
-        char extra = 0;
-        if (std::sscanf(a.shard.c_str(), "%d/%d%c", &index, &count, &extra) != 2 || count < 1 || index < 0 ||
-            index >= count)
-            throw Failure("--shard " + quote(a.shard) + ": expected I/N with 0 <= I < N");
-        return {index, count};
+    if (a.shardGiven && a.shards != 0) throw Failure("--shard and --shards both pick the shard: give one");
+    if (a.shardGiven) {
+        // Both numbers parsed whole and within int: 1/99999999999 is an error, not shard 1 of a wrapped count.
+        const size_t slash = a.shard.find('/');
+        const std::optional<int64_t> index = slash == std::string::npos ? std::nullopt : wholeInteger(std::string_view(a.shard).substr(0, slash));
+        const std::optional<int64_t> count = slash == std::string::npos ? std::nullopt : wholeInteger(std::string_view(a.shard).substr(slash + 1));
+        if (!index || !count || *count < 1 || *count > 1000000 || *index < 0 || *index >= *count)
+            throw Failure("--shard " + quote(a.shard) + ": expected I/N with 0 <= I < N <= 1000000");
+        return {int(*index), int(*count)};
     }
     if (a.shards == 0) return {0, 1};
-    auto fromEnv = [](const char* name) -> std::optional<long> {
+    auto fromEnv = [](const char* name) -> std::optional<int64_t> {
         const char* v = std::getenv(name);
         if (!v || !*v) return std::nullopt;
-        char* end = nullptr;
-        const long n = std::strtol(v, &end, 10);
-        if (*end) throw Failure(std::string(name) + "=" + quote(v) + " is not an integer");
+        const std::optional<int64_t> n = wholeInteger(v);
+        // Within +-2^31 so the difference below cannot overflow.
+        if (!n || *n < INT32_MIN || *n > INT32_MAX)
+            throw Failure(std::string(name) + "=" + quote(v) + " is not an integer from " + std::to_string(INT32_MIN) +
+                          " to " + std::to_string(INT32_MAX));
         return n;
     };
-    std::optional<long> i = fromEnv("JOB_COMPLETION_INDEX");
+    std::optional<int64_t> i = fromEnv("JOB_COMPLETION_INDEX");
     if (!i) {
         i = fromEnv("SLURM_ARRAY_TASK_ID");
         if (i) i = *i - fromEnv("SLURM_ARRAY_TASK_MIN").value_or(0);
@@ -221,7 +242,7 @@ void runBake(const BakeArgs& args) {
     bool expanded = false; // a folder or a glob: many maps, whatever their number
     const std::vector<std::string> inputs = expandInputsOrFail(args.inputs, &expanded);
     const bool pattern = args.output.find('{') != std::string::npos;
-    if (inputs.size() == 1 && !expanded && !pattern && args.shard.empty() && args.shards == 0 && !args.json) {
+    if (inputs.size() == 1 && !expanded && !pattern && !args.shardGiven && args.shards == 0 && !args.json) {
         BakeArgs one = args; // one map: its errors are the command's
         one.input = inputs.front();
         if (bakeOne(one) == MapStatus::Skipped && !args.quiet)
@@ -314,7 +335,7 @@ void runBake(const BakeArgs& args) {
     }
     if (!args.json)
         for (const MapResult& r : jobs)
-            if (r.status == "failed") std::fprintf(stderr, "  failed: %s\n", r.error.c_str());
+            if (r.status == "failed") std::fprintf(stderr, "  failed: %s\n", shortened(r.error, 1024).c_str());
     if (!failures.empty())
         throw Failure(std::to_string(failures.size()) + " of " + std::to_string(jobs.size()) + " maps failed");
 }
@@ -381,7 +402,10 @@ void addBakeCommand(CLI::App& app) {
     c->add_option("--zstd", args->zstd, "ktx2: Zstandard supercompression level 1-22 (0: none)")
         ->check(CLI::Range(0, 22))->capture_default_str();
     c->add_flag("-q,--quiet", args->quiet, "print nothing but errors");
-    c->callback([args] { runBake(*args); });
+    c->callback([args, c] {
+        args->shardGiven = c->count("--shard") > 0;
+        runBake(*args);
+    });
 }
 
 } // namespace ndfmip::cli
