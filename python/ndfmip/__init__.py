@@ -93,10 +93,11 @@ class Bake:
         return [self._native.level(k) for k in range(self._native.level_count)]
 
     def write(self, dir: PathLike, exports: Union[None, str, Sequence[str]] = None, half: bool = False,
-              export_textures: str = "normal,roughness,planes", normal_format: str = "bc5",
+              export_textures: str = "normal,roughness", normal_format: str = "bc5",
               roughness_format: str = "bc4", zstd: int = 0, engine: str = "") -> None:
         """Writes the bake folder as ``ndfmip bake -o DIR`` does (manifest.json and the files
-        ``exports`` lists: exr (the default), png16, ktx2, dds); atomic, as the tool's."""
+        ``exports`` lists: exr (the default), png16, ktx2, dds, holding what ``export_textures``
+        lists: normal, roughness, planes); atomic, as the tool's."""
         self._native.write(os.fspath(dir), exports, half, export_textures, normal_format,
                            roughness_format, zstd, engine)
 
@@ -140,7 +141,7 @@ def bake_to(input: PathLike, output: PathLike, method: str = "toksvig", *, order
             roughness_map: Optional[PathLike] = None, roughness_channel: str = "r",
             roughness_encoding: str = "perceptual", engine: Optional[str] = None,
             metallic_channel: Optional[str] = None, occlusion_channel: Optional[str] = None,
-            exports: Union[None, str, Sequence[str]] = None, export_textures: str = "normal,roughness,planes",
+            exports: Union[None, str, Sequence[str]] = None, export_textures: str = "normal,roughness",
             normal_format: str = "bc5", roughness_format: str = "bc4", zstd: int = 0, force: bool = False,
             green_down: bool = False, two_channel: bool = False, signed: bool = False,
             height: Optional[float] = None, clamp: bool = False) -> Dict[str, Any]:

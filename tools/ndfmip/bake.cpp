@@ -29,7 +29,7 @@ namespace {
 struct BakeArgs {
     std::vector<std::string> inputs; // files, folders, globs
     std::string input, output, method = "toksvig", gloss, exportFormat; // input/output: the map at hand
-    std::string exportTextures = "normal,roughness,planes", normalFormat = "bc5", roughnessFormat = "bc4";
+    std::string exportTextures = "normal,roughness", normalFormat = "bc5", roughnessFormat = "bc4";
     int zstd = 0;
     InputOptions input_options;
     float maxExponent = 0.f;
@@ -392,10 +392,11 @@ void addBakeCommand(CLI::App& app) {
         ->check(CLI::Range(0.f, 1.f))->capture_default_str();
     c->add_option("--export", args->exportFormat,
                   "what to write, comma-separated: exr (the planes that render, inspect and eval read; the "
-                  "default), png16 (16-bit PNG per level), ktx2 and dds (normal, roughness and every linear plane, "
-                  "all levels in one file each). Only what is listed is written: e.g. --export ktx2 writes no EXR");
+                  "default), png16 (16-bit PNG per level), ktx2 and dds (what --export-textures lists, all levels "
+                  "in one file each). Only what is listed is written: e.g. --export ktx2 writes no EXR");
     c->add_option("--export-textures", args->exportTextures,
-                  "what the png16/ktx2/dds files hold, comma-separated: normal, roughness, planes")
+                  "what the png16/ktx2/dds files hold, comma-separated: normal, roughness (one channel, "
+                  "perceptual), planes (each linear plane of the method, RGBA32F or RGBA16F with --half)")
         ->capture_default_str();
     c->add_option("--normal-format", args->normalFormat, "the exported normal: bc5, rg16 or rgba8")
         ->check(CLI::IsMember({"bc5", "rg16", "rgba8"}))->capture_default_str();
