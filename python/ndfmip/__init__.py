@@ -11,6 +11,7 @@ while the library works, so threads run in parallel. Every failure raises ``ndfm
 from __future__ import annotations
 
 import os
+import warnings
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Union
 
 import numpy as np
@@ -155,6 +156,10 @@ def bake_to(input: PathLike, output: PathLike, method: str = "toksvig", *, order
     def path(p: Optional[PathLike]) -> str:
         return "" if p is None else os.fspath(p)
 
+    if engine and base_roughness == 0.0 and roughness_map is None:
+        # As the tool warns: the engine files' level 0 roughness is the normals' spread alone.
+        warnings.warn(f"engine {engine!r} without base_roughness or roughness_map: level 0 roughness is ~0 "
+                      "(a mirror) where the map is flat; give the material's roughness", stacklevel=2)
     return _ndfmip.bake_to(os.fspath(input), os.fspath(output), method, order or 0, lobes or 0, path(albedo),
                            coherent, lobe_budget, max_iterations, tolerance, half, path(gloss), max_exponent,
                            base_roughness, path(roughness_map), roughness_channel, roughness_encoding,

@@ -227,8 +227,9 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     }
     if (const EnginePreset* engine = options.engine; engine && dirPlane >= 0) {
         const std::string prefix = std::string(engine->name) + "_";
-        if (Status s = writeMade(prefix + engine->normalFile, normals(engine->greenDown, TextureFormat::Bc5Unorm),
-                                 TextureFormat::Bc5Unorm, normalKeyValues(TextureFormat::Bc5Unorm, engine->greenDown));
+        // The engine's green convention, in the format --normal-format asks for.
+        if (Status s = writeMade(prefix + engine->normalFile, normals(engine->greenDown, options.normalFormat),
+                                 options.normalFormat, normalKeyValues(options.normalFormat, engine->greenDown));
             !s)
             return Error{s.error};
         auto packed = [&](size_t k) {
