@@ -32,7 +32,7 @@ struct BakeFileOptions {
     std::string engine;              // --engine: an engine preset's name
     std::string metallicChannel, occlusionChannel; // --metallic-channel, --occlusion-channel
     std::string exportFormat;        // --export: comma-separated png16, ktx2, dds, exr ("" = exr)
-    std::string exportTextures = "normal,roughness,planes"; // --export-textures
+    std::string exportTextures = "normal,roughness"; // --export-textures: normal, roughness, planes
     std::string normalFormat = "bc5";    // --normal-format: bc5, rg16, rgba8
     std::string roughnessFormat = "bc4"; // --roughness-format: bc4, r16f
     int zstd = 0;                    // --zstd: KTX2 supercompression level (0: none)

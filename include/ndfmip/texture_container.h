@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -64,8 +65,16 @@ Result<EncodedTexture> encodeCubeTexture(const std::vector<std::vector<LevelRows
 // `zstdLevel` 1-22 supercompresses each level with Zstandard, 0 stores them as they are) or
 // DDS with the DX10 header (DXGI format, mip count). Cube maps: KTX2 stores each level's faces
 // together, DDS each face's levels together (DDSCAPS2_CUBEMAP, D3D11_RESOURCE_MISC_TEXTURECUBE).
-Result<std::string> ktx2File(const EncodedTexture& texture, int zstdLevel = 0);
+// `keyValues` go into the KTX2 key/value data (keys sorted, each value NUL-terminated), with
+// KTXwriter "ndfmip <version>" unless given: say there what the channels hold (KTXswizzle, an
+// "ndfmip" key of JSON), since the format alone does not.
+using Ktx2KeyValues = std::map<std::string, std::string>;
+Result<std::string> ktx2File(const EncodedTexture& texture, int zstdLevel = 0, const Ktx2KeyValues& keyValues = {});
 std::string ddsFile(const EncodedTexture& texture);
+
+// The key/value data of a KTX2 file's bytes, each value without its terminating NUL; an error
+// where the file is not KTX2 or its key/value data runs past its bounds.
+Result<Ktx2KeyValues> readKtx2KeyValues(const std::string& file);
 
 // The format named `name` ("rgba32f", ..., "bc5"), if any.
 std::optional<TextureFormat> textureFormatFromName(const std::string& name);

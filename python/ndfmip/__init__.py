@@ -11,6 +11,7 @@ while the library works, so threads run in parallel. Every failure raises ``ndfm
 from __future__ import annotations
 
 import os
+import warnings
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Union
 
 import numpy as np
@@ -93,10 +94,11 @@ class Bake:
         return [self._native.level(k) for k in range(self._native.level_count)]
 
     def write(self, dir: PathLike, exports: Union[None, str, Sequence[str]] = None, half: bool = False,
-              export_textures: str = "normal,roughness,planes", normal_format: str = "bc5",
+              export_textures: str = "normal,roughness", normal_format: str = "bc5",
               roughness_format: str = "bc4", zstd: int = 0, engine: str = "") -> None:
         """Writes the bake folder as ``ndfmip bake -o DIR`` does (manifest.json and the files
-        ``exports`` lists: exr (the default), png16, ktx2, dds); atomic, as the tool's."""
+        ``exports`` lists: exr (the default), png16, ktx2, dds, holding what ``export_textures``
+        lists: normal, roughness, planes); atomic, as the tool's."""
         self._native.write(os.fspath(dir), exports, half, export_textures, normal_format,
                            roughness_format, zstd, engine)
 
@@ -143,7 +145,7 @@ def bake_to(input: PathLike, output: PathLike, method: str = "toksvig", *,
             roughness_map: Optional[PathLike] = None, roughness_channel: str = "r",
             roughness_encoding: str = "perceptual", engine: Optional[str] = None,
             metallic_channel: Optional[str] = None, occlusion_channel: Optional[str] = None,
-            exports: Union[None, str, Sequence[str]] = None, export_textures: str = "normal,roughness,planes",
+            exports: Union[None, str, Sequence[str]] = None, export_textures: str = "normal,roughness",
             normal_format: str = "bc5", roughness_format: str = "bc4", zstd: int = 0, force: bool = False,
             green_down: bool = False, two_channel: bool = False, signed: bool = False,
             height: Optional[float] = None, clamp: bool = False, **parameters: float) -> Dict[str, Any]:
@@ -158,6 +160,10 @@ def bake_to(input: PathLike, output: PathLike, method: str = "toksvig", *,
     def path(p: Optional[PathLike]) -> str:
         return "" if p is None else os.fspath(p)
 
+    if engine and base_roughness == 0.0 and roughness_map is None:
+        # As the tool warns: the engine files' level 0 roughness is the normals' spread alone.
+        warnings.warn(f"engine {engine!r} without base_roughness or roughness_map: level 0 roughness is ~0 "
+                      "(a mirror) where the map is flat; give the material's roughness", stacklevel=2)
     return _ndfmip.bake_to(os.fspath(input), os.fspath(output), method, parameters, path(albedo),
                            half, path(gloss), max_exponent,
                            base_roughness, path(roughness_map), roughness_channel, roughness_encoding,

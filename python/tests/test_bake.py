@@ -117,3 +117,15 @@ def test_limits_refuse_large_maps_until_raised():
     finally:
         ndfmip.set_limits(max_pixels=1 << 28)
     assert ndfmip.decode(BUNDLED_MAP).shape == (256, 256, 3)
+
+
+def test_engine_without_the_materials_roughness_warns(tmp_path):
+    with pytest.warns(UserWarning, match="base_roughness or roughness_map"):
+        ndfmip.bake_to(BUNDLED_MAP, tmp_path / "mirror.bake", engine="three", exports="ktx2")
+    assert (tmp_path / "mirror.bake" / "ktx2" / "three_occlusion_roughness_metallic.ktx2").is_file()
+    # As the tool: the planes only when asked for.
+    assert not (tmp_path / "mirror.bake" / "ktx2" / "mean.ktx2").exists()
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ndfmip.bake_to(BUNDLED_MAP, tmp_path / "rough.bake", engine="three", exports="ktx2", base_roughness=0.3)

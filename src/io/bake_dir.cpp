@@ -127,6 +127,52 @@ Image packedMaterial(const EnginePreset& engine, const Image& roughness, const I
     return packed;
 }
 
+// What a KTX2 file holds, for readers that do not know ndfmip: KTXswizzle (what a sampler
+// should return) and an "ndfmip" key, JSON naming each channel (KTX2's formats say only "BC5").
+std::string aboutText(const json& about) { return about.dump(-1, ' ', false, json::error_handler_t::replace); }
+
+Ktx2KeyValues normalKeyValues(TextureFormat format, bool greenDown) {
+    const bool xyz = format == TextureFormat::Rgba8Unorm; // rgba8 keeps z; bc5 and rg16 x and y
+    json about = {{"content", "normal"}, {"space", "tangent"}, {"encoding", "(n+1)/2"},
+                  {"green", greenDown ? "down" : "up"},
+                  {"convention", greenDown ? "DirectX: -Y, +y towards the bottom row" : "OpenGL: +Y, +y towards the top row"}};
+    if (xyz) about["channels"] = {{"r", "x"}, {"g", "y"}, {"b", "z"}, {"a", "1"}};
+    else about["channels"] = {{"r", "x"}, {"g", "y"}}, about["z"] = "sqrt(1 - x^2 - y^2) of x, y = 2c - 1";
+    return {{"KTXswizzle", xyz ? "rgb1" : "rg01"}, {"ndfmip", aboutText(about)}};
+}
+
+Ktx2KeyValues roughnessKeyValues() {
+    const json about = {{"content", "roughness"}, {"encoding", "sqrt(alpha)"},
+                        {"channels", {{"r", "perceptual roughness sqrt(alpha), GGX alpha = r^2"}}},
+                        {"layout", "one channel: not a glTF metallicRoughness texture (that reads roughness from G)"}};
+    return {{"ndfmip", aboutText(about)}};
+}
+
+const char* channelMeaning(MaterialChannel c) {
+    switch (c) {
+    case MaterialChannel::Zero: return "0";
+    case MaterialChannel::One: return "1";
+    case MaterialChannel::Roughness: return "roughness: perceptual, sqrt(alpha)";
+    case MaterialChannel::Smoothness: return "smoothness: 1 - sqrt(alpha)";
+    case MaterialChannel::Metallic: return "metallic";
+    case MaterialChannel::Occlusion: return "occlusion";
+    }
+    return "";
+}
+
+Ktx2KeyValues packedKeyValues(const EnginePreset& engine) {
+    json channels = json::object();
+    for (int c = 0; c < 4; ++c) channels[std::string(1, "rgba"[c])] = channelMeaning(engine.packed[c]);
+    return {{"ndfmip", aboutText({{"content", "material"}, {"engine", engine.name}, {"channels", channels}})}};
+}
+
+Ktx2KeyValues planeKeyValues(const PlaneInfo& plane) {
+    json channels = json::object();
+    for (size_t c = 0; c < plane.channels.size() && c < 4; ++c) channels[std::string(1, "rgba"[c])] = plane.channels[c];
+    return {{"ndfmip", aboutText({{"content", "plane"}, {"plane", plane.name}, {"description", plane.description},
+                                  {"channels", channels}})}};
+}
+
 // Writes the ktx2 or dds files (`container` "ktx2" or "dds") into `folder`; returns their names
 // relative to the bake folder.
 Result<std::vector<std::string>> writeContainers(const fs::path& folder, const Bake& bake, bool greenDown, bool half,
@@ -134,22 +180,24 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     std::error_code ec;
     fs::create_directory(folder / container, ec);
     std::vector<std::string> names;
-    auto write = [&](const std::string& stem, const auto& levels, TextureFormat format) -> Status {
+    auto write = [&](const std::string& stem, const auto& levels, TextureFormat format,
+                     const Ktx2KeyValues& keyValues) -> Status {
         Result<EncodedTexture> texture = encodeTexture(levels, format);
         if (!texture) return Status::failure(texture.error().message);
         const std::string name = container + "/" + stem + "." + container;
-        Result<std::string> bytes =
-            container == "ktx2" ? ktx2File(texture.value(), options.zstdLevel) : Result<std::string>(ddsFile(texture.value()));
+        Result<std::string> bytes = container == "ktx2" ? ktx2File(texture.value(), options.zstdLevel, keyValues)
+                                                        : Result<std::string>(ddsFile(texture.value()));
         if (!bytes) return Status::failure(bytes.error().message);
         if (Status s = writeFileAtomic((folder / name).string(), bytes.value()); !s) return s;
         names.push_back(name);
         return Status::success();
     };
     // A file of levels made from the planes (encoded normals, perceptual roughness, packed maps).
-    auto writeMade = [&](const std::string& stem, const std::function<LevelRows(size_t)>& make, TextureFormat format) {
+    auto writeMade = [&](const std::string& stem, const std::function<LevelRows(size_t)>& make, TextureFormat format,
+                         const Ktx2KeyValues& keyValues) {
         std::vector<LevelRows> levels;
         for (size_t k = 0; k < bake.levels.size(); ++k) levels.push_back(make(k));
-        return write(stem, levels, format);
+        return write(stem, levels, format, keyValues);
     };
     const int dirPlane = directionPlane(bake), ggx = findPlane(bake.planes, "roughness_ggx");
     auto normals = [&](bool down, TextureFormat format) {
@@ -158,25 +206,30 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     };
     if (dirPlane >= 0 && options.exportNormal)
         if (Status s = writeMade(std::string("normal_") + textureFormatName(options.normalFormat),
-                                 normals(greenDown, options.normalFormat), options.normalFormat);
+                                 normals(greenDown, options.normalFormat), options.normalFormat,
+                                 normalKeyValues(options.normalFormat, greenDown));
             !s)
             return Error{s.error};
     if (ggx >= 0 && options.exportRoughness)
         if (Status s = writeMade(std::string("roughness_") + textureFormatName(options.roughnessFormat),
-                                 [&](size_t k) { return perceptualRows(*bake.levels[k][ggx]); }, options.roughnessFormat);
+                                 [&](size_t k) { return perceptualRows(*bake.levels[k][ggx]); }, options.roughnessFormat,
+                                 roughnessKeyValues());
             !s)
             return Error{s.error};
     for (size_t p = 0; p < bake.planes.size(); ++p) {
         if (!bake.planes[p].linear || !options.exportPlanes) continue;
         std::vector<const Image*> levels;
         for (const auto& level : bake.levels) levels.push_back(level[p].get());
-        if (Status s = write(bake.planes[p].name, levels, half ? TextureFormat::Rgba16F : TextureFormat::Rgba32F); !s)
+        if (Status s = write(bake.planes[p].name, levels, half ? TextureFormat::Rgba16F : TextureFormat::Rgba32F,
+                             planeKeyValues(bake.planes[p]));
+            !s)
             return Error{s.error};
     }
     if (const EnginePreset* engine = options.engine; engine && dirPlane >= 0) {
         const std::string prefix = std::string(engine->name) + "_";
-        if (Status s = writeMade(prefix + engine->normalFile, normals(engine->greenDown, TextureFormat::Bc5Unorm),
-                                 TextureFormat::Bc5Unorm);
+        // The engine's green convention, in the format --normal-format asks for.
+        if (Status s = writeMade(prefix + engine->normalFile, normals(engine->greenDown, options.normalFormat),
+                                 options.normalFormat, normalKeyValues(options.normalFormat, engine->greenDown));
             !s)
             return Error{s.error};
         auto packed = [&](size_t k) {
@@ -185,9 +238,15 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
                                   k < options.occlusion.size() ? options.occlusion[k].get() : nullptr)));
         };
         if (ggx >= 0)
-            if (Status s = writeMade(prefix + engine->packedFile, packed, TextureFormat::Rgba8Unorm); !s)
+            if (Status s = writeMade(prefix + engine->packedFile, packed, TextureFormat::Rgba8Unorm, packedKeyValues(*engine));
+                !s)
                 return Error{s.error};
     }
+    // A container asked for but given nothing (a method without normal or roughness, planes not
+    // asked for) is a mistake, not an empty folder.
+    if (names.empty())
+        return Error{"--export " + container + " has nothing to write: the method stores no normal or roughness; add "
+                     "planes to --export-textures for its planes"};
     return names;
 }
 

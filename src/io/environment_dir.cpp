@@ -89,6 +89,24 @@ json textureFilesJson(const EnvironmentBake& bake, bool written, const std::stri
     return files;
 }
 
+// What a texture holds, as the "ndfmip" key of its KTX2 key/value data (JSON).
+std::string aboutTexture(const EnvironmentBake& bake, const char* stem) {
+    json about;
+    if (std::string(stem) == kDfgTexture) {
+        about = {{"content", "dfg"}, {"x", "n.v = (x + 0.5) / size"},
+                 {"y", "perceptual roughness = (y + 0.5) / size, top row first"},
+                 {"channels", {{"r", "scale: multiplies f0"}, {"g", "bias: multiplies f90"},
+                               {"b", "scale + bias: directional albedo with F = 1"}, {"a", "1"}}}};
+    } else {
+        json roughness = json::array();
+        for (const PrefilteredLevel& level : bake.levels) roughness.push_back(level.perceptualRoughness);
+        about = {{"content", "radiance"}, {"filter", "GGX-prefiltered (split sum), level k at perceptual_roughness[k]"},
+                 {"perceptual_roughness", roughness},
+                 {"channels", {{"r", "red"}, {"g", "green"}, {"b", "blue"}, {"a", "1"}}}, {"transfer", "linear"}};
+    }
+    return about.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
 // One texture in each container asked for.
 Status writeTexture(const fs::path& staging, const EnvironmentBake& bake, const char* stem,
                     const Result<EncodedTexture>& texture) {
@@ -96,7 +114,8 @@ Status writeTexture(const fs::path& staging, const EnvironmentBake& bake, const 
         if (!(ktx2 ? bake.ktx2 : bake.dds)) continue;
         const fs::path file = staging / (std::string(stem) + (ktx2 ? ".ktx2" : ".dds"));
         if (!texture) return Status::failure(file.string() + ": " + texture.error().message);
-        Result<std::string> bytes = ktx2 ? ktx2File(texture.value()) : Result<std::string>(ddsFile(texture.value()));
+        Result<std::string> bytes = ktx2 ? ktx2File(texture.value(), 0, {{"ndfmip", aboutTexture(bake, stem)}})
+                                         : Result<std::string>(ddsFile(texture.value()));
         if (!bytes) return Status::failure(file.string() + ": " + bytes.error().message);
         if (Status s = writeFileAtomic(file.string(), bytes.value()); !s) return s;
     }

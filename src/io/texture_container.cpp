@@ -280,6 +280,27 @@ std::string dataFormatDescriptor(const FormatInfo& f) {
     return dfd + block;
 }
 
+constexpr unsigned char kKtx2Identifier[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
+
+// KTX2 key/value data (KTX 2.0 section 3.11): each entry its byte length, then the key and the
+// value each NUL-terminated, padded to 4 bytes; entries sorted by key (std::map's order is the
+// keys' bytes, unsigned: UTF-8's code point order, as the specification asks).
+Result<std::string> keyValueData(Ktx2KeyValues keyValues) {
+    keyValues.emplace("KTXwriter", std::string("ndfmip ") + NDFMIP_VERSION); // kept when given
+    std::string out;
+    for (const auto& [key, value] : keyValues) {
+        if (key.empty() || key.find('\0') != std::string::npos)
+            return Error{"ktx2: key " + quote(key) + " is empty or holds a NUL byte"};
+        put(out, uint32_t(key.size() + 1 + value.size() + 1));
+        out += key;
+        out += '\0';
+        out += value;
+        out += '\0';
+        while (out.size() % 4) out += '\0';
+    }
+    return out;
+}
+
 } // namespace
 
 const char* textureFormatName(TextureFormat format) { return info(format).name; }
@@ -366,7 +387,7 @@ Result<EncodedTexture> encodeTexture(const std::vector<const Image*>& levels, Te
     return encodeTexture(rows, format);
 }
 
-Result<std::string> ktx2File(const EncodedTexture& t, int zstdLevel) {
+Result<std::string> ktx2File(const EncodedTexture& t, int zstdLevel, const Ktx2KeyValues& keyValues) {
     const FormatInfo& f = info(t.format);
     if (zstdLevel < 0 || zstdLevel > ZSTD_maxCLevel())
         return Error{"ktx2: zstd level " + std::to_string(zstdLevel) + " out of range 0 to " +
@@ -387,19 +408,21 @@ Result<std::string> ktx2File(const EncodedTexture& t, int zstdLevel) {
     const std::vector<std::string>& levels = zstdLevel > 0 ? stored : t.levels;
     const uint32_t levelCount = uint32_t(t.levels.size());
     const std::string dfd = dataFormatDescriptor(f);
-    // Header (80 bytes), level index (24 bytes a level), then the DFD, then the levels, smallest
-    // first, each aligned to lcm(texel block size, 4).
-    const size_t indexAt = 80, dfdAt = indexAt + 24 * size_t(levelCount);
+    Result<std::string> kvd = keyValueData(keyValues);
+    if (!kvd) return kvd.error();
+    // Header (80 bytes), level index (24 bytes a level), then the DFD, the key/value data (both
+    // a multiple of 4 bytes long), then the levels, smallest first, each aligned to
+    // lcm(texel block size, 4).
+    const size_t indexAt = 80, dfdAt = indexAt + 24 * size_t(levelCount), kvdAt = dfdAt + dfd.size();
     // Levels aligned to lcm(texel block size, 4): every block or texel size here is 2 or a
     // multiple of 4. Supercompressed levels are byte streams, aligned to 1.
     const size_t blockSize = size_t(isBlock(t.format) ? f.bytesPerBlock : f.bytesPerTexel);
     const size_t alignment = zstdLevel > 0 ? 1 : blockSize % 4 == 0 ? blockSize : 4;
-    size_t total = dfdAt + dfd.size();
+    size_t total = kvdAt + kvd->size();
     for (const std::string& level : levels) total += level.size() + alignment;
     std::string out;
     out.reserve(total); // one allocation: the levels of a 4096² map are tens of MB
-    const unsigned char identifier[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
-    out.append(reinterpret_cast<const char*>(identifier), 12);
+    out.append(reinterpret_cast<const char*>(kKtx2Identifier), 12);
     put(out, f.vkFormat);
     put(out, uint32_t(f.typeSize));
     put(out, uint32_t(t.width));
@@ -411,12 +434,13 @@ Result<std::string> ktx2File(const EncodedTexture& t, int zstdLevel) {
     put(out, uint32_t(zstdLevel > 0 ? 2 : 0)); // supercompressionScheme: none or Zstandard
     put(out, uint32_t(dfdAt));
     put(out, uint32_t(dfd.size()));
-    put(out, uint32_t(0)); // kvdByteOffset
-    put(out, uint32_t(0)); // kvdByteLength
+    put(out, uint32_t(kvdAt));
+    put(out, uint32_t(kvd->size()));
     put(out, uint64_t(0)); // sgdByteOffset
     put(out, uint64_t(0)); // sgdByteLength
     out.resize(dfdAt, '\0'); // the level index, filled below
     out += dfd;
+    out += kvd.value();
     std::vector<uint64_t> offsets(levelCount);
     for (int k = int(levelCount) - 1; k >= 0; --k) {
         while (out.size() % alignment) out += '\0';
@@ -427,6 +451,37 @@ Result<std::string> ktx2File(const EncodedTexture& t, int zstdLevel) {
         putAt(out, indexAt + 24 * k, offsets[k]);
         putAt(out, indexAt + 24 * k + 8, uint64_t(levels[k].size()));
         putAt(out, indexAt + 24 * k + 16, uint64_t(t.levels[k].size())); // uncompressedByteLength
+    }
+    return out;
+}
+
+Result<Ktx2KeyValues> readKtx2KeyValues(const std::string& file) {
+    if (file.size() < 80 || std::memcmp(file.data(), kKtx2Identifier, 12) != 0)
+        return Error{"ktx2: not a KTX2 file (no KTX 2.0 identifier)"};
+    uint32_t offset = 0, length = 0;
+    std::memcpy(&offset, &file[56], 4);
+    std::memcpy(&length, &file[60], 4);
+    if (uint64_t(offset) + length > file.size())
+        return Error{"ktx2: the key/value data (" + std::to_string(length) + " bytes at " + std::to_string(offset) +
+                     ") runs past the end of the file (" + std::to_string(file.size()) + " bytes)"};
+    Ktx2KeyValues out;
+    const size_t end = size_t(offset) + length;
+    for (size_t at = offset; at < end;) {
+        uint32_t n = 0;
+        if (end - at < 4) return Error{"ktx2: key/value entry at " + std::to_string(at) + " is cut short"};
+        std::memcpy(&n, &file[at], 4);
+        at += 4;
+        if (n > end - at) return Error{"ktx2: key/value entry at " + std::to_string(at - 4) + " runs past the data"};
+        const std::string entry = file.substr(at, n);
+        const size_t nul = entry.find('\0');
+        if (nul == 0 || nul == std::string::npos)
+            return Error{"ktx2: key/value entry at " + std::to_string(at - 4) + " has no NUL-terminated key"};
+        std::string value = entry.substr(nul + 1);
+        if (!value.empty() && value.back() == '\0') value.pop_back();
+        if (!out.emplace(entry.substr(0, nul), std::move(value)).second)
+            return Error{"ktx2: key " + quote(entry.substr(0, nul)) + " appears twice"};
+        at += n;
+        at += (4 - n % 4) % 4; // valuePadding
     }
     return out;
 }

@@ -1,12 +1,21 @@
-// bake --engine: each engine's normal map convention and packed material map.
+// bake --engine: each engine's normal map convention and packed material map, where the engine
+// reads them (glTF: roughness in G), in the asked normal format, saying what they hold in their
+// KTX2 key/value data (read back by ktx-parse too).
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "ndfmip/io.h"
+#include "ndfmip/texture_container.h"
 #include "test_support.h"
 
 namespace ndfmip {
@@ -55,6 +64,198 @@ TEST(EngineCli, PackedMapsFollowEachEnginesLayout) {
     test::expectCliRefuses("bake " + test::shellArg(dir.file("n.png")) + " --engine gltf --metallic-channel b -o " +
                                test::shellArg(dir.file("x")),
                            {"--metallic-channel", "--roughness-map"});
+}
+
+uint32_t u32(const std::string& bytes, size_t at) {
+    uint32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 4);
+    return v;
+}
+
+// Level k of a KTX2 file without supercompression, where its level index puts it.
+std::string ktx2Level(const std::string& file, uint32_t k) {
+    uint64_t offset = 0, length = 0;
+    std::memcpy(&offset, file.data() + 80 + 24 * k, 8);
+    std::memcpy(&length, file.data() + 88 + 24 * k, 8);
+    return file.substr(offset, length);
+}
+
+// The "ndfmip" key of a KTX2 file, parsed.
+nlohmann::json aboutOf(const std::string& file) {
+    Result<Ktx2KeyValues> kv = readKtx2KeyValues(file);
+    if (!kv || !kv->count("ndfmip")) return nullptr;
+    return nlohmann::json::parse(kv->at("ndfmip"), nullptr, false);
+}
+
+// A 16-bit PNG of normals in columns: n on even columns, n with x negated on odd ones.
+void saveColumns(const std::string& path, float x, float y, float z) {
+    Image normal(8, 8, 3);
+    for (int row = 0; row < 8; ++row)
+        for (int col = 0; col < 8; ++col) {
+            float* p = normal.at(col, row);
+            p[0] = 0.5f * ((col % 2 ? -x : x) + 1.f), p[1] = 0.5f * (y + 1.f), p[2] = 0.5f * (z + 1.f);
+        }
+    ASSERT_TRUE(savePng(path, normal, 16));
+}
+
+// Normals at +-theta (sin theta = 0.6) in alternate columns: level 0 is unit length, every texel
+// of level k >= 1 averages as many of each, |Na| = cos theta = 0.8. With --base-roughness 0.2
+// Toksvig's alpha is 0.2 at level 0 and sqrt(0.2^2 + 2 (1 - 0.8)/0.8) above it; the glTF-layout
+// maps (gltf, three, bevy, filament) hold sqrt(alpha) in G, where the engines read roughness,
+// with R occlusion 1, B metallic 0, A 1.
+TEST(EngineCli, GltfLayoutPackedMapHoldsThePerceptualRoughnessInG) {
+    test::TempDir dir("ndfmip_engine_g");
+    saveColumns(dir.file("n.png"), 0.6f, 0.f, 0.8f);
+    for (const char* engine : {"gltf", "three", "bevy", "filament"}) {
+        const std::string out = dir.file(engine);
+        std::string output;
+        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --engine " + engine +
+                                   " --base-roughness 0.2 --export ktx2 -q -o " + test::shellArg(out),
+                               &output),
+                  0)
+            << output;
+        const std::string file = slurp(out + "/ktx2/" + engine + "_occlusion_roughness_metallic.ktx2");
+        ASSERT_GT(file.size(), 80u);
+        EXPECT_EQ(u32(file, 12), 37u); // VK_FORMAT_R8G8B8A8_UNORM
+        ASSERT_EQ(u32(file, 40), 4u);  // 8, 4, 2, 1
+        for (uint32_t k = 0; k < 4; ++k) {
+            const double alpha = k == 0 ? 0.2 : std::sqrt(0.04 + 2.0 * 0.2 / 0.8);
+            const std::string level = ktx2Level(file, k);
+            ASSERT_EQ(level.size(), size_t(4 * (8 >> k) * (8 >> k)));
+            for (size_t i = 0; i < level.size(); i += 4) {
+                EXPECT_EQ((unsigned char)level[i], 255) << engine << " level " << k;
+                EXPECT_NEAR((unsigned char)level[i + 1], 255.0 * std::sqrt(alpha), 0.6) << engine << " level " << k;
+                EXPECT_EQ((unsigned char)level[i + 2], 0) << engine << " level " << k;
+                EXPECT_EQ((unsigned char)level[i + 3], 255) << engine << " level " << k;
+            }
+        }
+        const nlohmann::json about = aboutOf(file);
+        ASSERT_TRUE(about.is_object()) << engine;
+        EXPECT_EQ(about["content"], "material");
+        EXPECT_EQ(about["channels"], (nlohmann::json{{"r", "occlusion"}, {"g", "roughness: perceptual, sqrt(alpha)"},
+                                                     {"b", "metallic"}, {"a", "1"}}));
+    }
+}
+
+// Runs the CLI with stdout and stderr kept apart; returns the status.
+int runApart(const test::TempDir& dir, const std::string& args, std::string* err) {
+    const std::string errFile = dir.file("stderr.txt");
+    const int status = std::system((std::string("\"") + NDFMIP_CLI_PATH + "\" " + args + " > /dev/null 2> " +
+                                    test::shellArg(errFile))
+                                       .c_str());
+    *err = slurp(errFile);
+    return status;
+}
+
+// --engine without the material's roughness: level 0 would be ~0, a mirror; one line on stderr
+// says so. With --base-roughness or --roughness-map, or with -q, nothing.
+TEST(EngineCli, EngineWithoutMaterialRoughnessWarns) {
+    test::TempDir dir("ndfmip_engine_warn");
+    saveColumns(dir.file("n.png"), 0.6f, 0.f, 0.8f);
+    const std::string bake = "bake " + test::shellArg(dir.file("n.png")) + " --engine three -o ";
+    std::string err;
+    ASSERT_EQ(runApart(dir, bake + test::shellArg(dir.file("a")), &err), 0) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    for (const char* word : {"warning", "--engine three", "--base-roughness", "--roughness-map", "mirror"})
+        EXPECT_NE(err.find(word), std::string::npos) << word << " in " << err;
+    ASSERT_EQ(runApart(dir, bake + test::shellArg(dir.file("b")) + " --base-roughness 0.3", &err), 0) << err;
+    EXPECT_EQ(err, "");
+    ASSERT_EQ(runApart(dir, bake + test::shellArg(dir.file("c")) + " -q", &err), 0) << err;
+    EXPECT_EQ(err, "");
+    ASSERT_EQ(runApart(dir, "bake " + test::shellArg(dir.file("n.png")) + " --export ktx2 -o " + test::shellArg(dir.file("d")), &err), 0)
+        << err;
+    EXPECT_EQ(err, "");
+}
+
+// The npm package ktx-parse's ES module, or "" where node or the package is missing.
+std::string ktxParseModule() {
+    const char* modules = std::getenv("NDFMIP_NODE_MODULES");
+    const std::string path = modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules";
+    if (!std::filesystem::exists("/usr/bin/node")) return "";
+    for (const char* candidate : {"/ktx-parse/dist/ktx-parse.modern.js", "/ktx-parse/dist/index.mjs"})
+        if (std::filesystem::exists(path + candidate)) return path + candidate;
+    return "";
+}
+
+// The key/value data of a KTX2 file as ktx-parse reads it (values as text, trailing NUL dropped).
+nlohmann::json ktxParseKeys(const test::TempDir& dir, const std::string& module, const std::string& file) {
+    const std::string script = dir.file("keys.mjs"), out = dir.file("keys.json");
+    std::ofstream(script) << "import { read } from '" << module << "';\n"
+                          << "import { readFileSync } from 'fs';\n"
+                          << "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
+                          << "const kv = {};\n"
+                          << "for (const [k, v] of Object.entries(c.keyValue))\n"
+                          << "  kv[k] = typeof v === 'string' ? v : new TextDecoder().decode(v).replace(/\\0$/, '');\n"
+                          << "console.log(JSON.stringify(kv));\n";
+    if (std::system(("node " + test::shellArg(script) + " " + test::shellArg(file) + " > " + test::shellArg(out) + " 2>&1").c_str()) != 0)
+        return "node failed: " + slurp(out);
+    return nlohmann::json::parse(slurp(out), nullptr, false);
+}
+
+// --normal-format reaches the engine's normal map: its VkFormat, its texels (y flipped for
+// Unreal's -Y), its KTXswizzle, and an ndfmip key saying the green convention; the plain
+// normal file says the source's (+Y here). The roughness file says it is one channel of sqrt(alpha).
+TEST(EngineCli, EngineNormalMapTakesTheNormalFormatAndSaysItsConvention) {
+    test::TempDir dir("ndfmip_engine_format");
+    saveColumns(dir.file("n.png"), 0.f, 0.6f, 0.8f); // tilted in y: (0, 0.6, 0.8) everywhere
+    const std::string module = ktxParseModule();
+    struct Case {
+        const char* format;
+        uint32_t vkFormat;
+        const char* swizzle;
+    };
+    for (const Case& c : {Case{"bc5", 141, "rg01"}, Case{"rg16", 77, "rg01"}, Case{"rgba8", 37, "rgb1"}}) {
+        const std::string out = dir.file(c.format);
+        std::string output;
+        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --engine unreal --normal-format " + c.format +
+                                   " --base-roughness 0.2 --export ktx2 -q -o " + test::shellArg(out),
+                               &output),
+                  0)
+            << output;
+        const std::string engineFile = out + "/ktx2/unreal_normal.ktx2";
+        const std::string plainFile = out + "/ktx2/normal_" + c.format + ".ktx2";
+        const std::string engine = slurp(engineFile), plain = slurp(plainFile);
+        ASSERT_GT(engine.size(), 80u) << c.format;
+        EXPECT_EQ(u32(engine, 12), c.vkFormat) << c.format;
+        EXPECT_EQ(u32(plain, 12), c.vkFormat) << c.format;
+        // Level 0's first texel: x 0 -> 0.5, y -0.6 (Unreal's -Y) -> 0.2, z 0.8 -> 0.9.
+        const std::string level0 = ktx2Level(engine, 0);
+        if (std::string(c.format) == "rgba8") {
+            EXPECT_EQ((unsigned char)level0[0], 128);
+            EXPECT_NEAR((unsigned char)level0[1], 0.2 * 255, 1.0);
+            EXPECT_NEAR((unsigned char)level0[2], 0.9 * 255, 1.0);
+            EXPECT_EQ((unsigned char)level0[3], 255);
+        } else if (std::string(c.format) == "rg16") {
+            uint16_t xy[2];
+            std::memcpy(xy, level0.data(), 4);
+            EXPECT_NEAR(xy[0], 32768, 1.0);
+            EXPECT_NEAR(xy[1], 0.2 * 65535, 2.0);
+        }
+        Result<Ktx2KeyValues> kv = readKtx2KeyValues(engine);
+        ASSERT_TRUE(kv) << kv.error().message;
+        EXPECT_EQ(kv->at("KTXswizzle"), c.swizzle);
+        EXPECT_EQ(kv->at("KTXwriter").rfind("ndfmip ", 0), 0u);
+        const nlohmann::json about = aboutOf(engine), plainAbout = aboutOf(plain);
+        EXPECT_EQ(about["content"], "normal");
+        EXPECT_EQ(about["encoding"], "(n+1)/2");
+        EXPECT_EQ(about["green"], "down");
+        EXPECT_EQ(plainAbout["green"], "up");
+        EXPECT_EQ(about["channels"].size(), std::string(c.format) == "rgba8" ? 4u : 2u);
+        const nlohmann::json rough = aboutOf(slurp(out + "/ktx2/roughness_bc4.ktx2"));
+        EXPECT_EQ(rough["content"], "roughness");
+        EXPECT_EQ(rough["encoding"], "sqrt(alpha)");
+        EXPECT_EQ(rough["channels"].size(), 1u);
+        EXPECT_FALSE(readKtx2KeyValues(slurp(out + "/ktx2/roughness_bc4.ktx2"))->count("KTXswizzle"));
+        if (module.empty()) continue;
+        // ktx-parse, a reader ndfmip did not write, reads the same keys.
+        const nlohmann::json parsed = ktxParseKeys(dir, module, engineFile);
+        ASSERT_TRUE(parsed.is_object()) << parsed.dump();
+        EXPECT_EQ(parsed.size(), 3u) << parsed.dump();
+        EXPECT_EQ(parsed["KTXswizzle"], c.swizzle);
+        EXPECT_EQ(parsed["KTXwriter"], kv->at("KTXwriter"));
+        EXPECT_EQ(parsed["ndfmip"], kv->at("ndfmip"));
+    }
+    if (module.empty()) GTEST_SKIP() << "node and the npm package ktx-parse not found: ndfmip's own reader only";
 }
 
 } // namespace

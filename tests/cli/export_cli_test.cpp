@@ -29,8 +29,11 @@ TEST(ExportCli, ToksvigWritesNormalRoughnessAndPlaneContainers) {
     test::TempDir dir("ndfmip_export");
     const std::string out = dir.file("wall.bake");
     std::string output;
-    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --green-down --method toksvig --export exr,ktx2,dds,png16 -o " +
-                           test::shellArg(out), &output),
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) +
+                               " --green-down --method toksvig --export exr,ktx2,dds,png16 "
+                               "--export-textures normal,roughness,planes -o " +
+                               test::shellArg(out),
+                           &output),
               0)
         << output;
     const nlohmann::json m = manifestOf(out);
@@ -45,13 +48,45 @@ TEST(ExportCli, ToksvigWritesNormalRoughnessAndPlaneContainers) {
     EXPECT_TRUE(m["exports"].contains("png16"));
     // The bake is still a bake: inspect reads it, and a rebake replaces it.
     ASSERT_EQ(test::runCli("inspect " + test::shellArg(out) + " --level 3 --texel 1,1", &output), 0) << output;
-    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --green-down --method vmf --lobes 2 --export ktx2 -o " +
-                           test::shellArg(out), &output),
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) +
+                               " --green-down --method vmf --lobes 2 --export ktx2 --export-textures planes -o " +
+                               test::shellArg(out),
+                           &output),
               0)
         << output;
     const auto names = manifestOf(out)["exports"]["ktx2"].get<std::vector<std::string>>();
     EXPECT_EQ(names, (std::vector<std::string>{"ktx2/lobe0.ktx2", "ktx2/lobe1.ktx2"}));
     EXPECT_FALSE(std::filesystem::exists(out + "/dds"));
+    // A plane's KTX2 names the plane and its channels.
+    std::ifstream in(out + "/ktx2/lobe1.ktx2", std::ios::binary);
+    Result<Ktx2KeyValues> kv = readKtx2KeyValues(std::string((std::istreambuf_iterator<char>(in)), {}));
+    ASSERT_TRUE(kv) << kv.error().message;
+    const nlohmann::json about = nlohmann::json::parse(kv->at("ndfmip"));
+    EXPECT_EQ(about["content"], "plane");
+    EXPECT_EQ(about["plane"], "lobe1");
+    EXPECT_EQ(about["channels"].size(), 4u) << about.dump();
+}
+
+// --export ktx2 writes what --export-textures asks for, by default the normal and the roughness
+// only: the float planes (22 MB for a 2048^2 map's mean) only with planes. A container that
+// would hold nothing (vmf stores no normal or roughness) is refused, nothing written.
+TEST(ExportCli, PlanesOnlyWhenAskedFor) {
+    test::TempDir dir("ndfmip_export_planes");
+    const std::string out = dir.file("wall.bake");
+    std::string output;
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --export ktx2,dds -q -o " + test::shellArg(out), &output), 0)
+        << output;
+    std::vector<std::string> files;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(out))
+        if (entry.is_regular_file()) files.push_back(entry.path().lexically_relative(out).string());
+    std::sort(files.begin(), files.end());
+    EXPECT_EQ(files, (std::vector<std::string>{"dds/normal_bc5.dds", "dds/roughness_bc4.dds", "ktx2/normal_bc5.ktx2",
+                                               "ktx2/roughness_bc4.ktx2", "manifest.json"}));
+    test::expectCliRefuses("bake " + test::shellArg(kMap) + " --method vmf --lobes 2 --export ktx2 -o " +
+                               test::shellArg(dir.file("v")),
+                           {"--export ktx2", "planes", "--export-textures"});
+    EXPECT_FALSE(std::filesystem::exists(dir.file("v")));
+    EXPECT_TRUE(test::leftovers(dir.path).empty());
 }
 
 TEST(ExportCli, DdsHeaderAsNvddsinfoReadsIt) {

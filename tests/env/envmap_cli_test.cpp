@@ -14,6 +14,7 @@
 #include "ndfmip/environment.h"
 #include "ndfmip/io.h"
 #include "ndfmip/spherical_harmonics.h"
+#include "ndfmip/texture_container.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -167,6 +168,18 @@ TEST_F(EnvmapCli, Ktx2HoldsEveryLevelOfBothLayouts) {
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], level.at(level.width - 1, 1)[c], 1e-3f * (1.f + level.at(level.width - 1, 1)[c]));
     }
     EXPECT_TRUE(fs::is_regular_file(out / "dfg.ktx2"));
+    // Each file says what it holds: radiance at each level's roughness, as the manifest has it; the DFG table.
+    for (const std::string& file : {cube, flat}) {
+        Result<Ktx2KeyValues> kv = readKtx2KeyValues(file);
+        ASSERT_TRUE(kv) << kv.error().message;
+        EXPECT_EQ(kv->at("KTXwriter").rfind("ndfmip ", 0), 0u);
+        const json about = json::parse(kv->at("ndfmip"));
+        EXPECT_EQ(about["content"], "radiance");
+        ASSERT_EQ(about["perceptual_roughness"].size(), 2u);
+        for (size_t k = 0; k < 2; ++k)
+            EXPECT_EQ(about["perceptual_roughness"][k], manifest["ggx"]["levels"][k]["perceptual_roughness"]);
+    }
+    EXPECT_EQ(json::parse(readKtx2KeyValues(fileBytes(out / "dfg.ktx2"))->at("ndfmip"))["content"], "dfg");
     // The folder holds only what its manifest lists, so a rerun may replace it.
     ASSERT_EQ(runCli(envmapArgs(map, "--layout cube"), &output), 0) << output;
     EXPECT_FALSE(fs::exists(out / "ggx_cube.ktx2"));

@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "ndfmip/io.h"
 #include "ndfmip/normal_map.h"
@@ -252,6 +253,114 @@ TEST(TextureContainer, Ktx2ZstdLevelsInflateToTheLevels) {
         EXPECT_EQ(raw, t->levels[k]) << "level " << k;
     }
     EXPECT_FALSE(ktx2File(t.value(), 23));
+}
+
+// The key/value data as KTX 2.0 section 3.11 lays it out, byte for byte: each entry its length
+// (key and value with their NULs), padded to 4 bytes, sorted by key ("KTXswizzle" < "KTXwriter"
+// < "ndfmip", upper case first); its offset and length in the header, right after the DFD; the
+// levels after it, where the level index says, supercompressed or not. Our reader gives the
+// values back.
+TEST(TextureContainer, Ktx2KeyValueDataLaidOutAsTheSpecificationSays) {
+    const std::vector<Image> levels = encodedNormalLevels();
+    Result<EncodedTexture> t = encodeTexture(pointers(levels), TextureFormat::Bc5Unorm);
+    ASSERT_TRUE(t);
+    const std::string about = "{\"content\":\"normal\"}"; // 20 bytes
+    for (const int zstd : {0, 5}) {
+        const std::string file = ktx2File(t.value(), zstd, {{"ndfmip", about}, {"KTXswizzle", "rg01"}}).value();
+        Result<Ktx2KeyValues> kv = readKtx2KeyValues(file);
+        ASSERT_TRUE(kv) << kv.error().message;
+        ASSERT_EQ(kv->size(), 3u);
+        EXPECT_EQ(kv->at("KTXswizzle"), "rg01");
+        EXPECT_EQ(kv->at("ndfmip"), about);
+        const std::string writer = kv->at("KTXwriter");
+        EXPECT_EQ(writer.rfind("ndfmip ", 0), 0u) << writer;
+        auto entry = [](const std::string& key, const std::string& value) {
+            std::string e(4, '\0');
+            const uint32_t n = uint32_t(key.size() + value.size() + 2);
+            std::memcpy(&e[0], &n, 4);
+            e += key + '\0' + value + '\0';
+            e.resize((e.size() + 3) / 4 * 4, '\0');
+            return e;
+        };
+        const std::string expected = entry("KTXswizzle", "rg01") + entry("KTXwriter", writer) + entry("ndfmip", about);
+        EXPECT_EQ(expected.substr(0, 20), std::string("\x10\0\0\0KTXswizzle\0rg01\0", 20)); // 16 bytes, no padding
+        const uint32_t dfdAt = read<uint32_t>(file, 48), dfdLength = read<uint32_t>(file, 52);
+        const uint32_t kvdAt = read<uint32_t>(file, 56), kvdLength = read<uint32_t>(file, 60);
+        EXPECT_EQ(kvdAt, dfdAt + dfdLength);
+        EXPECT_EQ(kvdAt % 4, 0u);
+        ASSERT_EQ(kvdLength, expected.size());
+        EXPECT_EQ(file.substr(kvdAt, kvdLength), expected);
+        EXPECT_EQ(read<uint64_t>(file, 64), 0u); // no supercompression global data
+        EXPECT_EQ(read<uint64_t>(file, 72), 0u);
+        for (uint32_t k = 0; k < t->levels.size(); ++k) {
+            const uint64_t offset = read<uint64_t>(file, 80 + 24 * k), length = read<uint64_t>(file, 88 + 24 * k);
+            EXPECT_GE(offset, kvdAt + kvdLength) << k;
+            ASSERT_LE(offset + length, file.size());
+            if (zstd == 0) {
+                EXPECT_EQ(file.compare(offset, length, t->levels[k]), 0) << k;
+            }
+        }
+    }
+    // KTXwriter given is kept; a key that cannot be written is refused.
+    EXPECT_EQ(readKtx2KeyValues(ktx2File(t.value(), 0, {{"KTXwriter", "x 1"}}).value())->at("KTXwriter"), "x 1");
+    EXPECT_FALSE(ktx2File(t.value(), 0, {{"", "v"}}));
+    EXPECT_FALSE(ktx2File(t.value(), 0, {{std::string("a\0b", 3), "v"}}));
+}
+
+// A damaged file is an error from the reader, never a read past its bytes.
+TEST(TextureContainer, Ktx2KeyValueReaderRefusesDamagedData) {
+    const std::vector<Image> levels = encodedNormalLevels();
+    const std::string good = ktx2File(encodeTexture(pointers(levels), TextureFormat::Rgba8Unorm).value()).value();
+    EXPECT_FALSE(readKtx2KeyValues("not a texture"));
+    EXPECT_FALSE(readKtx2KeyValues(good.substr(0, 79)));
+    const uint32_t kvdAt = read<uint32_t>(good, 56);
+    std::string past = good;
+    const uint32_t huge = uint32_t(good.size());
+    std::memcpy(&past[60], &huge, 4); // the data's length past the end of the file
+    EXPECT_FALSE(readKtx2KeyValues(past));
+    std::string entry = good;
+    const uint32_t tooLong = 1u << 30;
+    std::memcpy(&entry[kvdAt], &tooLong, 4); // an entry longer than the data
+    EXPECT_FALSE(readKtx2KeyValues(entry));
+    std::string noNul = good;
+    const uint32_t first = read<uint32_t>(good, kvdAt); // "KTXwriter\0ndfmip <version>\0"
+    for (size_t i = kvdAt + 4; i < kvdAt + 4 + first; ++i) noNul[i] = 'K';
+    EXPECT_FALSE(readKtx2KeyValues(noNul));
+    EXPECT_TRUE(readKtx2KeyValues(good));
+}
+
+// ktx-parse, a reader ndfmip did not write, reads the same keys and values back, from a plain and
+// a supercompressed file (it returns KTX* values as text, others as bytes).
+TEST(TextureContainer, Ktx2KeyValuesReadBackByKtxParse) {
+    const std::string module = ktxParseModule();
+    if (module.empty()) GTEST_SKIP() << "node and the npm package ktx-parse (scripts/setup installs it into .npm) not found";
+    test::TempDir dir("ndfmip_ktx_kvd");
+    const std::vector<Image> levels = encodedNormalLevels();
+    Result<EncodedTexture> t = encodeTexture(pointers(levels), TextureFormat::Rg16Unorm);
+    ASSERT_TRUE(t);
+    const std::string about = "{\"content\":\"normal\",\"encoding\":\"(n+1)/2\",\"green\":\"up\"}";
+    for (const int zstd : {0, 7}) {
+        const std::string file = dir.file("kv" + std::to_string(zstd) + ".ktx2");
+        const std::string bytes = ktx2File(t.value(), zstd, {{"KTXswizzle", "rg01"}, {"ndfmip", about}}).value();
+        std::ofstream(file, std::ios::binary) << bytes;
+        const std::string json = runNode(dir,
+                                         "import { read } from '" + module + "';\n"
+                                         "import { readFileSync } from 'fs';\n"
+                                         "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
+                                         "const kv = {};\n"
+                                         "for (const [k, v] of Object.entries(c.keyValue))\n"
+                                         "  kv[k] = typeof v === 'string' ? v : new TextDecoder().decode(v).replace(/\\0$/, '');\n"
+                                         "console.log(JSON.stringify({keys: Object.keys(c.keyValue), kv, "
+                                         "levels: c.levels.length}));\n",
+                                         file);
+        const nlohmann::json got = nlohmann::json::parse(json, nullptr, false);
+        ASSERT_TRUE(got.is_object()) << json;
+        EXPECT_EQ(got["keys"], nlohmann::json::array({"KTXswizzle", "KTXwriter", "ndfmip"})) << json;
+        EXPECT_EQ(got["kv"]["KTXswizzle"], "rg01");
+        EXPECT_EQ(got["kv"]["KTXwriter"], readKtx2KeyValues(bytes)->at("KTXwriter"));
+        EXPECT_EQ(got["kv"]["ndfmip"], about);
+        EXPECT_EQ(got["levels"], t->levels.size());
+    }
 }
 
 // Six 8x8 faces, four levels; texel (x, y) of face f at level k holds f + 10 k + (x + 8 y) / 1000.

@@ -31,7 +31,7 @@ namespace {
 struct BakeArgs {
     std::vector<std::string> inputs; // files, folders, globs
     std::string input, output, method = "toksvig", gloss, exportFormat; // input/output: the map at hand
-    std::string exportTextures = "normal,roughness,planes", normalFormat = "bc5", roughnessFormat = "bc4";
+    std::string exportTextures = "normal,roughness", normalFormat = "bc5", roughnessFormat = "bc4";
     int zstd = 0;
     InputOptions input_options;
     float maxExponent = 0.f;
@@ -237,6 +237,16 @@ struct MapResult {
     double seconds = 0.0;
 };
 
+// Once the engine files are written: without the material's roughness their level 0 roughness
+// is the normals' spread alone, ~0 on a flat map.
+void warnAboutEngineRoughness(const BakeArgs& args) {
+    if (args.engine.empty() || args.baseRoughness != 0.f || !args.roughnessMap.empty() || args.quiet) return;
+    std::fprintf(stderr,
+                 "ndfmip: warning: --engine %s without --base-roughness or --roughness-map: level 0 roughness is "
+                 "~0 (a mirror) where the map is flat; give the material's roughness\n",
+                 args.engine.c_str());
+}
+
 void runBake(const BakeArgs& args) {
     if (Status s = checkBakeFileOptions(fileOptions(args)); !s) throw Failure(s.error);
     bool expanded = false; // a folder or a glob: many maps, whatever their number
@@ -247,6 +257,7 @@ void runBake(const BakeArgs& args) {
         one.input = inputs.front();
         if (bakeOne(one) == MapStatus::Skipped && !args.quiet)
             std::printf("%s: up to date (same source, options and version; --force bakes again)\n", args.output.c_str());
+        warnAboutEngineRoughness(args);
         return;
     }
     if ((inputs.size() > 1 || expanded) && args.output.find("{stem}") == std::string::npos &&
@@ -322,6 +333,7 @@ void runBake(const BakeArgs& args) {
         skipped += r.status == "skipped";
         if (r.status == "failed") failures.push_back(r.input);
     }
+    if (baked + skipped > 0) warnAboutEngineRoughness(args);
     const double seconds = millisecondsSince(start) / 1000.0;
     if (args.json) {
         const nlohmann::json summary = {{"summary", {{"maps", jobs.size()}, {"baked", baked}, {"skipped", skipped},
@@ -390,14 +402,17 @@ void addBakeCommand(CLI::App& app) {
         ->check(CLI::Range(0.f, 1.f))->capture_default_str();
     c->add_option("--export", args->exportFormat,
                   "what to write, comma-separated: exr (the planes that render, inspect and eval read; the "
-                  "default), png16 (16-bit PNG per level), ktx2 and dds (normal, roughness and every linear plane, "
-                  "all levels in one file each). Only what is listed is written: e.g. --export ktx2 writes no EXR");
+                  "default), png16 (16-bit PNG per level), ktx2 and dds (what --export-textures lists, all levels "
+                  "in one file each). Only what is listed is written: e.g. --export ktx2 writes no EXR");
     c->add_option("--export-textures", args->exportTextures,
-                  "what the png16/ktx2/dds files hold, comma-separated: normal, roughness, planes")
+                  "what the png16/ktx2/dds files hold, comma-separated: normal, roughness (one channel, "
+                  "perceptual), planes (each linear plane of the method, RGBA32F or RGBA16F with --half)")
         ->capture_default_str();
-    c->add_option("--normal-format", args->normalFormat, "the exported normal: bc5, rg16 or rgba8")
+    c->add_option("--normal-format", args->normalFormat, "the exported normal (and --engine's): bc5, rg16 or rgba8")
         ->check(CLI::IsMember({"bc5", "rg16", "rgba8"}))->capture_default_str();
-    c->add_option("--roughness-format", args->roughnessFormat, "the exported roughness: bc4 or r16f")
+    c->add_option("--roughness-format", args->roughnessFormat,
+                  "the exported roughness, one channel (R; not a glTF metallicRoughness texture, which reads G: "
+                  "--engine writes that): bc4 or r16f")
         ->check(CLI::IsMember({"bc4", "r16f"}))->capture_default_str();
     c->add_option("--zstd", args->zstd, "ktx2: Zstandard supercompression level 1-22 (0: none)")
         ->check(CLI::Range(0, 22))->capture_default_str();
