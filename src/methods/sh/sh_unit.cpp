@@ -106,7 +106,9 @@ std::vector<MethodShader> shShaders() {
                                    " (this one is " + std::to_string(setup.sh.order) + ")");
         addUniform(u, "ndfmipShOrder", setup.sh.order);
         for (int l = 0; l <= setup.sh.order; ++l) {
-            const std::string index = "[" + std::to_string(l) + "]";
+            std::string index = "["; // appended, not "[" + ...: GCC 12 warns falsely (-Wrestrict) on that at -O3
+            index += std::to_string(l);
+            index += "]";
             addUniform(u, "ndfmipShDiffuse" + index, float(setup.sh.diffuse[size_t(l)]));
             addUniform(u, "ndfmipShSpecular" + index, float(setup.sh.specular[size_t(l)]));
         }
