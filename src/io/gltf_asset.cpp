@@ -112,7 +112,7 @@ Result<GltfAsset> readAsset(const std::string& path, bool allowOutside) {
         const std::string sniffed = sniffMimeType(data);
         if (sniffed.empty())
             return Error{path + ": " + asset.imageLabels[i] +
-                         ": not an image file (glTF embeds PNG or JPEG)"};
+                         (data.empty() ? ": the file is empty" : ": not an image file (glTF embeds PNG or JPEG)")};
         std::string mime = image.value("mimeType", read->mimeType);
         if (mime.empty()) mime = sniffed;
         image.erase("uri");

@@ -1042,8 +1042,8 @@ TEST(Cli, EvalAtAnElevationKeepsAnExactTruth) {
     for (const json& c : report["cases"]) {
         const std::string method = c["method"];
         if (method == "groundtruth") continue;
-        if (c["map"].get<std::string>().find("flat") != std::string::npos)
-            EXPECT_LT(c["rel_rmse"].get<double>(), 1e-5) << method;
+        if (c["map"].get<std::string>().find("flat") != std::string::npos) // vmf: its kappa cap's width
+            EXPECT_LT(c["rel_rmse"].get<double>(), method.rfind("vmf", 0) == 0 ? 1e-3 : 1e-5) << method;
         else
             bumpyError[{c["footprint"].get<int>(), method}] = c["rel_rmse"].get<double>();
     }
