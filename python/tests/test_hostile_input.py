@@ -84,3 +84,17 @@ def test_float32_with_metadata_is_float32():
     message = raises("expected dtype float32 in native byte order, not >f4", ndfmip.bake,
                      flat(4, 4).astype(">f4"))
     assert "not float32" not in message
+
+
+def test_a_map_too_large_for_max_memory_is_refused_from_its_header(tmp_path, limits):
+    # 2048 x 2048 RGB declared, data that inflates to nothing: the refusal can only come from
+    # the header, before decoding, with the estimate in the message.
+    import struct
+    header = struct.pack(">I4sIIBBBBB", 13, b"IHDR", 2048, 2048, 8, 2, 0, 0, 0) + b"\0" * 4
+    png = tmp_path / "big.png"
+    png.write_bytes(b"\x89PNG\r\n\x1a\n" + header + struct.pack(">I4s", 16384, b"IDAT") + b"\x55" * 16384)
+    limits(max_memory_gib=0.01)
+    message = raises("needs about", ndfmip.bake_to, png, tmp_path / "big.bake")
+    assert message.startswith(str(png) + ": a toksvig bake of a 2048x2048 map needs about")
+    raises("needs about", ndfmip.decode, png)
+    assert not (tmp_path / "big.bake").exists()
