@@ -365,9 +365,8 @@ Result<SourceImage> decodeDetected(std::string_view bytes, const std::string& na
 std::string tempPathFor(const std::string& path) {
     std::random_device random;
     char suffix[64];
-    std::snprintf(suffix, sizeof suffix, ".tmp-%ld-%08x%08x", long(::getpid()), random(),
-                  random());
-    return path + suffix;
+    std::snprintf(suffix, sizeof suffix, "-%08x%08x", random(), random());
+    return path + ".tmp-" + writerTag() + suffix;
 }
 
 // Writes all of `bytes` to a new file and syncs it; returns 0 or an errno value.
