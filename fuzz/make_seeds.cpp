@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fuzz_bakes.h"
+#include "ndfmip/environment.h"
 #include "ndfmip/io.h"
 
 namespace fs = std::filesystem;
@@ -195,6 +196,60 @@ void gltfSeeds(const fs::path& out) {
     writeBytes(dir / "two_materials.gltf", asset.dump());
 }
 
+// Environment maps for fuzz_envmap: small equirectangular maps (2:1) as Radiance HDR and
+// OpenEXR, resampled from SHARED_DATA's environment maps, and a sky with a sun made here.
+void envmapSeeds(const fs::path& out, const fs::path& shared) {
+    const fs::path dir = out / "envmap";
+    fs::create_directories(dir);
+    Image sky(16, 8, 3);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x) {
+            float* v = sky.at(x, y);
+            v[0] = 0.2f + 0.1f * float(y), v[1] = 0.3f + 0.05f * float(y), v[2] = 1.f;
+        }
+    sky.at(5, 2)[0] = sky.at(5, 2)[1] = sky.at(5, 2)[2] = 5e4f; // a sun
+    stbi_write_hdr((dir / "sky.hdr").c_str(), sky.width, sky.height, 3, sky.pixels.data());
+    ndfmip::saveExr((dir / "sky.exr").string(), sky);
+    ndfmip::saveExr((dir / "sky.half.exr").string(), sky, {}, true);
+    if (shared.empty() || !fs::is_directory(shared / "envmaps")) return;
+    int n = 0;
+    for (const auto& entry : fs::directory_iterator(shared / "envmaps")) {
+        ndfmip::Result<ndfmip::SourceImage> image = ndfmip::loadImage(entry.path().string());
+        if (!image || image->image.width != 2 * image->image.height || image->image.channels < 3) continue;
+        Image rgb(image->image.width, image->image.height, 3);
+        for (size_t i = 0; i < rgb.texelCount(); ++i)
+            for (int c = 0; c < 3; ++c) rgb.pixels[3 * i + size_t(c)] = image->image.pixels[i * size_t(image->image.channels) + size_t(c)];
+        const Image small = ndfmip::resampleEquirect(rgb, 32);
+        const std::string stem = (dir / ("env" + std::to_string(n++))).string();
+        stbi_write_hdr((stem + ".hdr").c_str(), small.width, small.height, 3, small.pixels.data());
+        ndfmip::saveExr(stem + ".exr", small);
+    }
+}
+
+// .gltf texts for fuzz_gltf_bake, whose "@NORMAL_PNG@" strings the target replaces with a
+// data uri of a valid normal map: materials sharing it the ways the filter tells apart.
+void gltfBakeSeeds(const fs::path& out) {
+    const fs::path dir = out / "gltf_bake";
+    fs::create_directories(dir);
+    nlohmann::ordered_json asset = {
+        {"asset", {{"version", "2.0"}}},
+        {"images", {{{"uri", "@NORMAL_PNG@"}}, {{"uri", "@NORMAL_PNG@"}}}},
+        {"samplers", {{{"wrapS", 33071}, {"wrapT", 10497}}}},
+        {"textures", {{{"source", 0}}, {{"source", 1}, {"sampler", 0}}}},
+        {"materials",
+         {{{"name", "a"}, {"normalTexture", {{"index", 0}}}},
+          {{"name", "b"}, {"normalTexture", {{"index", 0}, {"scale", 0.5}}}},
+          {{"name", "c"},
+           {"normalTexture", {{"index", 1}}},
+           {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 0}}}, {"roughnessFactor", 0.4}}}}}}};
+    writeBytes(dir / "three_materials.gltf", asset.dump());
+    nlohmann::ordered_json one = {{"asset", {{"version", "2.0"}}},
+                                  {"images", {{{"uri", "@NORMAL_PNG@"}}}},
+                                  {"textures", {{{"source", 0}}}},
+                                  {"materials", {{{"normalTexture", {{"index", 0}}}}}}};
+    writeBytes(dir / "one_material.gltf", one.dump());
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -209,6 +264,8 @@ int main(int argc, char** argv) {
     manifestSeeds(out);
     tableSeeds(out, repo);
     gltfSeeds(out);
+    envmapSeeds(out, shared);
+    gltfBakeSeeds(out);
     std::printf("fuzz_seeds: %s%s\n", out.c_str(),
                 shared.empty() ? " (no shared data: bundled files only)" : "");
     return 0;

@@ -5,6 +5,8 @@
 // conversion, and arrays that ndfmip itself returned go back in without any copy.
 #include <cmath>
 #include <cstring>
+#include <exception>
+#include <new>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -555,7 +557,15 @@ void setLimits(std::optional<int64_t> maxPixels, std::optional<double> maxMemory
 PYBIND11_MODULE(_ndfmip, m) {
     m.doc() = "ndfmip's native functions; use the ndfmip package, which documents them.";
     m.attr("__version__") = NDFMIP_VERSION;
-    py::register_exception<NdfmipError>(m, "Error", PyExc_ValueError);
+    static PyObject* error = py::register_exception<NdfmipError>(m, "Error", PyExc_ValueError).ptr();
+    // An allocation that fails raises ndfmip.Error naming the file being processed, not MemoryError.
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const std::bad_alloc&) {
+            PyErr_SetString(error, printable(outOfMemoryMessage(), 4096).c_str());
+        }
+    });
     m.attr("Error").attr("__module__") = "ndfmip";
 
     using namespace py::literals;

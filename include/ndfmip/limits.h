@@ -31,6 +31,11 @@ void setInputLimits(const InputLimits& limits);
 // when a side is not positive or above maxSide, or the texel count above maxPixels.
 Status checkImageSize(const std::string& name, int64_t width, int64_t height);
 
+// checkImageSize for an image about to be decoded, and the memory its decoding leads to against
+// maxMemoryBytes: the PlannedPeak alive on this thread, else the decoded image's own bytes.
+// Every decoder calls it with its header's size before it allocates.
+Status checkDecodedSize(const std::string& name, int64_t width, int64_t height);
+
 // A rendered image of width x height pixels against maxCameraPixels.
 Status checkCameraSize(const std::string& name, int64_t width, int64_t height);
 
@@ -43,6 +48,40 @@ int64_t bakeMemoryEstimate(Method method, const BakeOptions& options, int64_t wi
 // bakeMemoryEstimate against maxMemoryBytes; the error names `name` and both numbers.
 Status checkBakeMemory(const std::string& name, Method method, const BakeOptions& options,
                        int64_t width, int64_t height);
+
+// "a toksvig bake", "a sh bake of order 8": what a bake is, for messages.
+std::string bakeDescription(Method method, const BakeOptions& options);
+
+// Bytes a bake of `method` holds per texel of its map (bakeMemoryEstimate's factor).
+double bakeBytesPerTexel(Method method, const BakeOptions& options);
+
+// The peak memory a pipeline will hold, known from its options before it decodes its image:
+// `bytesPerTexel` per texel of that image plus `fixedBytes`. While one is alive on a thread,
+// checkDecodedSize (which every decoder calls with its header's size before allocating) checks
+// that peak against maxMemoryBytes, so a small file that decodes to a huge map is refused from
+// its header: "NAME: <what> of a WxH map needs about N, above the limit of L". Without one, a
+// decoder's own output (16 bytes per texel at most) is held to maxMemoryBytes.
+class PlannedPeak {
+public:
+    PlannedPeak(std::string what, double bytesPerTexel, int64_t fixedBytes = 0);
+    ~PlannedPeak();
+    PlannedPeak(const PlannedPeak&) = delete;
+    PlannedPeak& operator=(const PlannedPeak&) = delete;
+
+    std::string what;
+    double bytesPerTexel;
+    int64_t fixedBytes;
+
+private:
+    const PlannedPeak* outer_;
+};
+
+// The line for an allocation that failed (std::bad_alloc) while `name` was processed on this
+// thread: "NAME: out of memory (needs about 6.3 GiB)", the figure being the last estimate
+// checked on this thread for `name` (left out when there is none). Without a name: the file
+// of the last size checked on this thread, the one being processed when memory ran out.
+std::string outOfMemoryMessage(const std::string& name);
+std::string outOfMemoryMessage();
 
 // Bytes as a short human-readable figure ("86.0 GiB").
 std::string byteSize(int64_t bytes);

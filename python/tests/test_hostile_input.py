@@ -84,3 +84,43 @@ def test_float32_with_metadata_is_float32():
     message = raises("expected dtype float32 in native byte order, not >f4", ndfmip.bake,
                      flat(4, 4).astype(">f4"))
     assert "not float32" not in message
+
+
+def test_threads_baking_into_one_folder_all_succeed(tmp_path):
+    # Each writer stages under a name of its own (process, thread, count): threads baking beside
+    # one another, some to the same output, never remove each other's staging.
+    import threading
+    png = tmp_path / "a.png"
+    png.write_bytes(BUNDLED_MAP.read_bytes())
+    outputs = [tmp_path / f"map{i}.bake" for i in range(12)] + [tmp_path / "same.bake"] * 8
+    errors = []
+
+    def bake(output):
+        try:
+            ndfmip.bake_to(png, output, "naive", force=True)
+        except ndfmip.Error as e:
+            errors.append(str(e))
+
+    threads = [threading.Thread(target=bake, args=(o,)) for o in outputs]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert errors == []
+    for output in set(outputs):
+        assert ndfmip.read_bake(output).method == "naive"
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["a.png"] + [o.name for o in set(outputs)])
+
+
+def test_a_map_too_large_for_max_memory_is_refused_from_its_header(tmp_path, limits):
+    # 2048 x 2048 RGB declared, data that inflates to nothing: the refusal can only come from
+    # the header, before decoding, with the estimate in the message.
+    import struct
+    header = struct.pack(">I4sIIBBBBB", 13, b"IHDR", 2048, 2048, 8, 2, 0, 0, 0) + b"\0" * 4
+    png = tmp_path / "big.png"
+    png.write_bytes(b"\x89PNG\r\n\x1a\n" + header + struct.pack(">I4s", 16384, b"IDAT") + b"\x55" * 16384)
+    limits(max_memory_gib=0.01)
+    message = raises("needs about", ndfmip.bake_to, png, tmp_path / "big.bake")
+    assert message.startswith(str(png) + ": a toksvig bake of a 2048x2048 map needs about")
+    raises("needs about", ndfmip.decode, png)
+    assert not (tmp_path / "big.bake").exists()

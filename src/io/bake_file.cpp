@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
+#include <new>
 #include <optional>
 #include <set>
 #include <tuple>
@@ -225,6 +227,26 @@ SharedImage roughnessAlpha(const BakeFileOptions& a, const Image& map) {
     return alpha;
 }
 
+// The options of the bake as far as they are known before any image is read: stand-ins for the
+// albedo and roughness maps, which the methods' memory estimates count.
+BakeOptions plannedOptions(const BakeFileOptions& a) {
+    BakeOptions options;
+    options.parameters = a.parameters;
+    if (!a.albedo.empty()) options.albedo = std::make_shared<Image>();
+    if (!a.roughnessMap.empty()) options.roughnessMap = std::make_shared<Image>();
+    return options;
+}
+
+// The peak per texel of the map: the bake, the decoded file beside the normals (four floats at
+// most), and the gloss, albedo and material maps with their mip chains.
+double plannedBytesPerTexel(Method method, const BakeFileOptions& a) {
+    double bytes = bakeBytesPerTexel(method, plannedOptions(a)) + 16.0;
+    if (!a.gloss.empty()) bytes += 16.0;
+    if (!a.albedo.empty()) bytes += 12.0 + 12.0 * 4.0 / 3.0;
+    if (!a.roughnessMap.empty()) bytes += 16.0 + 4.0 * 3 * 4.0 / 3.0;
+    return bytes;
+}
+
 BakeFileReport bakeOrThrow(const std::string& input, const std::string& output, const BakeFileOptions& a) {
     checkFileOptions(a);
     // Before anything is cleaned up or created under a path that a NUL would cut short.
@@ -252,6 +274,9 @@ BakeFileReport bakeOrThrow(const std::string& input, const std::string& output, 
             fail(output + ": cannot create the folder " + parent.string() + " (" + ec.message() + ")");
     }
 
+    // The bake's peak from the options alone, checked against --max-memory by the decoder once
+    // it has read the map's header, before it allocates.
+    const PlannedPeak planned(bakeDescription(method, plannedOptions(a)), plannedBytesPerTexel(method, a));
     long long start = nowNanoseconds();
     Result<Image> decoded = loadNormalMap(input, a.decode, &report.decode);
     if (!decoded) fail(decoded.error().message);
@@ -363,6 +388,8 @@ Result<BakeFileReport> bakeFile(const std::string& input, const std::string& out
         return bakeOrThrow(input, output, options);
     } catch (const BakeProblem& p) {
         return Error{p.message};
+    } catch (const std::bad_alloc&) {
+        return Error{outOfMemoryMessage(input)};
     }
 }
 

@@ -3,6 +3,7 @@
 #include "io/crash_recovery.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -58,14 +59,16 @@ int64_t modifiedSeconds(const fs::path& path) {
     return ::lstat(path.c_str(), &info) == 0 ? int64_t(info.st_mtime) : 0;
 }
 
-// The PID in NAME = PREFIX + digits (+ "-" + anything when `suffix`), or -1.
+// The PID in NAME = PREFIX + digits + "-" + anything (a writer's tag), or, unless `suffix`,
+// PREFIX + digits alone (as earlier versions named their folders); else -1.
 long pidAfter(const std::string& name, const std::string& prefix, bool suffix) {
     if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) return -1;
     size_t end = prefix.size();
     while (end < name.size() && end - prefix.size() < 10 && name[end] >= '0' && name[end] <= '9')
         ++end;
     if (end == prefix.size()) return -1;
-    if (suffix ? (end >= name.size() || name[end] != '-') : end != name.size()) return -1;
+    const bool tagged = end < name.size() && name[end] == '-';
+    if (!tagged && (suffix || end != name.size())) return -1;
     return std::stol(name.substr(prefix.size(), end - prefix.size()));
 }
 
@@ -86,8 +89,13 @@ Status cannotReplace(const fs::path& dir, int err) {
 
 } // namespace
 
+std::string writerTag() {
+    static std::atomic<unsigned long long> made{0};
+    return std::to_string(::getpid()) + "-" + std::to_string(long(::gettid())) + "-" + std::to_string(++made);
+}
+
 bool writerMayBeAlive(long pid, int64_t modified) {
-    if (pid <= 0 || pid == long(::getpid())) return false;
+    if (pid <= 0) return false;
     if (::kill(pid_t(pid), 0) != 0 && errno == ESRCH) return false;
     // The number is taken; by the same process only if that one started before the leftover
     // was last written (a second of slack for the clocks' rounding).
@@ -138,10 +146,14 @@ Status replaceFolder(const fs::path& staging, const fs::path& dir, bool exchange
     struct stat info {};
     if (::lstat(dir.c_str(), &info) != 0) {
         if (errno != ENOENT) return cannotReplace(dir, errno);
-        if (::rename(staging.c_str(), dir.c_str()) != 0)
+        if (::rename(staging.c_str(), dir.c_str()) == 0) {
+            syncFolder(parent);
+            return Status::success();
+        }
+        // Another writer of dir (a thread of this process, say) put its folder there first:
+        // replace that one as any earlier folder.
+        if (errno != EEXIST && errno != ENOTEMPTY)
             return Status::failure(dir.string() + ": cannot create (" + std::strerror(errno) + ")");
-        syncFolder(parent);
-        return Status::success();
     }
     if (exchange) {
         if (::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, dir.c_str(), RENAME_EXCHANGE) == 0) {
@@ -154,7 +166,7 @@ Status replaceFolder(const fs::path& staging, const fs::path& dir, bool exchange
             return cannotReplace(dir, errno);
     }
     // No atomic exchange here: set the earlier folder aside, then move the new one in.
-    const fs::path old = dir.string() + ".old-" + std::to_string(::getpid());
+    const fs::path old = dir.string() + ".old-" + writerTag();
     if (::rename(dir.c_str(), old.c_str()) != 0) return cannotReplace(dir, errno);
     if (::rename(staging.c_str(), dir.c_str()) != 0) {
         const int err = errno;
@@ -190,9 +202,11 @@ Status writeFolderWhole(const std::string& name, const std::function<Status(cons
     recoverFolderLeftovers(dir);
     if (fs::exists(dir, ec))
         if (Status s = replaceable(dir); !s) return s;
-    const fs::path staging = dir.string() + ".partial-" + std::to_string(getpid());
-    fs::remove_all(staging, ec);
-    if (!fs::create_directory(staging, ec)) return Status::failure(name + ": cannot write (" + ec.message() + ")");
+    // A name of this writer's own: threads writing beside one another never share one.
+    const fs::path staging = dir.string() + ".partial-" + writerTag();
+    if (!fs::create_directory(staging, ec))
+        return Status::failure(name + ": cannot write (" + (ec ? ec.message() : std::string("staging folder exists")) +
+                               ")");
     Status s = fill(staging);
     if (s && fs::exists(dir, ec)) s = replaceable(dir);
     if (s) s = replaceFolder(staging, dir);

@@ -799,7 +799,7 @@ Result<GltfFiltered> filterGltf(const std::string& path, const GltfOptions& opti
     } catch (const nlohmann::json::exception& e) { // not expected: every access above is checked
         return Error{path + ": " + shortened(e.what(), 200)};
     } catch (const std::bad_alloc&) {
-        return Error{path + ": out of memory"};
+        return Error{outOfMemoryMessage(path)};
     }
 }
 

@@ -15,6 +15,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <random>
 #include <string_view>
 
@@ -145,7 +146,7 @@ uint32_t be32(std::string_view b, size_t at) {
 Status checkPngHeader(const std::string& path, std::string_view b) {
     if (b.size() < 33 || b.substr(12, 4) != "IHDR") return Status::success(); // libpng reports it
     const uint64_t width = be32(b, 16), height = be32(b, 20);
-    if (Status size = checkImageSize(path, int64_t(width), int64_t(height)); !size) return size;
+    if (Status size = checkDecodedSize(path, int64_t(width), int64_t(height)); !size) return size;
     const int bits = uint8_t(b[24]), colourType = uint8_t(b[25]);
     const int channels = colourType == 2 ? 3 : colourType == 4 ? 2 : colourType == 6 ? 4 : 1;
     const uint64_t raw = height * (1 + (width * uint64_t(channels * bits) + 7) / 8);
@@ -239,7 +240,7 @@ Result<SourceImage> loadExrUnchecked(const std::string& path, std::string_view b
     int64_t width = int64_t(window.max.x) - window.min.x + 1;
     int64_t height = int64_t(window.max.y) - window.min.y + 1;
     if (width <= 0 || height <= 0) return fail(path, "image is empty (0x0)");
-    if (Status size = checkImageSize(path, width, height); !size) return Error{size.error};
+    if (Status size = checkDecodedSize(path, width, height); !size) return Error{size.error};
     stream.seekg(0);
     Imf::InputFile file(stream, 1);
     if (file.header().dataWindow() != window) return fail(path, "inconsistent OpenEXR headers");
@@ -322,7 +323,7 @@ Result<SourceImage> loadWithStb(const std::string& path, std::string_view bytes)
         if (out.format == "tga") return fail(path, "unsupported or unrecognised image format");
         return fail(path, "corrupt " + out.format + " file (" + stbReason() + ")");
     }
-    if (Status s = checkImageSize(path, w, h); !s) return Error{s.error};
+    if (Status s = checkDecodedSize(path, w, h); !s) return Error{s.error};
     if (out.format == "tga" && !tgaProblem(bytes).empty()) return fail(path, tgaProblem(bytes));
     if (stbi_is_16_bit_from_memory(data, size)) {
         stbi_us* s = stbi_load_16_from_memory(data, size, &w, &h, &c, 0);
@@ -364,9 +365,8 @@ Result<SourceImage> decodeDetected(std::string_view bytes, const std::string& na
 std::string tempPathFor(const std::string& path) {
     std::random_device random;
     char suffix[64];
-    std::snprintf(suffix, sizeof suffix, ".tmp-%ld-%08x%08x", long(::getpid()), random(),
-                  random());
-    return path + suffix;
+    std::snprintf(suffix, sizeof suffix, "-%08x%08x", random(), random());
+    return path + ".tmp-" + writerTag() + suffix;
 }
 
 // Writes all of `bytes` to a new file and syncs it; returns 0 or an errno value.
@@ -551,7 +551,9 @@ Result<SourceImage> decodeImage(std::string_view bytes, const std::string& name)
         auto loaded = decodeDetected(bytes, name);
         if (loaded && loaded->image.empty()) return fail(name, "image is empty (0x0)");
         return loaded;
-    } catch (const std::exception& e) { // e.g. bad_alloc when memory runs out
+    } catch (const std::bad_alloc&) {
+        return Error{outOfMemoryMessage(name)};
+    } catch (const std::exception& e) {
         return fail(name, std::string("cannot read (") + shortened(e.what(), 200) + ")");
     }
 }

@@ -14,6 +14,15 @@ namespace {
 
 InputLimits gLimits;
 
+// The innermost PlannedPeak alive on this thread, and the last peak estimated on it (for
+// outOfMemoryMessage once the allocation it was about has failed).
+thread_local const PlannedPeak* tPlanned = nullptr;
+thread_local int64_t tLastEstimate = 0;
+thread_local std::string tLastName; // the file that estimate was for
+
+// A decoded image's own bytes per texel at most (four float channels).
+constexpr double kDecodedBytesPerTexel = 16.0;
+
 std::string count(int64_t n) {
     return std::to_string(n);
 }
@@ -60,6 +69,46 @@ Status checkImageSize(const std::string& name, int64_t width, int64_t height) {
     return Status::success();
 }
 
+Status checkDecodedSize(const std::string& name, int64_t width, int64_t height) {
+    if (Status s = checkImageSize(name, width, height); !s) return s;
+    const InputLimits& l = gLimits;
+    const std::string size = count(width) + "x" + count(height);
+    const double texels = double(width) * double(height);
+    const std::string what = tPlanned ? tPlanned->what : "the decoded image";
+    const double need = tPlanned ? tPlanned->bytesPerTexel * texels + double(tPlanned->fixedBytes)
+                                 : kDecodedBytesPerTexel * texels;
+    tLastEstimate = int64_t(std::min(need, 9e18));
+    tLastName = name;
+    if (need > double(l.maxMemoryBytes))
+        return Status::failure(name + ": " + what + " of a " + size + " map needs about " +
+                               byteSize(tLastEstimate) + ", above the limit of " +
+                               byteSize(l.maxMemoryBytes) + "; --max-memory raises it");
+    return Status::success();
+}
+
+PlannedPeak::PlannedPeak(std::string what_, double bytesPerTexel_, int64_t fixedBytes_)
+    : what(std::move(what_)), bytesPerTexel(bytesPerTexel_), fixedBytes(fixedBytes_),
+      outer_(tPlanned) {
+    tPlanned = this;
+    tLastEstimate = 0; // an earlier file's figure is not this one's
+    tLastName.clear();
+}
+
+PlannedPeak::~PlannedPeak() {
+    tPlanned = outer_;
+}
+
+std::string outOfMemoryMessage(const std::string& name) {
+    // The figure is this file's only where the last estimate was made for it.
+    if (tLastEstimate <= 0 || (!tLastName.empty() && tLastName != name)) return name + ": out of memory";
+    return name + ": out of memory (needs about " + byteSize(tLastEstimate) + ")";
+}
+
+std::string outOfMemoryMessage() {
+    if (tLastName.empty()) return "out of memory";
+    return outOfMemoryMessage(tLastName);
+}
+
 Status checkCameraSize(const std::string& name, int64_t width, int64_t height) {
     const int64_t limit = gLimits.maxCameraPixels;
     if (width > 0 && height > 0 && width <= limit / height) return Status::success();
@@ -70,22 +119,30 @@ Status checkCameraSize(const std::string& name, int64_t width, int64_t height) {
 
 int64_t bakeMemoryEstimate(Method method, const BakeOptions& options, int64_t width,
                            int64_t height) {
+    return int64_t(bakeBytesPerTexel(method, options) * double(width) * double(height));
+}
+
+std::string bakeDescription(Method method, const BakeOptions& options) {
+    BakeParameters parameters; // those a bake records name it
+    for (const MethodParameter& p : methodParameters(method))
+        if (p.recorded) parameters[p.key] = parameterValue(method, options.parameters, p.key);
+    return "a " + methodUnit(method).describe(parameters);
+}
+
+double bakeBytesPerTexel(Method method, const BakeOptions& options) {
     // Per level-0 texel; a full pyramid holds 4/3 of its level 0. Every bake holds the decoded
     // normals (12 bytes) and the pyramid's means (12 bytes per texel per level).
-    double perTexel = 12.0 + 12.0 * 4.0 / 3.0;
-    perTexel += methodUnit(method).bakeBytesPerTexel(options);
-    return int64_t(perTexel * double(width) * double(height));
+    return 12.0 + 12.0 * 4.0 / 3.0 + methodUnit(method).bakeBytesPerTexel(options);
 }
 
 Status checkBakeMemory(const std::string& name, Method method, const BakeOptions& options,
                        int64_t width, int64_t height) {
     const int64_t need = bakeMemoryEstimate(method, options, width, height);
+    tLastEstimate = need;
+    tLastName = name;
     if (need <= gLimits.maxMemoryBytes) return Status::success();
-    BakeParameters parameters; // those a bake records name it
-    for (const MethodParameter& p : methodParameters(method))
-        if (p.recorded) parameters[p.key] = parameterValue(method, options.parameters, p.key);
-    const std::string what = methodUnit(method).describe(parameters);
-    return Status::failure(name + ": a " + what + " of a " + count(width) + "x" +
+    const std::string what = bakeDescription(method, options);
+    return Status::failure(name + ": " + what + " of a " + count(width) + "x" +
                            count(height) + " map needs about " + byteSize(need) +
                            ", above the limit of " + byteSize(gLimits.maxMemoryBytes) +
                            "; --max-memory raises it");

@@ -111,7 +111,7 @@ Result<Image> decodeRadiance(std::string_view bytes, const std::string& name) {
     if (!parseResolution(line, width, height))
         return fail("unsupported Radiance resolution line " + quote(line) +
                     " (expected '-Y height +X width')");
-    if (Status size = checkImageSize(name, width, height); !size) return Error{size.error};
+    if (Status size = checkDecodedSize(name, width, height); !size) return Error{size.error};
 
     // The least a scanline can take (flat: 4 bytes a pixel; run-length: a 4-byte marker and a
     // 2-byte run per 127 pixels of each component), so a short file fails before allocating.

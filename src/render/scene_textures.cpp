@@ -62,7 +62,16 @@ Result<RenderTextures> loadSceneTextures(const Scene& scene, const std::string& 
     if (!bakeless && !shader) return Error{"unknown method " + quote(method) + " (expected " + renderMethodNames() + ")"};
     RenderTextures textures;
     DecodeReport report;
-    Result<Image> normals = loadNormalMap(scene.normalMap.path, scene.normalMap.decode, &report);
+    // The peak from the options, checked by the decoder from the map's header before it
+    // allocates: the decoded file, the normals and their pyramid, and a bake made here.
+    const bool bakesHere = !bakeless && options.bakeDir.empty() && scene.bakeDir.empty();
+    BakeOptions planned;
+    if (bakesHere) planned.parameters = parametersOf(shader->bake, options.bakeParameters);
+    Result<Image> normals = [&] {
+        const PlannedPeak peak(bakesHere ? bakeDescription(shader->bake, planned) : std::string("the normal map"),
+                               16.0 + (bakesHere ? bakeBytesPerTexel(shader->bake, planned) : 12.0 + 16.0));
+        return loadNormalMap(scene.normalMap.path, scene.normalMap.decode, &report);
+    }();
     if (!normals) return normals.error();
     if (options.decoded) options.decoded(report);
     textures.normals = std::make_shared<const Image>(std::move(normals.value()));

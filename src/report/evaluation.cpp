@@ -469,7 +469,15 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
         MapData map;
         map.name = std::filesystem::path(a.maps[mapIndex]).filename().string();
         DecodeReport decodeReport;
-        Result<Image> normals = loadNormalMap(a.maps[mapIndex], decode, &decodeReport);
+        // Every bake this map gets, held at once, checked by the decoder from the map's header
+        // before it allocates.
+        double perTexel = 16.0 + 12.0 + 16.0;
+        for (const MethodSpec& spec : specs)
+            if (spec.baked) perTexel += bakeBytesPerTexel(spec.method, spec.options);
+        Result<Image> normals = [&] {
+            const PlannedPeak peak("the evaluation", perTexel);
+            return loadNormalMap(a.maps[mapIndex], decode, &decodeReport);
+        }();
         if (!normals) fail(normals.error().message);
         if (a.decoded) a.decoded(a.maps[mapIndex], decodeReport);
         map.normals = std::make_shared<const Image>(std::move(normals.value()));

@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 
 #include <stdlib.h>
+#include <sys/wait.h>
 #include <sys/stat.h>
 
 #include <nlohmann/json.hpp>
@@ -39,6 +41,25 @@ Image uniformSky(float radiance) {
     Image sky(64, 32, 3);
     for (float& v : sky.pixels) v = radiance;
     return sky;
+}
+
+// A PNG whose IHDR declares width x height 8-bit RGB pixels, followed by `dataBytes` bytes that
+// no decoder inflates: any error about its size comes from its header alone.
+std::string headerOnlyPng(uint32_t width, uint32_t height, size_t dataBytes) {
+    std::string png("\x89PNG\r\n\x1a\n", 8);
+    auto be32 = [&](uint32_t v) {
+        for (int shift = 24; shift >= 0; shift -= 8) png += char((v >> shift) & 0xFF);
+    };
+    be32(13);
+    png += "IHDR";
+    be32(width);
+    be32(height);
+    png += std::string("\x08\x02\x00\x00\x00", 5); // 8 bits, RGB
+    be32(0);                                        // CRC (never reached)
+    be32(uint32_t(dataBytes));
+    png += "IDAT";
+    png += std::string(dataBytes, '\x55');
+    return png;
 }
 
 class HostileSurfaces : public ::testing::Test {
@@ -277,6 +298,78 @@ TEST_F(HostileSurfaces, AnImageAGltfNamesSaysWhyItCannotBeRead) {
     const std::string glb = tmp.file("out.glb");
     expectCliRefuses("gltf " + shellArg(gltf) + " -q -o " + shellArg(glb), {"empty.png", "file is empty"});
     EXPECT_FALSE(fs::exists(glb));
+}
+
+} // namespace
+} // namespace ndfmip::test
+
+namespace ndfmip::test {
+namespace {
+
+// Each command that decodes a map knows its peak from its options and refuses, from the PNG's
+// header alone, a map whose pipeline --max-memory cannot hold: the data is never inflated (it
+// could not be), and the message gives the estimate.
+TEST_F(HostileSurfaces, EveryCommandRefusesFromTheHeaderWhatMaxMemoryCannotHold) {
+    const std::string big = tmp.file("big.png");
+    writeBytes(big, headerOnlyPng(2048, 1024, 16384)); // 6.3 MB of rows: deflate holds it in 6 KB
+    const std::string limit = "--max-memory 0.01 ";
+    expectCliRefuses(limit + bakeArgs(big), {big, "a toksvig bake of a 2048x1024 map needs about", "--max-memory"});
+    expectCliRefuses(limit + envmapArgs(big, ""), {big, "prefiltering of a 2048x1024 map needs about", "--max-memory"});
+    expectCliRefuses(limit + "eval " + shellArg(big) + " -q -o " + shellArg(tmp.file("report")),
+                     {big, "the evaluation of a 2048x1024 map needs about", "--max-memory"});
+    const json scene = {{"camera",
+                         {{"type", "orthographic"}, {"eye", {0, 0, 1}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}},
+                          {"ortho_height", 2}, {"width", 4}, {"height", 4}}},
+                        {"object", {{"type", "plane"}}},
+                        {"lights", {{{"type", "directional"}, {"direction", {0, 0, 1}}}}},
+                        {"normal_map", "big.png"}};
+    writeBytes(tmp.path / "scene.json", scene.dump());
+    expectCliRefuses(limit + "render " + shellArg(tmp.file("scene.json")) + " -o " + shellArg(tmp.file("o.exr")),
+                     {"big.png", "needs about", "--max-memory"});
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_FALSE(fs::exists(tmp.file("o.exr")));
+    EXPECT_TRUE(leftovers(tmp.path).empty());
+}
+
+// An allocation that fails although the estimate was within --max-memory (here: an address
+// space too small for what the estimate allowed) ends in one line naming the file, in a bake
+// and in a --json batch line.
+TEST_F(HostileSurfaces, RunningOutOfMemoryIsALineNamingTheFile) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit allows";
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+    GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit allows";
+#endif
+#endif
+    // A 2048 x 2048 map of flat normals: 48 MiB decoded, an sh bake of order 8 about 1.8 GiB.
+    const std::string big = tmp.file("big.png");
+    ASSERT_TRUE(savePng(big, flatMap(2048, 2048), 8));
+    // The CLI under 1 GiB of address space, which its own mappings fit in (--version runs), with
+    // few threads and malloc arenas (each reserves address space, more with more cores).
+    auto limited = [](const std::string& args, std::string* output) {
+        const std::string command = std::string("ulimit -v 1048576; OMP_NUM_THREADS=2 MALLOC_ARENA_MAX=2 exec \"") +
+                                    NDFMIP_CLI_PATH + "\" " + args + " 2>&1";
+        FILE* pipe = popen(command.c_str(), "r");
+        if (!pipe) return -1;
+        output->clear();
+        char buffer[4096];
+        for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) output->append(buffer, n);
+        const int status = pclose(pipe);
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    };
+    std::string output;
+    ASSERT_EQ(limited("--version", &output), 0) << output;
+    const std::string sh = " -q --method sh --order 8 ";
+    expectOneLineError(limited("--max-memory 1000 bake " + shellArg(big) + sh + "-o " + shellArg(out.string()), &output),
+                       output, {big, "out of memory"});
+    EXPECT_FALSE(fs::exists(out));
+    // In a batch, the map's --json line says the same, and the batch fails.
+    const int batch = limited("--max-memory 1000 bake " + shellArg(big) + " " + shellArg(map) + sh + "--json -o " +
+                                  shellArg((tmp.path / "batch" / "{stem}").string()),
+                              &output);
+    EXPECT_NE(batch, 0) << output;
+    EXPECT_NE(output.find("\"error\":\"" + big + ": out of memory"), std::string::npos) << output;
 }
 
 } // namespace

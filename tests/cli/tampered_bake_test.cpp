@@ -241,8 +241,10 @@ TEST_F(TamperedBake, HostileManifestTextStaysShort) {
 }
 
 TEST_F(TamperedBake, RenderRefusesAPlanesMemoryAboveTheLimit) {
-    makeBake("--method sh --order 1");
-    expectCliRefuses("--max-memory 0.000001 " + renderArgs(),
+    // 10.7 KiB: the 8x8 map's decoded file, normals and pyramid fit (2.8 KiB, checked before
+    // it is decoded); the order-8 planes (21 RGBA planes a level, 28 KiB) do not.
+    makeBake("--method sh --order 8");
+    expectCliRefuses("--max-memory 0.00001 " + renderArgs(),
                      {"planes need", "above the limit of", "--max-memory"});
 }
 

@@ -5,11 +5,15 @@
 #include <filesystem>
 #include <set>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "io/crash_recovery.h"
+#include "ndfmip/bake_file.h"
+#include "ndfmip/io.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -26,6 +30,13 @@ long deadPid() {
     return long(pid);
 }
 
+// PREFIX followed by n, appended (GCC 12 warns wrongly of "prefix" + std::to_string(n)).
+std::string numbered(const char* prefix, int n) {
+    std::string text = prefix;
+    text += std::to_string(n);
+    return text;
+}
+
 std::set<std::string> names(const fs::path& dir) {
     std::set<std::string> out;
     for (const auto& entry : fs::directory_iterator(dir)) out.insert(entry.path().filename());
@@ -40,8 +51,9 @@ void makeFolder(const fs::path& dir, const std::string& content) {
 TEST(CrashRecovery, WritersAreAliveOnlyWhileTheirProcessIs) {
     const long dead = deadPid();
     EXPECT_FALSE(writerMayBeAlive(dead, 2000000000));
-    EXPECT_FALSE(writerMayBeAlive(long(::getpid()), 2000000000))
-        << "this process has no leftovers yet";
+    // This process too: another of its threads may be writing.
+    EXPECT_TRUE(writerMayBeAlive(long(::getpid()), 2000000000));
+    EXPECT_FALSE(writerMayBeAlive(long(::getpid()), 1000)) << "an earlier process with this number";
     EXPECT_TRUE(writerMayBeAlive(long(::getppid()), 2000000000));
     // A running process that started after the leftover was written merely reuses the number.
     EXPECT_FALSE(writerMayBeAlive(long(::getppid()), 1000));
@@ -104,6 +116,93 @@ TEST(CrashRecovery, ReplaceFolderWithAndWithoutExchange) {
     ASSERT_TRUE(replaceFolder(staging, dir).ok());
     EXPECT_EQ(fileBytes(dir / "manifest.json"), "first");
     EXPECT_EQ(names(tmp.path), (std::set<std::string>{"bake"}));
+}
+
+TEST(CrashRecovery, WriterTagsAreUniqueAndNameThisProcess) {
+    std::vector<std::string> tags(16 * 8);
+    std::vector<std::thread> threads;
+    for (size_t t = 0; t < 16; ++t)
+        threads.emplace_back([&tags, t] {
+            for (size_t k = 0; k < 8; ++k) tags[t * 8 + k] = writerTag();
+        });
+    for (std::thread& thread : threads) thread.join();
+    const std::set<std::string> distinct(tags.begin(), tags.end());
+    EXPECT_EQ(distinct.size(), tags.size());
+    for (const std::string& tag : tags) EXPECT_EQ(tag.rfind(std::to_string(::getpid()) + "-", 0), 0u) << tag;
+}
+
+TEST(CrashRecovery, LeftoversOfThisProcessAreKeptAndNewNamesRecognised) {
+    TempDir tmp("recover-tagged");
+    const fs::path dir = tmp.path / "bake";
+    const std::string dead = std::to_string(deadPid());
+    makeFolder(dir, "current");
+    // Another thread of this process is writing; a dead process's tagged staging is stale.
+    makeFolder(tmp.path / ("bake.partial-" + writerTag()), "writing");
+    makeFolder(tmp.path / ("bake.partial-" + dead + "-7-1"), "killed");
+    recoverFolderLeftovers(dir);
+    const std::set<std::string> left = names(tmp.path);
+    EXPECT_EQ(left.size(), 2u);
+    EXPECT_TRUE(left.count("bake"));
+    EXPECT_FALSE(left.count("bake.partial-" + dead + "-7-1"));
+}
+
+// Threads of one process writing folders beside one another, some of them the same folder:
+// every write succeeds, each folder ends complete (one writer's), no staging is left.
+TEST(CrashRecovery, ThreadsWritingFoldersBesideEachOtherAllSucceed) {
+    TempDir tmp("recover-threads");
+    constexpr int kThreads = 16;
+    std::vector<std::string> errors(kThreads);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < kThreads; ++t)
+        threads.emplace_back([&, t] {
+            // Even threads: a folder of their own; odd ones: all the same folder.
+            const std::string name = (tmp.path / (t % 2 == 0 ? numbered("own", t) : std::string("shared"))).string();
+            for (int round = 0; round < 4; ++round) {
+                Status s = writeFolderWhole(
+                    name, [](const fs::path&) { return Status::success(); },
+                    [t](const fs::path& staging) {
+                        for (int f = 0; f < 8; ++f) writeBytes(staging / numbered("f", f), std::to_string(t));
+                        return Status::success();
+                    });
+                if (!s) errors[size_t(t)] = s.error;
+            }
+        });
+    for (std::thread& thread : threads) thread.join();
+    for (int t = 0; t < kThreads; ++t) EXPECT_EQ(errors[size_t(t)], "") << "thread " << t;
+    std::set<std::string> expected{"shared"};
+    for (int t = 0; t < kThreads; t += 2) expected.insert(numbered("own", t));
+    EXPECT_EQ(names(tmp.path), expected);
+    // The shared folder is one writer's whole: all 8 files from the same thread.
+    const std::string writer = fileBytes(tmp.path / "shared" / "f0");
+    for (int f = 0; f < 8; ++f) EXPECT_EQ(fileBytes(tmp.path / "shared" / numbered("f", f)), writer);
+    EXPECT_EQ(names(tmp.path / "shared").size(), 8u);
+}
+
+// What the Python module's threads do: bakes into one parent folder, through the library, 16
+// at once, some of them to the same output. Every bake succeeds and leaves a readable bake.
+TEST(CrashRecovery, ThreadsBakingIntoOneFolderAllSucceed) {
+    TempDir tmp("recover-bakes");
+    const std::string input = tmp.file("map.png");
+    Image map = randomNormals(16, 16, 0.5f, 7);
+    for (float& v : map.pixels) v = 0.5f * (v + 1.f); // stored as (n + 1) / 2
+    ASSERT_TRUE(savePng(input, map, 16));
+    constexpr int kThreads = 16;
+    std::vector<std::string> errors(kThreads);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < kThreads; ++t)
+        threads.emplace_back([&, t] {
+            BakeFileOptions options;
+            options.method = t % 3 == 0 ? "naive" : "toksvig";
+            options.force = true;
+            const std::string output = tmp.file(t < 12 ? numbered("map", t) + ".bake" : std::string("same.bake"));
+            Result<BakeFileReport> baked = bakeFile(input, output, options);
+            if (!baked) errors[size_t(t)] = baked.error().message;
+        });
+    for (std::thread& thread : threads) thread.join();
+    for (int t = 0; t < kThreads; ++t) EXPECT_EQ(errors[size_t(t)], "") << "thread " << t;
+    for (int t = 0; t < 12; ++t) EXPECT_TRUE(loadBake(tmp.file(numbered("map", t) + ".bake"))) << t;
+    EXPECT_TRUE(loadBake(tmp.file("same.bake")));
+    EXPECT_TRUE(leftovers(tmp.path).empty());
 }
 
 } // namespace

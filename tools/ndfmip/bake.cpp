@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <new>
 #include <optional>
 #include <thread>
 
@@ -24,6 +25,7 @@
 #include "ndfmip/bake_file.h"
 #include "ndfmip/engine_presets.h"
 #include "ndfmip/spherical_harmonics.h"
+#include "ndfmip/limits.h"
 
 namespace ndfmip::cli {
 namespace {
@@ -297,6 +299,9 @@ void runBake(const BakeArgs& args) {
             const long long t0 = nowNanoseconds();
             try {
                 r.status = bakeOne(one) == MapStatus::Skipped ? "skipped" : "baked";
+            } catch (const std::bad_alloc&) {
+                r.status = "failed";
+                r.error = outOfMemoryMessage(r.input);
             } catch (const std::exception& e) { // one map's failure never stops the others
                 r.status = "failed";
                 r.error = e.what();

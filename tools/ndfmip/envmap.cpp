@@ -7,6 +7,7 @@
 #include "cli.h"
 #include "ndfmip/environment.h"
 #include "ndfmip/io.h"
+#include "ndfmip/limits.h"
 #include "ndfmip/spherical_harmonics.h"
 
 namespace ndfmip::cli {
@@ -43,7 +44,16 @@ void runEnvmap(const EnvmapArgs& a) {
 
     long long start = nowNanoseconds();
     EnvironmentReport report;
-    Result<Environment> loaded = loadEnvironment(a.input, a.environment, &report);
+    Result<Environment> loaded = [&] {
+        // The peak from the options, checked against --max-memory by the decoder from the map's
+        // header before it allocates: per texel of the map its decoded file (four floats at
+        // most), the radiance and its pyramid; beside them the GGX levels, at most 1024 wide by
+        // default, as equirect levels, cube faces and textures.
+        const int64_t width = a.size != 0 ? a.size : 1024;
+        const auto levelBytes = int64_t(double(width) * double(width / 2) * 12.0 * 4.0 / 3.0);
+        const PlannedPeak peak("prefiltering", 16.0 + 12.0 + 16.0, 3 * levelBytes);
+        return loadEnvironment(a.input, a.environment, &report);
+    }();
     if (!loaded) throw Failure(loaded.error().message);
     const Environment& env = loaded.value();
     prefilter.size = a.size != 0 ? a.size : defaultPrefilterSize(env.radiance.width);

@@ -1,7 +1,9 @@
 // ndfmip: filters (mipmaps) normal maps so that shading stays right at every distance.
 #include <cstdio>
+#include <new>
 
 #include "cli.h"
+#include "ndfmip/limits.h"
 
 int main(int argc, char** argv) {
     CLI::App app{"ndfmip " NDFMIP_VERSION ": normal-map filtering (Toksvig; Han et al. 2007)"};
@@ -32,6 +34,9 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const ndfmip::cli::Failure& e) {
         std::fprintf(stderr, "ndfmip: error: %s\n", ndfmip::shortened(e.what(), 1024).c_str());
+        return 1;
+    } catch (const std::bad_alloc&) { // one line naming the file, as a refused size would
+        std::fprintf(stderr, "ndfmip: error: %s\n", ndfmip::outOfMemoryMessage().c_str());
         return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "ndfmip: internal error: %s\n",

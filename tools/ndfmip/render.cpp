@@ -64,13 +64,13 @@ void warnAboutShTruncation(const Material& m, int order) {
 }
 
 // The EXR and its PNG preview (none when `png` is empty) as a pair: both are written to
-// temporaries beside their names (PATH.tmp-PID-render, which the next render removes after a
+// temporaries beside their names (PATH.tmp-TAG-render, which the next render removes after a
 // kill) and renamed only once both are written, so a failure leaves the earlier pair.
 void writePairOrFail(const std::string& exr, const Image& image, const std::string& png, const Image& preview) {
     // What a killed earlier run left beside either name (the temporaries below included).
     removeStaleTemporaries(exr);
     if (!png.empty()) removeStaleTemporaries(png);
-    const std::string suffix = ".tmp-" + std::to_string(::getpid()) + "-render";
+    const std::string suffix = ".tmp-" + writerTag() + "-render";
     const std::string exrTemp = exr + suffix, pngTemp = png.empty() ? "" : png + suffix;
     auto fail = [&](const std::string& message, const std::string& temp, const std::string& file) {
         ::unlink(exrTemp.c_str());
