@@ -106,7 +106,8 @@ std::vector<MethodShader> shShaders() {
                                    " (this one is " + std::to_string(setup.sh.order) + ")");
         addUniform(u, "ndfmipShOrder", setup.sh.order);
         for (int l = 0; l <= setup.sh.order; ++l) {
-            const std::string index = "[" + std::to_string(l) + "]";
+            // Appended, not "[" + ... + "]": GCC 12 -O3 warns a false -Wrestrict on the latter.
+            const std::string index = std::string(1, '[').append(std::to_string(l)).append(1, ']');
             addUniform(u, "ndfmipShDiffuse" + index, float(setup.sh.diffuse[size_t(l)]));
             addUniform(u, "ndfmipShSpecular" + index, float(setup.sh.specular[size_t(l)]));
         }
