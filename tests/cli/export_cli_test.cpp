@@ -199,7 +199,10 @@ TEST(ExportCli, DecodedBc4RoughnessMatchesTheFloatPlane) {
         const int w = m["levels"][k]["width"], h = m["levels"][k]["height"];
         const size_t bytes = size_t((w + 3) / 4) * size_t((h + 3) / 4) * 8;
         ASSERT_LE(at + bytes, dds.size());
-        EncodedTexture one{TextureFormat::Bc4Unorm, w, h, {dds.substr(at, bytes)}};
+        EncodedTexture one;
+        one.format = TextureFormat::Bc4Unorm;
+        one.width = w, one.height = h;
+        one.levels = {dds.substr(at, bytes)};
         at += bytes;
         const std::string level = dir.file("r" + std::to_string(k) + ".dds");
         std::ofstream(level, std::ios::binary) << ddsFileLegacy(one).value();
