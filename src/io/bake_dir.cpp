@@ -139,8 +139,8 @@ Ktx2KeyValues normalKeyValues(TextureFormat format, bool greenDown) {
                   {"green", greenDown ? "down" : "up"},
                   {"convention", greenDown ? "DirectX: -Y, +y towards the bottom row" : "OpenGL: +Y, +y towards the top row"}};
     if (xyz) about["channels"] = {{"r", "x"}, {"g", "y"}, {"b", "z"}, {"a", "1"}};
-    if (format == TextureFormat::Uastc) about["codec"] = "UASTC (Basis Universal), each level encoded alone";
     else about["channels"] = {{"r", "x"}, {"g", "y"}}, about["z"] = "sqrt(1 - x^2 - y^2) of x, y = 2c - 1";
+    if (format == TextureFormat::Uastc) about["codec"] = "UASTC (Basis Universal), each level encoded alone";
     return {{"KTXswizzle", xyz ? "rgb1" : "rg01"}, {"ndfmip", aboutText(about)}};
 }
 
