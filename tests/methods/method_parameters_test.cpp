@@ -2,7 +2,6 @@
 // eval's specs.
 #include <fstream>
 #include <iterator>
-#include <regex>
 #include <set>
 #include <tuple>
 
@@ -98,8 +97,11 @@ TEST(MethodParameters, EvalSpecsReadTheTablesPositions) {
 std::string projectVersion() {
     std::ifstream in(std::string(NDFMIP_SOURCE_DIR) + "/CMakeLists.txt");
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::smatch m;
-    return std::regex_search(text, m, std::regex(R"(project\(ndfmip\s+VERSION\s+([0-9.]+))")) ? m[1].str() : "";
+    const std::string key = "project(ndfmip VERSION ";
+    const size_t at = text.find(key);
+    if (at == std::string::npos) return "";
+    const size_t from = at + key.size();
+    return text.substr(from, text.find_first_not_of("0123456789.", from) - from);
 }
 
 TEST(MethodParameters, CacheKeysAreThoseOfTheFixedOptionList) {
