@@ -22,9 +22,11 @@ std::shared_ptr<const ndfmip::EnvironmentLighting> syntheticSky() {
             const double sky = d.y > 0. ? 0.5 + 0.5 * d.y : 0.1;
             const double glow = glm::dot(d, sun) > 0.999 ? 2000. : 0.;
             float* p = env.radiance.at(x, y);
-            p[0] = float(0.6 * sky + glow), p[1] = float(0.7 * sky + glow), p[2] = float(sky + 0.9 * glow);
+            p[0] = float(0.6 * sky + glow), p[1] = float(0.7 * sky + glow),
+            p[2] = float(sky + 0.9 * glow);
         }
-    return std::make_shared<const ndfmip::EnvironmentLighting>(ndfmip::makeEnvironmentLighting(std::move(env)));
+    return std::make_shared<const ndfmip::EnvironmentLighting>(
+        ndfmip::makeEnvironmentLighting(std::move(env)));
 }
 
 void BM_RenderGroundTruthEnvironment(benchmark::State& state) {
@@ -45,9 +47,14 @@ void BM_RenderGroundTruthEnvironment(benchmark::State& state) {
         auto image = ndfmip::render(s, t, ndfmip::kGroundTruth, o);
         benchmark::DoNotOptimize(image.value().pixels.data());
     }
-    state.SetItemsProcessed(int64_t(state.iterations()) * state.range(0) * state.range(0) * state.range(1));
+    state.SetItemsProcessed(int64_t(state.iterations()) * state.range(0) * state.range(0) *
+                            state.range(1));
 }
 
 } // namespace
 
-BENCHMARK(BM_RenderGroundTruthEnvironment)->Args({128, 16})->Args({128, 64})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RenderGroundTruthEnvironment)
+    ->Args({128, 16})
+    ->Args({128, 64})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();

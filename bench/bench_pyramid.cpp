@@ -7,16 +7,17 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench_support.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/pyramid.h"
-#include "bench_support.h"
 
 namespace {
 
 using ndfmip::bench::syntheticMap;
 
 void setBytes(benchmark::State& state, const ndfmip::Image& map) {
-    state.SetBytesProcessed(int64_t(state.iterations()) * int64_t(map.pixels.size() * sizeof(float)));
+    state.SetBytesProcessed(int64_t(state.iterations()) *
+                            int64_t(map.pixels.size() * sizeof(float)));
 }
 
 void BM_Memcpy(benchmark::State& state) {
@@ -62,13 +63,18 @@ void BM_ShBake(benchmark::State& state) {
         ndfmip::Bake bake = ndfmip::bakeSh(p, options);
         benchmark::DoNotOptimize(bake.levels.back().front()->pixels.data());
     }
-    state.counters["bytes_per_texel_level0"] = double(ndfmip::shPlaneCount(int(options.parameters["order"])) * 4 * sizeof(float));
+    state.counters["bytes_per_texel_level0"] =
+        double(ndfmip::shPlaneCount(int(options.parameters["order"])) * 4 * sizeof(float));
 }
 
 BENCHMARK(BM_Memcpy)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Pyramid)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ToksvigBake)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_ShBake)->Args({2048, 7})->Args({1024, 10})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ShBake)
+    ->Args({2048, 7})
+    ->Args({1024, 10})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 } // namespace
 

@@ -42,7 +42,8 @@ void BM_RenderGroundTruth(benchmark::State& state) {
         auto image = ndfmip::render(scene, t, ndfmip::kGroundTruth, o);
         benchmark::DoNotOptimize(image.value().pixels.data());
     }
-    state.SetItemsProcessed(int64_t(state.iterations()) * state.range(0) * state.range(0) * state.range(1));
+    state.SetItemsProcessed(int64_t(state.iterations()) * state.range(0) * state.range(0) *
+                            state.range(1));
 }
 
 // Args: image side, rule (0 the default, 1 the plain lookup).
@@ -66,10 +67,22 @@ void BM_RenderMethod(benchmark::State& state, ndfmip::Method method) {
 
 BENCHMARK(BM_RenderGroundTruth)->Args({512, 256})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_RenderMethod, naive, ndfmip::Method::Naive)
-    ->Args({1024, 0})->Args({1024, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({1024, 0})
+    ->Args({1024, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(BM_RenderMethod, toksvig, ndfmip::Method::Toksvig)
-    ->Args({1024, 0})->Args({1024, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({1024, 0})
+    ->Args({1024, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(BM_RenderMethod, sh7, ndfmip::Method::Sh)
-    ->Args({1024, 0})->Args({1024, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({1024, 0})
+    ->Args({1024, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(BM_RenderMethod, vmf4, ndfmip::Method::Vmf)
-    ->Args({1024, 0})->Args({1024, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({1024, 0})
+    ->Args({1024, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();

@@ -69,7 +69,13 @@ void BM_PrepareShViewSet(benchmark::State& state) {
     }
     state.counters["views"] = ndfmip::shViewCount(f);
 }
-BENCHMARK(BM_PrepareShViewSet)->Arg(1)->Arg(2)->Arg(4)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PrepareShViewSet)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // What a pixel pays for its own view: the weights and the blend of L' (order 8, mean-normal axes).
 void BM_InterpolateShLighting(benchmark::State& state) {

@@ -19,10 +19,13 @@ const ndfmip::Environment& sky() {
     const glm::dvec3 sun = glm::normalize(glm::dvec3(0.6, 0.25, -0.4));
     for (int y = 0; y < width / 2; ++y)
         for (int x = 0; x < width; ++x) {
-            const glm::dvec3 d = ndfmip::equirectDirection((x + 0.5) / width, (y + 0.5) / (width / 2));
-            const double s = 0.5 + 0.4 * d.y, bright = glm::dot(d, sun) > std::cos(0.02) ? 2000. : 0.;
+            const glm::dvec3 d =
+                ndfmip::equirectDirection((x + 0.5) / width, (y + 0.5) / (width / 2));
+            const double s = 0.5 + 0.4 * d.y,
+                         bright = glm::dot(d, sun) > std::cos(0.02) ? 2000. : 0.;
             float* p = env.radiance.at(x, y);
-            p[0] = float(0.6 * s + bright), p[1] = float(0.8 * s + bright), p[2] = float(s + bright);
+            p[0] = float(0.6 * s + bright), p[1] = float(0.8 * s + bright),
+            p[2] = float(s + bright);
         }
     return env;
 }
@@ -101,25 +104,30 @@ void BM_ShadeSplitSum(benchmark::State& state) {
         const glm::vec3 na = in.normals[k], v = in.views[k];
         glm::vec3 c;
         switch (state.range(0)) {
-        case 0: c = ndfmip::shadeNaiveSplitSum(m, m.albedo, na, v, frame, light, rule); break;
-        case 1:
-            c = ndfmip::shadeToksvigSplitSum(m, m.albedo, na, v, frame, light, rule, ndfmip::RoughnessMapping::Ours);
+        case 0:
+            c = ndfmip::shadeNaiveSplitSum(m, m.albedo, na, v, frame, light, rule);
             break;
-        case 2: c = ndfmip::shadeRoughnessMipsSplitSum(m, m.albedo, na, 0.5f, false, v, frame, light, rule); break;
+        case 1:
+            c = ndfmip::shadeToksvigSplitSum(m, m.albedo, na, v, frame, light, rule,
+                                             ndfmip::RoughnessMapping::Ours);
+            break;
+        case 2:
+            c = ndfmip::shadeRoughnessMipsSplitSum(m, m.albedo, na, 0.5f, false, v, frame, light,
+                                                   rule);
+            break;
         default:
             for (int j = 0; j < 4; ++j) {
                 const glm::vec3 mu = in.normals[(k + size_t(j)) % in.normals.size()];
                 lobes[size_t(4 * j)] = 0.25f;
                 for (int a = 0; a < 3; ++a) lobes[size_t(4 * j + 1 + a)] = 0.25f * mu[a];
             }
-            c = ndfmip::shadeVmfSplitSum(m, m.albedo, lobes.data(), 4, nullptr, v, frame, light, rule);
+            c = ndfmip::shadeVmfSplitSum(m, m.albedo, lobes.data(), 4, nullptr, v, frame, light,
+                                         rule);
         }
         benchmark::DoNotOptimize(c);
     }
     state.SetItemsProcessed(int64_t(state.iterations()));
 }
-BENCHMARK(BM_ShadeSplitSum)
-    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}})
-    ->Unit(benchmark::kNanosecond);
+BENCHMARK(BM_ShadeSplitSum)->ArgsProduct({{0, 1, 2, 3}, {0, 1}})->Unit(benchmark::kNanosecond);
 
 } // namespace

@@ -39,13 +39,15 @@ inline const ndfmip::SharedImage& realMap(int size) {
     if (it != cache.end()) return it->second;
     ndfmip::DecodeOptions decode;
     decode.greenDown = true;
-    ndfmip::Result<ndfmip::Image> tile =
-        ndfmip::loadNormalMap(std::string(NDFMIP_SOURCE_DIR) + "/../shared/data/normalmaps/Ground010_1K_Normal.png", decode, nullptr);
+    ndfmip::Result<ndfmip::Image> tile = ndfmip::loadNormalMap(
+        std::string(NDFMIP_SOURCE_DIR) + "/../shared/data/normalmaps/Ground010_1K_Normal.png",
+        decode, nullptr);
     if (!tile) return syntheticMap(size);
     ndfmip::Image map(size, size, 3);
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x)
-            for (int c = 0; c < 3; ++c) map.at(x, y)[c] = tile->at(x % tile->width, y % tile->height)[c];
+            for (int c = 0; c < 3; ++c)
+                map.at(x, y)[c] = tile->at(x % tile->width, y % tile->height)[c];
     return cache.emplace(size, std::make_shared<const ndfmip::Image>(std::move(map))).first->second;
 }
 

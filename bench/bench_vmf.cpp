@@ -26,7 +26,8 @@ void BM_VmfPyramid(benchmark::State& state) {
     const ndfmip::SharedImage& map = syntheticMap(int(state.range(0)));
     ndfmip::Pyramid pyramid = ndfmip::buildPyramid(map);
     ndfmip::VmfFitOptions options;
-    options.seeding = state.range(2) == 0 ? ndfmip::VmfSeeding::Merge : ndfmip::VmfSeeding::FarthestPoint;
+    options.seeding =
+        state.range(2) == 0 ? ndfmip::VmfSeeding::Merge : ndfmip::VmfSeeding::FarthestPoint;
     ndfmip::VmfFitStats stats;
     for (auto _ : state) {
         std::vector<ndfmip::VmfLevel> levels =

@@ -42,13 +42,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const EnvironmentSh sh = projectEnvironmentSh(env.value(), 2);
     FUZZ_CHECK(sh.radiance.size() == 9);
     // Double sums of at most 2^18 finite floats are finite.
-    for (const auto& c : sh.radiance) FUZZ_CHECK(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z));
+    for (const auto& c : sh.radiance)
+        FUZZ_CHECK(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z));
     PrefilterOptions prefilter;
     prefilter.size = 8;
     prefilter.levels = 1;
     prefilter.samples = 2;
     const std::vector<PrefilteredLevel> levels = prefilterGgx(env.value(), prefilter);
-    FUZZ_CHECK(levels.size() == 1 && levels[0].radiance.width == 8 && levels[0].radiance.height == 4);
+    FUZZ_CHECK(levels.size() == 1 && levels[0].radiance.width == 8 &&
+               levels[0].radiance.height == 4);
     // Weighted means of radiance >= 0 are never negative (envmap itself refuses what is not
     // finite before writing).
     for (float v : levels[0].radiance.pixels) FUZZ_CHECK(!(v < 0.f));

@@ -43,8 +43,8 @@ std::string base64(const std::string& bytes) {
 }
 
 uint32_t le32(const std::string& b, size_t at) {
-    return uint32_t(uint8_t(b[at])) | uint32_t(uint8_t(b[at + 1])) << 8 | uint32_t(uint8_t(b[at + 2])) << 16 |
-           uint32_t(uint8_t(b[at + 3])) << 24;
+    return uint32_t(uint8_t(b[at])) | uint32_t(uint8_t(b[at + 1])) << 8 |
+           uint32_t(uint8_t(b[at + 2])) << 16 | uint32_t(uint8_t(b[at + 3])) << 24;
 }
 
 } // namespace
@@ -77,7 +77,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         std::ofstream out(path, std::ios::binary | std::ios::trunc);
         out.write(text.data(), std::streamsize(text.size()));
     }
-    ndfmip::Result<ndfmip::GltfFiltered> filtered = ndfmip::filterGltf(path.string(), ndfmip::GltfOptions{ndfmip::GltfTextureFormat::Dds, false}); // no encoder processes per input
+    ndfmip::Result<ndfmip::GltfFiltered> filtered = ndfmip::filterGltf(
+        path.string(), ndfmip::GltfOptions{ndfmip::GltfTextureFormat::Dds,
+                                           false}); // no encoder processes per input
     if (!filtered) {
         const std::string& message = filtered.error().message;
         FUZZ_CHECK(!message.empty() && message.find('\n') == std::string::npos);
@@ -89,6 +91,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(le32(glb, 4) == 2 && le32(glb, 8) == glb.size());
     FUZZ_CHECK(glb.compare(16, 4, "JSON") == 0);
     // One bake per distinct image and options, each from a decoded image.
-    FUZZ_CHECK(filtered->bakes <= int(filtered->materials.size()) && filtered->decodedImages >= (filtered->bakes > 0));
+    FUZZ_CHECK(filtered->bakes <= int(filtered->materials.size()) &&
+               filtered->decodedImages >= (filtered->bakes > 0));
     return 0;
 }

@@ -191,7 +191,8 @@ void gltfSeeds(const fs::path& out) {
          {{{"name", "a"},
            {"normalTexture", {{"index", 0}}},
            {"occlusionTexture", {{"index", 1}}},
-           {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 1}}}, {"roughnessFactor", 0.8}}}},
+           {"pbrMetallicRoughness",
+            {{"metallicRoughnessTexture", {{"index", 1}}}, {"roughnessFactor", 0.8}}}},
           {{"name", "b"}, {"normalTexture", {{"index", 0}, {"scale", 0.5}}}}}}};
     writeBytes(dir / "two_materials.gltf", asset.dump());
 }
@@ -215,10 +216,13 @@ void envmapSeeds(const fs::path& out, const fs::path& shared) {
     int n = 0;
     for (const auto& entry : fs::directory_iterator(shared / "envmaps")) {
         ndfmip::Result<ndfmip::SourceImage> image = ndfmip::loadImage(entry.path().string());
-        if (!image || image->image.width != 2 * image->image.height || image->image.channels < 3) continue;
+        if (!image || image->image.width != 2 * image->image.height || image->image.channels < 3)
+            continue;
         Image rgb(image->image.width, image->image.height, 3);
         for (size_t i = 0; i < rgb.texelCount(); ++i)
-            for (int c = 0; c < 3; ++c) rgb.pixels[3 * i + size_t(c)] = image->image.pixels[i * size_t(image->image.channels) + size_t(c)];
+            for (int c = 0; c < 3; ++c)
+                rgb.pixels[3 * i + size_t(c)] =
+                    image->image.pixels[i * size_t(image->image.channels) + size_t(c)];
         const Image small = ndfmip::resampleEquirect(rgb, 32);
         const std::string stem = (dir / ("env" + std::to_string(n++))).string();
         stbi_write_hdr((stem + ".hdr").c_str(), small.width, small.height, 3, small.pixels.data());
@@ -241,7 +245,8 @@ void gltfBakeSeeds(const fs::path& out) {
           {{"name", "b"}, {"normalTexture", {{"index", 0}, {"scale", 0.5}}}},
           {{"name", "c"},
            {"normalTexture", {{"index", 1}}},
-           {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 0}}}, {"roughnessFactor", 0.4}}}}}}};
+           {"pbrMetallicRoughness",
+            {{"metallicRoughnessTexture", {{"index", 0}}}, {"roughnessFactor", 0.4}}}}}}};
     writeBytes(dir / "three_materials.gltf", asset.dump());
     nlohmann::ordered_json one = {{"asset", {{"version", "2.0"}}},
                                   {"images", {{{"uri", "@NORMAL_PNG@"}}}},

@@ -35,7 +35,8 @@ namespace {
 // Every failure the library reports; Python sees ndfmip.Error (a ValueError) with its one line,
 // made printable (a byte that is not UTF-8 could not even become a Python str).
 struct NdfmipError : std::runtime_error {
-    explicit NdfmipError(const std::string& message) : std::runtime_error(printable(message, 4096)) {}
+    explicit NdfmipError(const std::string& message)
+        : std::runtime_error(printable(message, 4096)) {}
 };
 
 template <class T> T take(Result<T> result) {
@@ -61,28 +62,35 @@ py::array toArray(SharedImage image, bool writable) {
     });
     const Image& im = **holder;
     const ssize_t c = im.channels, w = im.width;
-    py::array array(py::dtype::of<float>(), {ssize_t(im.height), w, c},
-                    {ssize_t(sizeof(float)) * w * c, ssize_t(sizeof(float)) * c, ssize_t(sizeof(float))},
-                    im.pixels.data(), owner);
-    if (!writable) py::detail::array_proxy(array.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+    py::array array(
+        py::dtype::of<float>(), {ssize_t(im.height), w, c},
+        {ssize_t(sizeof(float)) * w * c, ssize_t(sizeof(float)) * c, ssize_t(sizeof(float))},
+        im.pixels.data(), owner);
+    if (!writable)
+        py::detail::array_proxy(array.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
     return array;
 }
 
-py::array toArray(Image image) { return toArray(std::make_shared<const Image>(std::move(image)), true); }
+py::array toArray(Image image) {
+    return toArray(std::make_shared<const Image>(std::move(image)), true);
+}
 
 // A float32 array of `object` shaped H x W or H x W x C (C in [minChannels, maxChannels]);
 // made C-contiguous (a copy only where it is not). Errors name `what`.
-py::array_t<float, py::array::c_style> floatArray(py::handle object, const std::string& what, int minChannels,
-                                                   int maxChannels) {
+py::array_t<float, py::array::c_style> floatArray(py::handle object, const std::string& what,
+                                                  int minChannels, int maxChannels) {
     if (!py::isinstance<py::array>(object))
-        throw NdfmipError(what + ": expected a numpy array, not " + std::string(py::str(py::type::of(object).attr("__name__"))));
+        throw NdfmipError(what + ": expected a numpy array, not " +
+                          std::string(py::str(py::type::of(object).attr("__name__"))));
     auto array = py::reinterpret_borrow<py::array>(object);
     // Equality, not identity: a float32 dtype with metadata is float32 all the same.
     if (!array.dtype().equal(py::dtype::of<float>())) {
         // Say what differs: a float32 of the other byte order prints as >f4.
         const bool swapped = array.dtype().kind() == 'f' && array.dtype().itemsize() == 4;
-        throw NdfmipError(what + ": expected dtype float32" + (swapped ? " in native byte order" : "") + ", not " +
-                          std::string(py::str(array.dtype())) + " (convert with .astype(numpy.float32))");
+        throw NdfmipError(what + ": expected dtype float32" +
+                          (swapped ? " in native byte order" : "") + ", not " +
+                          std::string(py::str(array.dtype())) +
+                          " (convert with .astype(numpy.float32))");
     }
     std::string shape;
     for (ssize_t d = 0; d < array.ndim(); ++d) {
@@ -90,21 +98,24 @@ py::array_t<float, py::array::c_style> floatArray(py::handle object, const std::
         shape += std::to_string(array.shape(d));
     }
     const ssize_t channels = array.ndim() == 3 ? array.shape(2) : 1;
-    if (array.ndim() < 2 || array.ndim() > 3 || array.shape(0) < 1 || array.shape(1) < 1 || channels < minChannels ||
-        channels > maxChannels) {
+    if (array.ndim() < 2 || array.ndim() > 3 || array.shape(0) < 1 || array.shape(1) < 1 ||
+        channels < minChannels || channels > maxChannels) {
         const std::string want = minChannels == maxChannels ? std::to_string(minChannels)
-                                                            : std::to_string(minChannels) + " .. " + std::to_string(maxChannels);
-        throw NdfmipError(what + ": expected shape (H, W, C) with C = " + want + (minChannels == 1 ? " (or (H, W))" : "") +
-                          ", not (" + shape + ")");
+                                                            : std::to_string(minChannels) + " .. " +
+                                                                  std::to_string(maxChannels);
+        throw NdfmipError(what + ": expected shape (H, W, C) with C = " + want +
+                          (minChannels == 1 ? " (or (H, W))" : "") + ", not (" + shape + ")");
     }
     // The limits (set_limits) hold before anything is copied: a broadcast view of 12 bytes can
     // stand for gigabytes.
     check(checkImageSize(what, array.shape(1), array.shape(0)));
     const int64_t bytes = int64_t(array.shape(0)) * int64_t(array.shape(1)) * int64_t(channels) * 4;
     if (bytes > inputLimits().maxMemoryBytes)
-        throw NdfmipError(what + ": " + std::to_string(array.shape(1)) + "x" + std::to_string(array.shape(0)) + "x" +
-                          std::to_string(channels) + " float32 needs " + byteSize(bytes) + ", above the limit of " +
-                          byteSize(inputLimits().maxMemoryBytes) + "; set_limits(max_memory_gib=...) raises it");
+        throw NdfmipError(what + ": " + std::to_string(array.shape(1)) + "x" +
+                          std::to_string(array.shape(0)) + "x" + std::to_string(channels) +
+                          " float32 needs " + byteSize(bytes) + ", above the limit of " +
+                          byteSize(inputLimits().maxMemoryBytes) +
+                          "; set_limits(max_memory_gib=...) raises it");
     auto contiguous = py::array_t<float, py::array::c_style>::ensure(array);
     // ensure() gives an empty handle (and clears the error) when the copy fails.
     if (!contiguous)
@@ -117,10 +128,11 @@ py::array_t<float, py::array::c_style> floatArray(py::handle object, const std::
 SharedImage ownImage(const py::array_t<float, py::array::c_style>& array) {
     const py::handle base = array.base();
     if (!base || !PyCapsule_IsValid(base.ptr(), kCapsuleName)) return nullptr;
-    const SharedImage& image = *static_cast<SharedImage*>(PyCapsule_GetPointer(base.ptr(), kCapsuleName));
+    const SharedImage& image =
+        *static_cast<SharedImage*>(PyCapsule_GetPointer(base.ptr(), kCapsuleName));
     const ssize_t channels = array.ndim() == 3 ? array.shape(2) : 1;
-    if (array.data() != image->pixels.data() || array.shape(0) != image->height || array.shape(1) != image->width ||
-        channels != image->channels)
+    if (array.data() != image->pixels.data() || array.shape(0) != image->height ||
+        array.shape(1) != image->width || channels != image->channels)
         return nullptr;
     return image;
 }
@@ -143,7 +155,8 @@ SharedImage toImage(py::handle object, const std::string& what, int minChannels,
 }
 
 bool isPath(py::handle object) {
-    return py::isinstance<py::str>(object) || py::isinstance(object, py::module_::import("os").attr("PathLike"));
+    return py::isinstance<py::str>(object) ||
+           py::isinstance(object, py::module_::import("os").attr("PathLike"));
 }
 
 // A path from Python, refused when it holds NUL or control characters (paths.h).
@@ -158,7 +171,8 @@ std::string pathOf(py::handle object) {
 
 // ---- decoding ---------------------------------------------------------------------------------
 
-DecodeOptions decodeOptions(bool greenDown, bool twoChannel, bool signedValues, std::optional<float> height, bool clamp) {
+DecodeOptions decodeOptions(bool greenDown, bool twoChannel, bool signedValues,
+                            std::optional<float> height, bool clamp) {
     DecodeOptions d;
     d.greenDown = greenDown;
     d.twoChannel = twoChannel;
@@ -210,12 +224,14 @@ Status checkNormals(const Image& n) {
     for (size_t i = 0; i < n.texelCount(); ++i) {
         const float* p = &n.pixels[3 * i];
         const float length = length3(p);
-        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]) || !(length > 0.f) || length > 1.001f) {
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]) ||
+            !(length > 0.f) || length > 1.001f) {
             char text[200];
-            std::snprintf(text, sizeof text,
-                          "normals: texel (%zu, %zu) holds (%g, %g, %g), not a normal of length 1 or less "
-                          "(decode raw values with ndfmip.normals_from_array)",
-                          i % size_t(n.width), i / size_t(n.width), p[0], p[1], p[2]);
+            std::snprintf(
+                text, sizeof text,
+                "normals: texel (%zu, %zu) holds (%g, %g, %g), not a normal of length 1 or less "
+                "(decode raw values with ndfmip.normals_from_array)",
+                i % size_t(n.width), i / size_t(n.width), p[0], p[1], p[2]);
             return Status::failure(text);
         }
     }
@@ -259,15 +275,18 @@ ParameterValues parameterValues(const py::dict& keywords) {
         const MethodParameter* p = nullptr;
         for (const auto& [method, parameter] : allMethodParameters())
             if (key == parameter->key && parameter->commands != 0) p = parameter;
-        if (!p) throw NdfmipError("unknown keyword " + quote(key) + " (method parameters: " + [] {
-                  std::string keys;
-                  for (const auto& [method, parameter] : allMethodParameters())
-                      if (parameter->commands != 0 && keys.find(parameter->key) == std::string::npos)
-                          keys += (keys.empty() ? "" : ", ") + std::string(parameter->key);
-                  return keys;
-              }() + ")");
-        if (py::isinstance<py::bool_>(v) || !(py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v)))
-            throw NdfmipError(key + ": expected a number, not " + std::string(py::str(py::type::of(v).attr("__name__"))));
+        if (!p)
+            throw NdfmipError("unknown keyword " + quote(key) + " (method parameters: " + [] {
+                std::string keys;
+                for (const auto& [method, parameter] : allMethodParameters())
+                    if (parameter->commands != 0 && keys.find(parameter->key) == std::string::npos)
+                        keys += (keys.empty() ? "" : ", ") + std::string(parameter->key);
+                return keys;
+            }() + ")");
+        if (py::isinstance<py::bool_>(v) ||
+            !(py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v)))
+            throw NdfmipError(key + ": expected a number, not " +
+                              std::string(py::str(py::type::of(v).attr("__name__"))));
         if (p->type == ParameterType::Integer && !py::isinstance<py::int_>(v))
             throw NdfmipError(key + ": expected an integer, not " + std::string(py::str(v)));
         const double value = v.cast<double>();
@@ -276,11 +295,12 @@ ParameterValues parameterValues(const py::dict& keywords) {
     return values;
 }
 
-PyBake bake(py::handle normals, const std::string& methodName, const py::dict& parameters, float baseRoughness,
-            py::object roughness, py::object albedo, bool greenDown, bool twoChannel, bool signedValues,
-            std::optional<float> height, bool clamp) {
+PyBake bake(py::handle normals, const std::string& methodName, const py::dict& parameters,
+            float baseRoughness, py::object roughness, py::object albedo, bool greenDown,
+            bool twoChannel, bool signedValues, std::optional<float> height, bool clamp) {
     const std::optional<Method> method = methodFromString(methodName);
-    if (!method) throw NdfmipError("unknown method " + quote(methodName) + " (" + methodNames() + ")");
+    if (!method)
+        throw NdfmipError("unknown method " + quote(methodName) + " (" + methodNames() + ")");
     PyBake out;
     out.source.decode = decodeOptions(greenDown, twoChannel, signedValues, height, clamp);
     SharedImage map;
@@ -288,14 +308,15 @@ PyBake bake(py::handle normals, const std::string& methodName, const py::dict& p
         out.source.path = pathOf(normals);
         py::gil_scoped_release release;
         out.source.sha256 = take(sha256File(out.source.path));
-        map = std::make_shared<const Image>(take(loadNormalMap(out.source.path, out.source.decode, nullptr)));
+        map = std::make_shared<const Image>(
+            take(loadNormalMap(out.source.path, out.source.decode, nullptr)));
     } else {
         map = toImage(normals, "normals", 3, 3);
         py::gil_scoped_release release;
         check(checkNormals(*map));
         // An array has no file: its manifest names the bytes of its normals.
-        out.source.sha256 = sha256Text(std::string(reinterpret_cast<const char*>(map->pixels.data()),
-                                                   map->pixels.size() * sizeof(float)));
+        out.source.sha256 = sha256Text(std::string(
+            reinterpret_cast<const char*>(map->pixels.data()), map->pixels.size() * sizeof(float)));
     }
     out.source.width = map->width;
     out.source.height = map->height;
@@ -321,12 +342,14 @@ PyBake readBakeDir(const std::string& dir) {
 }
 
 // The export options by their command-line meaning (bake_file.h), for writeBake.
-BakeFileOptions exportOptions(const std::string& method, py::object exports, const std::string& exportTextures,
-                              const std::string& normalFormat, const std::string& roughnessFormat, int zstd,
+BakeFileOptions exportOptions(const std::string& method, py::object exports,
+                              const std::string& exportTextures, const std::string& normalFormat,
+                              const std::string& roughnessFormat, int zstd,
                               const std::string& engine, bool half) {
     BakeFileOptions o;
     o.method = method;
-    if (py::isinstance<py::str>(exports)) o.exportFormat = exports.cast<std::string>();
+    if (py::isinstance<py::str>(exports))
+        o.exportFormat = exports.cast<std::string>();
     else if (!exports.is_none())
         for (py::handle e : exports) {
             if (!o.exportFormat.empty()) o.exportFormat += ",";
@@ -344,8 +367,8 @@ BakeFileOptions exportOptions(const std::string& method, py::object exports, con
 void writeBakeDir(const PyBake& b, const std::string& dir, py::object exports, bool half,
                   const std::string& exportTextures, const std::string& normalFormat,
                   const std::string& roughnessFormat, int zstd, const std::string& engine) {
-    const BakeFileOptions o =
-        exportOptions(methodName(b.bake.method), exports, exportTextures, normalFormat, roughnessFormat, zstd, engine, half);
+    const BakeFileOptions o = exportOptions(methodName(b.bake.method), exports, exportTextures,
+                                            normalFormat, roughnessFormat, zstd, engine, half);
     checkedPath(dir); // before a cleanup beside a path that a NUL would cut short
     py::gil_scoped_release release;
     const BakeWriteOptions write = take(bakeWriteOptions(o));
@@ -354,15 +377,19 @@ void writeBakeDir(const PyBake& b, const std::string& dir, py::object exports, b
 }
 
 py::dict bakeTo(const std::string& input, const std::string& output, const std::string& method,
-                const py::dict& parameters, const std::string& albedo, bool half, const std::string& gloss, float maxExponent, float baseRoughness,
+                const py::dict& parameters, const std::string& albedo, bool half,
+                const std::string& gloss, float maxExponent, float baseRoughness,
                 const std::string& roughnessMap, const std::string& roughnessChannel,
-                const std::string& roughnessEncoding, const std::string& engine, const std::string& metallicChannel,
-                const std::string& occlusionChannel, py::object exports, const std::string& exportTextures,
-                const std::string& normalFormat, const std::string& roughnessFormat, int zstd, bool force,
-                bool greenDown, bool twoChannel, bool signedValues, std::optional<float> height, bool clamp) {
-    for (const std::string* path : {&input, &output, &albedo, &gloss, &roughnessMap}) checkedPath(*path);
-    BakeFileOptions o =
-        exportOptions(method, exports, exportTextures, normalFormat, roughnessFormat, zstd, engine, half);
+                const std::string& roughnessEncoding, const std::string& engine,
+                const std::string& metallicChannel, const std::string& occlusionChannel,
+                py::object exports, const std::string& exportTextures,
+                const std::string& normalFormat, const std::string& roughnessFormat, int zstd,
+                bool force, bool greenDown, bool twoChannel, bool signedValues,
+                std::optional<float> height, bool clamp) {
+    for (const std::string* path : {&input, &output, &albedo, &gloss, &roughnessMap})
+        checkedPath(*path);
+    BakeFileOptions o = exportOptions(method, exports, exportTextures, normalFormat,
+                                      roughnessFormat, zstd, engine, half);
     o.decode = decodeOptions(greenDown, twoChannel, signedValues, height, clamp);
     o.parameters = parameterValues(parameters);
     o.albedo = albedo;
@@ -400,7 +427,9 @@ py::dict bakeTo(const std::string& input, const std::string& output, const std::
     return d;
 }
 
-py::object jsonLoads(const std::string& text) { return py::module_::import("json").attr("loads")(text); }
+py::object jsonLoads(const std::string& text) {
+    return py::module_::import("json").attr("loads")(text);
+}
 
 py::object inspect(const std::string& dir, int level, int x, int y, std::optional<float> exponent) {
     std::string text;
@@ -419,8 +448,10 @@ py::list methodParameterTable() {
     for (const auto& [method, p] : allMethodParameters()) {
         if (p->commands == 0) continue;
         py::list commands;
-        for (const auto& [bit, name] : {std::pair{kParameterBake, "bake"}, {kParameterRender, "render"},
-                                        {kParameterView, "view"}, {kParameterEval, "eval"}})
+        for (const auto& [bit, name] : {std::pair{kParameterBake, "bake"},
+                                        {kParameterRender, "render"},
+                                        {kParameterView, "view"},
+                                        {kParameterEval, "eval"}})
             if (p->commands & bit) commands.append(name);
         py::dict d;
         d["method"] = methodName(method);
@@ -439,8 +470,9 @@ py::list methodParameterTable() {
 
 // ---- render, compare, evaluate ------------------------------------------------------------------
 
-py::array renderScene(py::handle sceneObject, const std::optional<std::string>& methodArg, std::optional<int> spp,
-                      const std::string& bakeDir, uint64_t seed, const std::string& truth, int taps, float lodBias,
+py::array renderScene(py::handle sceneObject, const std::optional<std::string>& methodArg,
+                      std::optional<int> spp, const std::string& bakeDir, uint64_t seed,
+                      const std::string& truth, int taps, float lodBias,
                       const std::string& lobeFilter, int anisotropy, const py::dict& parameters,
                       const std::string& roughnessMapping, const std::string& baseDir) {
     checkedPath(bakeDir);
@@ -448,7 +480,9 @@ py::array renderScene(py::handle sceneObject, const std::optional<std::string>& 
     Result<Scene> scene = Error{};
     if (py::isinstance<py::dict>(sceneObject)) {
         const std::string text = py::str(py::module_::import("json").attr("dumps")(sceneObject));
-        const std::string base = baseDir.empty() ? std::string(py::str(py::module_::import("os").attr("getcwd")())) : baseDir;
+        const std::string base =
+            baseDir.empty() ? std::string(py::str(py::module_::import("os").attr("getcwd")()))
+                            : baseDir;
         scene = parseScene(text, "scene", base);
     } else {
         const std::string path = pathOf(sceneObject);
@@ -460,7 +494,8 @@ py::array renderScene(py::handle sceneObject, const std::optional<std::string>& 
     RenderOptions options;
     options.spp = spp.value_or(method == kGroundTruth ? 64 : 1);
     options.seed = seed;
-    if (!truthFilterFromString(truth, options.truth)) throw NdfmipError("truth: " + quote(truth) + " is not box or bilinear");
+    if (!truthFilterFromString(truth, options.truth))
+        throw NdfmipError("truth: " + quote(truth) + " is not box or bilinear");
     if (!shadeFilterFromString(lobeFilter, options.shadeFilter))
         throw NdfmipError("lobe_filter: " + quote(lobeFilter) + " is not parameter or texel");
     options.taps = taps;
@@ -483,7 +518,9 @@ py::array renderScene(py::handle sceneObject, const std::optional<std::string>& 
     return toArray(take(std::move(image)));
 }
 
-py::object number(double v) { return std::isfinite(v) ? py::object(py::float_(v)) : py::object(py::none()); }
+py::object number(double v) {
+    return std::isfinite(v) ? py::object(py::float_(v)) : py::object(py::none());
+}
 
 SharedImage imageArgument(py::handle object, const std::string& what) {
     if (isPath(object)) {
@@ -496,10 +533,12 @@ SharedImage imageArgument(py::handle object, const std::string& what) {
 
 SharedImage channelOf(const SharedImage& image, int channel, const std::string& what) {
     if (channel < 0 || channel >= image->channels)
-        throw NdfmipError(what + ": channel " + std::to_string(channel) + " is out of range (the image has " +
-                          std::to_string(image->channels) + (image->channels == 1 ? " channel)" : " channels)"));
+        throw NdfmipError(what + ": channel " + std::to_string(channel) +
+                          " is out of range (the image has " + std::to_string(image->channels) +
+                          (image->channels == 1 ? " channel)" : " channels)"));
     auto out = std::make_shared<Image>(image->width, image->height, 1);
-    for (size_t t = 0; t < image->texelCount(); ++t) out->pixels[t] = image->pixels[t * size_t(image->channels) + size_t(channel)];
+    for (size_t t = 0; t < image->texelCount(); ++t)
+        out->pixels[t] = image->pixels[t * size_t(image->channels) + size_t(channel)];
     return out;
 }
 
@@ -546,7 +585,8 @@ void setLimits(std::optional<int64_t> maxPixels, std::optional<double> maxMemory
         limits.maxPixels = limits.maxCameraPixels = *maxPixels;
     }
     if (maxMemoryGib) {
-        if (!(*maxMemoryGib > 0.0 && *maxMemoryGib <= 1e6)) throw NdfmipError("max_memory_gib: expected 0 .. 1e6");
+        if (!(*maxMemoryGib > 0.0 && *maxMemoryGib <= 1e6))
+            throw NdfmipError("max_memory_gib: expected 0 .. 1e6");
         limits.maxMemoryBytes = int64_t(*maxMemoryGib * double(int64_t(1) << 30));
     }
     setInputLimits(limits);
@@ -557,8 +597,10 @@ void setLimits(std::optional<int64_t> maxPixels, std::optional<double> maxMemory
 PYBIND11_MODULE(_ndfmip, m) {
     m.doc() = "ndfmip's native functions; use the ndfmip package, which documents them.";
     m.attr("__version__") = NDFMIP_VERSION;
-    static PyObject* error = py::register_exception<NdfmipError>(m, "Error", PyExc_ValueError).ptr();
-    // An allocation that fails raises ndfmip.Error naming the file being processed, not MemoryError.
+    static PyObject* error =
+        py::register_exception<NdfmipError>(m, "Error", PyExc_ValueError).ptr();
+    // An allocation that fails raises ndfmip.Error naming the file being processed, not
+    // MemoryError.
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
@@ -569,18 +611,21 @@ PYBIND11_MODULE(_ndfmip, m) {
     m.attr("Error").attr("__module__") = "ndfmip";
 
     using namespace py::literals;
-    m.def("decode", &decode, "path"_a, "green_down"_a, "two_channel"_a, "signed"_a, "height"_a, "clamp"_a);
-    m.def("normals_from_array", &normalsFromArray, "array"_a, "green_down"_a, "two_channel"_a, "signed"_a, "height"_a,
+    m.def("decode", &decode, "path"_a, "green_down"_a, "two_channel"_a, "signed"_a, "height"_a,
           "clamp"_a);
+    m.def("normals_from_array", &normalsFromArray, "array"_a, "green_down"_a, "two_channel"_a,
+          "signed"_a, "height"_a, "clamp"_a);
     m.def("load_image", &loadImageArray, "path"_a);
 
     py::class_<PyBake>(m, "Bake")
-        .def_property_readonly("method", [](const PyBake& b) { return std::string(methodName(b.bake.method)); })
+        .def_property_readonly(
+            "method", [](const PyBake& b) { return std::string(methodName(b.bake.method)); })
         .def_property_readonly("parameters", [](const PyBake& b) { return b.bake.parameters; })
         .def_property_readonly("planes",
                                [](const PyBake& b) {
                                    py::list planes;
-                                   for (const PlaneInfo& p : b.bake.planes) planes.append(planeDict(p));
+                                   for (const PlaneInfo& p : b.bake.planes)
+                                       planes.append(planeDict(p));
                                    return planes;
                                })
         .def_property_readonly("level_count", [](const PyBake& b) { return b.bake.levels.size(); })
@@ -594,20 +639,22 @@ PYBIND11_MODULE(_ndfmip, m) {
                                    d["height"] = b.source.height;
                                    return d;
                                })
-        .def("write", &writeBakeDir, "dir"_a, "exports"_a, "half"_a, "export_textures"_a, "normal_format"_a,
-             "roughness_format"_a, "zstd"_a, "engine"_a);
+        .def("write", &writeBakeDir, "dir"_a, "exports"_a, "half"_a, "export_textures"_a,
+             "normal_format"_a, "roughness_format"_a, "zstd"_a, "engine"_a);
 
-    m.def("bake", &bake, "normals"_a, "method"_a, "parameters"_a, "base_roughness"_a, "roughness"_a, "albedo"_a,
-          "green_down"_a, "two_channel"_a, "signed"_a, "height"_a, "clamp"_a);
+    m.def("bake", &bake, "normals"_a, "method"_a, "parameters"_a, "base_roughness"_a, "roughness"_a,
+          "albedo"_a, "green_down"_a, "two_channel"_a, "signed"_a, "height"_a, "clamp"_a);
     m.def("read_bake", &readBakeDir, "dir"_a);
-    m.def("bake_to", &bakeTo, "input"_a, "output"_a, "method"_a, "parameters"_a, "albedo"_a, "half"_a, "gloss"_a, "max_exponent"_a,
-          "base_roughness"_a, "roughness_map"_a, "roughness_channel"_a, "roughness_encoding"_a, "engine"_a,
-          "metallic_channel"_a, "occlusion_channel"_a, "exports"_a, "export_textures"_a, "normal_format"_a,
-          "roughness_format"_a, "zstd"_a, "force"_a, "green_down"_a, "two_channel"_a, "signed"_a, "height"_a,
-          "clamp"_a);
+    m.def("bake_to", &bakeTo, "input"_a, "output"_a, "method"_a, "parameters"_a, "albedo"_a,
+          "half"_a, "gloss"_a, "max_exponent"_a, "base_roughness"_a, "roughness_map"_a,
+          "roughness_channel"_a, "roughness_encoding"_a, "engine"_a, "metallic_channel"_a,
+          "occlusion_channel"_a, "exports"_a, "export_textures"_a, "normal_format"_a,
+          "roughness_format"_a, "zstd"_a, "force"_a, "green_down"_a, "two_channel"_a, "signed"_a,
+          "height"_a, "clamp"_a);
     m.def("inspect", &inspect, "dir"_a, "level"_a, "x"_a, "y"_a, "exponent"_a);
-    m.def("render", &renderScene, "scene"_a, "method"_a, "spp"_a, "bake"_a, "seed"_a, "truth"_a, "taps"_a,
-          "lod_bias"_a, "lobe_filter"_a, "anisotropy"_a, "parameters"_a, "roughness_mapping"_a, "base_dir"_a);
+    m.def("render", &renderScene, "scene"_a, "method"_a, "spp"_a, "bake"_a, "seed"_a, "truth"_a,
+          "taps"_a, "lod_bias"_a, "lobe_filter"_a, "anisotropy"_a, "parameters"_a,
+          "roughness_mapping"_a, "base_dir"_a);
     m.def("method_parameters", &methodParameterTable);
     m.def("compare", &compare, "a"_a, "b"_a, "channel"_a);
 

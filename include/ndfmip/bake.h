@@ -31,8 +31,8 @@ enum class Method {
 std::optional<Method> methodFromString(std::string_view name);
 const char* methodName(Method method);
 std::vector<Method> allMethods();
-std::string methodNames();      // "naive, toksvig, sh, vmf, lean"
-std::string methodSummaries();  // one "name: what it stores" line per method
+std::string methodNames();     // "naive, toksvig, sh, vmf, lean"
+std::string methodSummaries(); // one "name: what it stores" line per method
 
 // One parameter image per level: its name, what each channel means, and whether it may be
 // interpolated linearly (trilinear filtering) before shading.
@@ -52,12 +52,12 @@ using ParameterValues = std::map<std::string, double>;
 
 struct BakeOptions {
     ParameterValues parameters; // the method's own options (method_parameters.h)
-    float baseRoughness = 0.f; // alpha of the material before filtering (roughness planes)
+    float baseRoughness = 0.f;  // alpha of the material before filtering (roughness planes)
     // toksvig: the material's own alpha per texel (one channel, level-0 sized), in place of
     // baseRoughness: level k's roughness is sqrt(mean alpha0^2 + c sigma^2) over the texel's
     // footprint (variances add: the material's lobe widths and the normals' spread).
     SharedImage roughnessMap;
-    SharedImage albedo;        // vmf: colour per lobe (eq. 31) from this map, level-0 sized
+    SharedImage albedo; // vmf: colour per lobe (eq. 31) from this map, level-0 sized
     // Called after each level is done: (levels done, levels in all).
     std::function<void(int, int)> progress;
 };
@@ -179,8 +179,8 @@ Result<LoadedBake> readBake(const std::string& dir, int level);
 // One texel (x, y) of `level` of a bake read by readBake at that level, as compact JSON text:
 // method, level, texel, its level-0 footprint and the method's own keys (docs/METHODS.md; with
 // `exponent`, Toksvig's factor for that Blinn-Phong exponent). Errors start with `name`.
-Result<std::string> inspectTexel(const LoadedBake& bake, const std::string& name, int level, int x, int y,
-                                 std::optional<float> exponent = std::nullopt);
+Result<std::string> inspectTexel(const LoadedBake& bake, const std::string& name, int level, int x,
+                                 int y, std::optional<float> exponent = std::nullopt);
 
 // Every level of a bake, back in memory, with the same checks; refused before loading when the
 // planes of every level together would exceed the input limits' memory.

@@ -16,29 +16,31 @@ namespace ndfmip {
 
 // Every option of `ndfmip bake` that decides the files (the CLI's names in brackets).
 struct BakeFileOptions {
-    std::string method = "toksvig";  // --method: naive, toksvig, sh, vmf, lean
-    DecodeOptions decode;            // --green-down, --two-channel, --signed, --height, --clamp
+    std::string method = "toksvig"; // --method: naive, toksvig, sh, vmf, lean
+    DecodeOptions decode;           // --green-down, --two-channel, --signed, --height, --clamp
     // The method's own options that were given (--order, --lobes, --coherent ...: its parameter
     // table, method_parameters.h), by key; the rest take the table's defaults.
     ParameterValues parameters;
-    std::string albedo;              // --albedo (vmf): colour map file
-    bool half = false;               // --half
-    std::string gloss;               // --gloss: gloss map file
-    float maxExponent = 0.f;         // --max-exponent: S0 of gloss 1.0
-    float baseRoughness = 0.f;       // --base-roughness
-    std::string roughnessMap;        // --roughness-map (toksvig): packed material map file
-    std::string roughnessChannel = "r";            // --roughness-channel: r, g, b or a
-    std::string roughnessEncoding = "perceptual";  // --roughness-encoding: perceptual, alpha, smoothness
-    std::string engine;              // --engine: an engine preset's name
+    std::string albedo;                 // --albedo (vmf): colour map file
+    bool half = false;                  // --half
+    std::string gloss;                  // --gloss: gloss map file
+    float maxExponent = 0.f;            // --max-exponent: S0 of gloss 1.0
+    float baseRoughness = 0.f;          // --base-roughness
+    std::string roughnessMap;           // --roughness-map (toksvig): packed material map file
+    std::string roughnessChannel = "r"; // --roughness-channel: r, g, b or a
+    std::string roughnessEncoding =
+        "perceptual";   // --roughness-encoding: perceptual, alpha, smoothness
+    std::string engine; // --engine: an engine preset's name
     std::string metallicChannel, occlusionChannel; // --metallic-channel, --occlusion-channel
-    std::string exportFormat;        // --export: comma-separated png16, ktx2, dds, exr ("" = exr)
+    std::string exportFormat; // --export: comma-separated png16, ktx2, dds, exr ("" = exr)
     std::string exportTextures = "normal,roughness"; // --export-textures: normal, roughness, planes
-    std::string normalFormat = "bc5";    // --normal-format: bc5, rg16, rgba8
-    std::string roughnessFormat = "bc4"; // --roughness-format: bc4, r16f
-    int zstd = 0;                    // --zstd: KTX2 supercompression level (0: none)
-    bool force = false;              // --force: bake even when the output is up to date
-    std::function<void(int, int)> progress;          // (levels done, levels in all)
-    std::function<void(const DecodeReport&)> decoded; // once the map is decoded (the CLI's warnings)
+    std::string normalFormat = "bc5";                // --normal-format: bc5, rg16, rgba8
+    std::string roughnessFormat = "bc4";             // --roughness-format: bc4, r16f
+    int zstd = 0;                           // --zstd: KTX2 supercompression level (0: none)
+    bool force = false;                     // --force: bake even when the output is up to date
+    std::function<void(int, int)> progress; // (levels done, levels in all)
+    std::function<void(const DecodeReport&)>
+        decoded; // once the map is decoded (the CLI's warnings)
 };
 
 // The options' checks that do not depend on the map: names, ranges, and options that apply to

@@ -19,10 +19,14 @@ namespace ndfmip {
 
 // Beckmann distribution, normalised so that its projected area integrates to 1:
 // exp(-tan^2 t / a^2) / (pi a^2 cos^4 t).
-inline float beckmannD(float cosH, float alpha) { return glsl().ndfmipBeckmann(cosH, alpha); }
+inline float beckmannD(float cosH, float alpha) {
+    return glsl().ndfmipBeckmann(cosH, alpha);
+}
 
 // GGX (Trowbridge-Reitz) distribution: a^2 / (pi (cos^2 t (a^2 - 1) + 1)^2).
-inline float ggxD(float cosH, float alpha) { return glsl().ndfmipGgx(cosH, alpha); }
+inline float ggxD(float cosH, float alpha) {
+    return glsl().ndfmipGgx(cosH, alpha);
+}
 
 // The material's specular lobe at n.h with a given exponent (Blinn-Phong) or alpha.
 // Tabulated lobes need the material's table: materialLobe.
@@ -44,12 +48,15 @@ inline float specularFactor(const Material& m, glm::vec3 l, glm::vec3 h) {
 
 // Reflected radiance per unit irradiance for one unit normal n: the ground truth's integrand.
 // `albedo` replaces the material's (an albedo map's texel times it).
-inline glm::vec3 shadeNormal(const Material& m, glm::vec3 albedo, glm::vec3 n, glm::vec3 l, glm::vec3 h) {
+inline glm::vec3 shadeNormal(const Material& m, glm::vec3 albedo, glm::vec3 n, glm::vec3 l,
+                             glm::vec3 h) {
     const float factor = specularFactor(m, l, h);
-    if (m.brdf != Brdf::Tabulated) return glsl().ndfmipShadeNormal(glslMaterial(m, factor), albedo, n, l, h);
+    if (m.brdf != Brdf::Tabulated)
+        return glsl().ndfmipShadeNormal(glslMaterial(m, factor), albedo, n, l, h);
     const float cosL = glm::max(glm::dot(n, l), 0.f);
     if (cosL <= 0.f) return glm::vec3(0.f);
-    return cosL * (albedo * (1.f / kPi) + m.specular * (materialLobe(m, glm::dot(n, h), 0.f, 0.f) * factor));
+    return cosL * (albedo * (1.f / kPi) +
+                   m.specular * (materialLobe(m, glm::dot(n, h), 0.f, 0.f) * factor));
 }
 
 inline glm::vec3 shadeNormal(const Material& m, glm::vec3 n, glm::vec3 l, glm::vec3 h) {

@@ -11,15 +11,15 @@ namespace ndfmip {
 enum class MaterialChannel { Zero, One, Roughness, Smoothness, Metallic, Occlusion };
 
 struct EnginePreset {
-    const char* name;        // --engine NAME
-    bool greenDown;          // normal map Y points down the texture (DirectX convention)
-    const char* normalFile;  // file stem of the BC5 normal map
-    const char* packedFile;  // file stem of the packed material map (RGBA8)
+    const char* name;          // --engine NAME
+    bool greenDown;            // normal map Y points down the texture (DirectX convention)
+    const char* normalFile;    // file stem of the BC5 normal map
+    const char* packedFile;    // file stem of the packed material map (RGBA8)
     MaterialChannel packed[4]; // R, G, B, A of the packed map
 };
 
 const std::vector<EnginePreset>& enginePresets();
 const EnginePreset* findEnginePreset(const std::string& name); // null if unknown
-std::string enginePresetNames();                                // "gltf, unreal, ..."
+std::string enginePresetNames();                               // "gltf, unreal, ..."
 
 } // namespace ndfmip

@@ -211,11 +211,11 @@ struct EnvironmentBake {
 };
 
 // Writes DIR/sh.json (the coefficients), DIR/ggx_L<k>.exr (one equirectangular RGB image per
-// level) and/or DIR/ggx_L<k>_<face>.exr (its cube faces), DIR/dfg.exr (the table) and DIR/environment.json (what each file holds and how it was
-// made; docs/ENVIRONMENT.md). Images are float, or half with `half`. Like writeBake, the folder is
-// staged beside DIR and swapped into place at the end, so a failure leaves the earlier folder;
-// an existing DIR is replaced only if it is empty or holds an earlier environment folder and
-// nothing else.
+// level) and/or DIR/ggx_L<k>_<face>.exr (its cube faces), DIR/dfg.exr (the table) and
+// DIR/environment.json (what each file holds and how it was made; docs/ENVIRONMENT.md). Images are
+// float, or half with `half`. Like writeBake, the folder is staged beside DIR and swapped into
+// place at the end, so a failure leaves the earlier folder; an existing DIR is replaced only if it
+// is empty or holds an earlier environment folder and nothing else.
 Status writeEnvironment(const std::string& dir, const EnvironmentBake& bake,
                         const EnvironmentSource& source, bool half = false);
 

@@ -21,7 +21,8 @@ namespace ndfmip {
 // options.blinnPhongLobe = blinnPhongLobe, the other options at their defaults; the same object
 // for every call with the same rule and lobe.
 std::shared_ptr<const SplitSumLighting> cachedSplitSum(const EnvironmentLighting& lighting,
-                                                       EnvironmentLod rule, bool blinnPhongLobe = false);
+                                                       EnvironmentLod rule,
+                                                       bool blinnPhongLobe = false);
 
 // prepareShLighting(lighting.environment, order, view, cosine); the same object for every call with
 // the same order, cosine and view (compared exactly: an eval's renders share their camera). Only
@@ -33,7 +34,8 @@ cachedShLighting(const EnvironmentLighting& lighting, int order, glm::dvec3 view
 
 // prepareShViewSet(lighting.environment, order, frequency, cosine); the same object for every call
 // with the same order, frequency and cosine (the set does not depend on the camera).
-std::shared_ptr<const ShViewSet> cachedShViewSet(const EnvironmentLighting& lighting, int order, int frequency,
-                                                 SpecularCosine cosine = SpecularCosine::MeanNormal);
+std::shared_ptr<const ShViewSet>
+cachedShViewSet(const EnvironmentLighting& lighting, int order, int frequency,
+                SpecularCosine cosine = SpecularCosine::MeanNormal);
 
 } // namespace ndfmip

@@ -18,17 +18,26 @@ namespace ndfmip {
 // World (+Z up, the default camera looking along +Y) to environment (+Y up): e = (-w.x, w.z, w.y).
 // A proper rotation: world up is the map's top row, world +Y (where the default camera looks)
 // the map's centre +Z.
-inline glm::vec3 worldToEnvironment(glm::vec3 w) { return {-w.x, w.z, w.y}; }
-inline glm::dvec3 worldToEnvironment(glm::dvec3 w) { return {-w.x, w.z, w.y}; }
+inline glm::vec3 worldToEnvironment(glm::vec3 w) {
+    return {-w.x, w.z, w.y};
+}
+inline glm::dvec3 worldToEnvironment(glm::dvec3 w) {
+    return {-w.x, w.z, w.y};
+}
 // Its inverse: w = (-e.x, e.z, e.y).
-inline glm::vec3 environmentToWorld(glm::vec3 e) { return {-e.x, e.z, e.y}; }
-inline glm::dvec3 environmentToWorld(glm::dvec3 e) { return {-e.x, e.z, e.y}; }
+inline glm::vec3 environmentToWorld(glm::vec3 e) {
+    return {-e.x, e.z, e.y};
+}
+inline glm::dvec3 environmentToWorld(glm::dvec3 e) {
+    return {-e.x, e.z, e.y};
+}
 
 // The matrix taking tangent-frame vectors to the environment frame: its columns are the
 // surface's tangent, bitangent and normal (world space, orthonormal) mapped world -> environment.
 // Its transpose is the inverse.
 inline glm::mat3 tangentToEnvironment(glm::vec3 tangent, glm::vec3 bitangent, glm::vec3 normal) {
-    return glm::mat3(worldToEnvironment(tangent), worldToEnvironment(bitangent), worldToEnvironment(normal));
+    return glm::mat3(worldToEnvironment(tangent), worldToEnvironment(bitangent),
+                     worldToEnvironment(normal));
 }
 
 // ---- importance sampling of the radiance --------------------------------------------------------
@@ -40,10 +49,10 @@ inline glm::mat3 tangentToEnvironment(glm::vec3 tangent, glm::vec3 bitangent, gl
 // Directions are the seen ones (Environment::rotation applied). A black map is sampled uniformly.
 struct EnvironmentSampler {
     int width = 0, height = 0;
-    double rotation = 0.;        // Environment::rotation
-    std::vector<float> weight;   // per texel, row after row: luminance (1 everywhere for a black map)
-    double total = 0.;           // sum of weight * texel solid angle
-    std::vector<double> rowCdf;  // height + 1 entries, 0 ... 1
+    double rotation = 0.;      // Environment::rotation
+    std::vector<float> weight; // per texel, row after row: luminance (1 everywhere for a black map)
+    double total = 0.;         // sum of weight * texel solid angle
+    std::vector<double> rowCdf;    // height + 1 entries, 0 ... 1
     std::vector<double> columnCdf; // per row width + 1 entries, 0 ... 1
 };
 
@@ -60,7 +69,8 @@ EnvironmentSample sampleEnvironment(const EnvironmentSampler& sampler, double u1
 // The density sampleEnvironment draws unit direction d (environment frame, as seen) with.
 double environmentPdf(const EnvironmentSampler& sampler, glm::dvec3 d);
 
-// ---- the lighting a render uses ------------------------------------------------------------------
+// ---- the lighting a render uses
+// ------------------------------------------------------------------
 
 // The methods' prepared data for one environment (environment_cache.h): made on first use, then
 // shared by every later render, since a prefiltered chain or an SH lighting costs ~0.1 s and an
@@ -92,6 +102,8 @@ EnvironmentLighting makeEnvironmentLighting(Environment environment);
 glm::vec3 environmentRadiance(const Environment& env, glm::dvec3 d);
 
 // Rec. 709 luminance, the weight of the sampler and of the render's noise figures.
-inline double rec709Luminance(glm::dvec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+inline double rec709Luminance(glm::dvec3 c) {
+    return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+}
 
 } // namespace ndfmip

@@ -50,7 +50,8 @@ enum class SpecularCosine { HalfVector, MeanNormal, None };
 // Coefficients (l <= order, at shIndex(l, m)) on the basis of spherical_harmonics.h in the
 // environment frame (environment.h, Environment::rotation applied).
 struct ShLighting {
-    uint64_t id = 0; // unique per preparation (shading caches the lighting rotated into a frame by it)
+    uint64_t id =
+        0; // unique per preparation (shading caches the lighting rotated into a frame by it)
     int order = 0;
     glm::dvec3 view{0., 0., 1.}; // w_o of `reparameterised`, environment frame, unit
     SpecularCosine cosine = SpecularCosine::MeanNormal;

@@ -84,8 +84,8 @@ struct SplitSumOptions {
     std::vector<EnvironmentLod> rules = {EnvironmentLod::Log2Sigma, EnvironmentLod::Filament,
                                          EnvironmentLod::Unity, EnvironmentLod::Unreal};
     SpecularAlbedo albedo = SpecularAlbedo::Lobe;
-    int albedoTableSize = 32;  // n.v x perceptual roughness entries
-    int albedoSamples = 512;   // samples per entry
+    int albedoTableSize = 32;   // n.v x perceptual roughness entries
+    int albedoSamples = 512;    // samples per entry
     bool vmfBandFactors = true; // diffuse about a vMF lobe (and Toksvig's Na) band-attenuated
     // The engine rules' levels convolved with the Blinn-Phong lobe of exponent
     // s_k = 2/alpha_k^2 - 2 (the inverse of blinnPhongAlpha) instead of GGX alpha_k = r_k^2: the
@@ -94,10 +94,10 @@ struct SplitSumOptions {
     bool blinnPhongLobe = false;
 };
 
-// One chain: level k is (size >> k) x (size >> k)/2 (at least 4 x 2 for the GGX chains), RGB, at perceptualRoughness[k] (0 for
-// the unfiltered level 0 and for every level of the Log2Sigma box chain). Log2Sigma's box chain
-// is on cube faces instead, size/4 wide at level 0 (as many texels around the horizon) down to
-// 1 x 1, in `cube`; its `levels` are empty.
+// One chain: level k is (size >> k) x (size >> k)/2 (at least 4 x 2 for the GGX chains), RGB, at
+// perceptualRoughness[k] (0 for the unfiltered level 0 and for every level of the Log2Sigma box
+// chain). Log2Sigma's box chain is on cube faces instead, size/4 wide at level 0 (as many texels
+// around the horizon) down to 1 x 1, in `cube`; its `levels` are empty.
 struct SplitSumChain {
     EnvironmentLod rule = EnvironmentLod::Filament;
     std::vector<Image> levels;
@@ -115,7 +115,7 @@ struct SplitSumLighting {
     std::array<Image, 3> albedo;
     std::vector<glm::dvec3> irradiance; // E_lm, order 2 (projectEnvironmentSh)
     double texelAngle = 0.;             // angular height of a level-0 texel, pi / (size / 2)
-                                        // (Log2Sigma's cube faces: pi/2 over size/4 texels, the same)
+                            // (Log2Sigma's cube faces: pi/2 over size/4 texels, the same)
     bool vmfBandFactors = true;
 };
 
@@ -162,23 +162,24 @@ glm::vec3 prefilteredRadiance(const SplitSumLighting& lighting, EnvironmentLod r
 // factor; diffuse: albedo/pi x irradiance.
 
 // Standard mipmap: the filtered normal renormalised, the material's own roughness.
-glm::vec3 shadeNaiveSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 filtered, glm::vec3 view,
-                             const glm::mat3& tangentToEnvironment, const SplitSumLighting& lighting,
-                             EnvironmentLod rule);
+glm::vec3 shadeNaiveSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 filtered,
+                             glm::vec3 view, const glm::mat3& tangentToEnvironment,
+                             const SplitSumLighting& lighting, EnvironmentLod rule);
 
 // Toksvig: Na unnormalised; Blinn-Phong s' = ft s (eq. 6), Beckmann/GGX alpha' by `mapping`
 // (roughness.h), as shadeToksvig; Log2Sigma adds the normals' variance (1 - |Na|)/|Na| to the
 // material's lobe spread instead. Diffuse about Na/|Na|, band 1 scaled by |Na| with
 // vmfBandFactors (the mean of irradiance's linear band over the normals).
 glm::vec3 shadeToksvigSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 na, glm::vec3 view,
-                               const glm::mat3& tangentToEnvironment, const SplitSumLighting& lighting,
-                               EnvironmentLod rule, RoughnessMapping mapping,
-                               float varianceScale = kVarianceScale);
+                               const glm::mat3& tangentToEnvironment,
+                               const SplitSumLighting& lighting, EnvironmentLod rule,
+                               RoughnessMapping mapping, float varianceScale = kVarianceScale);
 
 // Roughness mips: the filtered normal renormalised, alpha from `stored` (perceptual, alpha =
 // stored^2, unless isAlpha); Blinn-Phong materials keep their exponent.
-glm::vec3 shadeRoughnessMipsSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 filtered, float stored,
-                                     bool isAlpha, glm::vec3 view, const glm::mat3& tangentToEnvironment,
+glm::vec3 shadeRoughnessMipsSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 filtered,
+                                     float stored, bool isAlpha, glm::vec3 view,
+                                     const glm::mat3& tangentToEnvironment,
                                      const SplitSumLighting& lighting, EnvironmentLod rule);
 
 // vMF mixture: `lobes` holds J (alpha, alpha r mu) quadruples, unpacked as shadeVmf; per lobe
@@ -187,7 +188,8 @@ glm::vec3 shadeRoughnessMipsSplitSum(const Material& m, glm::vec3 albedo, glm::v
 // at mu_j (band l scaled by the vMF's Legendre moment with vmfBandFactors: A(kappa),
 // 1 - 3 A(kappa)/kappa). Weights alpha_j; `colors` (J lobe colours) as shadeVmf.
 glm::vec3 shadeVmfSplitSum(const Material& m, glm::vec3 albedo, const float* lobes, int count,
-                           const glm::vec3* colors, glm::vec3 view, const glm::mat3& tangentToEnvironment,
-                           const SplitSumLighting& lighting, EnvironmentLod rule);
+                           const glm::vec3* colors, glm::vec3 view,
+                           const glm::mat3& tangentToEnvironment, const SplitSumLighting& lighting,
+                           EnvironmentLod rule);
 
 } // namespace ndfmip

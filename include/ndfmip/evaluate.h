@@ -26,7 +26,7 @@ Image shadeLevel(const Bake& bake, int level, const ShadeContext& ctx);
 Image groundTruthLevel(const Pyramid& pyramid, int level, const ShadeContext& ctx);
 
 struct ErrorStats {
-    double rmse = 0;        // sqrt(mean (a - b)^2)
+    double rmse = 0;         // sqrt(mean (a - b)^2)
     double relativeRmse = 0; // ||a - b|| / ||b||
     double energyRatio = 0;  // mean a / mean b
 };
@@ -52,44 +52,48 @@ struct EvalOptions {
     std::string output; // folder for report.json and report.html; empty: nothing written
     std::vector<int> footprints{1, 4, 16, 64};
     // naive, toksvig, toksvig-lut, sh[:ORDER], vmf[:LOBES[:BUDGET]], lean, exact
-    std::vector<std::string> methods{"naive", "toksvig", "toksvig-lut", "sh:2", "sh:4", "sh:7", "sh:10",
-                                     "vmf:1", "vmf:2", "vmf:4", "vmf:6", "vmf:8", "exact"};
+    std::vector<std::string> methods{"naive", "toksvig", "toksvig-lut", "sh:2",  "sh:4",
+                                     "sh:7",  "sh:10",   "vmf:1",       "vmf:2", "vmf:4",
+                                     "vmf:6", "vmf:8",   "exact"};
     std::vector<std::string> brdfs{"blinnphong", "ggx"};
     std::vector<float> exponents{8.f, 32.f, 128.f, 512.f}; // Blinn-Phong
     std::vector<float> roughness{0.1f, 0.3f};              // Beckmann / GGX alpha
-    int maxPixels = 128; // --pixels: largest image side
-    int spp = 0;         // ground-truth samples per pixel; 0: max(64, footprint^2), at most 1024
-    int frames = 8;      // flicker frames (0: none)
+    int maxPixels = 128;                                   // --pixels: largest image side
+    int spp = 0;    // ground-truth samples per pixel; 0: max(64, footprint^2), at most 1024
+    int frames = 8; // flicker frames (0: none)
     uint64_t seed = 1;
     bool calibrate = false; // also the engines' roughness mappings on GGX
     std::vector<float> calibrationRoughness{0.05f, 0.1f, 0.2f, 0.3f, 0.5f};
     std::vector<float> calibrationScales{0.25f, 0.5f, 0.75f, 1.f, 1.5f, 2.f, 3.f, 4.f};
     bool allImages = false;
-    bool webgl = true;     // the report's live WebGL2 view of the first map
+    bool webgl = true; // the report's live WebGL2 view of the first map
     // The view (--view): lab (the renderer's default rule: 2 x 2 taps, LOD bias -0.5, each
     // texel shaded), engine (what an engine's one trilinear lookup gives: 1 tap, LOD bias 0,
     // parameters blended, vmf baked with coherent lobes) or aligned (as `aligned`). It is a
     // name for the options below that are left unset; those that are set win.
     std::string view = "lab";
-    std::optional<float> coherence; // vmf methods: C of eq. 32; unset: 0, or kEngineViewCoherence in the engine view
-    bool aligned = false;  // each pixel exactly one texel of a level
+    std::optional<float>
+        coherence; // vmf methods: C of eq. 32; unset: 0, or kEngineViewCoherence in the engine view
+    bool aligned = false; // each pixel exactly one texel of a level
     // The camera's elevation above the plane in degrees (--elevation): 90 looks straight down;
     // lower tilts it about the texel grid's x axis (a pixel covers footprint / sin(elevation)
     // texels along the view), the light near the view's mirror direction. 5 .. 90.
     float elevation = 90.f;
-    std::vector<float> offset{0.31f, 0.17f}; // the pixel grid's shift from the texel grid, in pixels
-    std::vector<std::string> externalRoughness; // NAME=PATTERN
+    std::vector<float> offset{0.31f,
+                              0.17f}; // the pixel grid's shift from the texel grid, in pixels
+    std::vector<std::string> externalRoughness;  // NAME=PATTERN
     std::string externalEncoding = "perceptual"; // or alpha
     std::string truth = "box";                   // or bilinear
     std::optional<int> taps;      // unset: 1 when aligned, else RenderOptions' default
     std::optional<float> lodBias; // unset: 0 when aligned, else RenderOptions' default
-    std::optional<std::string> lobeFilter; // texel or parameter; unset: texel, or parameter in the engine view
+    std::optional<std::string>
+        lobeFilter; // texel or parameter; unset: texel, or parameter in the engine view
     // An environment map (environment.h) that lights every view instead of the directional light:
     // the truth is sampled under it (its noise recorded), and only methods whose shader shades
     // under an environment get rows; the others are listed in EvalResult::skipped.
     std::string environment;
     EnvironmentOptions environmentOptions;
-    int shViews = 0; // RenderOptions::shViews of every method row
+    int shViews = 0;                             // RenderOptions::shViews of every method row
     std::function<void(const std::string&)> log; // a progress line per map
     std::function<void(const std::string& map, const DecodeReport&)> decoded;
 };

@@ -11,9 +11,6 @@
 namespace ndfmip {
 namespace glsl_detail {
 
-using glm::vec2;
-using glm::vec3;
-using glm::vec4;
 using glm::clamp;
 using glm::dot;
 using glm::exp;
@@ -23,15 +20,18 @@ using glm::normalize;
 using glm::pow;
 using glm::sqrt;
 using glm::tanh;
+using glm::vec2;
+using glm::vec3;
+using glm::vec4;
 
 struct ShaderLibrary {
 #include "brdf.glsl"
+#include "lean.glsl"
 #include "naive.glsl"
+#include "sh.glsl"
 #include "toksvig.glsl"
 #include "toksvig_lut.glsl"
-#include "sh.glsl"
 #include "vmf.glsl"
-#include "lean.glsl"
 };
 
 } // namespace glsl_detail
@@ -39,7 +39,9 @@ struct ShaderLibrary {
 // Calls read glsl().ndfmipBlinnPhong(...).
 using GlslLibrary = glsl_detail::ShaderLibrary;
 using GlslMaterial = GlslLibrary::NdfmipMaterial;
-inline GlslLibrary glsl() { return {}; }
+inline GlslLibrary glsl() {
+    return {};
+}
 
 // A material as the shaders take it; `specularScale` multiplies its specular colour (a
 // factored BRDF's g(theta_d), which depends on l and h only). Tabulated lobes have no GLSL

@@ -25,8 +25,8 @@ struct GltfFiltered {
     std::string glb; // the whole output file
     std::vector<GltfMaterialReport> materials;
     std::vector<std::string> warnings; // one line each, e.g. normals facing into the surface
-    int decodedImages = 0; // images decoded: each distinct image once
-    int bakes = 0;         // Toksvig bakes: one per distinct normal image, material map and options
+    int decodedImages = 0;             // images decoded: each distinct image once
+    int bakes = 0; // Toksvig bakes: one per distinct normal image, material map and options
     int replacedImages = 0; // images of an earlier ndfmip gltf pass found and replaced
 };
 
@@ -49,7 +49,8 @@ struct GltfOptions {
 // +Y up) and its metallicRoughnessTexture M of the same size (G roughness, B metallic):
 //  - the normal texture gets the pyramid's mean normals, every level: (n + 1)/2 as UASTC RGB
 //    and/or BC5 (x, y) DDS, as textureFormat says;
-//  - M's texture gets UASTC (RGB) and/or RGBA8 DDS levels: G = sqrt(alpha_k) / roughnessFactor (at most
+//  - M's texture gets UASTC (RGB) and/or RGBA8 DDS levels: G = sqrt(alpha_k) / roughnessFactor (at
+//  most
 //    1), alpha_k the Toksvig bake's GGX alpha with alpha_0 = (G roughnessFactor)^2 per texel;
 //    R, B and A averaged over each texel's footprint;
 //  - without M (or with roughnessFactor 0, which no texture can raise) a new

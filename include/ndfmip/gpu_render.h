@@ -14,11 +14,12 @@
 namespace ndfmip {
 
 struct GpuRenderStats {
-    std::string device;            // "GL_RENDERER, GL_VERSION"
-    std::vector<double> frameMs;     // GPU time of each drawn frame (GL timer queries, no readback)
-    std::vector<double> frameWallMs; // the same frames on the wall clock, draw to glFinish (llvmpipe's
-                                     // timer queries do not measure its rendering threads)
-    double compileMs = 0.0;        // shader compilation and texture upload, wall clock
+    std::string device;          // "GL_RENDERER, GL_VERSION"
+    std::vector<double> frameMs; // GPU time of each drawn frame (GL timer queries, no readback)
+    std::vector<double>
+        frameWallMs;        // the same frames on the wall clock, draw to glFinish (llvmpipe's
+                            // timer queries do not measure its rendering threads)
+    double compileMs = 0.0; // shader compilation and texture upload, wall clock
 };
 
 // Renders `scene` with `method` (a method or shader name: naive, toksvig, toksvig-lut,
@@ -29,7 +30,8 @@ struct GpuRenderStats {
 // (CPU only), more than 16 lights, spp > 1, a bake of another method or size, textures beyond
 // the driver's limits; under an environment (textures.environment loaded), the methods without
 // an environment shading (lean, toksvig-lut), naming the method.
-Result<Image> renderGpu(const Scene& scene, const RenderTextures& textures, const std::string& method,
-                        const RenderOptions& options, GpuRenderStats* stats = nullptr, int frames = 1);
+Result<Image> renderGpu(const Scene& scene, const RenderTextures& textures,
+                        const std::string& method, const RenderOptions& options,
+                        GpuRenderStats* stats = nullptr, int frames = 1);
 
 } // namespace ndfmip

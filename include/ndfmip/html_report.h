@@ -34,8 +34,8 @@ struct ReportGroup {
 struct EvalReport {
     std::string title;
     std::vector<std::string> notes; // paragraphs shown under the title (plain text)
-    std::string liveView;           // an HTML section shown after the summary (the WebGL2 view), or empty
-    std::vector<ReportCase> cases;  // method "groundtruth" rows carry the truth's own flicker
+    std::string liveView; // an HTML section shown after the summary (the WebGL2 view), or empty
+    std::vector<ReportCase> cases; // method "groundtruth" rows carry the truth's own flicker
     std::vector<ReportGroup> groups;
 };
 

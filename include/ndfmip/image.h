@@ -19,22 +19,19 @@ void freePixels(void* pointer) noexcept;
 // Bytes free in blocks of 2 MiB or more, from the text of /proc/buddyinfo.
 size_t freeHugePageBytes(const char* buddyInfo);
 
-template <class T>
-struct PixelAllocator {
+template <class T> struct PixelAllocator {
     using value_type = T;
     PixelAllocator() = default;
-    template <class U>
-    PixelAllocator(const PixelAllocator<U>&) noexcept {}
+    template <class U> PixelAllocator(const PixelAllocator<U>&) noexcept {}
     T* allocate(size_t n) { return static_cast<T*>(allocatePixels(n * sizeof(T))); }
     // Elements made without a value are left uninitialised (Image's Uninitialized
     // constructor): a pass that writes every pixel then touches the memory first, in parallel.
-    template <class U>
-    void construct(U* p) noexcept { ::new (static_cast<void*>(p)) U; }
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) { ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...); }
+    template <class U> void construct(U* p) noexcept { ::new (static_cast<void*>(p)) U; }
+    template <class U, class... Args> void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
     void deallocate(T* p, size_t) noexcept { freePixels(p); }
-    template <class U>
-    bool operator==(const PixelAllocator<U>&) const noexcept { return true; }
+    template <class U> bool operator==(const PixelAllocator<U>&) const noexcept { return true; }
 };
 
 using PixelVector = std::vector<float, PixelAllocator<float>>;
@@ -49,7 +46,8 @@ struct Image {
     Image(int w, int h, int c) : width(w), height(h), channels(c), pixels(size_t(w) * h * c, 0.f) {}
     // Pixels left unset, for code that writes every one of them.
     struct Uninitialized {};
-    Image(int w, int h, int c, Uninitialized) : width(w), height(h), channels(c), pixels(size_t(w) * h * c) {}
+    Image(int w, int h, int c, Uninitialized)
+        : width(w), height(h), channels(c), pixels(size_t(w) * h * c) {}
 
     bool empty() const { return width <= 0 || height <= 0 || channels <= 0; }
     size_t texelCount() const { return size_t(width) * size_t(height); }
@@ -59,7 +57,9 @@ struct Image {
 };
 
 // Length of the 3-vector stored at p (a texel of a normal or mean-normal image).
-inline float length3(const float* p) { return std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]); }
+inline float length3(const float* p) {
+    return std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+}
 
 // p / |p|, or (0, 0, 1) where p is zero: normals that cancel out exactly leave no direction,
 // so take the flat one.

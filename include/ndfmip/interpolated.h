@@ -63,9 +63,11 @@ glm::vec3 interpolatedNormalOnPlane(const FacetedSphereMesh& mesh, int triangle,
 
 // Faces in OpenGL order: +x, -x, +y, -y, +z, -z.
 struct CubeLevel {
-    int size = 0;                   // face side in texels
-    std::vector<glm::vec3> texels;  // 6 faces of size x size, face-major, rows top to bottom
-    const glm::vec3& at(int face, int x, int y) const { return texels[(size_t(face) * size + y) * size + x]; }
+    int size = 0;                  // face side in texels
+    std::vector<glm::vec3> texels; // 6 faces of size x size, face-major, rows top to bottom
+    const glm::vec3& at(int face, int x, int y) const {
+        return texels[(size_t(face) * size + y) * size + x];
+    }
 };
 
 struct NormalCubeMap {
@@ -100,7 +102,7 @@ float normalCubeMapLod(const NormalCubeMap& map, glm::vec3 n, glm::vec3 nx, glm:
 
 // The methods for interpolated normals. Ground truth: options.spp stratified samples per pixel,
 // each shading the renormalised interpolated normal of the triangle it hits (shadeNormal).
-constexpr const char* kRenormalized = "renormalized";     // the same, one shade per pixel sample
+constexpr const char* kRenormalized = "renormalized";      // the same, one shade per pixel sample
 constexpr const char* kCubemapToksvig = "cubemap-toksvig"; // the cube map's shortened normal as Na
 std::string interpolatedMethodNames(); // "groundtruth, renormalized, cubemap-toksvig"
 
@@ -122,15 +124,17 @@ struct InterpolatedOptions {
 // cube map has its own, InterpolatedOptions), anisotropy and the truth/exact settings do not
 // apply. cubemap-toksvig shades with shadeToksvig (Blinn-Phong: eq. 6; Beckmann/GGX:
 // options.roughnessMapping).
-Result<Image> renderInterpolated(const Scene& scene, const std::string& method, const RenderOptions& options,
+Result<Image> renderInterpolated(const Scene& scene, const std::string& method,
+                                 const RenderOptions& options,
                                  const InterpolatedOptions& interpolated = {});
 
 // Flicker beyond the image's true motion: `frames` and `truthFrames` rendered with the same
 // sub-pixel shifts (flickerShifts). Per pixel, the standard deviation over the frames of the
 // luminance error (frame - truth); their root mean square over the pixels, divided by the truth
-// frames' root mean square luminance (as relativeRmse, so the background does not dilute it). temporalFlicker (render.h) also counts the change a moving
-// object truly makes at its edges, which a far, small object is mostly made of. 0 when the
-// error does not change from frame to frame.
-double temporalErrorFlicker(const std::vector<Image>& frames, const std::vector<Image>& truthFrames);
+// frames' root mean square luminance (as relativeRmse, so the background does not dilute it).
+// temporalFlicker (render.h) also counts the change a moving object truly makes at its edges, which
+// a far, small object is mostly made of. 0 when the error does not change from frame to frame.
+double temporalErrorFlicker(const std::vector<Image>& frames,
+                            const std::vector<Image>& truthFrames);
 
 } // namespace ndfmip

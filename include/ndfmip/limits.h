@@ -62,7 +62,7 @@ double bakeBytesPerTexel(Method method, const BakeOptions& options);
 // its header: "NAME: <what> of a WxH map needs about N, above the limit of L". Without one, a
 // decoder's own output (16 bytes per texel at most) is held to maxMemoryBytes.
 class PlannedPeak {
-public:
+  public:
     PlannedPeak(std::string what, double bytesPerTexel, int64_t fixedBytes = 0);
     ~PlannedPeak();
     PlannedPeak(const PlannedPeak&) = delete;
@@ -72,7 +72,7 @@ public:
     double bytesPerTexel;
     int64_t fixedBytes;
 
-private:
+  private:
     const PlannedPeak* outer_;
 };
 

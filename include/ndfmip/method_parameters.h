@@ -35,11 +35,11 @@ struct MethodParameter {
     const char* flag; // on the command line: "--lobes"
     ParameterType type;
     double min, max;
-    double defaultValue;       // what the bake uses when the parameter is not given
-    const char* help;          // one line for the option's help, without the method's name
-    unsigned commands;         // ParameterCommand bits
-    bool recorded = false;     // a bake records it in its parameters: a manifest must hold it in range
-    int specPosition = -1;     // its place in eval's METHOD:A:B specs (0 = A), -1 = not there
+    double defaultValue;   // what the bake uses when the parameter is not given
+    const char* help;      // one line for the option's help, without the method's name
+    unsigned commands;     // ParameterCommand bits
+    bool recorded = false; // a bake records it in its parameters: a manifest must hold it in range
+    int specPosition = -1; // its place in eval's METHOD:A:B specs (0 = A), -1 = not there
     // The value the cache key records when the parameter is not given: the default for most; 0
     // for those whose default the bake chooses ("0 = the default"), as bakes have always keyed.
     bool keyedZeroWhenUnset = false;
@@ -73,7 +73,8 @@ Status checkParameterValues(Method method, const ParameterValues& values, Parame
 
 // Each given value a parameter of some method that `use` (a ParameterCommand bit) takes, of its
 // type and in its range: the check of a command whose values reach whichever method it bakes.
-Status checkCommandParameterValues(const ParameterValues& values, unsigned use, ParameterNaming naming);
+Status checkCommandParameterValues(const ParameterValues& values, unsigned use,
+                                   ParameterNaming naming);
 
 // eval's spec of a method with parameters, e.g. "vmf:8:0.01": the values after the name in
 // their specPosition order. An error names the spec and what it takes.

@@ -19,8 +19,8 @@ enum class AddressMode {
 };
 
 struct DecodeOptions {
-    bool greenDown = false;    // DirectX-style map (green points down): flip Y after decoding
-    bool twoChannel = false;   // use R,G only and rebuild z = sqrt(max(0, 1 - x^2 - y^2)) (BC5 style)
+    bool greenDown = false;  // DirectX-style map (green points down): flip Y after decoding
+    bool twoChannel = false; // use R,G only and rebuild z = sqrt(max(0, 1 - x^2 - y^2)) (BC5 style)
     bool signedValues = false; // float maps already holding n in [-1,1] (else n = 2c - 1)
     bool height = false;       // input is a height map (first channel), turned into normals
     float heightScale = 1.f;   // with `height`: height of value 1.0, in texels

@@ -25,8 +25,9 @@ struct Footprint {
 
 struct PyramidLevel {
     int width = 0, height = 0;
-    std::vector<int> columnEdges; // width + 1 level-0 column boundaries: texel i covers [e[i], e[i+1])
-    std::vector<int> rowEdges;    // height + 1 level-0 row boundaries
+    std::vector<int>
+        columnEdges;           // width + 1 level-0 column boundaries: texel i covers [e[i], e[i+1])
+    std::vector<int> rowEdges; // height + 1 level-0 row boundaries
     SharedImage mean; // 3 channels: Na, the mean of the covered level-0 normals (level 0: the map)
 };
 

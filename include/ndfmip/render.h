@@ -45,7 +45,7 @@ std::string renderMethodNames();
 // surface the mip pyramid averages (so a level-k texel's NDF is exactly its footprint's
 // normals). Bilinear: the bilinearly interpolated, renormalised surface a magnified view shows.
 enum class TruthFilter { Box, Bilinear };
-constexpr int kBilinearCells = 4; // RenderOptions::exact on the bilinear surface
+constexpr int kBilinearCells = 4;                // RenderOptions::exact on the bilinear surface
 const char* truthFilterName(TruthFilter filter); // "box", "bilinear"
 bool truthFilterFromString(const std::string& name, TruthFilter& out);
 
@@ -70,8 +70,8 @@ const char* environmentWayName(EnvironmentWay way); // "prefiltered", "sh"
 bool environmentWayFromString(const std::string& name, EnvironmentWay& out);
 
 struct RenderOptions {
-    int spp = 1;             // samples per pixel, stratified and jittered (box filter); 1 = pixel centre
-    uint64_t seed = 1;       // jitter seed: the same seed gives the same image on any thread count
+    int spp = 1;       // samples per pixel, stratified and jittered (box filter); 1 = pixel centre
+    uint64_t seed = 1; // jitter seed: the same seed gives the same image on any thread count
     TruthFilter truth = TruthFilter::Box; // ground truth: which surface the finest normals form
     // Ground truth: where the view allows it (orthographic, looking straight down on a plane
     // whose texel grid runs along the image axes, directional lights only), integrate each pixel
@@ -79,7 +79,8 @@ struct RenderOptions {
     // bilinear surface by a midpoint rule on kBilinearCells x kBilinearCells cells per texel.
     // No noise, and spp is then unused.
     bool exact = true;
-    int anisotropy = 1;      // methods: up to this many trilinear probes along the footprint's major axis
+    int anisotropy =
+        1; // methods: up to this many trilinear probes along the footprint's major axis
     // Methods: the filtering rule. Each pixel sample becomes taps x taps sub-samples on a regular
     // grid over the pixel, each looked up with a taps-times smaller footprint (so one level finer
     // per doubling) plus lodBias levels, shaded, and averaged. The default (2 x 2 sub-samples,
@@ -90,7 +91,7 @@ struct RenderOptions {
     ShadeFilter shadeFilter = ShadeFilter::Texel;
     glm::vec2 pixelShift{0.f}; // sub-pixel shift of the whole image (frames of a flicker test)
     RoughnessMapping roughnessMapping = RoughnessMapping::Ours; // toksvig with Beckmann/GGX
-    float varianceScale = kVarianceScale; // c of the Ours mapping
+    float varianceScale = kVarianceScale;                       // c of the Ours mapping
     std::function<void(int, int)> progress; // (rows done, rows in all), from one thread
     // Ground truth under an environment: estimates (each one environment + one BRDF sample) per
     // pixel sample, and how they are made.
@@ -130,7 +131,8 @@ struct RenderTextures {
 std::vector<SharedImage> albedoMips(const Pyramid& pyramid, SharedImage albedo);
 
 // An albedo (colour) map file as linear RGB, 3 channels: 8/16-bit files are sRGB-decoded, EXR is
-// taken as linear. An error unless it has `width` x `height` texels, 3 or 4 channels and finite values.
+// taken as linear. An error unless it has `width` x `height` texels, 3 or 4 channels and finite
+// values.
 Result<SharedImage> loadAlbedo(const std::string& path, int width, int height);
 
 // How `ndfmip render` gets a scene's textures for `method` (a name render() takes).
@@ -178,24 +180,27 @@ struct Ray {
 struct CameraFrame {
     CameraType type = CameraType::Perspective;
     glm::vec3 eye{0.f}, forward{0.f, 0.f, -1.f}, right{1.f, 0.f, 0.f}, up{0.f, 1.f, 0.f};
-    float halfWidth = 1.f, halfHeight = 1.f; // of the image plane: at distance 1 (perspective) or in world units
-    float width = 1.f, height = 1.f;         // pixels
+    float halfWidth = 1.f,
+          halfHeight = 1.f; // of the image plane: at distance 1 (perspective) or in world units
+    float width = 1.f, height = 1.f; // pixels
 };
 CameraFrame cameraFrame(const Camera& camera);
 
 // The ray through image position (px, py), in pixels from the top-left corner.
 Ray cameraRay(const CameraFrame& frame, float px, float py);
-inline Ray cameraRay(const Camera& camera, float px, float py) { return cameraRay(cameraFrame(camera), px, py); }
+inline Ray cameraRay(const Camera& camera, float px, float py) {
+    return cameraRay(cameraFrame(camera), px, py);
+}
 
 struct SurfaceHit {
     bool hit = false;
     float t = 0.f;
     glm::vec3 position{0.f};
-    glm::vec2 uv{0.f};                 // texture coordinates (tiling applied): 1 = one map
-    glm::vec3 tangent{1.f, 0.f, 0.f};  // unit frame: +x of the normal map (towards +u)
+    glm::vec2 uv{0.f};                  // texture coordinates (tiling applied): 1 = one map
+    glm::vec3 tangent{1.f, 0.f, 0.f};   // unit frame: +x of the normal map (towards +u)
     glm::vec3 bitangent{0.f, 1.f, 0.f}; // +y of the normal map (towards the top row, -v)
     glm::vec3 normal{0.f, 0.f, 1.f};
-    glm::vec3 dpdu{0.f}, dpdv{0.f};    // position derivatives along uv
+    glm::vec3 dpdu{0.f}, dpdv{0.f}; // position derivatives along uv
 };
 
 SurfaceHit intersect(const Geometry& geometry, const Ray& ray);
@@ -210,9 +215,9 @@ inline UvFootprint uvFootprint(const Camera& camera, const SurfaceHit& hit, floa
     return uvFootprint(cameraFrame(camera), hit, px, py);
 }
 
-// Whether the view of `scene` lets a box-surface truth be integrated exactly (RenderOptions::exact):
-// an orthographic camera whose image rows run along one axis of a plane's texel grid (straight
-// down, or tilted about that axis), directional lights, no environment.
+// Whether the view of `scene` lets a box-surface truth be integrated exactly
+// (RenderOptions::exact): an orthographic camera whose image rows run along one axis of a plane's
+// texel grid (straight down, or tilted about that axis), directional lights, no environment.
 bool exactBoxView(const Scene& scene);
 
 // GPU LOD: log2 of the longer footprint axis measured in level-0 texels.

@@ -15,9 +15,8 @@ struct Error {
 };
 
 // A value or an Error. Check ok() before value().
-template <class T>
-class Result {
-public:
+template <class T> class Result {
+  public:
     Result(T value) : data_(std::move(value)) {}
     Result(Error error) : data_(std::move(error)) {}
 
@@ -29,7 +28,7 @@ public:
     const T* operator->() const { return &value(); }
     const Error& error() const { return std::get<Error>(data_); }
 
-private:
+  private:
     std::variant<T, Error> data_;
 };
 

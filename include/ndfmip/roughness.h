@@ -29,7 +29,9 @@ inline float varianceRoughness(float length, float baseAlpha, float scale = kVar
 
 // Engines store "perceptual" roughness, alpha = perceptual^2 (Burley 2012; glTF, Unreal,
 // Unity, Filament).
-inline float perceptualRoughness(float alpha) { return glm::sqrt(glm::max(alpha, 0.f)); }
+inline float perceptualRoughness(float alpha) {
+    return glm::sqrt(glm::max(alpha, 0.f));
+}
 
 // ---- The mappings shipped engines use, for the calibration against ground truth -----------
 // r = |Na|. kappa = (3r - r^3)/(1 - r^2) is the von Mises-Fisher concentration whose mean
@@ -45,7 +47,9 @@ enum class RoughnessMapping {
               // alpha' below 1)
 };
 
-inline float vmfKappaFromLength(float r) { return glsl().ndfmipKappaFromLength(r); }
+inline float vmfKappaFromLength(float r) {
+    return glsl().ndfmipKappaFromLength(r);
+}
 
 // "ours", "hdrp", "filament", "godot", "unreal"; and back (false for any other name).
 const char* roughnessMappingName(RoughnessMapping mapping);
@@ -55,7 +59,8 @@ inline float mappedRoughness(RoughnessMapping mapping, float r, float alpha,
                              float scale = kVarianceScale) {
     return glsl().ndfmipMappedRoughness(int(mapping), r, alpha, scale);
 }
-static_assert(int(RoughnessMapping::Ours) == NDFMIP_MAPPING_OURS && int(RoughnessMapping::Hdrp) == NDFMIP_MAPPING_HDRP &&
+static_assert(int(RoughnessMapping::Ours) == NDFMIP_MAPPING_OURS &&
+              int(RoughnessMapping::Hdrp) == NDFMIP_MAPPING_HDRP &&
               int(RoughnessMapping::Filament) == NDFMIP_MAPPING_FILAMENT &&
               int(RoughnessMapping::Godot) == NDFMIP_MAPPING_GODOT &&
               int(RoughnessMapping::Unreal) == NDFMIP_MAPPING_UNREAL);

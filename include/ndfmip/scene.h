@@ -26,10 +26,10 @@ struct TabulatedTransfer; // sh_brdf.h
 
 struct Material {
     Brdf brdf = Brdf::BlinnPhong;
-    float exponent = 32.f;          // Blinn-Phong s
-    float roughness = 0.2f;         // Beckmann / GGX alpha (not perceptual)
-    glm::vec3 albedo{0.f};          // diffuse reflectance (Lambertian term, always on)
-    glm::vec3 specular{1.f};        // specular colour (scales the lobe)
+    float exponent = 32.f;   // Blinn-Phong s
+    float roughness = 0.2f;  // Beckmann / GGX alpha (not perceptual)
+    glm::vec3 albedo{0.f};   // diffuse reflectance (Lambertian term, always on)
+    glm::vec3 specular{1.f}; // specular colour (scales the lobe)
     // Tabulated: the lobe f(theta_h), and optionally the factor g(theta_d) of a factored
     // measured BRDF f g (Han et al. eq. 6), which multiplies the specular term unfiltered.
     std::shared_ptr<const TabulatedTransfer> table;
@@ -43,8 +43,8 @@ struct Camera {
     glm::vec3 eye{0.f, -3.f, 1.f};
     glm::vec3 target{0.f, 0.f, 0.f};
     glm::vec3 up{0.f, 0.f, 1.f};
-    float fovY = 45.f;       // perspective: vertical field of view, degrees
-    float orthoHeight = 2.f; // orthographic: world-space height of the view
+    float fovY = 45.f;             // perspective: vertical field of view, degrees
+    float orthoHeight = 2.f;       // orthographic: world-space height of the view
     int width = 512, height = 512; // image size in pixels
 };
 

@@ -17,10 +17,14 @@ struct ShadeContext {
     float exponent = 32.f; // Blinn-Phong shininess s
 };
 
-inline glm::vec3 halfVector(const ShadeContext& c) { return glm::normalize(c.light + c.view); }
+inline glm::vec3 halfVector(const ShadeContext& c) {
+    return glm::normalize(c.light + c.view);
+}
 
 // Normalised Blinn-Phong lobe over half-vectors, (s+1)/(2 pi) (n.h)^s: integrates to 1 over
 // the hemisphere about n (Toksvig eq. 7; Han et al. eq. 28). `cosH` may be negative.
-inline float blinnPhong(float cosH, float s) { return glsl().ndfmipBlinnPhong(cosH, s); }
+inline float blinnPhong(float cosH, float s) {
+    return glsl().ndfmipBlinnPhong(cosH, s);
+}
 
 } // namespace ndfmip

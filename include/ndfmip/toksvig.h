@@ -11,10 +11,14 @@
 namespace ndfmip {
 
 // Eq. (1): variance of the angular deviation from the mean normal length, sigma^2 = (1-|Na|)/|Na|.
-inline float toksvigSigma2(float length) { return glsl().ndfmipToksvigSigma2(length); }
+inline float toksvigSigma2(float length) {
+    return glsl().ndfmipToksvigSigma2(length);
+}
 
 // Eq. (6): factor that scales the exponent s, ft = |Na| / (|Na| + s (1 - |Na|)).
-inline float toksvigFactor(float length, float s) { return glsl().ndfmipToksvigFactor(length, s); }
+inline float toksvigFactor(float length, float s) {
+    return glsl().ndfmipToksvigFactor(length, s);
+}
 
 // Eq. (8) in the normalised form: the Blinn-Phong lobe of exponent ft*s about Na/|Na|,
 // scaled so that it keeps unit energy, (ft s + 1)/(2 pi) (Na.H/|Na|)^(ft s).

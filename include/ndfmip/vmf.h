@@ -243,7 +243,8 @@ std::vector<VmfLobe> mergedLobes(const std::vector<VmfLobe>& candidates, int J,
 // in closed form (Integral gamma_1 gamma_2 = C(k_1) C(k_2) / C(|k_1 mu_1 + k_2 mu_2|)). Unlike the
 // likelihood, which a lobe on one normal raises without end, this is the shading error a mixture
 // makes, integrated over every half vector. Cost: count^2 + count J + J^2 lobe products.
-double smoothedNdfError(const glm::vec3* normals, size_t count, std::span<const VmfLobe> lobes, double s);
+double smoothedNdfError(const glm::vec3* normals, size_t count, std::span<const VmfLobe> lobes,
+                        double s);
 
 // ---- the whole pyramid ---------------------------------------------------------------------
 
@@ -274,10 +275,10 @@ struct VmfFitStats {
 // Level 0: one lobe per texel, alpha 1, mu = the normal, kappa = min(levelZeroKappa, kappaMax).
 // Level k >= 1: each texel starts from its children's lobes (alphas weighted by the children's
 // footprints), merged to J by mergedLobes (or farthestPointLobes, options.seeding), and runs
-// fitVmfMixture over all the level-0 normals of its footprint. Every level costs about the same, (normals) x J x (iterations + 1) exps.
-// Parallel over texels (OpenMP), or within a texel's fit for the few large texels of the top
-// levels; deterministic. `stats` may be null. options.coherence > 0: returns
-// fitVmfPyramidCoherent(pyramid, J, options, stats) instead.
+// fitVmfMixture over all the level-0 normals of its footprint. Every level costs about the same,
+// (normals) x J x (iterations + 1) exps. Parallel over texels (OpenMP), or within a texel's fit for
+// the few large texels of the top levels; deterministic. `stats` may be null. options.coherence >
+// 0: returns fitVmfPyramidCoherent(pyramid, J, options, stats) instead.
 std::vector<VmfLevel> fitVmfPyramid(const Pyramid& pyramid, int J, const VmfFitOptions& options,
                                     VmfFitStats* stats);
 
@@ -309,10 +310,10 @@ std::vector<VmfLevel> fitVmfPyramid(const Pyramid& pyramid, int J, const VmfFitO
 // The pull trades likelihood for agreement between neighbours, most where footprints are small:
 // a lobe of a few normals is sharp, and turning it by a fraction of a degree loses them
 // (alignedKappa widens it instead). On a 64 x 64 map of two drifting groove patterns, J = 4
-// (tests/filter/vmf_coherent_test.cpp), lobeMismatch falls from 25.6 degrees (fitVmfPyramid) to
-// 4.7 (C = 0) and 2.8 (C = 1; 2.2 with alignedKappa); against fitVmfPyramid, C = 1 loses 37
-// nats of log-likelihood per normal at level 1 (alignedKappa: 5), up to 0.9 at levels 2-3
-// (0.45), none from level 4 (256 normals a texel) up.
+// (tests/methods/vmf/vmf_coherent_test.cpp), lobeMismatch falls from 25.6 degrees (fitVmfPyramid)
+// to 4.7 (C = 0) and 2.8 (C = 1; 2.2 with alignedKappa); against fitVmfPyramid, C = 1 loses 37 nats
+// of log-likelihood per normal at level 1 (alignedKappa: 5), up to 0.9 at levels 2-3 (0.45), none
+// from level 4 (256 normals a texel) up.
 std::vector<VmfLevel> fitVmfPyramidCoherent(const Pyramid& pyramid, int J,
                                             const VmfFitOptions& options, VmfFitStats* stats);
 

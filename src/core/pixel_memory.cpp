@@ -61,7 +61,8 @@ void* allocatePixels(size_t bytes) {
                 text[std::fread(text, 1, sizeof text - 1, f)] = '\0';
                 std::fclose(f);
             }
-            if (freeHugePageBytes(text) >= 2 * rounded) madvise(p, rounded, MADV_HUGEPAGE); // advice only
+            if (freeHugePageBytes(text) >= 2 * rounded)
+                madvise(p, rounded, MADV_HUGEPAGE); // advice only
         }
     } else {
         p = std::malloc(bytes);
@@ -70,6 +71,8 @@ void* allocatePixels(size_t bytes) {
     return p;
 }
 
-void freePixels(void* pointer) noexcept { std::free(pointer); }
+void freePixels(void* pointer) noexcept {
+    std::free(pointer);
+}
 
 } // namespace ndfmip

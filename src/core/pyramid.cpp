@@ -30,7 +30,8 @@ std::vector<int> coarserEdges(const std::vector<int>& fineEdges, int coarse) {
 // Mean of the children of each coarse texel, each child weighted by its level-0 area: the
 // exact mean over the coarse texel's level-0 footprint of whatever linear quantity `fineImage`
 // holds (any channel count).
-Image averageChildren(const Image& fineImage, const PyramidLevel& fine, const PyramidLevel& coarse) {
+Image averageChildren(const Image& fineImage, const PyramidLevel& fine,
+                      const PyramidLevel& coarse) {
     const int cw = coarse.width, ch = coarse.height, channels = fineImage.channels;
     Image mean(cw, ch, channels, Image::Uninitialized{});
 #pragma omp parallel for schedule(static)
@@ -70,7 +71,8 @@ Image averageEvenBlocks(const Image& base, const PyramidLevel& coarse) {
             const float* a = r0 + 6 * x;
             const float* b = r1 + 6 * x;
             for (int c = 0; c < 3; ++c)
-                out[3 * x + c] = float((double(a[c]) + a[c + 3] + (double(b[c]) + b[c + 3])) * 0.25);
+                out[3 * x + c] =
+                    float((double(a[c]) + a[c + 3] + (double(b[c]) + b[c + 3])) * 0.25);
         }
     }
     return mean;
@@ -99,7 +101,9 @@ int levelCount(int width, int height) {
     return levels;
 }
 
-Pyramid buildPyramid(const Image& normals) { return buildPyramid(std::make_shared<Image>(normals)); }
+Pyramid buildPyramid(const Image& normals) {
+    return buildPyramid(std::make_shared<Image>(normals));
+}
 
 Pyramid buildPyramid(SharedImage base) {
     const Image& normals = *base;
@@ -124,8 +128,9 @@ Pyramid buildPyramid(SharedImage base) {
         coarse.columnEdges = coarserEdges(fine.columnEdges, coarse.width);
         coarse.rowEdges = coarserEdges(fine.rowEdges, coarse.height);
         bool evenBlocks = k == 1 && fine.width % 2 == 0 && fine.height % 2 == 0;
-        coarse.mean = std::make_shared<Image>(evenBlocks ? averageEvenBlocks(normals, coarse)
-                                                         : averageChildren(*fine.mean, fine, coarse));
+        coarse.mean =
+            std::make_shared<Image>(evenBlocks ? averageEvenBlocks(normals, coarse)
+                                               : averageChildren(*fine.mean, fine, coarse));
     }
     return pyramid;
 }

@@ -5,7 +5,8 @@
 //   P~_{m+1}^m = (2m + 1) z P~_m^m
 //   P~_l^m     = ((2l - 1) z P~_{l-1}^m - (l + m - 1) P~_{l-2}^m) / (l - m)
 // and sin^m(theta) e^{i m phi} = (x + i y)^m, so
-//   Y_l0 = K_l0 P~_l^0,  Y_lm = sqrt(2) K_lm P~_l^m Re (x+iy)^m,  Y_l,-m = sqrt(2) K_lm P~_l^m Im (x+iy)^m
+//   Y_l0 = K_l0 P~_l^0,  Y_lm = sqrt(2) K_lm P~_l^m Re (x+iy)^m,  Y_l,-m = sqrt(2) K_lm P~_l^m Im
+//   (x+iy)^m
 // with K_lm = sqrt((2l + 1)/(4 pi) (l - m)!/(l + m)!).
 #include "ndfmip/spherical_harmonics.h"
 
@@ -54,9 +55,11 @@ void evaluateSh(glm::dvec3 d, int order, double* out) {
         double previous = 0.0, current = pmm; // P~_{l-1}^m, P~_l^m starting at l = m
         for (int l = m; l <= order; ++l) {
             if (l > m) {
-                double next = l == m + 1 ? double(2 * m + 1) * d.z * current
-                                         : (double(2 * l - 1) * d.z * current -
-                                            double(l + m - 1) * previous) / double(l - m);
+                double next =
+                    l == m + 1
+                        ? double(2 * m + 1) * d.z * current
+                        : (double(2 * l - 1) * d.z * current - double(l + m - 1) * previous) /
+                              double(l - m);
                 previous = current;
                 current = next;
             }

@@ -17,12 +17,24 @@ glm::dvec3 cubeFaceDirection(int face, double s, double t) {
     const double a = 2. * s - 1., b = 1. - 2. * t;
     glm::dvec3 d;
     switch (face) {
-    case 0: d = {1., b, -a}; break;
-    case 1: d = {-1., b, a}; break;
-    case 2: d = {a, 1., -b}; break;
-    case 3: d = {a, -1., b}; break;
-    case 4: d = {a, b, 1.}; break;
-    default: d = {-a, b, -1.}; break;
+    case 0:
+        d = {1., b, -a};
+        break;
+    case 1:
+        d = {-1., b, a};
+        break;
+    case 2:
+        d = {a, 1., -b};
+        break;
+    case 3:
+        d = {a, -1., b};
+        break;
+    case 4:
+        d = {a, b, 1.};
+        break;
+    default:
+        d = {-a, b, -1.};
+        break;
     }
     return glm::normalize(d);
 }
@@ -48,14 +60,17 @@ namespace {
 
 // The solid angle of the face-plane rectangle [0, a] x [0, b] seen from the cube's centre
 // (the plane at distance 1): atan(a b / sqrt(a^2 + b^2 + 1)).
-double cornerSolidAngle(double a, double b) { return std::atan2(a * b, std::sqrt(a * a + b * b + 1.)); }
+double cornerSolidAngle(double a, double b) {
+    return std::atan2(a * b, std::sqrt(a * a + b * b + 1.));
+}
 
 } // namespace
 
 double cubeTexelSolidAngle(int size, int x, int y) {
     const double a0 = 2. * x / size - 1., a1 = 2. * (x + 1) / size - 1.;
     const double b0 = 2. * y / size - 1., b1 = 2. * (y + 1) / size - 1.;
-    return cornerSolidAngle(a1, b1) - cornerSolidAngle(a0, b1) - cornerSolidAngle(a1, b0) + cornerSolidAngle(a0, b0);
+    return cornerSolidAngle(a1, b1) - cornerSolidAngle(a0, b1) - cornerSolidAngle(a1, b0) +
+           cornerSolidAngle(a0, b0);
 }
 
 Image cubeFaceFromEquirect(const Image& map, int face, int size, int samples) {

@@ -11,12 +11,12 @@ struct EnvironmentCache::Entry {
     // What the data was prepared for; fields a kind does not use keep their defaults.
     struct Key {
         enum class Kind { SplitSum, Sh, ShViews } kind = Kind::SplitSum;
-        EnvironmentLod rule = EnvironmentLod::Filament; // SplitSum
-        bool blinnPhongLobe = false;                    // SplitSum
-        int order = 0;                                  // Sh, ShViews
-        int frequency = 0;                              // ShViews
+        EnvironmentLod rule = EnvironmentLod::Filament;     // SplitSum
+        bool blinnPhongLobe = false;                        // SplitSum
+        int order = 0;                                      // Sh, ShViews
+        int frequency = 0;                                  // ShViews
         SpecularCosine cosine = SpecularCosine::MeanNormal; // Sh, ShViews
-        glm::dvec3 view{0.};                            // Sh
+        glm::dvec3 view{0.};                                // Sh
         bool operator==(const Key&) const = default;
     } key;
     std::once_flag once;
@@ -51,8 +51,8 @@ std::shared_ptr<Entry> entryFor(EnvironmentCache& cache, const Entry::Key& key) 
 
 std::shared_ptr<const SplitSumLighting> cachedSplitSum(const EnvironmentLighting& lighting,
                                                        EnvironmentLod rule, bool blinnPhongLobe) {
-    std::shared_ptr<Entry> e =
-        entryFor(lighting.cache, {.kind = Kind::SplitSum, .rule = rule, .blinnPhongLobe = blinnPhongLobe});
+    std::shared_ptr<Entry> e = entryFor(
+        lighting.cache, {.kind = Kind::SplitSum, .rule = rule, .blinnPhongLobe = blinnPhongLobe});
     std::call_once(e->once, [&] {
         SplitSumOptions options;
         options.rules = {rule};
@@ -65,8 +65,8 @@ std::shared_ptr<const SplitSumLighting> cachedSplitSum(const EnvironmentLighting
 
 std::shared_ptr<const ShLighting> cachedShLighting(const EnvironmentLighting& lighting, int order,
                                                    glm::dvec3 view, SpecularCosine cosine) {
-    std::shared_ptr<Entry> e =
-        entryFor(lighting.cache, {.kind = Kind::Sh, .order = order, .cosine = cosine, .view = view});
+    std::shared_ptr<Entry> e = entryFor(
+        lighting.cache, {.kind = Kind::Sh, .order = order, .cosine = cosine, .view = view});
     std::call_once(e->once, [&] {
         e->sh = std::make_shared<const ShLighting>(
             prepareShLighting(lighting.environment, order, view, cosine));
@@ -74,10 +74,11 @@ std::shared_ptr<const ShLighting> cachedShLighting(const EnvironmentLighting& li
     return e->sh;
 }
 
-std::shared_ptr<const ShViewSet> cachedShViewSet(const EnvironmentLighting& lighting, int order, int frequency,
-                                                 SpecularCosine cosine) {
-    std::shared_ptr<Entry> e = entryFor(
-        lighting.cache, {.kind = Kind::ShViews, .order = order, .frequency = frequency, .cosine = cosine});
+std::shared_ptr<const ShViewSet> cachedShViewSet(const EnvironmentLighting& lighting, int order,
+                                                 int frequency, SpecularCosine cosine) {
+    std::shared_ptr<Entry> e =
+        entryFor(lighting.cache,
+                 {.kind = Kind::ShViews, .order = order, .frequency = frequency, .cosine = cosine});
     std::call_once(e->once, [&] {
         e->shViews = std::make_shared<const ShViewSet>(
             prepareShViewSet(lighting.environment, order, frequency, cosine));

@@ -30,7 +30,8 @@ double within(double u, double lo, double hi) {
 // The texel that unit direction d (environment frame, as stored in the file) falls in.
 glm::ivec2 texelOf(int width, int height, glm::dvec3 d) {
     const glm::dvec2 uv = equirectCoordinates(d);
-    return {std::clamp(int(uv.x * width), 0, width - 1), std::clamp(int(uv.y * height), 0, height - 1)};
+    return {std::clamp(int(uv.x * width), 0, width - 1),
+            std::clamp(int(uv.y * height), 0, height - 1)};
 }
 
 } // namespace
@@ -55,10 +56,13 @@ EnvironmentSampler makeEnvironmentSampler(const Environment& env) {
     s.rowCdf.assign(size_t(map.height) + 1, 0.);
     for (int y = 0; y < map.height; ++y) {
         double* cdf = &s.columnCdf[size_t(y) * size_t(map.width + 1)];
-        for (int x = 0; x < map.width; ++x) cdf[x + 1] = cdf[x] + double(s.weight[size_t(y) * size_t(map.width) + size_t(x)]);
+        for (int x = 0; x < map.width; ++x)
+            cdf[x + 1] = cdf[x] + double(s.weight[size_t(y) * size_t(map.width) + size_t(x)]);
         const double rowSum = cdf[map.width];
-        for (int x = 1; x <= map.width; ++x) cdf[x] = rowSum > 0. ? cdf[x] / rowSum : double(x) / map.width;
-        s.rowCdf[size_t(y) + 1] = s.rowCdf[size_t(y)] + rowSum * equirectTexelSolidAngle(map.width, map.height, y);
+        for (int x = 1; x <= map.width; ++x)
+            cdf[x] = rowSum > 0. ? cdf[x] / rowSum : double(x) / map.width;
+        s.rowCdf[size_t(y) + 1] =
+            s.rowCdf[size_t(y)] + rowSum * equirectTexelSolidAngle(map.width, map.height, y);
     }
     s.total = s.rowCdf.back();
     for (double& c : s.rowCdf) c /= s.total;

@@ -134,7 +134,8 @@ struct PrefilterLobe {
     double exponent = 0.;
 };
 
-std::vector<LobeSample> lobeSamples(const PrefilterLobe& lobe, int count, double texelSolidAngle, int maxLevel) {
+std::vector<LobeSample> lobeSamples(const PrefilterLobe& lobe, int count, double texelSolidAngle,
+                                    int maxLevel) {
     std::vector<LobeSample> samples;
     double total = 0.;
     const double a2 = lobe.alpha * lobe.alpha, s = lobe.exponent;
@@ -254,8 +255,8 @@ void applyTaps(const std::vector<Tap>& taps, const std::vector<PhasedLevel>& lev
     }
 }
 
-Image filterLevel(const std::vector<Image>& pyramid, const PrefilterLobe& lobe, int width, int sampleCount,
-                  double rotation) {
+Image filterLevel(const std::vector<Image>& pyramid, const PrefilterLobe& lobe, int width,
+                  int sampleCount, double rotation) {
     const int height = width / 2;
     const double texelAngle = M_PI / pyramid[0].height;
     const auto samples =
@@ -307,7 +308,8 @@ std::vector<PrefilteredLevel> prefilterGgx(const Environment& env,
             // cmgen's schedule: more samples from level 2 on, where there are 4x fewer texels.
             level.samples = options.samples << std::max(0, k - 1);
             const double r = level.perceptualRoughness;
-            level.radiance = filterLevel(pyramid, {false, r * r, 0.}, width, level.samples, env.rotation);
+            level.radiance =
+                filterLevel(pyramid, {false, r * r, 0.}, width, level.samples, env.rotation);
         }
         out.push_back(std::move(level));
         if (options.progress) options.progress(k + 1, levelCount);
@@ -318,13 +320,15 @@ std::vector<PrefilteredLevel> prefilterGgx(const Environment& env,
 Image prefilterGgxLevel(const Environment& env, double perceptualRoughness, int width,
                         int samples) {
     assert(perceptualRoughness > 0. && width >= 4 && (width & (width - 1)) == 0 && samples >= 1);
-    return filterLevel(radiancePyramid(env.radiance), {false, perceptualRoughness * perceptualRoughness, 0.},
-                       width, samples, env.rotation);
+    return filterLevel(radiancePyramid(env.radiance),
+                       {false, perceptualRoughness * perceptualRoughness, 0.}, width, samples,
+                       env.rotation);
 }
 
 Image prefilterBlinnPhongLevel(const Environment& env, double exponent, int width, int samples) {
     assert(exponent >= 0. && width >= 4 && (width & (width - 1)) == 0 && samples >= 1);
-    return filterLevel(radiancePyramid(env.radiance), {true, 0., exponent}, width, samples, env.rotation);
+    return filterLevel(radiancePyramid(env.radiance), {true, 0., exponent}, width, samples,
+                       env.rotation);
 }
 
 } // namespace ndfmip

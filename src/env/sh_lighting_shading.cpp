@@ -57,9 +57,12 @@ struct FrameLighting {
     std::vector<double> values;
 };
 
-const FrameLighting& lightingInFrame(const ShLighting& lighting, const glm::mat3& tangentToEnvironment, int order) {
+const FrameLighting& lightingInFrame(const ShLighting& lighting,
+                                     const glm::mat3& tangentToEnvironment, int order) {
     thread_local FrameLighting cached;
-    if (cached.lighting == lighting.id && cached.order == order && cached.frame == tangentToEnvironment) return cached;
+    if (cached.lighting == lighting.id && cached.order == order &&
+        cached.frame == tangentToEnvironment)
+        return cached;
     const bool axes = lighting.cosine == SpecularCosine::MeanNormal;
     const int count = shCount(order), channels = axes ? 12 : 6;
     cached.values.assign(size_t(channels) * size_t(count), 0.);
@@ -68,14 +71,16 @@ const FrameLighting& lightingInFrame(const ShLighting& lighting, const glm::mat3
         for (int c = 0; c < 3; ++c) {
             p[c] = lighting.radiance[size_t(i)][c];
             if (axes)
-                for (int k = 0; k < 3; ++k) p[3 + 3 * k + c] = lighting.reparameterisedAxes[k][size_t(i)][c];
+                for (int k = 0; k < 3; ++k)
+                    p[3 + 3 * k + c] = lighting.reparameterisedAxes[k][size_t(i)][c];
             else
                 p[3 + c] = lighting.reparameterised[size_t(i)][c];
         }
     }
-    rotateSh(glm::transpose(glm::dmat3(tangentToEnvironment)), order, cached.values.data(), cached.values.data(),
-             channels);
-    cached.lighting = lighting.id, cached.order = order, cached.frame = tangentToEnvironment, cached.channels = channels;
+    rotateSh(glm::transpose(glm::dmat3(tangentToEnvironment)), order, cached.values.data(),
+             cached.values.data(), channels);
+    cached.lighting = lighting.id, cached.order = order, cached.frame = tangentToEnvironment,
+    cached.channels = channels;
     return cached;
 }
 
@@ -99,10 +104,11 @@ glm::vec3 shadeShEnvironment(const Material& m, glm::vec3 albedo, const float* g
     for (int i = 0; i < count; ++i) {
         const double* p = &frame.values[size_t(frame.channels) * size_t(i)];
         radiance[i] = glm::dvec3(p[0], p[1], p[2]);
-        reparameterised[i] = frame.channels == 12 ? meanNormal.x * glm::dvec3(p[3], p[4], p[5]) +
-                                                        meanNormal.y * glm::dvec3(p[6], p[7], p[8]) +
-                                                        meanNormal.z * glm::dvec3(p[9], p[10], p[11])
-                                                  : glm::dvec3(p[3], p[4], p[5]);
+        reparameterised[i] = frame.channels == 12
+                                 ? meanNormal.x * glm::dvec3(p[3], p[4], p[5]) +
+                                       meanNormal.y * glm::dvec3(p[6], p[7], p[8]) +
+                                       meanNormal.z * glm::dvec3(p[9], p[10], p[11])
+                                 : glm::dvec3(p[3], p[4], p[5]);
         coefficients[i] = double(g[i]);
     }
     const glm::vec3 diffuse =
@@ -124,8 +130,8 @@ void vmfBandFactors(double kappa, int order, double* out) {
     if (kappa >= 32.) {
         // i_n(k) = (e^k S_-(n) - (-1)^n e^-k S_+(n)) / (2k), S_-+ = Sum_j (-+1)^j (n+j)! / (j!
         // (n-j)! (2k)^j), and i_0 = sinh(k)/k: the ratio in terms of e^-2k, which cannot overflow.
-        // The alternating sum cancels most at the smallest k and largest n: 3.5e-12 at k = 32, n = 30
-        // against projectTransfer, 1e-15 from k = 200 on.
+        // The alternating sum cancels most at the smallest k and largest n: 3.5e-12 at k = 32, n =
+        // 30 against projectTransfer, 1e-15 from k = 200 on.
         const double decay = std::exp(-2. * kappa);
         for (int n = 1; n <= order; ++n) {
             double term = 1., minus = 1., plus = 1.;

@@ -51,7 +51,9 @@ double snapped(double t) {
 // copies exactly).
 template <class Rows>
 void blend(std::vector<glm::dvec3>& out, const ShViewSet& set, const ShViewWeights& w, Rows rows) {
-    auto source = [&](int k) -> const std::vector<glm::dvec3>& { return rows(set.views[size_t(w.index[k])]); };
+    auto source = [&](int k) -> const std::vector<glm::dvec3>& {
+        return rows(set.views[size_t(w.index[k])]);
+    };
     const std::vector<glm::dvec3>& first = source(0);
     out.resize(first.size());
     for (size_t i = 0; i < first.size(); ++i) out[i] = w.weight[0] * first[i];
@@ -101,7 +103,7 @@ ShViewWeights shViewWeights(int f, glm::dvec3 view) {
         w.weight[w.count++] = weight;
     };
     if (i0 + j0 == f) {
-        add(i0, j0, 1.); // a corner of the face's edge c = 0 (then fa = fb = 0)
+        add(i0, j0, 1.);        // a corner of the face's edge c = 0 (then fa = fb = 0)
     } else if (fa + fb <= 1.) { // the cell's lower triangle (i0, j0), (i0 + 1, j0), (i0, j0 + 1)
         add(i0, j0, 1. - fa - fb);
         add(i0 + 1, j0, fa);
@@ -142,10 +144,14 @@ void interpolateShLighting(const ShViewSet& set, glm::dvec3 view, ShLighting& ou
         out.reparameterised.clear();
         for (int k = 0; k < 3; ++k)
             blend(out.reparameterisedAxes[k], set, w,
-                  [k](const ShLighting& prepared) -> const std::vector<glm::dvec3>& { return prepared.reparameterisedAxes[k]; });
+                  [k](const ShLighting& prepared) -> const std::vector<glm::dvec3>& {
+                      return prepared.reparameterisedAxes[k];
+                  });
     } else {
         blend(out.reparameterised, set, w,
-              [](const ShLighting& prepared) -> const std::vector<glm::dvec3>& { return prepared.reparameterised; });
+              [](const ShLighting& prepared) -> const std::vector<glm::dvec3>& {
+                  return prepared.reparameterised;
+              });
         for (std::vector<glm::dvec3>& axis : out.reparameterisedAxes) axis.clear();
     }
 }

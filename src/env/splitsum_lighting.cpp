@@ -35,10 +35,14 @@ int log2Floor(int n) {
 // box chain of Log2Sigma halves size/4-wide cube faces down to 1 x 1.
 int chainLevels(EnvironmentLod rule, int size, int filamentLevels) {
     switch (rule) {
-    case EnvironmentLod::Log2Sigma: return log2Floor(size) - 1;
-    case EnvironmentLod::Filament: return filamentLevels;
-    case EnvironmentLod::Unity: return kUnitySpecCubeLodSteps + 1;
-    case EnvironmentLod::Unreal: return log2Floor(size) - 1;
+    case EnvironmentLod::Log2Sigma:
+        return log2Floor(size) - 1;
+    case EnvironmentLod::Filament:
+        return filamentLevels;
+    case EnvironmentLod::Unity:
+        return kUnitySpecCubeLodSteps + 1;
+    case EnvironmentLod::Unreal:
+        return log2Floor(size) - 1;
     }
     return 1;
 }
@@ -47,17 +51,21 @@ int chainLevels(EnvironmentLod rule, int size, int filamentLevels) {
 
 const char* environmentLodName(EnvironmentLod rule) {
     switch (rule) {
-    case EnvironmentLod::Log2Sigma: return "log2sigma";
-    case EnvironmentLod::Filament: return "filament";
-    case EnvironmentLod::Unity: return "unity";
-    case EnvironmentLod::Unreal: return "unreal";
+    case EnvironmentLod::Log2Sigma:
+        return "log2sigma";
+    case EnvironmentLod::Filament:
+        return "filament";
+    case EnvironmentLod::Unity:
+        return "unity";
+    case EnvironmentLod::Unreal:
+        return "unreal";
     }
     return "?";
 }
 
 bool environmentLodFromString(const std::string& name, EnvironmentLod& out) {
-    for (EnvironmentLod rule : {EnvironmentLod::Log2Sigma, EnvironmentLod::Filament, EnvironmentLod::Unity,
-                                EnvironmentLod::Unreal})
+    for (EnvironmentLod rule : {EnvironmentLod::Log2Sigma, EnvironmentLod::Filament,
+                                EnvironmentLod::Unity, EnvironmentLod::Unreal})
         if (name == environmentLodName(rule)) {
             out = rule;
             return true;
@@ -69,10 +77,12 @@ double environmentLodLevel(EnvironmentLod rule, double perceptualRoughness, int 
     assert(rule != EnvironmentLod::Log2Sigma && levels >= 1);
     const double r = std::clamp(perceptualRoughness, 0., 1.);
     double lod = 0.;
-    if (rule == EnvironmentLod::Filament) lod = perceptualRoughnessToLod(LodMapping::Filament, r) * (levels - 1);
+    if (rule == EnvironmentLod::Filament)
+        lod = perceptualRoughnessToLod(LodMapping::Filament, r) * (levels - 1);
     if (rule == EnvironmentLod::Unity) lod = r * (1.7 - 0.7 * r) * kUnitySpecCubeLodSteps;
     if (rule == EnvironmentLod::Unreal) {
-        const double levelFrom1x1 = kUnrealRoughestMip - kUnrealMipScale * std::log2(std::max(r, 0.001));
+        const double levelFrom1x1 =
+            kUnrealRoughestMip - kUnrealMipScale * std::log2(std::max(r, 0.001));
         lod = levels - 1 - levelFrom1x1;
     }
     return std::clamp(lod, 0., double(levels - 1));
@@ -106,9 +116,13 @@ double reflectedSpread(double lobeVariance, double normalVariance) {
     return 2. * std::sqrt(std::max(lobeVariance, 0.) + std::max(normalVariance, 0.));
 }
 
-double blinnPhongAlpha(double exponent) { return std::sqrt(2. / (std::max(exponent, 0.) + 2.)); }
+double blinnPhongAlpha(double exponent) {
+    return std::sqrt(2. / (std::max(exponent, 0.) + 2.));
+}
 
-double blinnPhongExponent(double alpha) { return std::max(2. / std::max(alpha * alpha, 1e-12) - 2., 0.); }
+double blinnPhongExponent(double alpha) {
+    return std::max(2. / std::max(alpha * alpha, 1e-12) - 2., 0.);
+}
 
 // ---- the lobe's directional albedo ----------------------------------------------------------
 
@@ -174,9 +188,9 @@ float sampleTable(const Image& table, int channel, float u, float v) {
 
 SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& options) {
     const int size = options.size;
-    assert(size >= 16 && (size & (size - 1)) == 0 && options.samples >= 1 && options.filamentLevels >= 1 &&
-           options.filamentLevels <= log2Floor(size) - 1 && options.albedoTableSize >= 2 &&
-           options.albedoSamples >= 1);
+    assert(size >= 16 && (size & (size - 1)) == 0 && options.samples >= 1 &&
+           options.filamentLevels >= 1 && options.filamentLevels <= log2Floor(size) - 1 &&
+           options.albedoTableSize >= 2 && options.albedoSamples >= 1);
     SplitSumLighting lighting;
     lighting.albedoKind = options.albedo;
     lighting.vmfBandFactors = options.vmfBandFactors;
@@ -207,9 +221,10 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
             const int samples = options.samples << std::max(0, k - 1);
             // Never narrower than 4 x 2 (Unity's 7 levels from a small level 0 would run out).
             const int width = std::max(size >> k, 4);
-            chain.levels.push_back(chain.blinnPhongLobe
-                                       ? prefilterBlinnPhongLevel(env, blinnPhongExponent(r * r), width, samples)
-                                       : prefilterGgxLevel(env, r, width, samples));
+            chain.levels.push_back(
+                chain.blinnPhongLobe
+                    ? prefilterBlinnPhongLevel(env, blinnPhongExponent(r * r), width, samples)
+                    : prefilterGgxLevel(env, r, width, samples));
             chain.perceptualRoughness.push_back(r);
         }
         lighting.chains.push_back(std::move(chain));
@@ -227,7 +242,8 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
 
 Status checkSplitSumMaterial(const Material& m) {
     if (m.brdf == Brdf::Tabulated)
-        return Status::failure("material.brdf: tabulated lobes have no split-sum (prefiltered) form");
+        return Status::failure(
+            "material.brdf: tabulated lobes have no split-sum (prefiltered) form");
     return Status::success();
 }
 
@@ -257,11 +273,13 @@ glm::vec3 irradianceAt(const SplitSumLighting& lighting, glm::dvec3 n, glm::dvec
     evaluateSh(glm::normalize(n), 2, y);
     glm::dvec3 e(0.);
     for (int l = 0; l <= 2; ++l)
-        for (int m = -l; m <= l; ++m) e += band[l] * y[shIndex(l, m)] * lighting.irradiance[size_t(shIndex(l, m))];
+        for (int m = -l; m <= l; ++m)
+            e += band[l] * y[shIndex(l, m)] * lighting.irradiance[size_t(shIndex(l, m))];
     return glm::vec3(glm::max(e, glm::dvec3(0.))); // truncation can ring below zero
 }
 
-float specularAlbedo(const SplitSumLighting& lighting, Brdf brdf, float mu, float perceptualRoughness) {
+float specularAlbedo(const SplitSumLighting& lighting, Brdf brdf, float mu,
+                     float perceptualRoughness) {
     mu = std::clamp(mu, 0.f, 1.f);
     perceptualRoughness = std::clamp(perceptualRoughness, 0.f, 1.f);
     if (lighting.albedoKind == SpecularAlbedo::EngineDfg)
@@ -270,8 +288,9 @@ float specularAlbedo(const SplitSumLighting& lighting, Brdf brdf, float mu, floa
     return sampleTable(lighting.albedo[size_t(int(brdf) - 1)], 0, mu, perceptualRoughness);
 }
 
-glm::vec3 prefilteredRadiance(const SplitSumLighting& lighting, EnvironmentLod rule, glm::dvec3 reflected,
-                              double perceptualRoughness, double normalVariance) {
+glm::vec3 prefilteredRadiance(const SplitSumLighting& lighting, EnvironmentLod rule,
+                              glm::dvec3 reflected, double perceptualRoughness,
+                              double normalVariance) {
     const SplitSumChain* chain = findChain(lighting, rule);
     assert(chain && "the rule's chain was not prepared (SplitSumOptions::rules)");
     if (!chain) return glm::vec3(0.f);
@@ -279,7 +298,8 @@ glm::vec3 prefilteredRadiance(const SplitSumLighting& lighting, EnvironmentLod r
     double lod;
     if (rule == EnvironmentLod::Log2Sigma) {
         const double alpha = perceptualRoughness * perceptualRoughness;
-        lod = log2SigmaLevel(reflectedSpread(alpha * alpha / 2., normalVariance), lighting.texelAngle, levels);
+        lod = log2SigmaLevel(reflectedSpread(alpha * alpha / 2., normalVariance),
+                             lighting.texelAngle, levels);
     } else {
         lod = environmentLodLevel(rule, perceptualRoughness, levels);
     }

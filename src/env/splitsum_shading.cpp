@@ -19,22 +19,29 @@ bool hasLobe(const Material& m) {
 // The perceptual roughness at which a lobe reads the chains: sqrt(alpha), Blinn-Phong through
 // alpha^2 = 2/(s + 2) (Walter et al.), so that its GGX-prefiltered level and its albedo table row
 // agree with the lobe near its peak.
-float blinnPhongPerceptual(float exponent) { return float(std::sqrt(blinnPhongAlpha(exponent))); }
-float alphaPerceptual(float alpha) { return std::sqrt(std::clamp(alpha, 0.f, 1.f)); }
+float blinnPhongPerceptual(float exponent) {
+    return float(std::sqrt(blinnPhongAlpha(exponent)));
+}
+float alphaPerceptual(float alpha) {
+    return std::sqrt(std::clamp(alpha, 0.f, 1.f));
+}
 
 // A unit normal n (tangent frame), seen from v: the specular term of a lobe of perceptual
 // roughness r, m.specular x LD(reflect(-v, n), r) x E(n.v, r).
-glm::vec3 specularTerm(const Material& m, glm::vec3 n, glm::vec3 view, const glm::mat3& tangentToEnvironment,
-                       const SplitSumLighting& lighting, EnvironmentLod rule, float r, double normalVariance = 0.) {
+glm::vec3 specularTerm(const Material& m, glm::vec3 n, glm::vec3 view,
+                       const glm::mat3& tangentToEnvironment, const SplitSumLighting& lighting,
+                       EnvironmentLod rule, float r, double normalVariance = 0.) {
     const float mu = glm::dot(n, view);
     const glm::vec3 reflected = 2.f * mu * n - view;
-    const glm::vec3 ld = prefilteredRadiance(lighting, rule, glm::dvec3(tangentToEnvironment * reflected), r, normalVariance);
+    const glm::vec3 ld = prefilteredRadiance(
+        lighting, rule, glm::dvec3(tangentToEnvironment * reflected), r, normalVariance);
     return m.specular * ld * specularAlbedo(lighting, m.brdf, mu, r);
 }
 
 glm::vec3 diffuseTerm(glm::vec3 albedo, glm::vec3 n, const glm::mat3& tangentToEnvironment,
                       const SplitSumLighting& lighting, glm::dvec3 band = glm::dvec3(1.)) {
-    return albedo * (1.f / kPi) * irradianceAt(lighting, glm::dvec3(tangentToEnvironment * n), band);
+    return albedo * (1.f / kPi) *
+           irradianceAt(lighting, glm::dvec3(tangentToEnvironment * n), band);
 }
 
 glm::vec3 unitOrFlat(glm::vec3 v) {
@@ -54,19 +61,21 @@ glm::dvec3 vmfBandFactors(double kappa) {
 
 } // namespace
 
-glm::vec3 shadeNaiveSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 filtered, glm::vec3 view,
-                             const glm::mat3& tangentToEnvironment, const SplitSumLighting& lighting,
-                             EnvironmentLod rule) {
+glm::vec3 shadeNaiveSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 filtered,
+                             glm::vec3 view, const glm::mat3& tangentToEnvironment,
+                             const SplitSumLighting& lighting, EnvironmentLod rule) {
     const glm::vec3 n = unitOrFlat(filtered);
     glm::vec3 out = diffuseTerm(albedo, n, tangentToEnvironment, lighting);
     if (!hasLobe(m)) return out;
-    const float r = m.brdf == Brdf::BlinnPhong ? blinnPhongPerceptual(m.exponent) : alphaPerceptual(m.roughness);
+    const float r = m.brdf == Brdf::BlinnPhong ? blinnPhongPerceptual(m.exponent)
+                                               : alphaPerceptual(m.roughness);
     return out + specularTerm(m, n, view, tangentToEnvironment, lighting, rule, r);
 }
 
 glm::vec3 shadeToksvigSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 na, glm::vec3 view,
-                               const glm::mat3& tangentToEnvironment, const SplitSumLighting& lighting,
-                               EnvironmentLod rule, RoughnessMapping mapping, float varianceScale) {
+                               const glm::mat3& tangentToEnvironment,
+                               const SplitSumLighting& lighting, EnvironmentLod rule,
+                               RoughnessMapping mapping, float varianceScale) {
     const float length = std::min(glm::length(na), 1.f);
     const glm::vec3 n = unitOrFlat(na);
     // Diffuse: irradiance is linear in n in band 1, whose mean over the normals is exactly its
@@ -78,47 +87,57 @@ glm::vec3 shadeToksvigSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 na
     if (!hasLobe(m)) return out;
 
     // The widened lobe exactly as shadeToksvig: s' = ft s (eq. 6) or the roughness mapping.
-    const float r = m.brdf == Brdf::BlinnPhong
-                        ? blinnPhongPerceptual(toksvigFactor(length, m.exponent) * m.exponent)
-                        : alphaPerceptual(mappedRoughness(mapping, length, m.roughness, varianceScale));
-    if (rule != EnvironmentLod::Log2Sigma) return out + specularTerm(m, n, view, tangentToEnvironment, lighting, rule, r);
+    const float r =
+        m.brdf == Brdf::BlinnPhong
+            ? blinnPhongPerceptual(toksvigFactor(length, m.exponent) * m.exponent)
+            : alphaPerceptual(mappedRoughness(mapping, length, m.roughness, varianceScale));
+    if (rule != EnvironmentLod::Log2Sigma)
+        return out + specularTerm(m, n, view, tangentToEnvironment, lighting, rule, r);
     // Toksvig's own rule: the material's spread plus the normals' sigma^2 = (1 - |Na|)/|Na|
     // (eq. 1), which for Blinn-Phong is eq. 5's 1/s' = 1/s + sigma^2 and for Beckmann/GGX the
     // Ours mapping with c = 2; the albedo factor at the widened roughness.
-    const float base = m.brdf == Brdf::BlinnPhong ? blinnPhongPerceptual(m.exponent) : alphaPerceptual(m.roughness);
+    const float base = m.brdf == Brdf::BlinnPhong ? blinnPhongPerceptual(m.exponent)
+                                                  : alphaPerceptual(m.roughness);
     const float mu = glm::dot(n, view);
     const glm::vec3 reflected = 2.f * mu * n - view;
-    const glm::vec3 ld = prefilteredRadiance(lighting, rule, glm::dvec3(tangentToEnvironment * reflected), base,
-                                             length > 0.f ? toksvigSigma2(length) : 1e6);
+    const glm::vec3 ld =
+        prefilteredRadiance(lighting, rule, glm::dvec3(tangentToEnvironment * reflected), base,
+                            length > 0.f ? toksvigSigma2(length) : 1e6);
     return out + m.specular * ld * specularAlbedo(lighting, m.brdf, mu, r);
 }
 
-glm::vec3 shadeRoughnessMipsSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 filtered, float stored,
-                                     bool isAlpha, glm::vec3 view, const glm::mat3& tangentToEnvironment,
+glm::vec3 shadeRoughnessMipsSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 filtered,
+                                     float stored, bool isAlpha, glm::vec3 view,
+                                     const glm::mat3& tangentToEnvironment,
                                      const SplitSumLighting& lighting, EnvironmentLod rule) {
     Material widened = m;
     const float s = std::clamp(stored, 0.f, 1.f);
     widened.roughness = std::max(isAlpha ? s : s * s, 1e-4f); // as ndfmipShadeRoughnessMips
-    return shadeNaiveSplitSum(widened, albedo, filtered, view, tangentToEnvironment, lighting, rule);
+    return shadeNaiveSplitSum(widened, albedo, filtered, view, tangentToEnvironment, lighting,
+                              rule);
 }
 
 glm::vec3 shadeVmfSplitSum(const Material& m, glm::vec3 albedo, const float* lobes, int count,
-                           const glm::vec3* colors, glm::vec3 view, const glm::mat3& tangentToEnvironment,
-                           const SplitSumLighting& lighting, EnvironmentLod rule) {
+                           const glm::vec3* colors, glm::vec3 view,
+                           const glm::mat3& tangentToEnvironment, const SplitSumLighting& lighting,
+                           EnvironmentLod rule) {
     glm::vec3 out(0.f);
     for (int j = 0; j < count; ++j) {
         const float* p = lobes + 4 * j;
-        const GlslLibrary::NdfmipLobe lobe = glsl().ndfmipUnpackLobe(glm::vec4(p[0], p[1], p[2], p[3]));
+        const GlslLibrary::NdfmipLobe lobe =
+            glsl().ndfmipUnpackLobe(glm::vec4(p[0], p[1], p[2], p[3]));
         if (!(lobe.alpha > 0.f)) continue;
         const glm::vec3 lobeAlbedo = colors ? colors[j] * m.albedo : albedo;
-        const glm::dvec3 band = lighting.vmfBandFactors ? vmfBandFactors(lobe.kappa) : glm::dvec3(1.);
+        const glm::dvec3 band =
+            lighting.vmfBandFactors ? vmfBandFactors(lobe.kappa) : glm::dvec3(1.);
         glm::vec3 term = diffuseTerm(lobeAlbedo, lobe.mu, tangentToEnvironment, lighting, band);
         if (hasLobe(m)) {
             // Eqs. 29-30 as ndfmipVmfWidenedLobe: the material's lobe convolved with the vMF.
             const float kappa = std::max(lobe.kappa, 1e-6f);
             const float r = m.brdf == Brdf::BlinnPhong
                                 ? blinnPhongPerceptual(kappa * m.exponent / (kappa + m.exponent))
-                                : alphaPerceptual(std::min(std::sqrt(m.roughness * m.roughness + 2.f / kappa), 1.f));
+                                : alphaPerceptual(std::min(
+                                      std::sqrt(m.roughness * m.roughness + 2.f / kappa), 1.f));
             term += specularTerm(m, lobe.mu, view, tangentToEnvironment, lighting, rule, r);
         }
         out += lobe.alpha * term;

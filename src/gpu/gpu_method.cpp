@@ -29,21 +29,23 @@ Result<GLuint> uploadLayers(const std::vector<std::vector<const Image*>>& layers
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
     if (base.width > maxSize || base.height > maxSize)
-        return Error{"GPU: the bake's " + std::to_string(base.width) + "x" + std::to_string(base.height) +
-                     " level 0 exceeds the driver's texture size " + std::to_string(maxSize)};
+        return Error{"GPU: the bake's " + std::to_string(base.width) + "x" +
+                     std::to_string(base.height) + " level 0 exceeds the driver's texture size " +
+                     std::to_string(maxSize)};
     if (int(layers.size()) > maxLayers)
         return Error{"GPU: " + std::to_string(layers.size()) + " planes exceed the driver's " +
                      std::to_string(maxLayers) + " array layers"};
     GLuint texture = 0;
     glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &texture);
-    glTextureStorage3D(texture, levelCount, GL_RGBA32F, base.width, base.height, GLsizei(layers.size()));
+    glTextureStorage3D(texture, levelCount, GL_RGBA32F, base.width, base.height,
+                       GLsizei(layers.size()));
     std::vector<float> rgba;
     for (int k = 0; k < levelCount; ++k)
         for (size_t layer = 0; layer < layers.size(); ++layer) {
             const Image& image = *layers[layer][size_t(k)];
             rgbaOf(image, rgba);
-            glTextureSubImage3D(texture, k, 0, 0, GLint(layer), image.width, image.height, 1, GL_RGBA, GL_FLOAT,
-                                rgba.data());
+            glTextureSubImage3D(texture, k, 0, 0, GLint(layer), image.width, image.height, 1,
+                                GL_RGBA, GL_FLOAT, rgba.data());
         }
     glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -62,7 +64,8 @@ Result<GLuint> uploadMips(const std::vector<const Image*>& levels, const char* w
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
     if (base.width > maxSize || base.height > maxSize)
         return Error{std::string("GPU: the ") + what + "'s " + std::to_string(base.width) + "x" +
-                     std::to_string(base.height) + " exceeds the driver's texture size " + std::to_string(maxSize)};
+                     std::to_string(base.height) + " exceeds the driver's texture size " +
+                     std::to_string(maxSize)};
     GLuint texture = 0;
     glCreateTextures(GL_TEXTURE_2D, 1, &texture);
     glTextureStorage2D(texture, GLsizei(levels.size()), GL_RGBA32F, base.width, base.height);
@@ -70,7 +73,8 @@ Result<GLuint> uploadMips(const std::vector<const Image*>& levels, const char* w
     for (size_t k = 0; k < levels.size(); ++k) {
         const Image& image = *levels[k];
         rgbaOf(image, rgba);
-        glTextureSubImage2D(texture, GLint(k), 0, 0, image.width, image.height, GL_RGBA, GL_FLOAT, rgba.data());
+        glTextureSubImage2D(texture, GLint(k), 0, 0, image.width, image.height, GL_RGBA, GL_FLOAT,
+                            rgba.data());
     }
     glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
     glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -94,8 +98,10 @@ GLuint uploadNormalCube(const NormalCubeMap& cube) {
         for (int face = 0; face < 6; ++face) {
             rgba.assign(faceTexels * 4, 0.f);
             for (size_t i = 0; i < faceTexels; ++i)
-                for (int c = 0; c < 3; ++c) rgba[4 * i + size_t(c)] = level.texels[size_t(face) * faceTexels + i][c];
-            glTextureSubImage3D(texture, GLint(k), 0, 0, face, level.size, level.size, 1, GL_RGBA, GL_FLOAT, rgba.data());
+                for (int c = 0; c < 3; ++c)
+                    rgba[4 * i + size_t(c)] = level.texels[size_t(face) * faceTexels + i][c];
+            glTextureSubImage3D(texture, GLint(k), 0, 0, face, level.size, level.size, 1, GL_RGBA,
+                                GL_FLOAT, rgba.data());
         }
     }
     glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
@@ -116,7 +122,8 @@ Result<GLuint> uploadCubeChain(const CubeMipChain& chain) {
     GLint maxSize = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
     if (size > maxSize)
-        return Error{"GPU: the environment's " + std::to_string(size) + "-wide cube faces exceed the driver's texture size " +
+        return Error{"GPU: the environment's " + std::to_string(size) +
+                     "-wide cube faces exceed the driver's texture size " +
                      std::to_string(maxSize)};
     GLuint texture = 0;
     glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &texture);
@@ -126,8 +133,8 @@ Result<GLuint> uploadCubeChain(const CubeMipChain& chain) {
         for (int face = 0; face < kCubeFaces; ++face) {
             const Image& image = chain.levels[k][size_t(face)];
             rgbaOf(image, rgba);
-            glTextureSubImage3D(texture, GLint(k), 0, 0, face, image.width, image.height, 1, GL_RGBA, GL_FLOAT,
-                                rgba.data());
+            glTextureSubImage3D(texture, GLint(k), 0, 0, face, image.width, image.height, 1,
+                                GL_RGBA, GL_FLOAT, rgba.data());
         }
     glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
     glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -141,10 +148,14 @@ void setUniforms(GLuint program, const std::vector<UniformValue>& uniforms) {
         const GLint at = glGetUniformLocation(program, u.name.c_str());
         if (at < 0) continue; // not used by this method's shader
         const float* v = u.values.data();
-        if (u.integer) glProgramUniform1i(program, at, GLint(v[0]));
-        else if (u.values.size() == 1) glProgramUniform1f(program, at, v[0]);
-        else if (u.values.size() == 2) glProgramUniform2f(program, at, v[0], v[1]);
-        else glProgramUniform3f(program, at, v[0], v[1], v[2]);
+        if (u.integer)
+            glProgramUniform1i(program, at, GLint(v[0]));
+        else if (u.values.size() == 1)
+            glProgramUniform1f(program, at, v[0]);
+        else if (u.values.size() == 2)
+            glProgramUniform2f(program, at, v[0], v[1]);
+        else
+            glProgramUniform3f(program, at, v[0], v[1], v[2]);
     }
 }
 
@@ -155,7 +166,8 @@ Result<GpuMethod> GpuMethod::create(const RenderProgram& parts) {
     for (const auto& [name, text] : parts.fragmentParts) appendShaderText(fragment, name, text);
     ShaderSource vertex = glslVersionHeader();
     appendShaderText(vertex, "<full-screen triangle>", renderVertexShader());
-    Result<GlProgram> program = compileProgram({{ShaderStage::Vertex, vertex}, {ShaderStage::Fragment, fragment}});
+    Result<GlProgram> program =
+        compileProgram({{ShaderStage::Vertex, vertex}, {ShaderStage::Fragment, fragment}});
     if (!program) return program.error();
     GpuMethod method;
     method.program_ = std::move(program.value());
@@ -174,7 +186,8 @@ Result<GpuMethod> GpuMethod::create(const RenderProgram& parts) {
     if (!lut.empty()) {
         glCreateTextures(GL_TEXTURE_2D, 1, &method.lut_);
         glTextureStorage2D(method.lut_, 1, GL_R32F, lut.width, lut.height);
-        glTextureSubImage2D(method.lut_, 0, 0, 0, lut.width, lut.height, GL_RED, GL_FLOAT, lut.pixels.data());
+        glTextureSubImage2D(method.lut_, 0, 0, 0, lut.width, lut.height, GL_RED, GL_FLOAT,
+                            lut.pixels.data());
         glTextureParameteri(method.lut_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
         glTextureParameteri(method.lut_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
         glTextureParameteri(method.lut_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -195,34 +208,40 @@ Result<GpuMethod> GpuMethod::create(const RenderProgram& parts) {
         Result<GLuint> uploaded = uploadMips({&parts.environmentAlbedo}, "specular albedo table");
         if (!uploaded) return uploaded.error();
         method.environmentAlbedo_ = uploaded.value();
-    } else if (!parts.environmentSh.empty()) { // the SH way: its coefficients where the chain would be
+    } else if (!parts.environmentSh
+                    .empty()) { // the SH way: its coefficients where the chain would be
         Result<GLuint> uploaded = uploadMips({&parts.environmentSh}, "SH lighting");
         if (!uploaded) return uploaded.error();
         method.environmentChain_ = uploaded.value();
     }
     if (parts.environmentVisible) {
-        Result<GLuint> uploaded = uploadMips({&parts.environment->environment.radiance}, "environment map");
+        Result<GLuint> uploaded =
+            uploadMips({&parts.environment->environment.radiance}, "environment map");
         if (!uploaded) return uploaded.error();
         method.environmentMap_ = uploaded.value();
     }
-    glCreateVertexArrays(1, &method.vertexArray_); // core profile: a bound VAO, even with no attributes
+    glCreateVertexArrays(
+        1, &method.vertexArray_); // core profile: a bound VAO, even with no attributes
     return method;
 }
 
-void GpuMethod::draw(const std::vector<UniformValue>& uniforms, int x, int y, int width, int height) const {
+void GpuMethod::draw(const std::vector<UniformValue>& uniforms, int x, int y, int width,
+                     int height) const {
     setUniforms(program_.id(), uniforms);
     glUseProgram(program_.id());
     glBindVertexArray(vertexArray_);
     if (planes_) glBindTextureUnit(0, planes_);
     if (lut_) glBindTextureUnit(1, lut_);
-    if (environmentChain_) glBindTextureUnit(2, environmentChain_); // units as renderProgram's uniforms
+    if (environmentChain_)
+        glBindTextureUnit(2, environmentChain_); // units as renderProgram's uniforms
     if (environmentAlbedo_) glBindTextureUnit(3, environmentAlbedo_);
     if (environmentMap_) glBindTextureUnit(4, environmentMap_);
     if (environmentCube_) glBindTextureUnit(7, environmentCube_);
     if (facetedMesh_) glBindTextureUnit(5, facetedMesh_);
     if (normalCube_) {
         glBindTextureUnit(6, normalCube_);
-        glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS); // bilinear taps cross face edges, as the CPU's lookup
+        glEnable(
+            GL_TEXTURE_CUBE_MAP_SEAMLESS); // bilinear taps cross face edges, as the CPU's lookup
     }
     glViewport(x, y, width, height);
     glDisable(GL_DEPTH_TEST);
@@ -237,7 +256,8 @@ GpuMethod::GpuMethod(GpuMethod&& other) noexcept
       environmentAlbedo_(std::exchange(other.environmentAlbedo_, 0u)),
       environmentMap_(std::exchange(other.environmentMap_, 0u)),
       environmentCube_(std::exchange(other.environmentCube_, 0u)),
-      facetedMesh_(std::exchange(other.facetedMesh_, 0u)), normalCube_(std::exchange(other.normalCube_, 0u)) {}
+      facetedMesh_(std::exchange(other.facetedMesh_, 0u)),
+      normalCube_(std::exchange(other.normalCube_, 0u)) {}
 
 GpuMethod& GpuMethod::operator=(GpuMethod&& other) noexcept {
     if (this != &other) {
@@ -256,16 +276,19 @@ GpuMethod& GpuMethod::operator=(GpuMethod&& other) noexcept {
     return *this;
 }
 
-GpuMethod::~GpuMethod() { release(); }
+GpuMethod::~GpuMethod() {
+    release();
+}
 
 void GpuMethod::release() {
     if (planes_) glDeleteTextures(1, &planes_);
     if (lut_) glDeleteTextures(1, &lut_);
     if (vertexArray_) glDeleteVertexArrays(1, &vertexArray_);
-    for (unsigned texture :
-         {environmentChain_, environmentAlbedo_, environmentMap_, environmentCube_, facetedMesh_, normalCube_})
+    for (unsigned texture : {environmentChain_, environmentAlbedo_, environmentMap_,
+                             environmentCube_, facetedMesh_, normalCube_})
         if (texture) glDeleteTextures(1, &texture);
-    planes_ = lut_ = vertexArray_ = environmentChain_ = environmentAlbedo_ = environmentMap_ = environmentCube_ = 0;
+    planes_ = lut_ = vertexArray_ = environmentChain_ = environmentAlbedo_ = environmentMap_ =
+        environmentCube_ = 0;
     facetedMesh_ = normalCube_ = 0;
 }
 

@@ -1,6 +1,7 @@
 // One method on the GPU: its compiled program, the bake's layers as a mipmapped array texture,
-// Toksvig's table and, under an environment, the prefiltered chain (or the box chain on cube faces), the albedo table and the map
-// (a faceted-sphere scene: the mesh and Toksvig's normal cube map instead of the bake), drawn into whatever framebuffer is bound. The headless renderer
+// Toksvig's table and, under an environment, the prefiltered chain (or the box chain on cube
+// faces), the albedo table and the map (a faceted-sphere scene: the mesh and Toksvig's normal cube
+// map instead of the bake), drawn into whatever framebuffer is bound. The headless renderer
 // (gpu_renderer.cpp) draws into a float target and reads it back; the viewer draws into its
 // window.
 #pragma once

@@ -21,21 +21,28 @@ struct GlTexture {
     GlTexture() = default;
     GlTexture(const GlTexture&) = delete;
     GlTexture& operator=(const GlTexture&) = delete;
-    ~GlTexture() { if (id) glDeleteTextures(1, &id); }
+    ~GlTexture() {
+        if (id) glDeleteTextures(1, &id);
+    }
 };
 struct GlFramebuffer {
     GLuint id = 0;
-    ~GlFramebuffer() { if (id) glDeleteFramebuffers(1, &id); }
+    ~GlFramebuffer() {
+        if (id) glDeleteFramebuffers(1, &id);
+    }
 };
 struct GlQuery {
     GLuint id = 0;
-    ~GlQuery() { if (id) glDeleteQueries(1, &id); }
+    ~GlQuery() {
+        if (id) glDeleteQueries(1, &id);
+    }
 };
 
 } // namespace
 
-Result<Image> renderGpu(const Scene& scene, const RenderTextures& textures, const std::string& methodName,
-                        const RenderOptions& options, GpuRenderStats* stats, int frames) {
+Result<Image> renderGpu(const Scene& scene, const RenderTextures& textures,
+                        const std::string& methodName, const RenderOptions& options,
+                        GpuRenderStats* stats, int frames) {
     const auto started = std::chrono::steady_clock::now();
     if (frames < 1 || frames > 10000) return Error{"render --gpu: frames must be in 1 .. 10000"};
     Result<RenderProgram> assembled = renderProgram(scene, textures, methodName, options);
@@ -66,7 +73,9 @@ Result<Image> renderGpu(const Scene& scene, const RenderTextures& textures, cons
     glFinish();
     if (stats) {
         stats->device = gl->description();
-        stats->compileMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+        stats->compileMs =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started)
+                .count();
         stats->frameMs.clear();
         stats->frameWallMs.clear();
     }
@@ -82,15 +91,20 @@ Result<Image> renderGpu(const Scene& scene, const RenderTextures& textures, cons
         glFinish();
         if (stats) {
             stats->frameMs.push_back(double(nanoseconds) * 1e-6);
-            stats->frameWallMs.push_back(
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart).count());
+            stats->frameWallMs.push_back(std::chrono::duration<double, std::milli>(
+                                             std::chrono::steady_clock::now() - frameStart)
+                                             .count());
         }
     }
     std::vector<float> rgba(size_t(width) * size_t(height) * 4);
-    glReadnPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, GLsizei(rgba.size() * sizeof(float)), rgba.data());
+    glReadnPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, GLsizei(rgba.size() * sizeof(float)),
+                  rgba.data());
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return Error{"GPU: OpenGL error 0x" + [e] { char t[16]; std::snprintf(t, sizeof t, "%04x", e); return std::string(t); }() +
-                     " while rendering"};
+        return Error{"GPU: OpenGL error 0x" + [e] {
+            char t[16];
+            std::snprintf(t, sizeof t, "%04x", e);
+            return std::string(t);
+        }() + " while rendering"};
     Image out(width, height, 3);
     for (int y = 0; y < height; ++y) // GL's first row is the bottom one
         for (int x = 0; x < width; ++x) {

@@ -17,9 +17,9 @@
 #include "io/input_file.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/engine_presets.h"
-#include "ndfmip/texture_container.h"
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
+#include "ndfmip/texture_container.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -56,16 +56,18 @@ Image encodeNormals(const Image& directions, bool greenDown, int channels = 3) {
     const int64_t texels = int64_t(directions.texelCount());
 #pragma omp parallel for schedule(static) if (texels >= 65536)
     for (int64_t i = 0; i < texels; ++i)
-        encodeNormal(&directions.pixels[size_t(i) * size_t(directions.channels)], greenDown, channels,
-                     &out.pixels[size_t(channels) * size_t(i)]);
+        encodeNormal(&directions.pixels[size_t(i) * size_t(directions.channels)], greenDown,
+                     channels, &out.pixels[size_t(channels) * size_t(i)]);
     return out;
 }
 
 // The same a row at a time, for the block encoders (no float copy of the level).
 LevelRows normalRows(const Image& directions, bool greenDown, int channels) {
-    return {directions.width, directions.height, channels, [&directions, greenDown, channels](int y, float* out) {
+    return {directions.width, directions.height, channels,
+            [&directions, greenDown, channels](int y, float* out) {
                 for (int x = 0; x < directions.width; ++x)
-                    encodeNormal(directions.at(x, y), greenDown, channels, out + size_t(x) * size_t(channels));
+                    encodeNormal(directions.at(x, y), greenDown, channels,
+                                 out + size_t(x) * size_t(channels));
             }};
 }
 
@@ -73,7 +75,8 @@ Image perceptual(const Image& alpha) {
     Image out = alpha;
     const int64_t n = int64_t(out.pixels.size());
 #pragma omp parallel for schedule(static) if (n >= 65536)
-    for (int64_t i = 0; i < n; ++i) out.pixels[size_t(i)] = std::sqrt(std::max(out.pixels[size_t(i)], 0.f));
+    for (int64_t i = 0; i < n; ++i)
+        out.pixels[size_t(i)] = std::sqrt(std::max(out.pixels[size_t(i)], 0.f));
     return out;
 }
 
@@ -81,7 +84,8 @@ Image perceptual(const Image& alpha) {
 LevelRows perceptualRows(const Image& alpha) {
     return {alpha.width, alpha.height, 1, [&alpha](int y, float* out) {
                 const float* row = alpha.at(0, y);
-                for (int x = 0; x < alpha.width; ++x) out[x] = std::sqrt(std::max(row[size_t(x) * size_t(alpha.channels)], 0.f));
+                for (int x = 0; x < alpha.width; ++x)
+                    out[x] = std::sqrt(std::max(row[size_t(x) * size_t(alpha.channels)], 0.f));
             }};
 }
 
@@ -110,18 +114,31 @@ Result<std::vector<std::string>> writePng16(const fs::path& folder, const Bake& 
 
 // An engine's packed material map at one level from its perceptual roughness, metallic (0
 // without) and occlusion (1 without), channel by channel as the preset lays them out.
-Image packedMaterial(const EnginePreset& engine, const Image& roughness, const Image* metallic, const Image* occlusion) {
+Image packedMaterial(const EnginePreset& engine, const Image& roughness, const Image* metallic,
+                     const Image* occlusion) {
     Image packed(roughness.width, roughness.height, 4);
     for (size_t i = 0; i < roughness.texelCount(); ++i)
         for (int c = 0; c < 4; ++c) {
             float v = 0.f;
             switch (engine.packed[c]) {
-            case MaterialChannel::Zero: v = 0.f; break;
-            case MaterialChannel::One: v = 1.f; break;
-            case MaterialChannel::Roughness: v = roughness.pixels[i]; break;
-            case MaterialChannel::Smoothness: v = 1.f - roughness.pixels[i]; break;
-            case MaterialChannel::Metallic: v = metallic ? metallic->pixels[i] : 0.f; break;
-            case MaterialChannel::Occlusion: v = occlusion ? occlusion->pixels[i] : 1.f; break;
+            case MaterialChannel::Zero:
+                v = 0.f;
+                break;
+            case MaterialChannel::One:
+                v = 1.f;
+                break;
+            case MaterialChannel::Roughness:
+                v = roughness.pixels[i];
+                break;
+            case MaterialChannel::Smoothness:
+                v = 1.f - roughness.pixels[i];
+                break;
+            case MaterialChannel::Metallic:
+                v = metallic ? metallic->pixels[i] : 0.f;
+                break;
+            case MaterialChannel::Occlusion:
+                v = occlusion ? occlusion->pixels[i] : 1.f;
+                break;
             }
             packed.pixels[4 * i + size_t(c)] = v;
         }
@@ -130,24 +147,36 @@ Image packedMaterial(const EnginePreset& engine, const Image& roughness, const I
 
 // What a KTX2 file holds, for readers that do not know ndfmip: KTXswizzle (what a sampler
 // should return) and an "ndfmip" key, JSON naming each channel (KTX2's formats say only "BC5").
-std::string aboutText(const json& about) { return about.dump(-1, ' ', false, json::error_handler_t::replace); }
+std::string aboutText(const json& about) {
+    return about.dump(-1, ' ', false, json::error_handler_t::replace);
+}
 
 Ktx2KeyValues normalKeyValues(TextureFormat format, bool greenDown) {
     // rgba8 and uastc keep z (glTF's KHR_texture_basisu normal maps are RGB); bc5 and rg16 x and y
     const bool xyz = format == TextureFormat::Rgba8Unorm || format == TextureFormat::Uastc;
-    json about = {{"content", "normal"}, {"space", "tangent"}, {"encoding", "(n+1)/2"},
+    json about = {{"content", "normal"},
+                  {"space", "tangent"},
+                  {"encoding", "(n+1)/2"},
                   {"green", greenDown ? "down" : "up"},
-                  {"convention", greenDown ? "DirectX: -Y, +y towards the bottom row" : "OpenGL: +Y, +y towards the top row"}};
-    if (xyz) about["channels"] = {{"r", "x"}, {"g", "y"}, {"b", "z"}, {"a", "1"}};
-    else about["channels"] = {{"r", "x"}, {"g", "y"}}, about["z"] = "sqrt(1 - x^2 - y^2) of x, y = 2c - 1";
-    if (format == TextureFormat::Uastc) about["codec"] = "UASTC (Basis Universal), each level encoded alone";
+                  {"convention", greenDown ? "DirectX: -Y, +y towards the bottom row"
+                                           : "OpenGL: +Y, +y towards the top row"}};
+    if (xyz)
+        about["channels"] = {{"r", "x"}, {"g", "y"}, {"b", "z"}, {"a", "1"}};
+    else
+        about["channels"] = {{"r", "x"}, {"g", "y"}},
+        about["z"] = "sqrt(1 - x^2 - y^2) of x, y = 2c - 1";
+    if (format == TextureFormat::Uastc)
+        about["codec"] = "UASTC (Basis Universal), each level encoded alone";
     return {{"KTXswizzle", xyz ? "rgb1" : "rg01"}, {"ndfmip", aboutText(about)}};
 }
 
 Ktx2KeyValues roughnessKeyValues(TextureFormat format) {
-    json about = {{"content", "roughness"}, {"encoding", "sqrt(alpha)"},
-                  {"channels", {{"r", "perceptual roughness sqrt(alpha), GGX alpha = r^2"}}},
-                  {"layout", "one channel: not a glTF metallicRoughness texture (that reads roughness from G)"}};
+    json about = {
+        {"content", "roughness"},
+        {"encoding", "sqrt(alpha)"},
+        {"channels", {{"r", "perceptual roughness sqrt(alpha), GGX alpha = r^2"}}},
+        {"layout",
+         "one channel: not a glTF metallicRoughness texture (that reads roughness from G)"}};
     if (format == TextureFormat::Uastc) { // UASTC has no one-channel mode: grey, R = G = B
         const char* r = "perceptual roughness sqrt(alpha), GGX alpha = r^2";
         about["channels"] = {{"r", r}, {"g", r}, {"b", r}, {"a", "1"}};
@@ -160,33 +189,47 @@ Ktx2KeyValues roughnessKeyValues(TextureFormat format) {
 
 const char* channelMeaning(MaterialChannel c) {
     switch (c) {
-    case MaterialChannel::Zero: return "0";
-    case MaterialChannel::One: return "1";
-    case MaterialChannel::Roughness: return "roughness: perceptual, sqrt(alpha)";
-    case MaterialChannel::Smoothness: return "smoothness: 1 - sqrt(alpha)";
-    case MaterialChannel::Metallic: return "metallic";
-    case MaterialChannel::Occlusion: return "occlusion";
+    case MaterialChannel::Zero:
+        return "0";
+    case MaterialChannel::One:
+        return "1";
+    case MaterialChannel::Roughness:
+        return "roughness: perceptual, sqrt(alpha)";
+    case MaterialChannel::Smoothness:
+        return "smoothness: 1 - sqrt(alpha)";
+    case MaterialChannel::Metallic:
+        return "metallic";
+    case MaterialChannel::Occlusion:
+        return "occlusion";
     }
     return "";
 }
 
 Ktx2KeyValues packedKeyValues(const EnginePreset& engine) {
     json channels = json::object();
-    for (int c = 0; c < 4; ++c) channels[std::string(1, "rgba"[c])] = channelMeaning(engine.packed[c]);
-    return {{"ndfmip", aboutText({{"content", "material"}, {"engine", engine.name}, {"channels", channels}})}};
+    for (int c = 0; c < 4; ++c)
+        channels[std::string(1, "rgba"[c])] = channelMeaning(engine.packed[c]);
+    return {
+        {"ndfmip",
+         aboutText({{"content", "material"}, {"engine", engine.name}, {"channels", channels}})}};
 }
 
 Ktx2KeyValues planeKeyValues(const PlaneInfo& plane) {
     json channels = json::object();
-    for (size_t c = 0; c < plane.channels.size() && c < 4; ++c) channels[std::string(1, "rgba"[c])] = plane.channels[c];
-    return {{"ndfmip", aboutText({{"content", "plane"}, {"plane", plane.name}, {"description", plane.description},
+    for (size_t c = 0; c < plane.channels.size() && c < 4; ++c)
+        channels[std::string(1, "rgba"[c])] = plane.channels[c];
+    return {{"ndfmip", aboutText({{"content", "plane"},
+                                  {"plane", plane.name},
+                                  {"description", plane.description},
                                   {"channels", channels}})}};
 }
 
 // Writes the ktx2 or dds files (`container` "ktx2" or "dds") into `folder`; returns their names
 // relative to the bake folder.
-Result<std::vector<std::string>> writeContainers(const fs::path& folder, const Bake& bake, bool greenDown, bool half,
-                                                 const std::string& container, const BakeWriteOptions& options) {
+Result<std::vector<std::string>> writeContainers(const fs::path& folder, const Bake& bake,
+                                                 bool greenDown, bool half,
+                                                 const std::string& container,
+                                                 const BakeWriteOptions& options) {
     std::error_code ec;
     fs::create_directory(folder / container, ec);
     std::vector<std::string> names;
@@ -195,18 +238,22 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
         Result<EncodedTexture> texture = encodeTexture(levels, format);
         if (!texture) return Status::failure(texture.error().message);
         const std::string name = container + "/" + stem + "." + container;
-        // UASTC is always supercompressed: its blocks are 8 bits a texel until Zstandard packs them.
-        const int zstd = format == TextureFormat::Uastc && options.zstdLevel == 0 ? kUastcZstdLevel : options.zstdLevel;
-        Result<std::string> bytes = container == "ktx2" ? ktx2File(texture.value(), zstd, keyValues)
-                                                        : Result<std::string>(ddsFile(texture.value()));
+        // UASTC is always supercompressed: its blocks are 8 bits a texel until Zstandard packs
+        // them.
+        const int zstd = format == TextureFormat::Uastc && options.zstdLevel == 0
+                             ? kUastcZstdLevel
+                             : options.zstdLevel;
+        Result<std::string> bytes = container == "ktx2"
+                                        ? ktx2File(texture.value(), zstd, keyValues)
+                                        : Result<std::string>(ddsFile(texture.value()));
         if (!bytes) return Status::failure(bytes.error().message);
         if (Status s = writeFileAtomic((folder / name).string(), bytes.value()); !s) return s;
         names.push_back(name);
         return Status::success();
     };
     // A file of levels made from the planes (encoded normals, perceptual roughness, packed maps).
-    auto writeMade = [&](const std::string& stem, const std::function<LevelRows(size_t)>& make, TextureFormat format,
-                         const Ktx2KeyValues& keyValues) {
+    auto writeMade = [&](const std::string& stem, const std::function<LevelRows(size_t)>& make,
+                         TextureFormat format, const Ktx2KeyValues& keyValues) {
         std::vector<LevelRows> levels;
         for (size_t k = 0; k < bake.levels.size(); ++k) levels.push_back(make(k));
         return write(stem, levels, format, keyValues);
@@ -214,8 +261,12 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     const int dirPlane = directionPlane(bake), ggx = findPlane(bake.planes, "roughness_ggx");
     auto normals = [&](bool down, TextureFormat format) {
         // BC5 and RG16 keep x and y; UASTC x, y, z as glTF normal textures do (RGB)
-        const int channels = format == TextureFormat::Rgba8Unorm ? 4 : format == TextureFormat::Uastc ? 3 : 2;
-        return [&bake, dirPlane, down, channels](size_t k) { return normalRows(*bake.levels[k][dirPlane], down, channels); };
+        const int channels = format == TextureFormat::Rgba8Unorm ? 4
+                             : format == TextureFormat::Uastc    ? 3
+                                                                 : 2;
+        return [&bake, dirPlane, down, channels](size_t k) {
+            return normalRows(*bake.levels[k][dirPlane], down, channels);
+        };
     };
     if (dirPlane >= 0 && options.exportNormal)
         if (Status s = writeMade(std::string("normal_") + textureFormatName(options.normalFormat),
@@ -224,16 +275,18 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
             !s)
             return Error{s.error};
     if (ggx >= 0 && options.exportRoughness)
-        if (Status s = writeMade(std::string("roughness_") + textureFormatName(options.roughnessFormat),
-                                 [&](size_t k) { return perceptualRows(*bake.levels[k][ggx]); }, options.roughnessFormat,
-                                 roughnessKeyValues(options.roughnessFormat));
+        if (Status s = writeMade(
+                std::string("roughness_") + textureFormatName(options.roughnessFormat),
+                [&](size_t k) { return perceptualRows(*bake.levels[k][ggx]); },
+                options.roughnessFormat, roughnessKeyValues(options.roughnessFormat));
             !s)
             return Error{s.error};
     for (size_t p = 0; p < bake.planes.size(); ++p) {
         if (!bake.planes[p].linear || !options.exportPlanes) continue;
         std::vector<const Image*> levels;
         for (const auto& level : bake.levels) levels.push_back(level[p].get());
-        if (Status s = write(bake.planes[p].name, levels, half ? TextureFormat::Rgba16F : TextureFormat::Rgba32F,
+        if (Status s = write(bake.planes[p].name, levels,
+                             half ? TextureFormat::Rgba16F : TextureFormat::Rgba32F,
                              planeKeyValues(bake.planes[p]));
             !s)
             return Error{s.error};
@@ -241,24 +294,28 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     if (const EnginePreset* engine = options.engine; engine && dirPlane >= 0) {
         const std::string prefix = std::string(engine->name) + "_";
         // The engine's green convention, in the format --normal-format asks for.
-        if (Status s = writeMade(prefix + engine->normalFile, normals(engine->greenDown, options.normalFormat),
-                                 options.normalFormat, normalKeyValues(options.normalFormat, engine->greenDown));
+        if (Status s = writeMade(
+                prefix + engine->normalFile, normals(engine->greenDown, options.normalFormat),
+                options.normalFormat, normalKeyValues(options.normalFormat, engine->greenDown));
             !s)
             return Error{s.error};
         auto packed = [&](size_t k) {
-            return rowsOf(std::make_shared<const Image>(packedMaterial(*engine, perceptual(*bake.levels[k][ggx]),
-                                  k < options.metallic.size() ? options.metallic[k].get() : nullptr,
-                                  k < options.occlusion.size() ? options.occlusion[k].get() : nullptr)));
+            return rowsOf(std::make_shared<const Image>(packedMaterial(
+                *engine, perceptual(*bake.levels[k][ggx]),
+                k < options.metallic.size() ? options.metallic[k].get() : nullptr,
+                k < options.occlusion.size() ? options.occlusion[k].get() : nullptr)));
         };
         if (ggx >= 0)
-            if (Status s = writeMade(prefix + engine->packedFile, packed, TextureFormat::Rgba8Unorm, packedKeyValues(*engine));
+            if (Status s = writeMade(prefix + engine->packedFile, packed, TextureFormat::Rgba8Unorm,
+                                     packedKeyValues(*engine));
                 !s)
                 return Error{s.error};
     }
     // A container asked for but given nothing (a method without normal or roughness, planes not
     // asked for) is a mistake, not an empty folder.
     if (names.empty())
-        return Error{"--export " + container + " has nothing to write: the method stores no normal or roughness; add "
+        return Error{"--export " + container +
+                     " has nothing to write: the method stores no normal or roughness; add "
                      "planes to --export-textures for its planes"};
     return names;
 }
@@ -266,16 +323,18 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
 json manifestJson(const Bake& bake, const BakeSource& source, bool withPlanes) {
     json planes = json::array();
     for (const PlaneInfo& p : bake.planes)
-        planes.push_back({{"name", p.name}, {"channels", p.channels},
-                          {"description", p.description}, {"linear", p.linear}});
+        planes.push_back({{"name", p.name},
+                          {"channels", p.channels},
+                          {"description", p.description},
+                          {"linear", p.linear}});
     json levels = json::array();
     for (size_t k = 0; k < bake.levels.size(); ++k) {
         json files = json::object();
         if (withPlanes)
             for (const PlaneInfo& p : bake.planes) files[p.name] = planeFile(p, int(k));
         const Image& first = *bake.levels[k].front();
-        levels.push_back({{"level", k}, {"width", first.width}, {"height", first.height},
-                          {"files", files}});
+        levels.push_back(
+            {{"level", k}, {"width", first.width}, {"height", first.height}, {"files", files}});
     }
     const DecodeOptions& d = source.decode;
     return {
@@ -283,15 +342,21 @@ json manifestJson(const Bake& bake, const BakeSource& source, bool withPlanes) {
         {"version", NDFMIP_VERSION},
         {"method", methodName(bake.method)},
         {"parameters", bake.parameters},
-        {"source", {{"path", source.path}, {"sha256", source.sha256},
-                    {"width", source.width}, {"height", source.height},
-                    {"gloss", source.gloss}}},
-        {"conventions", {{"green_down", d.greenDown}, {"two_channel", d.twoChannel},
-                         {"signed", d.signedValues}, {"height", d.height},
-                         {"height_scale", d.heightScale},
-                         {"address", d.address == AddressMode::Wrap ? "wrap" : "clamp"},
-                         {"normals", "tangent space, OpenGL convention (+Y towards the top row)"},
-                         {"texel_origin", "x = column, y = row counted from the top row"}}},
+        {"source",
+         {{"path", source.path},
+          {"sha256", source.sha256},
+          {"width", source.width},
+          {"height", source.height},
+          {"gloss", source.gloss}}},
+        {"conventions",
+         {{"green_down", d.greenDown},
+          {"two_channel", d.twoChannel},
+          {"signed", d.signedValues},
+          {"height", d.height},
+          {"height_scale", d.heightScale},
+          {"address", d.address == AddressMode::Wrap ? "wrap" : "clamp"},
+          {"normals", "tangent space, OpenGL convention (+Y towards the top row)"},
+          {"texel_origin", "x = column, y = row counted from the top row"}}},
         {"pyramid", kPyramidRule},
         {"planes", planes},
         {"levels", levels},
@@ -343,7 +408,6 @@ Status checkReplaceable(const fs::path& dir) {
     return Status::success();
 }
 
-
 std::string planeName(const LoadedBake& bake, size_t p, int level) {
     return "plane '" + bake.planes[p].name + "' of level " + std::to_string(level);
 }
@@ -380,22 +444,25 @@ Result<LoadedBake> readManifest(const fs::path& dir) {
     if (!text) return text.error();
     Result<LoadedBake> bake = parseBakeManifest(text.value(), path);
     if (bake && bake->storage == "none")
-        return Error{dir.string() + ": holds only exported textures (baked with --export without exr); bake "
-                                    "again with exr in --export to render, inspect or evaluate it"};
+        return Error{dir.string() +
+                     ": holds only exported textures (baked with --export without exr); bake "
+                     "again with exr in --export to render, inspect or evaluate it"};
     return bake;
 }
 
 } // namespace
 
-void recoverInterruptedBake(const std::string& dir) { recoverFolderLeftovers(folderPath(dir)); }
+void recoverInterruptedBake(const std::string& dir) {
+    recoverFolderLeftovers(folderPath(dir));
+}
 
 Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource& source,
                  const BakeWriteOptions& options) {
     return writeFolderWhole(dirName, checkReplaceable, [&](const fs::path& staging) -> Status {
         for (size_t k = 0; k < bake.levels.size() && options.exr; ++k)
             for (size_t p = 0; p < bake.planes.size(); ++p)
-                if (Status s = saveExr((staging / planeFile(bake.planes[p], int(k))).string(), *bake.levels[k][p], {},
-                                       options.half);
+                if (Status s = saveExr((staging / planeFile(bake.planes[p], int(k))).string(),
+                                       *bake.levels[k][p], {}, options.half);
                     !s)
                     return s;
         json manifest = manifestJson(bake, source, options.exr);
@@ -410,13 +477,15 @@ Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource&
         for (const auto& [container, wanted] :
              {std::pair<std::string, bool>{"ktx2", options.ktx2}, {"dds", options.dds}}) {
             if (!wanted) continue;
-            auto names = writeContainers(staging, bake, source.decode.greenDown, options.half, container, options);
+            auto names = writeContainers(staging, bake, source.decode.greenDown, options.half,
+                                         container, options);
             if (!names) return Status::failure(dirName + ": " + names.error().message);
             exports[container] = names.value();
         }
         if (!exports.empty()) manifest["exports"] = exports;
         // File names need not be UTF-8; JSON must be: invalid bytes are written as U+FFFD.
-        const std::string text = manifest.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+        const std::string text =
+            manifest.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
         return writeFileAtomic((staging / "manifest.json").string(), text);
     });
 }

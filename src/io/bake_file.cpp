@@ -12,8 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/input_file.h"
 #include "core/clock.h"
+#include "io/input_file.h"
 #include "ndfmip/bake_file.h"
 #include "ndfmip/engine_presets.h"
 #include "ndfmip/io.h"
@@ -32,10 +32,13 @@ struct BakeProblem {
     std::string message;
 };
 
-[[noreturn]] void fail(std::string message) { throw BakeProblem{std::move(message)}; }
+[[noreturn]] void fail(std::string message) {
+    throw BakeProblem{std::move(message)};
+}
 
 // A comma-separated list of words from `allowed`.
-std::set<std::string> commaList(const std::string& list, const char* option, const std::set<std::string>& allowed) {
+std::set<std::string> commaList(const std::string& list, const char* option,
+                                const std::set<std::string>& allowed) {
     std::set<std::string> words;
     for (std::string rest = list;;) {
         const size_t comma = rest.find(',');
@@ -43,7 +46,8 @@ std::set<std::string> commaList(const std::string& list, const char* option, con
         if (!allowed.count(word)) {
             std::string expected;
             for (const std::string& w : allowed) expected += (expected.empty() ? "" : ", ") + w;
-            fail(std::string(option) + " " + quote(word) + ": expected " + expected + " (comma-separated)");
+            fail(std::string(option) + " " + quote(word) + ": expected " + expected +
+                 " (comma-separated)");
         }
         words.insert(word);
         if (comma == std::string::npos) return words;
@@ -52,10 +56,11 @@ std::set<std::string> commaList(const std::string& list, const char* option, con
 }
 
 std::set<std::string> exportsOf(const BakeFileOptions& o) {
-    std::set<std::string> exports =
-        commaList(o.exportFormat.empty() ? "exr" : o.exportFormat, "--export", {"png16", "ktx2", "dds", "exr"});
+    std::set<std::string> exports = commaList(o.exportFormat.empty() ? "exr" : o.exportFormat,
+                                              "--export", {"png16", "ktx2", "dds", "exr"});
     // An engine's files are KTX2 or DDS: KTX2 unless one of them is asked for.
-    if (!o.engine.empty() && !exports.count("ktx2") && !exports.count("dds")) exports.insert("ktx2");
+    if (!o.engine.empty() && !exports.count("ktx2") && !exports.count("dds"))
+        exports.insert("ktx2");
     return exports;
 }
 
@@ -68,10 +73,12 @@ std::string number(double value) {
 // `value` within [lo, hi] (NaN is not), or a problem naming the option.
 void requireRange(const char* option, double value, double lo, double hi) {
     if (!(value >= lo && value <= hi))
-        fail(std::string(option) + " " + number(value) + ": expected " + number(lo) + " .. " + number(hi));
+        fail(std::string(option) + " " + number(value) + ": expected " + number(lo) + " .. " +
+             number(hi));
 }
 
-void requireOneOf(const char* option, const std::string& value, const std::set<std::string>& allowed) {
+void requireOneOf(const char* option, const std::string& value,
+                  const std::set<std::string>& allowed) {
     if (allowed.count(value)) return;
     std::string expected;
     for (const std::string& w : allowed) expected += (expected.empty() ? "" : ", ") + w;
@@ -83,41 +90,49 @@ void checkFileOptions(const BakeFileOptions& a) {
     if (!method) fail("unknown method " + quote(a.method) + " (" + methodNames() + ")");
     // The ranges the command line's parser holds its options to, for callers without it; the
     // method's own options as its table says (and those of other methods refused).
-    if (Status s = checkParameterValues(*method, a.parameters, ParameterNaming::Flag); !s) fail(s.error);
+    if (Status s = checkParameterValues(*method, a.parameters, ParameterNaming::Flag); !s)
+        fail(s.error);
     requireRange("--base-roughness", a.baseRoughness, 0.0, 1.0);
     if (a.maxExponent != 0.f) requireRange("--max-exponent", a.maxExponent, 1e-3, 1e6);
     if (a.decode.height) requireRange("--height", a.decode.heightScale, 1e-6, 1e6);
     requireRange("--zstd", a.zstd, 0, 22);
     requireOneOf("--roughness-channel", a.roughnessChannel, {"r", "g", "b", "a"});
-    requireOneOf("--roughness-encoding", a.roughnessEncoding, {"perceptual", "alpha", "smoothness"});
-    if (!a.metallicChannel.empty()) requireOneOf("--metallic-channel", a.metallicChannel, {"r", "g", "b", "a"});
-    if (!a.occlusionChannel.empty()) requireOneOf("--occlusion-channel", a.occlusionChannel, {"r", "g", "b", "a"});
+    requireOneOf("--roughness-encoding", a.roughnessEncoding,
+                 {"perceptual", "alpha", "smoothness"});
+    if (!a.metallicChannel.empty())
+        requireOneOf("--metallic-channel", a.metallicChannel, {"r", "g", "b", "a"});
+    if (!a.occlusionChannel.empty())
+        requireOneOf("--occlusion-channel", a.occlusionChannel, {"r", "g", "b", "a"});
     requireOneOf("--normal-format", a.normalFormat, {"bc5", "rg16", "rgba8", "uastc"});
     requireOneOf("--roughness-format", a.roughnessFormat, {"bc4", "r16f", "uastc"});
 
     if (!a.albedo.empty() && *method != Method::Vmf) fail("--albedo applies to --method vmf only");
     // Without --export the bake is the EXR planes; with it, exactly what it lists.
-    std::set<std::string> exports =
-        commaList(a.exportFormat.empty() ? "exr" : a.exportFormat, "--export", {"png16", "ktx2", "dds", "exr"});
+    std::set<std::string> exports = commaList(a.exportFormat.empty() ? "exr" : a.exportFormat,
+                                              "--export", {"png16", "ktx2", "dds", "exr"});
     commaList(a.exportTextures, "--export-textures", {"normal", "roughness", "planes"});
-    if (a.zstd != 0 && !exports.count("ktx2")) fail("--zstd supercompresses KTX2 files: add ktx2 to --export");
+    if (a.zstd != 0 && !exports.count("ktx2"))
+        fail("--zstd supercompresses KTX2 files: add ktx2 to --export");
     // DDS has no UASTC format: the normal and roughness go to KTX2 only.
     if (exports.count("dds") && (a.normalFormat == "uastc" || a.roughnessFormat == "uastc"))
         fail(std::string(a.normalFormat == "uastc" ? "--normal-format" : "--roughness-format") +
              " uastc is a KTX2 format (DDS holds no UASTC): --export ktx2");
     if (!a.engine.empty()) {
-        if (!findEnginePreset(a.engine)) fail("--engine " + quote(a.engine) + ": expected " + enginePresetNames());
+        if (!findEnginePreset(a.engine))
+            fail("--engine " + quote(a.engine) + ": expected " + enginePresetNames());
         if (*method != Method::Toksvig && *method != Method::Naive)
             fail("--engine writes a normal map and a roughness map: --method toksvig (or naive)");
         if (!exports.count("ktx2") && !exports.count("dds")) exports.insert("ktx2");
     }
-    if (exports.count("png16") && (*method == Method::Sh || *method == Method::Vmf || *method == Method::Lean))
+    if (exports.count("png16") &&
+        (*method == Method::Sh || *method == Method::Vmf || *method == Method::Lean))
         fail("--export png16 needs a method that stores a normal (naive, toksvig)");
     if (!a.roughnessMap.empty() && *method != Method::Toksvig)
         fail("--roughness-map applies to --method toksvig (its roughness planes)");
     if (!a.roughnessMap.empty() && a.baseRoughness != 0.f)
         fail("--roughness-map and --base-roughness both set the material's roughness: give one");
-    if (!a.gloss.empty() && a.maxExponent <= 0.f) fail("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");
+    if (!a.gloss.empty() && a.maxExponent <= 0.f)
+        fail("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");
 }
 
 BakeWriteOptions writeOptionsOf(const BakeFileOptions& a) {
@@ -144,33 +159,49 @@ BakeWriteOptions writeOptionsOf(const BakeFileOptions& a) {
 // with the same text, the same sources and the same version write the same files.
 std::string optionsText(const BakeFileOptions& a) {
     const DecodeOptions& d = a.decode;
-    nlohmann::json options = {
-        {"method", a.method},
-        {"half", a.half}, {"max_exponent", a.maxExponent}, {"base_roughness", a.baseRoughness},
-        {"roughness_channel", a.roughnessChannel}, {"roughness_encoding", a.roughnessEncoding},
-        {"engine", a.engine}, {"metallic_channel", a.metallicChannel}, {"occlusion_channel", a.occlusionChannel},
-        {"export", a.exportFormat}, {"export_textures", a.exportTextures}, {"normal_format", a.normalFormat},
-        {"roughness_format", a.roughnessFormat}, {"zstd", a.zstd},
-        {"green_down", d.greenDown}, {"two_channel", d.twoChannel}, {"signed", d.signedValues},
-        {"height", d.height}, {"height_scale", d.heightScale}, {"clamp", d.address == AddressMode::Clamp}};
+    nlohmann::json options = {{"method", a.method},
+                              {"half", a.half},
+                              {"max_exponent", a.maxExponent},
+                              {"base_roughness", a.baseRoughness},
+                              {"roughness_channel", a.roughnessChannel},
+                              {"roughness_encoding", a.roughnessEncoding},
+                              {"engine", a.engine},
+                              {"metallic_channel", a.metallicChannel},
+                              {"occlusion_channel", a.occlusionChannel},
+                              {"export", a.exportFormat},
+                              {"export_textures", a.exportTextures},
+                              {"normal_format", a.normalFormat},
+                              {"roughness_format", a.roughnessFormat},
+                              {"zstd", a.zstd},
+                              {"green_down", d.greenDown},
+                              {"two_channel", d.twoChannel},
+                              {"signed", d.signedValues},
+                              {"height", d.height},
+                              {"height_scale", d.heightScale},
+                              {"clamp", d.address == AddressMode::Clamp}};
     // Every method's bake parameters, given or not, each as its type is written (the keys stay
     // those of earlier versions, so their bakes stay up to date).
     for (const auto& [method, p] : allMethodParameters()) {
         if (!(p->commands & kParameterBake)) continue;
         auto given = a.parameters.find(p->key);
         const double value = given != a.parameters.end() ? given->second
-                             : p->keyedZeroWhenUnset      ? 0.0
-                                                          : p->defaultValue;
-        if (p->type == ParameterType::Integer) options[p->key] = int64_t(value);
-        else if (p->type == ParameterType::Float) options[p->key] = float(value);
-        else options[p->key] = value;
+                             : p->keyedZeroWhenUnset     ? 0.0
+                                                         : p->defaultValue;
+        if (p->type == ParameterType::Integer)
+            options[p->key] = int64_t(value);
+        else if (p->type == ParameterType::Float)
+            options[p->key] = float(value);
+        else
+            options[p->key] = value;
     }
     return options.dump();
 }
 
 std::string cacheKeyOf(const BakeFileOptions& a, const std::string& sourceHash) {
-    std::string text = std::string("ndfmip ") + NDFMIP_VERSION + "\n" + optionsText(a) + "\nsource " + sourceHash;
-    for (const auto& [name, path] : {std::pair{"gloss", &a.gloss}, {"albedo", &a.albedo}, {"roughness_map", &a.roughnessMap}})
+    std::string text =
+        std::string("ndfmip ") + NDFMIP_VERSION + "\n" + optionsText(a) + "\nsource " + sourceHash;
+    for (const auto& [name, path] :
+         {std::pair{"gloss", &a.gloss}, {"albedo", &a.albedo}, {"roughness_map", &a.roughnessMap}})
         if (!path->empty()) {
             Result<std::string> hash = sha256File(*path);
             if (!hash) fail(hash.error().message);
@@ -184,12 +215,13 @@ void applyGloss(Image& normals, const BakeFileOptions& a) {
     if (!gloss) fail(gloss.error().message);
     const Image& g = gloss->image;
     if (g.width != normals.width || g.height != normals.height)
-        fail(a.gloss + ": gloss map is " + std::to_string(g.width) + "x" + std::to_string(g.height) +
-             " but the normal map is " + std::to_string(normals.width) + "x" + std::to_string(normals.height));
+        fail(a.gloss + ": gloss map is " + std::to_string(g.width) + "x" +
+             std::to_string(g.height) + " but the normal map is " + std::to_string(normals.width) +
+             "x" + std::to_string(normals.height));
     for (size_t i = 0; i < g.texelCount(); ++i)
         if (!std::isfinite(g.pixels[i * g.channels]))
-            fail(a.gloss + ": NaN or infinite gloss value at texel (" + std::to_string(i % g.width) + ", " +
-                 std::to_string(i / g.width) + ")");
+            fail(a.gloss + ": NaN or infinite gloss value at texel (" +
+                 std::to_string(i % g.width) + ", " + std::to_string(i / g.width) + ")");
     applyGlossMap(normals, g, a.maxExponent);
 }
 
@@ -199,23 +231,25 @@ SourceImage loadMaterialMap(const BakeFileOptions& a, int width, int height) {
     if (!map) fail(map.error().message);
     const Image& image = map->image;
     if (image.width != width || image.height != height)
-        fail(a.roughnessMap + ": roughness map is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-             " but the normal map is " + std::to_string(width) + "x" + std::to_string(height));
+        fail(a.roughnessMap + ": roughness map is " + std::to_string(image.width) + "x" +
+             std::to_string(image.height) + " but the normal map is " + std::to_string(width) +
+             "x" + std::to_string(height));
     return std::move(map.value());
 }
 
 // One channel (r, g, b or a) of the material map, clamped to [0, 1]; `option` names it in messages.
-std::shared_ptr<Image> materialChannel(const BakeFileOptions& a, const Image& map, const std::string& channelName,
-                                       const char* option) {
+std::shared_ptr<Image> materialChannel(const BakeFileOptions& a, const Image& map,
+                                       const std::string& channelName, const char* option) {
     const int channel = int(std::string("rgba").find(channelName[0]));
     if (channel >= map.channels)
-        fail(a.roughnessMap + ": " + option + " " + channelName + " but the map has " + std::to_string(map.channels) +
-             " channel(s)");
+        fail(a.roughnessMap + ": " + option + " " + channelName + " but the map has " +
+             std::to_string(map.channels) + " channel(s)");
     auto out = std::make_shared<Image>(map.width, map.height, 1);
     for (size_t i = 0; i < map.texelCount(); ++i) {
         const float v = map.pixels[i * size_t(map.channels) + size_t(channel)];
         if (!std::isfinite(v))
-            fail(a.roughnessMap + ": NaN or infinite value at texel (" + std::to_string(i % size_t(map.width)) + ", " +
+            fail(a.roughnessMap + ": NaN or infinite value at texel (" +
+                 std::to_string(i % size_t(map.width)) + ", " +
                  std::to_string(i / size_t(map.width)) + ") in " + option);
         out->pixels[i] = std::clamp(v, 0.f, 1.f);
     }
@@ -225,9 +259,12 @@ std::shared_ptr<Image> materialChannel(const BakeFileOptions& a, const Image& ma
 // The material's alpha per texel: the roughness channel perceptual (alpha = p^2: glTF, Unreal,
 // Filament), alpha, or Unity's smoothness (alpha = (1 - s)^2).
 SharedImage roughnessAlpha(const BakeFileOptions& a, const Image& map) {
-    std::shared_ptr<Image> alpha = materialChannel(a, map, a.roughnessChannel, "--roughness-channel");
+    std::shared_ptr<Image> alpha =
+        materialChannel(a, map, a.roughnessChannel, "--roughness-channel");
     for (float& x : alpha->pixels)
-        x = a.roughnessEncoding == "alpha" ? x : a.roughnessEncoding == "smoothness" ? (1.f - x) * (1.f - x) : x * x;
+        x = a.roughnessEncoding == "alpha"        ? x
+            : a.roughnessEncoding == "smoothness" ? (1.f - x) * (1.f - x)
+                                                  : x * x;
     return alpha;
 }
 
@@ -251,7 +288,8 @@ double plannedBytesPerTexel(Method method, const BakeFileOptions& a) {
     return bytes;
 }
 
-BakeFileReport bakeOrThrow(const std::string& input, const std::string& output, const BakeFileOptions& a) {
+BakeFileReport bakeOrThrow(const std::string& input, const std::string& output,
+                           const BakeFileOptions& a) {
     checkFileOptions(a);
     // Before anything is cleaned up or created under a path that a NUL would cut short.
     for (const std::string* path : {&input, &output, &a.gloss, &a.albedo, &a.roughnessMap})
@@ -270,17 +308,21 @@ BakeFileReport bakeOrThrow(const std::string& input, const std::string& output, 
     }
     {
         std::error_code ec;
-        const std::filesystem::path parent = std::filesystem::path(output).lexically_normal().parent_path();
+        const std::filesystem::path parent =
+            std::filesystem::path(output).lexically_normal().parent_path();
         // Only a missing folder is made (writeBake names a parent that is a file). Another map of
         // a batch may create it at the same moment: what counts is that it exists.
-        if (!parent.empty() && !std::filesystem::exists(parent, ec) && !std::filesystem::create_directories(parent, ec) &&
+        if (!parent.empty() && !std::filesystem::exists(parent, ec) &&
+            !std::filesystem::create_directories(parent, ec) &&
             !std::filesystem::is_directory(parent, ec))
-            fail(output + ": cannot create the folder " + parent.string() + " (" + ec.message() + ")");
+            fail(output + ": cannot create the folder " + parent.string() + " (" + ec.message() +
+                 ")");
     }
 
     // The bake's peak from the options alone, checked against --max-memory by the decoder once
     // it has read the map's header, before it allocates.
-    const PlannedPeak planned(bakeDescription(method, plannedOptions(a)), plannedBytesPerTexel(method, a));
+    const PlannedPeak planned(bakeDescription(method, plannedOptions(a)),
+                              plannedBytesPerTexel(method, a));
     long long start = nowNanoseconds();
     Result<Image> decoded = loadNormalMap(input, a.decode, &report.decode);
     if (!decoded) fail(decoded.error().message);
@@ -318,7 +360,8 @@ BakeFileReport bakeOrThrow(const std::string& input, const std::string& output, 
          {std::tuple{&a.metallicChannel, "--metallic-channel", &write.metallic},
           std::tuple{&a.occlusionChannel, "--occlusion-channel", &write.occlusion}}) {
         if (channel->empty()) continue;
-        if (!materialMap) fail(std::string(option) + " reads a channel of --roughness-map, which is not given");
+        if (!materialMap)
+            fail(std::string(option) + " reads a channel of --roughness-map, which is not given");
         *chain = albedoMips(pyramid, materialChannel(a, materialMap->image, *channel, option));
     }
     if (Status s = writeBake(output, bake, source, write); !s) fail(s.error);
@@ -373,7 +416,8 @@ bool presentFile(const std::filesystem::path& file) {
 } // namespace
 
 bool bakeUpToDate(const std::string& dir, const std::string& cacheKey) {
-    Result<std::string> text = readRegularFile(dir + "/manifest.json", inputLimits().maxTextFileBytes);
+    Result<std::string> text =
+        readRegularFile(dir + "/manifest.json", inputLimits().maxTextFileBytes);
     if (!text) return false;
     Result<LoadedBake> bake = parseBakeManifest(text.value(), dir);
     if (!bake || bake->source.cacheKey != cacheKey) return false;
@@ -387,7 +431,8 @@ bool bakeUpToDate(const std::string& dir, const std::string& cacheKey) {
     return true;
 }
 
-Result<BakeFileReport> bakeFile(const std::string& input, const std::string& output, const BakeFileOptions& options) {
+Result<BakeFileReport> bakeFile(const std::string& input, const std::string& output,
+                                const BakeFileOptions& options) {
     try {
         return bakeOrThrow(input, output, options);
     } catch (const BakeProblem& p) {
@@ -399,25 +444,30 @@ Result<BakeFileReport> bakeFile(const std::string& input, const std::string& out
 
 Status checkBakeOptions(Method method, const BakeOptions& o, int width, int height) {
     try {
-        if (Status s = checkParameterValues(method, o.parameters, ParameterNaming::Key); !s) fail(s.error);
+        if (Status s = checkParameterValues(method, o.parameters, ParameterNaming::Key); !s)
+            fail(s.error);
         requireRange("base_roughness", o.baseRoughness, 0.0, 1.0);
         if (o.roughnessMap) {
             const Image& r = *o.roughnessMap;
-            if (method != Method::Toksvig) fail("roughness: applies to method toksvig (its roughness planes)");
+            if (method != Method::Toksvig)
+                fail("roughness: applies to method toksvig (its roughness planes)");
             if (r.width != width || r.height != height || r.channels != 1)
-                fail("roughness: " + std::to_string(r.width) + "x" + std::to_string(r.height) + "x" +
-                     std::to_string(r.channels) + " but the normal map is " + std::to_string(width) + "x" +
-                     std::to_string(height) + " (one channel of alpha expected)");
+                fail("roughness: " + std::to_string(r.width) + "x" + std::to_string(r.height) +
+                     "x" + std::to_string(r.channels) + " but the normal map is " +
+                     std::to_string(width) + "x" + std::to_string(height) +
+                     " (one channel of alpha expected)");
             for (size_t i = 0; i < r.pixels.size(); ++i)
                 if (!(r.pixels[i] >= 0.f && r.pixels[i] <= 1.f))
-                    fail("roughness: value " + number(r.pixels[i]) + " at texel (" + std::to_string(i % size_t(width)) +
-                         ", " + std::to_string(i / size_t(width)) + ") is not in 0 .. 1");
+                    fail("roughness: value " + number(r.pixels[i]) + " at texel (" +
+                         std::to_string(i % size_t(width)) + ", " +
+                         std::to_string(i / size_t(width)) + ") is not in 0 .. 1");
         }
         if (o.albedo) {
             if (method != Method::Vmf) fail("albedo: applies to method vmf only");
             if (Status s = checkAlbedoSize(*o.albedo, width, height, "albedo"); !s) fail(s.error);
             for (float v : o.albedo->pixels)
-                if (!(v >= 0.f) || !std::isfinite(v)) fail("albedo: NaN, infinite or negative value");
+                if (!(v >= 0.f) || !std::isfinite(v))
+                    fail("albedo: NaN, infinite or negative value");
         }
         return checkBakeMemory("bake", method, o, width, height);
     } catch (const BakeProblem& p) {

@@ -8,9 +8,9 @@
 #include <nlohmann/json.hpp>
 
 #include "io/input_file.h"
+#include "methods/method_unit.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/limits.h"
-#include "methods/method_unit.h"
 #include "ndfmip/spherical_harmonics.h"
 
 using nlohmann::json;
@@ -95,8 +95,8 @@ int64_t integerAt(const json& object, const std::string& path, const char* key, 
     return int64_t(x);
 }
 
-// A file of the bake: a plain name inside its folder (or png16/, ktx2/, dds/NAME for exports), never a path
-// that leads elsewhere.
+// A file of the bake: a plain name inside its folder (or png16/, ktx2/, dds/NAME for exports),
+// never a path that leads elsewhere.
 bool plainName(const std::string& name) {
     return !name.empty() && name.size() <= 255 && name != "." && name != ".." &&
            name.find_first_of(std::string("/\\\0", 3)) == std::string::npos;
@@ -134,8 +134,8 @@ void readParameters(const json& m, LoadedBake& bake) {
         }
         const double x = numberAt(parameters, "parameters", r.key);
         if (!(x >= r.min && x <= r.max))
-            fail(quote(at("parameters", r.key)) + " must be in [" + plainNumber(r.min) + ", " + plainNumber(r.max) +
-                 "], not " + shown(x));
+            fail(quote(at("parameters", r.key)) + " must be in [" + plainNumber(r.min) + ", " +
+                 plainNumber(r.max) + "], not " + shown(x));
     }
     if (parameters.contains("max_exponent")) {
         const double s = numberAt(parameters, "parameters", "max_exponent");
@@ -164,7 +164,8 @@ void readPlanes(const json& m, LoadedBake& bake) {
         bake.planes.push_back(std::move(plane));
     }
     const MethodUnit& unit = methodUnit(bake.method);
-    const std::vector<PlaneInfo> expected = unit.planes(bake.parameters, findPlane(bake.planes, "color0") >= 0);
+    const std::vector<PlaneInfo> expected =
+        unit.planes(bake.parameters, findPlane(bake.planes, "color0") >= 0);
     bool same = planes.size() == expected.size();
     for (size_t p = 0; same && p < expected.size(); ++p)
         same = bake.planes[p].name == expected[p].name &&
@@ -226,7 +227,8 @@ void readLevels(const json& m, LoadedBake& bake) {
         if (bake.storage == "none" && !files.empty())
             fail(quote(at(path, "files")) + " must be empty: the manifest's storage is \"none\"");
         for (const PlaneInfo& plane : bake.planes)
-            if (bake.storage != "none") names.push_back(fileAt(files, at(path, "files"), plane.name.c_str()));
+            if (bake.storage != "none")
+                names.push_back(fileAt(files, at(path, "files"), plane.name.c_str()));
         for (const auto& item : files.items())
             if (findPlane(bake.planes, item.key()) < 0)
                 fail(quote(at(at(path, "files"), item.key())) + " names no plane of the bake");
@@ -257,7 +259,8 @@ void readExports(const json& m, LoadedBake& bake) {
                 fail(quote(path) + " must be a string, not " + shown(list[i]));
             const std::string name = list[i].get<std::string>();
             if (name.rfind(folder, 0) != 0 || !plainName(name.substr(folder.size())))
-                fail(quote(path) + " is " + quote(name) + ", not " + folder + " and a plain file name");
+                fail(quote(path) + " is " + quote(name) + ", not " + folder +
+                     " and a plain file name");
             bake.exports.push_back(name);
         }
     }

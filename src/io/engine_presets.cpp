@@ -8,19 +8,39 @@ const std::vector<EnginePreset>& enginePresets() {
     static const std::vector<EnginePreset> presets = {
         // glTF 2.0: +Y up normals; metallicRoughness G roughness, B metallic; occlusion R
         // (packed into the same texture's R, the common ORM layout).
-        {"gltf", false, "normal", "occlusion_roughness_metallic", {C::Occlusion, C::Roughness, C::Metallic, C::One}},
+        {"gltf",
+         false,
+         "normal",
+         "occlusion_roughness_metallic",
+         {C::Occlusion, C::Roughness, C::Metallic, C::One}},
         // Unreal: DirectX (-Y) normals; ORM packing R AO, G roughness, B metallic.
-        {"unreal", true, "normal", "occlusion_roughness_metallic", {C::Occlusion, C::Roughness, C::Metallic, C::One}},
+        {"unreal",
+         true,
+         "normal",
+         "occlusion_roughness_metallic",
+         {C::Occlusion, C::Roughness, C::Metallic, C::One}},
         // Unity HDRP mask map: R metallic, G AO, B detail mask, A smoothness; +Y normals.
         {"unity", false, "normal", "mask_map", {C::Metallic, C::Occlusion, C::One, C::Smoothness}},
         // Godot 4 ORMMaterial3D: R AO, G roughness, B metallic; +Y (OpenGL) normals.
         {"godot", false, "normal", "orm", {C::Occlusion, C::Roughness, C::Metallic, C::One}},
         // Filament (and its glTF loader): +Y normals, perceptual roughness; glTF packing.
-        {"filament", false, "normal", "occlusion_roughness_metallic", {C::Occlusion, C::Roughness, C::Metallic, C::One}},
+        {"filament",
+         false,
+         "normal",
+         "occlusion_roughness_metallic",
+         {C::Occlusion, C::Roughness, C::Metallic, C::One}},
         // Bevy: glTF's conventions (StandardMaterial metallic_roughness_texture, occlusion R).
-        {"bevy", false, "normal", "occlusion_roughness_metallic", {C::Occlusion, C::Roughness, C::Metallic, C::One}},
+        {"bevy",
+         false,
+         "normal",
+         "occlusion_roughness_metallic",
+         {C::Occlusion, C::Roughness, C::Metallic, C::One}},
         // three.js: glTF's conventions (roughnessMap G, metalnessMap B, aoMap R).
-        {"three", false, "normal", "occlusion_roughness_metallic", {C::Occlusion, C::Roughness, C::Metallic, C::One}},
+        {"three",
+         false,
+         "normal",
+         "occlusion_roughness_metallic",
+         {C::Occlusion, C::Roughness, C::Metallic, C::One}},
     };
     return presets;
 }

@@ -1,5 +1,6 @@
 // The environment folder (environment.h): sh.json, ggx_L<k>.exr, dfg.exr, the KTX2 files with
-// --ktx2, and environment.json, staged beside the folder and swapped in at the end like a bake (bake_dir.cpp).
+// --ktx2, and environment.json, staged beside the folder and swapped in at the end like a bake
+// (bake_dir.cpp).
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -37,7 +38,9 @@ std::string faceFile(size_t k, int face) {
 }
 
 // A level's cube faces are a quarter of its width: the same texels per radian at the equator.
-int faceSize(const Image& level) { return std::max(level.width / 4, 1); }
+int faceSize(const Image& level) {
+    return std::max(level.width / 4, 1);
+}
 
 // Coefficients per band: band l is 2l + 1 RGB triples, m = -l ... l.
 json bands(const std::vector<glm::dvec3>& c, int order) {
@@ -79,7 +82,8 @@ constexpr const char* kEquirectTexture = "ggx_equirect";
 constexpr const char* kDfgTexture = "dfg";
 
 // The names of the files in one container (an empty object when it is not written).
-json textureFilesJson(const EnvironmentBake& bake, bool written, const std::string& extension, const char* format) {
+json textureFilesJson(const EnvironmentBake& bake, bool written, const std::string& extension,
+                      const char* format) {
     json files = json::object();
     if (!written) return files;
     if (bake.cube) files[kCubeTexture] = kCubeTexture + extension;
@@ -93,16 +97,23 @@ json textureFilesJson(const EnvironmentBake& bake, bool written, const std::stri
 std::string aboutTexture(const EnvironmentBake& bake, const char* stem) {
     json about;
     if (std::string(stem) == kDfgTexture) {
-        about = {{"content", "dfg"}, {"x", "n.v = (x + 0.5) / size"},
+        about = {{"content", "dfg"},
+                 {"x", "n.v = (x + 0.5) / size"},
                  {"y", "perceptual roughness = (y + 0.5) / size, top row first"},
-                 {"channels", {{"r", "scale: multiplies f0"}, {"g", "bias: multiplies f90"},
-                               {"b", "scale + bias: directional albedo with F = 1"}, {"a", "1"}}}};
+                 {"channels",
+                  {{"r", "scale: multiplies f0"},
+                   {"g", "bias: multiplies f90"},
+                   {"b", "scale + bias: directional albedo with F = 1"},
+                   {"a", "1"}}}};
     } else {
         json roughness = json::array();
-        for (const PrefilteredLevel& level : bake.levels) roughness.push_back(level.perceptualRoughness);
-        about = {{"content", "radiance"}, {"filter", "GGX-prefiltered (split sum), level k at perceptual_roughness[k]"},
+        for (const PrefilteredLevel& level : bake.levels)
+            roughness.push_back(level.perceptualRoughness);
+        about = {{"content", "radiance"},
+                 {"filter", "GGX-prefiltered (split sum), level k at perceptual_roughness[k]"},
                  {"perceptual_roughness", roughness},
-                 {"channels", {{"r", "red"}, {"g", "green"}, {"b", "blue"}, {"a", "1"}}}, {"transfer", "linear"}};
+                 {"channels", {{"r", "red"}, {"g", "green"}, {"b", "blue"}, {"a", "1"}}},
+                 {"transfer", "linear"}};
     }
     return about.dump(-1, ' ', false, json::error_handler_t::replace);
 }
@@ -114,8 +125,9 @@ Status writeTexture(const fs::path& staging, const EnvironmentBake& bake, const 
         if (!(ktx2 ? bake.ktx2 : bake.dds)) continue;
         const fs::path file = staging / (std::string(stem) + (ktx2 ? ".ktx2" : ".dds"));
         if (!texture) return Status::failure(file.string() + ": " + texture.error().message);
-        Result<std::string> bytes = ktx2 ? ktx2File(texture.value(), 0, {{"ndfmip", aboutTexture(bake, stem)}})
-                                         : Result<std::string>(ddsFile(texture.value()));
+        Result<std::string> bytes =
+            ktx2 ? ktx2File(texture.value(), 0, {{"ndfmip", aboutTexture(bake, stem)}})
+                 : Result<std::string>(ddsFile(texture.value()));
         if (!bytes) return Status::failure(file.string() + ": " + bytes.error().message);
         if (Status s = writeFileAtomic(file.string(), bytes.value()); !s) return s;
     }
@@ -136,24 +148,31 @@ std::vector<LevelFaces> cubeFaces(const EnvironmentBake& bake) {
 }
 
 // The textures of textureFilesJson, RGBA16F: each encoded once, written as KTX2 and/or DDS.
-Status writeTextureFiles(const fs::path& staging, const EnvironmentBake& bake, const std::vector<LevelFaces>& faces) {
+Status writeTextureFiles(const fs::path& staging, const EnvironmentBake& bake,
+                         const std::vector<LevelFaces>& faces) {
     if (bake.cube) {
         std::vector<std::vector<LevelRows>> rows;
         for (const LevelFaces& level : faces) {
             rows.emplace_back();
             for (const Image& face : level) rows.back().push_back(rowsOf(face, 4, 1.f));
         }
-        if (Status s = writeTexture(staging, bake, kCubeTexture, encodeCubeTexture(rows, TextureFormat::Rgba16F)); !s)
+        if (Status s = writeTexture(staging, bake, kCubeTexture,
+                                    encodeCubeTexture(rows, TextureFormat::Rgba16F));
+            !s)
             return s;
     }
     if (bake.equirect) {
         std::vector<LevelRows> rows;
-        for (const PrefilteredLevel& level : bake.levels) rows.push_back(rowsOf(level.radiance, 4, 1.f));
-        if (Status s = writeTexture(staging, bake, kEquirectTexture, encodeTexture(rows, TextureFormat::Rgba16F)); !s)
+        for (const PrefilteredLevel& level : bake.levels)
+            rows.push_back(rowsOf(level.radiance, 4, 1.f));
+        if (Status s = writeTexture(staging, bake, kEquirectTexture,
+                                    encodeTexture(rows, TextureFormat::Rgba16F));
+            !s)
             return s;
     }
-    return writeTexture(staging, bake, kDfgTexture,
-                        encodeTexture(std::vector<LevelRows>{rowsOf(bake.dfg, 4, 1.f)}, TextureFormat::Rgba16F));
+    return writeTexture(
+        staging, bake, kDfgTexture,
+        encodeTexture(std::vector<LevelRows>{rowsOf(bake.dfg, 4, 1.f)}, TextureFormat::Rgba16F));
 }
 
 json manifestJson(const EnvironmentBake& bake, const EnvironmentSource& source, bool half) {
@@ -170,7 +189,8 @@ json manifestJson(const EnvironmentBake& bake, const EnvironmentSource& source, 
         if (bake.equirect) entry["file"] = levelFile(k);
         if (bake.cube) {
             json faces = json::object();
-            for (int face = 0; face < kCubeFaces; ++face) faces[cubeFaceName(face)] = faceFile(k, face);
+            for (int face = 0; face < kCubeFaces; ++face)
+                faces[cubeFaceName(face)] = faceFile(k, face);
             entry["faces"] = faces;
             entry["face_size"] = faceSize(level.radiance);
         }
@@ -194,9 +214,10 @@ json manifestJson(const EnvironmentBake& bake, const EnvironmentSource& source, 
         {"ggx",
          {{"description", "radiance convolved with GGX D(h) <n.l> about r (split sum, n = v = r), "
                           "RGB per level: `file` equirectangular, `faces` the cube faces"},
-          {"cube_faces", "order and orientation of OpenGL/Vulkan/KTX2 cube maps: +X, -X, +Y, -Y, +Z, "
-                         "-Z; texel (s, t) (s right, t down from the top row) of +X looks along "
-                         "(1, 1 - 2t, 1 - 2s), and so on (ndfmip/environment.h cubeFaceDirection)"},
+          {"cube_faces",
+           "order and orientation of OpenGL/Vulkan/KTX2 cube maps: +X, -X, +Y, -Y, +Z, "
+           "-Z; texel (s, t) (s right, t down from the top row) of +X looks along "
+           "(1, 1 - 2t, 1 - 2s), and so on (ndfmip/environment.h cubeFaceDirection)"},
           {"lod_mapping", lodMappingName(bake.mapping)},
           {"lod_to_roughness", filament
                                    ? "r = 1 - sqrt(1 - lod), lod = r (2 - r) = k / (levels - 1)"
@@ -274,8 +295,8 @@ Status checkStorable(const EnvironmentBake& bake, const EnvironmentSource& sourc
             if (std::isfinite(v) && (!toHalf || std::abs(v) < kHalfRoundsToInf)) continue;
             const size_t texel = i / size_t(level.channels);
             char text[160];
-            std::snprintf(text, sizeof text, ": GGX level %zu texel (%zu, %zu) has radiance %g, ", k,
-                          texel % size_t(level.width), texel / size_t(level.width), double(v));
+            std::snprintf(text, sizeof text, ": GGX level %zu texel (%zu, %zu) has radiance %g, ",
+                          k, texel % size_t(level.width), texel / size_t(level.width), double(v));
             const std::string why =
                 !std::isfinite(v)
                     ? "not a finite number"
@@ -288,7 +309,8 @@ Status checkStorable(const EnvironmentBake& bake, const EnvironmentSource& sourc
     for (const auto* coefficients : {&bake.sh.radiance, &bake.sh.irradiance})
         for (const glm::dvec3& c : *coefficients)
             if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
-                return Status::failure(source.path + ": its SH coefficients are not finite numbers");
+                return Status::failure(source.path +
+                                       ": its SH coefficients are not finite numbers");
     return Status::success();
 }
 
@@ -298,24 +320,31 @@ Status writeEnvironment(const std::string& dirName, const EnvironmentBake& bake,
                         const EnvironmentSource& source, bool half) {
     if (Status s = checkStorable(bake, source, half); !s) return s;
     return writeFolderWhole(dirName, checkReplaceable, [&](const fs::path& staging) -> Status {
-        const std::vector<LevelFaces> faces = bake.cube ? cubeFaces(bake) : std::vector<LevelFaces>{};
+        const std::vector<LevelFaces> faces =
+            bake.cube ? cubeFaces(bake) : std::vector<LevelFaces>{};
         for (size_t k = 0; k < bake.levels.size(); ++k) {
             if (bake.equirect)
-                if (Status s = saveExr((staging / levelFile(k)).string(), bake.levels[k].radiance, {}, half); !s)
+                if (Status s = saveExr((staging / levelFile(k)).string(), bake.levels[k].radiance,
+                                       {}, half);
+                    !s)
                     return s;
             if (bake.cube)
                 for (int face = 0; face < kCubeFaces; ++face)
-                    if (Status s = saveExr((staging / faceFile(k, face)).string(), faces[k][size_t(face)], {}, half);
+                    if (Status s = saveExr((staging / faceFile(k, face)).string(),
+                                           faces[k][size_t(face)], {}, half);
                         !s)
                         return s;
         }
         if (Status s = saveExr((staging / "dfg.exr").string(), bake.dfg, {}, half); !s) return s;
         if (bake.ktx2 || bake.dds)
             if (Status s = writeTextureFiles(staging, bake, faces); !s) return s;
-        if (Status s = writeFileAtomic((staging / "sh.json").string(), shJson(bake.sh).dump(2) + "\n"); !s)
+        if (Status s =
+                writeFileAtomic((staging / "sh.json").string(), shJson(bake.sh).dump(2) + "\n");
+            !s)
             return s;
         const std::string manifest =
-            manifestJson(bake, source, half).dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+            manifestJson(bake, source, half).dump(2, ' ', false, json::error_handler_t::replace) +
+            "\n";
         return writeFileAtomic((staging / kManifest).string(), manifest);
     });
 }

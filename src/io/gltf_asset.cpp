@@ -104,15 +104,15 @@ Result<GltfAsset> readAsset(const std::string& path, bool allowOutside) {
         if (!image.is_object() || !image.contains("uri")) continue;
         if (!image["uri"].is_string())
             return Error{path + ": " + asset.imageLabels[i] + ": uri is no string"};
-        Result<UriBytes> read =
-            readGltfUri(image["uri"].get<std::string>(), folder, allowOutside);
+        Result<UriBytes> read = readGltfUri(image["uri"].get<std::string>(), folder, allowOutside);
         if (!read) return Error{path + ": " + asset.imageLabels[i] + ": " + read.error().message};
         std::string data = std::move(read->bytes);
         // Only image files are embedded, whatever the asset declares: a uri may name any file.
         const std::string sniffed = sniffMimeType(data);
         if (sniffed.empty())
             return Error{path + ": " + asset.imageLabels[i] +
-                         (data.empty() ? ": the file is empty" : ": not an image file (glTF embeds PNG or JPEG)")};
+                         (data.empty() ? ": the file is empty"
+                                       : ": not an image file (glTF embeds PNG or JPEG)")};
         std::string mime = image.value("mimeType", read->mimeType);
         if (mime.empty()) mime = sniffed;
         image.erase("uri");

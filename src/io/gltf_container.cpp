@@ -58,14 +58,16 @@ size_t structureBytes(std::string_view text) {
 // Standard base64 (RFC 4648), as data URIs carry it, decoded by OpenSSL; missing padding is
 // added, as some writers leave it out.
 std::optional<std::string> base64Decoded(std::string_view text) {
-    if (text.size() % 4 == 1 || text.size() > size_t(std::numeric_limits<int>::max()) - 3) return std::nullopt;
+    if (text.size() % 4 == 1 || text.size() > size_t(std::numeric_limits<int>::max()) - 3)
+        return std::nullopt;
     std::string padded(text);
     while (padded.size() % 4 != 0) padded += '=';
     size_t pads = 0;
     while (pads < 2 && pads < padded.size() && padded[padded.size() - 1 - pads] == '=') ++pads;
     std::string out(padded.size() / 4 * 3, '\0');
-    const int n = EVP_DecodeBlock(reinterpret_cast<unsigned char*>(out.data()),
-                                  reinterpret_cast<const unsigned char*>(padded.data()), int(padded.size()));
+    const int n =
+        EVP_DecodeBlock(reinterpret_cast<unsigned char*>(out.data()),
+                        reinterpret_cast<const unsigned char*>(padded.data()), int(padded.size()));
     if (n < 0 || size_t(n) < pads) return std::nullopt;
     out.resize(size_t(n) - pads); // EVP_DecodeBlock counts the padding's zero bytes
     return out;
@@ -161,9 +163,12 @@ Result<fs::path> uriFile(const std::string& uri, const fs::path& folder, bool al
     if (scheme == "file:") {
         // file:///x or file://localhost/x: the path after the authority.
         std::string rest = percentDecoded(std::string_view(uri).substr(5));
-        if (rest.rfind("//localhost/", 0) == 0) rest = rest.substr(11);
-        else if (rest.rfind("///", 0) == 0) rest = rest.substr(2);
-        else if (rest.rfind("//", 0) == 0) return Error{"a file: uri naming another host"};
+        if (rest.rfind("//localhost/", 0) == 0)
+            rest = rest.substr(11);
+        else if (rest.rfind("///", 0) == 0)
+            rest = rest.substr(2);
+        else if (rest.rfind("//", 0) == 0)
+            return Error{"a file: uri naming another host"};
         file = rest;
     } else {
         file = fs::path(decoded).is_absolute() ? fs::path(decoded) : folder / decoded;
@@ -175,8 +180,8 @@ Result<fs::path> uriFile(const std::string& uri, const fs::path& folder, bool al
         const fs::path root = fs::weakly_canonical(folder.empty() ? "." : folder, folderError);
         if (!fileError && !folderError) {
             const auto [r, f] = std::mismatch(root.begin(), root.end(), real.begin(), real.end());
-            if (r != root.end()) return Error{"a file whose real path " + quote(real.string()) +
-                                              " lies" + outside};
+            if (r != root.end())
+                return Error{"a file whose real path " + quote(real.string()) + " lies" + outside};
         }
     }
     return file;
@@ -218,7 +223,8 @@ Result<GlbChunks> glbChunks(std::string_view bytes) {
         } else if (type == kJsonChunk) {
             return Error{"a second JSON chunk in the GLB"};
         } else if (type == kBinChunk) {
-            if (index != 1) return Error{"a second BIN chunk in the GLB, or one not right after JSON"};
+            if (index != 1)
+                return Error{"a second BIN chunk in the GLB, or one not right after JSON"};
             out.bin = data, out.hasBin = true;
         } // chunks of other types are skipped, as the GLB format says
         at += 8 + size_t(size);
@@ -286,15 +292,15 @@ Result<GltfContainer> readContainer(const std::string& path, bool allowOutside) 
     for (size_t i = 0; i < buffers.size(); ++i) {
         const json& buffer = buffers[i];
         std::string label = "buffer " + std::to_string(i);
-        const json* length = buffer.is_object() && buffer.contains("byteLength")
-                                 ? &buffer["byteLength"]
-                                 : nullptr;
+        const json* length =
+            buffer.is_object() && buffer.contains("byteLength") ? &buffer["byteLength"] : nullptr;
         if (!length || !length->is_number_integer() || length->get<int64_t>() < 0)
             return Error{path + ": " + label + " has no byteLength"};
         const uint64_t declared = length->get<uint64_t>();
         std::string data;
         if (buffer.contains("uri")) {
-            if (!buffer["uri"].is_string()) return Error{path + ": " + label + ": uri is no string"};
+            if (!buffer["uri"].is_string())
+                return Error{path + ": " + label + ": uri is no string"};
             const std::string& uri = buffer["uri"].get_ref<const std::string&>();
             if (uri.rfind("data:", 0) != 0) label += " " + quote(uri);
             Result<UriBytes> read = readGltfUri(uri, folder, allowOutside);

@@ -59,7 +59,9 @@ const json* markOf(const json& object) {
 // The images of one chain of levels ndfmip adds (-1: not written in this --texture-format).
 struct AddedLevels {
     int dds = -1, ktx2 = -1;
-    bool operator<(const AddedLevels& o) const { return std::tie(dds, ktx2) < std::tie(o.dds, o.ktx2); }
+    bool operator<(const AddedLevels& o) const {
+        return std::tie(dds, ktx2) < std::tie(o.dds, o.ktx2);
+    }
     bool operator==(const AddedLevels& o) const { return dds == o.dds && ktx2 == o.ktx2; }
 };
 
@@ -163,7 +165,8 @@ double elapsedMs(std::chrono::steady_clock::time_point start) {
 std::optional<std::pair<int64_t, int64_t>> declaredSize(std::string_view b) {
     auto be = [&](size_t at, int bytes) {
         int64_t v = 0;
-        for (int k = 0; k < bytes; ++k) v = v << 8 | int64_t(static_cast<unsigned char>(b[at + size_t(k)]));
+        for (int k = 0; k < bytes; ++k)
+            v = v << 8 | int64_t(static_cast<unsigned char>(b[at + size_t(k)]));
         return v;
     };
     if (b.size() >= 24 && b.substr(0, 8) == "\x89PNG\r\n\x1a\n" && b.substr(12, 4) == "IHDR")
@@ -182,8 +185,8 @@ std::optional<std::pair<int64_t, int64_t>> declaredSize(std::string_view b) {
             continue;
         }
         if (marker == 0xD9 || marker == 0xDA) return std::nullopt; // no frame header before data
-        const bool frame = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 &&
-                           marker != 0xCC;
+        const bool frame =
+            marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
         if (frame) {
             if (at + 9 > b.size()) return std::nullopt;
             return std::pair(be(at + 7, 2), be(at + 5, 2));
@@ -552,8 +555,8 @@ class Filter {
     // The levels as a DDS in `ddsFormat` and/or a UASTC KTX2 of their first three channels
     // (RGB: the normal's x, y, z; the material map's occlusion, roughness, metallic), as
     // --texture-format asks; `about` says in the KTX2 what the channels hold.
-    AddedLevels addLevels(const std::vector<Image>& levels, TextureFormat ddsFormat, const std::string& name,
-                          const std::string& role, const json& about) {
+    AddedLevels addLevels(const std::vector<Image>& levels, TextureFormat ddsFormat,
+                          const std::string& name, const std::string& role, const json& about) {
         AddedLevels out;
         if (dds_) {
             std::vector<const Image*> pointers;
@@ -592,7 +595,8 @@ class Filter {
         BakeOptions options;
         options.roughnessMap = std::make_shared<Image>();
         const double texels = double(size->first) * double(size->second);
-        const double beside = 16 + 4 + 16 * 4.0 / 3 * 2 + 12 * 4.0 / 3 + (job.scale != 1.f ? 28 : 0);
+        const double beside =
+            16 + 4 + 16 * 4.0 / 3 * 2 + 12 * 4.0 / 3 + (job.scale != 1.f ? 28 : 0);
         const int64_t need =
             bakeMemoryEstimate(Method::Toksvig, options, size->first, size->second) +
             int64_t(beside * texels);
@@ -630,7 +634,10 @@ class Filter {
             addLevels(encoded, TextureFormat::Bc5Unorm,
                       "ndfmip BC5 mips of " + asset_.imageLabels[size_t(first.normalImage)],
                       "BC5 normal mips",
-                      {{"content", "normal"}, {"space", "tangent"}, {"encoding", "(n+1)/2"}, {"green", "up"},
+                      {{"content", "normal"},
+                       {"space", "tangent"},
+                       {"encoding", "(n+1)/2"},
+                       {"green", "up"},
                        {"channels", {{"r", "x"}, {"g", "y"}, {"b", "z"}}}});
         encoded.clear();
         const double normalMilliseconds = elapsedMs(start);
@@ -665,8 +672,12 @@ class Filter {
                 if (index && *index == job.roughnessTexture)
                     wants_[(materialAt / "occlusionTexture").to_string()] = b.dds;
             }
-            reports[j] = GltfMaterialReport{job.name,      normals->width, normals->height,
-                                            levels,        job.makeMap,    b.clampedTexels,
+            reports[j] = GltfMaterialReport{job.name,
+                                            normals->width,
+                                            normals->height,
+                                            levels,
+                                            job.makeMap,
+                                            b.clampedTexels,
                                             normalMilliseconds + b.milliseconds};
         }
     }
@@ -685,8 +696,8 @@ class Filter {
     // PNG core source should a texture of our own be made.
     struct Baked {
         AddedLevels dds;
-        Image level0;   // with makeMap: the level the core PNG is made of
-        int png = -1;   // that PNG's image, once made
+        Image level0; // with makeMap: the level the core PNG is made of
+        int png = -1; // that PNG's image, once made
         std::map<std::pair<int, int>, int> madeTextures; // (roughness texture, normal texture)
         size_t clampedTexels = 0;
         double milliseconds = 0.0;
@@ -825,8 +836,10 @@ class Filter {
             if (basisu_ && !(wanted.size() == 1 && *wanted.begin() == none))
                 if (const json* extensions = member(textures[size_t(texture)], "extensions");
                     extensions && extensions->is_object() && extensions->contains(kBasisuExtension))
-                    refuse(path_ + ": texture " + std::to_string(texture) + " already has a " + kBasisuExtension +
-                           " image of its own, which ndfmip would replace: give the asset with its original "
+                    refuse(path_ + ": texture " + std::to_string(texture) + " already has a " +
+                           kBasisuExtension +
+                           " image of its own, which ndfmip would replace: give the asset with its "
+                           "original "
                            "images only, or use --texture-format dds");
             if (wanted.size() == 1 && !(*wanted.begin() == none)) {
                 linkLevels(textures[size_t(texture)], *wanted.begin());

@@ -58,7 +58,9 @@ Error fail(const std::string& path, const std::string& problem) {
     return Error{path + ": " + oneLine(problem)};
 }
 
-std::string errnoText(int err) { return std::strerror(err); }
+std::string errnoText(int err) {
+    return std::strerror(err);
+}
 
 std::string stbReason() {
     const char* reason = stbi_failure_reason();
@@ -259,8 +261,7 @@ Result<SourceImage> loadExrUnchecked(const std::string& path, std::string_view b
     size_t xStride = sizeof(float) * channels;
     for (int c = 0; c < channels; ++c) {
         const std::string& name = names.value()[c];
-        if (file.header().channels().findChannel(name)->type != Imf::HALF)
-            out.bitsPerChannel = 32;
+        if (file.header().channels().findChannel(name)->type != Imf::HALF) out.bitsPerChannel = 32;
         frame.insert(name, Imf::Slice::Make(Imf::FLOAT, out.image.pixels.data() + c, window,
                                             xStride, xStride * size_t(width)));
     }
@@ -296,8 +297,7 @@ std::string stbFormat(std::string_view bytes) {
 
 // Copies stb's interleaved samples into an Image, scaling integers to [0,1]. Divides (not
 // multiplies by 1/range) so k/255 and k/65535 come out exactly as for PNG.
-template <class T>
-Image imageFromStb(const T* data, int w, int h, int c, float range) {
+template <class T> Image imageFromStb(const T* data, int w, int h, int c, float range) {
     Image image(w, h, c);
     for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = float(data[i]) / range;
     return image;
@@ -399,7 +399,7 @@ Status cannotWrite(const std::string& path, const std::string& why) {
 
 // An in-memory OpenEXR output stream (OpenEXR seeks back to fill in the offset table).
 class MemoryOStream : public Imf::OStream {
-public:
+  public:
     explicit MemoryOStream(std::string& bytes) : Imf::OStream("memory"), bytes_(bytes) {}
     void write(const char c[], int n) override {
         if (position_ + size_t(n) > bytes_.size()) bytes_.resize(position_ + size_t(n));
@@ -409,7 +409,7 @@ public:
     uint64_t tellp() override { return position_; }
     void seekp(uint64_t pos) override { position_ = pos; }
 
-private:
+  private:
     std::string& bytes_;
     uint64_t position_ = 0;
 };
@@ -440,7 +440,8 @@ Status checkExrNames(const std::string& path, const Image& image,
     return Status::success();
 }
 
-void encodeExr(const Image& image, const std::vector<std::string>& names, bool half, std::string& bytes) {
+void encodeExr(const Image& image, const std::vector<std::string>& names, bool half,
+               std::string& bytes) {
     // ZIP-compressing float data dominates a bake's time: let OpenEXR use every core.
     static const bool threaded = [] {
         Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency())));
@@ -532,8 +533,8 @@ bool writePngStream(PngWriteJob& job) {
     const Image& image = *job.image;
     png_set_write_fn(png, &job, pngWriteBytes, pngFlush);
     png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), job.bits,
-                 colourTypes[image.channels - 1], PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+                 colourTypes[image.channels - 1], PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
     png_set_compression_level(png, 3); // level 6 (default) is 2-3x slower for ~5% smaller files
     png_write_info(png, info);
     size_t rowBytes = size_t(image.width) * size_t(image.channels) * size_t(job.bits / 8);

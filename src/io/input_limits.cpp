@@ -100,7 +100,8 @@ PlannedPeak::~PlannedPeak() {
 
 std::string outOfMemoryMessage(const std::string& name) {
     // The figure is this file's only where the last estimate was made for it.
-    if (tLastEstimate <= 0 || (!tLastName.empty() && tLastName != name)) return name + ": out of memory";
+    if (tLastEstimate <= 0 || (!tLastName.empty() && tLastName != name))
+        return name + ": out of memory";
     return name + ": out of memory (needs about " + byteSize(tLastEstimate) + ")";
 }
 
@@ -142,10 +143,9 @@ Status checkBakeMemory(const std::string& name, Method method, const BakeOptions
     tLastName = name;
     if (need <= gLimits.maxMemoryBytes) return Status::success();
     const std::string what = bakeDescription(method, options);
-    return Status::failure(name + ": " + what + " of a " + count(width) + "x" +
-                           count(height) + " map needs about " + byteSize(need) +
-                           ", above the limit of " + byteSize(gLimits.maxMemoryBytes) +
-                           "; --max-memory raises it");
+    return Status::failure(name + ": " + what + " of a " + count(width) + "x" + count(height) +
+                           " map needs about " + byteSize(need) + ", above the limit of " +
+                           byteSize(gLimits.maxMemoryBytes) + "; --max-memory raises it");
 }
 
 std::string byteSize(int64_t bytes) {

@@ -154,8 +154,8 @@ Result<Image> decodeNormalMap(const SourceImage& source, const DecodeOptions& op
     if (in.empty()) return fail(name, "image is empty (0x0)");
     if (in.pixels.size() != in.texelCount() * size_t(in.channels))
         return fail(name, "pixel buffer does not match the image size");
-    auto decoded = options.height ? decodeHeight(source, options, name)
-                                  : decodeVectors(source, options, name);
+    auto decoded =
+        options.height ? decodeHeight(source, options, name) : decodeVectors(source, options, name);
     if (!decoded) return decoded;
     DecodeReport counts;
     if (int64_t bad = renormalise(decoded.value(), counts); bad >= 0) {

@@ -6,7 +6,9 @@
 namespace ndfmip {
 namespace {
 
-unsigned char byteAt(std::string_view text, size_t i) { return static_cast<unsigned char>(text[i]); }
+unsigned char byteAt(std::string_view text, size_t i) {
+    return static_cast<unsigned char>(text[i]);
+}
 
 // The length of the valid UTF-8 sequence that starts at text[i], or 0 where none does
 // (a stray continuation byte, an overlong form, a surrogate, a cut sequence).
@@ -71,7 +73,8 @@ Status checkUntrustedPath(std::string_view path) {
         else
             std::snprintf(what, sizeof what, "the control character 0x%02X", c);
         return Status::failure(quote(path) + ": not a usable path: it holds " + what + " (byte " +
-                               std::to_string(i) + "); paths may not hold NUL or control characters");
+                               std::to_string(i) +
+                               "); paths may not hold NUL or control characters");
     }
     return Status::success();
 }

@@ -6,29 +6,34 @@
 
 namespace ndfmip {
 
-Status prepareSplitSumSetup(const Material& material, const RenderTextures& textures, const RenderOptions& options,
-                            ShaderSetup& setup) {
+Status prepareSplitSumSetup(const Material& material, const RenderTextures& textures,
+                            const RenderOptions& options, ShaderSetup& setup) {
     if (!textures.environment) return Status::success();
     if (Status usable = checkSplitSumMaterial(material); !usable) return usable;
     setup.environmentLod = options.environmentLod;
     // Only the chain it reads; a Blinn-Phong material's convolved with its own lobe.
-    setup.splitSum = cachedSplitSum(*textures.environment, options.environmentLod, material.brdf == Brdf::BlinnPhong);
+    setup.splitSum = cachedSplitSum(*textures.environment, options.environmentLod,
+                                    material.brdf == Brdf::BlinnPhong);
     return Status::success();
 }
 
-Status prepareShLightingSetup(const Material& material, const RenderTextures& textures, const RenderOptions& options,
-                              ShaderSetup& setup) {
+Status prepareShLightingSetup(const Material& material, const RenderTextures& textures,
+                              const RenderOptions& options, ShaderSetup& setup) {
     if (!textures.environment) return Status::success();
     if (material.brdf == Brdf::Tabulated)
-        return Status::failure("render: SH lighting needs a Lambert, Blinn-Phong, Beckmann or GGX material");
+        return Status::failure(
+            "render: SH lighting needs a Lambert, Blinn-Phong, Beckmann or GGX material");
     if (options.shViews > 0)
-        setup.shViews = cachedShViewSet(*textures.environment, kEnvironmentShOrder, shViewFrequency(options.shViews));
+        setup.shViews = cachedShViewSet(*textures.environment, kEnvironmentShOrder,
+                                        shViewFrequency(options.shViews));
     else
-        setup.shLighting = cachedShLighting(*textures.environment, kEnvironmentShOrder, setup.environmentView);
+        setup.shLighting =
+            cachedShLighting(*textures.environment, kEnvironmentShOrder, setup.environmentView);
     return Status::success();
 }
 
-const ShLighting& shLightingAt(const ShaderSetup& setup, glm::vec3 v, const glm::mat3& toEnvironment) {
+const ShLighting& shLightingAt(const ShaderSetup& setup, glm::vec3 v,
+                               const glm::mat3& toEnvironment) {
     if (!setup.shViews) return *setup.shLighting;
     // A pixel's taps share its view: the same lighting (and id, so the sh shading's rotation into
     // the frame is reused) until the view or the set changes. A new view gets a fresh id

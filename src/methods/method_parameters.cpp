@@ -41,7 +41,9 @@ std::string anyName(const std::string& key, ParameterNaming naming) {
 
 } // namespace
 
-const std::vector<MethodParameter>& methodParameters(Method method) { return methodUnit(method).parameters; }
+const std::vector<MethodParameter>& methodParameters(Method method) {
+    return methodUnit(method).parameters;
+}
 
 const MethodParameter* findMethodParameter(Method method, const std::string& key) {
     for (const MethodParameter& p : methodParameters(method))
@@ -75,8 +77,8 @@ static Status checkValue(const MethodParameter& p, double value, ParameterNaming
     const bool whole = p.type != ParameterType::Integer || value == std::floor(value);
     if (value >= p.min && value <= p.max && whole) return Status::success();
     return Status::failure(nameOf(p, naming) + " " + number(value) + ": expected " +
-                           (p.type == ParameterType::Integer ? "a whole number " : "") + number(p.min) + " .. " +
-                           number(p.max));
+                           (p.type == ParameterType::Integer ? "a whole number " : "") +
+                           number(p.min) + " .. " + number(p.max));
 }
 
 Status checkParameterValues(Method method, const ParameterValues& values, ParameterNaming naming) {
@@ -86,15 +88,18 @@ Status checkParameterValues(Method method, const ParameterValues& values, Parame
         if (!p) {
             const std::string takers = methodsTaking(key);
             if (takers.empty()) return Status::failure("unknown parameter " + quote(key));
-            return Status::failure(anyName(key, naming) + " applies to " + methodWord + takers + " only");
+            return Status::failure(anyName(key, naming) + " applies to " + methodWord + takers +
+                                   " only");
         }
         if (Status s = checkValue(*p, value, naming); !s) return s;
     }
-    if (const MethodUnit& unit = methodUnit(method); unit.checkParameters) return unit.checkParameters(values, naming);
+    if (const MethodUnit& unit = methodUnit(method); unit.checkParameters)
+        return unit.checkParameters(values, naming);
     return Status::success();
 }
 
-Status checkCommandParameterValues(const ParameterValues& values, unsigned use, ParameterNaming naming) {
+Status checkCommandParameterValues(const ParameterValues& values, unsigned use,
+                                   ParameterNaming naming) {
     for (const auto& [key, value] : values) {
         const MethodParameter* taker = nullptr;
         for (const auto& [method, p] : allMethodParameters())
@@ -110,20 +115,22 @@ Result<ParameterValues> parseParameterSpec(Method method, const std::string& spe
     std::vector<const MethodParameter*> positions;
     for (const MethodParameter& p : methodParameters(method))
         if (p.specPosition >= 0) {
-            if (positions.size() <= size_t(p.specPosition)) positions.resize(size_t(p.specPosition) + 1);
+            if (positions.size() <= size_t(p.specPosition))
+                positions.resize(size_t(p.specPosition) + 1);
             positions[size_t(p.specPosition)] = &p;
         }
     auto refuse = [&] {
-        return Error{"--methods: " + quote(spec) + ": " + std::string(methodName(method)) + " takes " +
-                     parameterSpecHelp(method)};
+        return Error{"--methods: " + quote(spec) + ": " + std::string(methodName(method)) +
+                     " takes " + parameterSpecHelp(method)};
     };
     if (texts.size() > positions.size()) return refuse();
     ParameterValues values;
     for (size_t i = 0; i < texts.size(); ++i) {
         const MethodParameter& p = *positions[i];
         char* end = nullptr;
-        const double value = p.type == ParameterType::Integer ? double(std::strtol(texts[i].c_str(), &end, 10))
-                                                              : std::strtod(texts[i].c_str(), &end);
+        const double value = p.type == ParameterType::Integer
+                                 ? double(std::strtol(texts[i].c_str(), &end, 10))
+                                 : std::strtod(texts[i].c_str(), &end);
         if (texts[i].empty() || *end != '\0' || !std::isfinite(value)) return refuse();
         values[p.key] = p.type == ParameterType::Float ? double(float(value)) : value;
     }
@@ -139,8 +146,9 @@ std::string parameterSpecHelp(Method method) {
         for (const MethodParameter& p : methodParameters(method))
             if (p.specPosition == position) {
                 const std::string range = number(p.min) + " .. " + number(p.max);
-                text += position == 0 ? std::string(p.key) + " " + range
-                                      : " and optionally :" + std::string(p.key) + " (" + range + ")";
+                text += position == 0
+                            ? std::string(p.key) + " " + range
+                            : " and optionally :" + std::string(p.key) + " (" + range + ")";
                 found = true;
             }
     }

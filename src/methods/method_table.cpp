@@ -8,7 +8,8 @@
 namespace ndfmip {
 
 const std::vector<MethodUnit>& methodUnits() {
-    static const std::vector<MethodUnit> units = {naiveUnit(), toksvigUnit(), shUnit(), vmfUnit(), leanUnit()};
+    static const std::vector<MethodUnit> units = {naiveUnit(), toksvigUnit(), shUnit(), vmfUnit(),
+                                                  leanUnit()};
     return units;
 }
 
@@ -21,7 +22,8 @@ const MethodUnit& methodUnit(Method method) {
 const std::vector<MethodShader>& methodShaders() {
     static const std::vector<MethodShader> shaders = [] {
         std::vector<MethodShader> all;
-        for (auto list : {naiveShaders(), toksvigShaders(), shShaders(), vmfShaders(), leanShaders()})
+        for (auto list :
+             {naiveShaders(), toksvigShaders(), shShaders(), vmfShaders(), leanShaders()})
             all.insert(all.end(), list.begin(), list.end());
         return all;
     }();
@@ -40,7 +42,9 @@ std::optional<Method> methodFromString(std::string_view name) {
     return std::nullopt;
 }
 
-const char* methodName(Method method) { return methodUnit(method).name; }
+const char* methodName(Method method) {
+    return methodUnit(method).name;
+}
 
 std::vector<Method> allMethods() {
     std::vector<Method> methods;
@@ -92,7 +96,9 @@ PlaneInfo planeOf(const std::string& name, int channels, bool linear) {
     return {name, std::vector<std::string>(size_t(channels)), "", linear};
 }
 
-nlohmann::json jsonVec3(const float* v) { return {v[0], v[1], v[2]}; }
+nlohmann::json jsonVec3(const float* v) {
+    return {v[0], v[1], v[2]};
+}
 
 void addUniform(std::vector<UniformValue>& u, const std::string& name, int value) {
     u.push_back({name, true, {float(value)}});

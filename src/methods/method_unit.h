@@ -21,9 +21,9 @@
 #include "ndfmip/environment_sh_views.h"
 #include "ndfmip/environment_splitsum.h"
 #include "ndfmip/method_parameters.h"
+#include "ndfmip/method_shading.h"
 #include "ndfmip/render.h"
 #include "ndfmip/sh_brdf.h"
-#include "ndfmip/method_shading.h"
 
 namespace ndfmip {
 
@@ -53,7 +53,8 @@ struct MethodUnit {
     // "sh order 7", "vmf with 4 lobes": the bake named in messages.
     std::string (*describe)(const BakeParameters& parameters);
     // inspect: the texel's keys (the level's planes are in `bake.level`).
-    void (*inspect)(nlohmann::json& out, const LoadedBake& bake, int x, int y, const InspectOptions& options);
+    void (*inspect)(nlohmann::json& out, const LoadedBake& bake, int x, int y,
+                    const InspectOptions& options);
     // The unit normal a level-0 texel holds (`planes` = its planes' values, plane after plane).
     glm::vec3 (*levelZeroNormal)(const float* planes);
     // The texel's NDF density at unit w, for methods that store one (inspect --ndf); else null.
@@ -65,10 +66,10 @@ const MethodUnit& methodUnit(Method method);
 
 // What a shader needs besides the texels, set up once per render from the material and bake.
 struct ShaderSetup {
-    ShShading sh;                // sh: the material's A_l
-    Image lut;                   // toksvig-lut: the table of the material's exponent
-    int vmfLobes = 0;            // vmf: J
-    bool vmfColors = false;      // vmf: colour planes follow the lobe planes
+    ShShading sh;                  // sh: the material's A_l
+    Image lut;                     // toksvig-lut: the table of the material's exponent
+    int vmfLobes = 0;              // vmf: J
+    bool vmfColors = false;        // vmf: colour planes follow the lobe planes
     bool roughnessIsAlpha = false; // roughness-mips: stored alpha, not perceptual
     RoughnessMapping mapping = RoughnessMapping::Ours;
     float varianceScale = kVarianceScale;
@@ -85,17 +86,18 @@ struct ShaderSetup {
 // The SH lighting a pixel reads: setup.shLighting, or with a set of views the lighting
 // interpolated at the pixel's own view (toEnvironment * v, v towards the camera in the tangent
 // frame), held per thread until the next call on that thread.
-const ShLighting& shLightingAt(const ShaderSetup& setup, glm::vec3 v, const glm::mat3& toEnvironment);
+const ShLighting& shLightingAt(const ShaderSetup& setup, glm::vec3 v,
+                               const glm::mat3& toEnvironment);
 
 // The prepare steps the methods share under an environment (nothing without one): the
 // prefiltered levels of options.environmentLod's rule, or the SH lighting of order
 // kEnvironmentShOrder for setup.environmentView (the specular cosine from the mean normal,
 // environment_sh_shading.h) or, with options.shViews > 0, for the set of views.
 constexpr int kEnvironmentShOrder = 8; // Han et al. Sec. 8: l* = 8
-Status prepareSplitSumSetup(const Material& material, const RenderTextures& textures, const RenderOptions& options,
-                            ShaderSetup& setup);
-Status prepareShLightingSetup(const Material& material, const RenderTextures& textures, const RenderOptions& options,
-                              ShaderSetup& setup);
+Status prepareSplitSumSetup(const Material& material, const RenderTextures& textures,
+                            const RenderOptions& options, ShaderSetup& setup);
+Status prepareShLightingSetup(const Material& material, const RenderTextures& textures,
+                              const RenderOptions& options, ShaderSetup& setup);
 
 // A uniform of the GPU renderer's fragment shader (render_program.h).
 struct UniformValue {
@@ -109,26 +111,30 @@ constexpr int kGpuMaxShOrder = 10; // NDFMIP_SH_MAX_ORDER in shaders/sh.glsl
 struct MethodShader {
     const char* name; // render and eval method name
     Method bake;      // the bake it reads
-    const char* glsl; // its render glue in shaders/ (render/<name>.glsl: ndfmipShadeTexel for the GPU renderer)
+    const char* glsl; // its render glue in shaders/ (render/<name>.glsl: ndfmipShadeTexel for the
+                      // GPU renderer)
     // Checks the material (and textures) and fills `setup`; an error names what is wrong.
-    Status (*prepare)(const Material& material, const RenderTextures& textures, const RenderOptions& options,
-                      ShaderSetup& setup);
+    Status (*prepare)(const Material& material, const RenderTextures& textures,
+                      const RenderOptions& options, ShaderSetup& setup);
     // Radiance per unit irradiance from the filtered (or one texel's) linear plane values, in
     // plane order; roughness-mips' roughness comes last.
-    glm::vec3 (*shade)(const ShaderSetup& setup, const Material& material, const float* params, glm::vec3 albedo,
-                       glm::vec3 l, glm::vec3 v);
+    glm::vec3 (*shade)(const ShaderSetup& setup, const Material& material, const float* params,
+                       glm::vec3 albedo, glm::vec3 l, glm::vec3 v);
     // The specular lobe alone at half vector h, no cosine (what `ndfmip demo` compares).
-    float (*lobe)(const ShaderSetup& setup, const Material& material, const float* params, glm::vec3 h);
+    float (*lobe)(const ShaderSetup& setup, const Material& material, const float* params,
+                  glm::vec3 h);
     // The radiance the filtered parameters reflect under the whole environment, view v in the
     // tangent frame, `tangentToEnvironment` taking tangent-frame directions to the environment's
     // (environment_lighting.h). Null for a shader that cannot shade under an environment.
-    glm::vec3 (*shadeEnvironment)(const ShaderSetup& setup, const Material& material, const float* params,
-                                  glm::vec3 albedo, glm::vec3 view, const glm::mat3& tangentToEnvironment,
+    glm::vec3 (*shadeEnvironment)(const ShaderSetup& setup, const Material& material,
+                                  const float* params, glm::vec3 albedo, glm::vec3 view,
+                                  const glm::mat3& tangentToEnvironment,
                                   const EnvironmentLighting& lighting);
     // The GPU renderer's part (render_program.cpp); null where the glue needs nothing of it.
     // Texture layers the glue reads after the planes' (`levels` of them, one per bake level):
     // roughness-mips' roughness.
-    Status (*gpuLayers)(const RenderTextures& textures, size_t levels, std::vector<std::vector<const Image*>>& layers);
+    Status (*gpuLayers)(const RenderTextures& textures, size_t levels,
+                        std::vector<std::vector<const Image*>>& layers);
     // The glue's #defines (`layers`: the planes' layers and the extra ones).
     std::string (*gpuDefines)(const ShaderSetup& setup, int layers);
     // The glue's uniforms, or why the GPU cannot draw this setup.

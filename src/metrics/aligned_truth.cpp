@@ -1,6 +1,6 @@
 // Aligned-footprint ground truth and error statistics (see evaluate.h).
-#include <cassert>
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include "methods/method_unit.h"

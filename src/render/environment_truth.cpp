@@ -26,10 +26,12 @@ double powerHeuristic(double chosen, double other) {
 }
 
 // The integrand at unit tangent-frame l: L(l) shadeNormal, zero below the geometric surface.
-glm::vec3 integrand(const EnvironmentLighting& lighting, const glm::mat3& toEnvironment, const Material& material,
-                    glm::vec3 albedo, glm::vec3 n, glm::vec3 v, glm::vec3 l) {
+glm::vec3 integrand(const EnvironmentLighting& lighting, const glm::mat3& toEnvironment,
+                    const Material& material, glm::vec3 albedo, glm::vec3 n, glm::vec3 v,
+                    glm::vec3 l) {
     if (l.z <= 0.f) return glm::vec3(0.f);
-    const glm::vec3 radiance = environmentRadiance(lighting.environment, glm::dvec3(toEnvironment * l));
+    const glm::vec3 radiance =
+        environmentRadiance(lighting.environment, glm::dvec3(toEnvironment * l));
     if (radiance == glm::vec3(0.f)) return radiance;
     return radiance * shadeNormal(material, albedo, n, l, glm::normalize(l + v));
 }
@@ -40,7 +42,9 @@ BrdfSampling brdfSampling(const Material& material, glm::vec3 albedo) {
     BrdfSampling s;
     if (material.brdf == Brdf::Tabulated) return s;
     const double diffuse = std::max(rec709Luminance(glm::dvec3(albedo)), 0.);
-    const double specular = material.brdf == Brdf::Lambert ? 0. : std::max(rec709Luminance(glm::dvec3(material.specular)), 0.);
+    const double specular = material.brdf == Brdf::Lambert
+                                ? 0.
+                                : std::max(rec709Luminance(glm::dvec3(material.specular)), 0.);
     if (!(diffuse + specular > 0.)) return s;
     s.usable = true;
     s.specular = specular / (diffuse + specular);
@@ -64,7 +68,8 @@ double lobeHalfVectorPdf(const Material& material, double c) {
         const double d = c2 * (a2 - 1.) + 1.;
         return a2 * c / (M_PI * d * d);
     }
-    default: return 0.;
+    default:
+        return 0.;
     }
 }
 
@@ -72,16 +77,24 @@ glm::dvec3 sampleLobeHalfVector(const Material& material, double u1, double u2) 
     double c = 1.;
     const double a2 = double(material.roughness) * material.roughness;
     switch (material.brdf) {
-    case Brdf::BlinnPhong: c = std::pow(u1, 1. / (double(material.exponent) + 2.)); break;
-    case Brdf::Beckmann: c = 1. / std::sqrt(1. - a2 * std::log1p(-u1)); break; // tan^2 = -a^2 ln(1 - u)
-    case Brdf::Ggx: c = std::sqrt((1. - u1) / (1. + (a2 - 1.) * u1)); break;     // tan^2 = a^2 u / (1 - u)
-    default: break;
+    case Brdf::BlinnPhong:
+        c = std::pow(u1, 1. / (double(material.exponent) + 2.));
+        break;
+    case Brdf::Beckmann:
+        c = 1. / std::sqrt(1. - a2 * std::log1p(-u1));
+        break; // tan^2 = -a^2 ln(1 - u)
+    case Brdf::Ggx:
+        c = std::sqrt((1. - u1) / (1. + (a2 - 1.) * u1));
+        break; // tan^2 = a^2 u / (1 - u)
+    default:
+        break;
     }
     const double s = std::sqrt(std::max(0., 1. - c * c)), phi = 2. * M_PI * u2;
     return {s * std::cos(phi), s * std::sin(phi), c};
 }
 
-double brdfPdf(const Material& material, const BrdfSampling& sampling, glm::dvec3 n, glm::dvec3 v, glm::dvec3 l) {
+double brdfPdf(const Material& material, const BrdfSampling& sampling, glm::dvec3 n, glm::dvec3 v,
+               glm::dvec3 l) {
     if (!sampling.usable) return 0.;
     double pdf = (1. - sampling.specular) * std::max(glm::dot(n, l), 0.) / M_PI;
     if (sampling.specular > 0.) {
@@ -90,7 +103,8 @@ double brdfPdf(const Material& material, const BrdfSampling& sampling, glm::dvec
         if (length > 0.) {
             const glm::dvec3 h = sum / length;
             const double vh = glm::dot(v, h);
-            if (vh > 0.) pdf += sampling.specular * lobeHalfVectorPdf(material, glm::dot(n, h)) / (4. * vh);
+            if (vh > 0.)
+                pdf += sampling.specular * lobeHalfVectorPdf(material, glm::dot(n, h)) / (4. * vh);
         }
     }
     return pdf;
@@ -115,8 +129,9 @@ bool sampleBrdf(const Material& material, const BrdfSampling& sampling, glm::dve
     return true;
 }
 
-glm::vec3 estimateEnvironmentRadiance(const EnvironmentLighting& lighting, const glm::mat3& toEnvironment,
-                                      const Material& material, glm::vec3 albedo, glm::vec3 n, glm::vec3 v,
+glm::vec3 estimateEnvironmentRadiance(const EnvironmentLighting& lighting,
+                                      const glm::mat3& toEnvironment, const Material& material,
+                                      glm::vec3 albedo, glm::vec3 n, glm::vec3 v,
                                       EnvironmentEstimator estimator, const double u[5]) {
     const BrdfSampling sampling = brdfSampling(material, albedo);
     if (!sampling.usable) estimator = EnvironmentEstimator::Light;
@@ -128,9 +143,10 @@ glm::vec3 estimateEnvironmentRadiance(const EnvironmentLighting& lighting, const
         const glm::vec3 l = glm::normalize(glm::transpose(toEnvironment) * glm::vec3(e.direction));
         const glm::vec3 f = integrand(lighting, toEnvironment, material, albedo, n, v, l);
         if (f != glm::vec3(0.f)) {
-            const double weight = estimator == EnvironmentEstimator::Mis
-                                      ? powerHeuristic(e.pdf, brdfPdf(material, sampling, nd, vd, glm::dvec3(l)))
-                                      : 1.;
+            const double weight =
+                estimator == EnvironmentEstimator::Mis
+                    ? powerHeuristic(e.pdf, brdfPdf(material, sampling, nd, vd, glm::dvec3(l)))
+                    : 1.;
             sum += glm::dvec3(f) * (weight / e.pdf);
         }
     }
@@ -143,7 +159,8 @@ glm::vec3 estimateEnvironmentRadiance(const EnvironmentLighting& lighting, const
             if (f != glm::vec3(0.f) && pdf > 0.) {
                 const double weight =
                     estimator == EnvironmentEstimator::Mis
-                        ? powerHeuristic(pdf, environmentPdf(lighting.sampler, glm::dvec3(toEnvironment * l)))
+                        ? powerHeuristic(
+                              pdf, environmentPdf(lighting.sampler, glm::dvec3(toEnvironment * l)))
                         : 1.;
                 sum += glm::dvec3(f) * (weight / pdf);
             }

@@ -34,7 +34,8 @@ double lobeHalfVectorPdf(const Material& material, double c);
 glm::dvec3 sampleLobeHalfVector(const Material& material, double u1, double u2);
 
 // The density per steradian of the BRDF sampler drawing unit l, for unit normal n and view v.
-double brdfPdf(const Material& material, const BrdfSampling& sampling, glm::dvec3 n, glm::dvec3 v, glm::dvec3 l);
+double brdfPdf(const Material& material, const BrdfSampling& sampling, glm::dvec3 n, glm::dvec3 v,
+               glm::dvec3 l);
 
 // A direction from the BRDF sampler (three uniform numbers); false when the draw is lost (the
 // half vector faces away from v), which the estimate counts as zero.
@@ -46,8 +47,9 @@ bool sampleBrdf(const Material& material, const BrdfSampling& sampling, glm::dve
 // directions (environment_lighting.h tangentToEnvironment); n is the (finest) unit normal and v
 // the unit view, both in the tangent frame. `estimator` picks MIS or one of its two halves alone
 // (tabulated lobes and black materials always sample the environment alone).
-glm::vec3 estimateEnvironmentRadiance(const EnvironmentLighting& lighting, const glm::mat3& toEnvironment,
-                                      const Material& material, glm::vec3 albedo, glm::vec3 n, glm::vec3 v,
+glm::vec3 estimateEnvironmentRadiance(const EnvironmentLighting& lighting,
+                                      const glm::mat3& toEnvironment, const Material& material,
+                                      glm::vec3 albedo, glm::vec3 n, glm::vec3 v,
                                       EnvironmentEstimator estimator, const double u[5]);
 
 } // namespace ndfmip

@@ -19,20 +19,23 @@ FacetedSphereMesh facetedSphereMesh(const Geometry& g) {
         const double theta = M_PI * double(i) / double(rings);
         for (int j = 0; j < segments; ++j) {
             const double phi = 2.0 * M_PI * double(j) / double(segments);
-            const glm::vec3 n(glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                                         std::cos(theta)));
+            const glm::vec3 n(glm::dvec3(std::sin(theta) * std::cos(phi),
+                                         std::sin(theta) * std::sin(phi), std::cos(theta)));
             mesh.normals.push_back(n);
             mesh.positions.push_back(g.center + g.radius * n);
         }
     }
     for (int i = 0; i < rings; ++i)
         for (int j = 0; j < segments; ++j) {
-            const int a = index(i, j), b = index(i, j + 1), c = index(i + 1, j), d = index(i + 1, j + 1);
-            if (i > 0) mesh.triangles.emplace_back(a, c, b);          // skips the degenerate one at the north pole
-            if (i < rings - 1) mesh.triangles.emplace_back(b, c, d);  // and at the south pole
+            const int a = index(i, j), b = index(i, j + 1), c = index(i + 1, j),
+                      d = index(i + 1, j + 1);
+            if (i > 0)
+                mesh.triangles.emplace_back(a, c, b); // skips the degenerate one at the north pole
+            if (i < rings - 1) mesh.triangles.emplace_back(b, c, d); // and at the south pole
         }
     for (const glm::ivec3& t : mesh.triangles) {
-        const glm::vec3 p0 = mesh.positions[t.x], p1 = mesh.positions[t.y], p2 = mesh.positions[t.z];
+        const glm::vec3 p0 = mesh.positions[t.x], p1 = mesh.positions[t.y],
+                        p2 = mesh.positions[t.z];
         glm::vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
         if (glm::dot(n, (p0 + p1 + p2) / 3.f - g.center) < 0.f) n = -n;
         mesh.faceNormals.push_back(n);
@@ -43,7 +46,8 @@ FacetedSphereMesh facetedSphereMesh(const Geometry& g) {
 namespace {
 
 // Moller-Trumbore: t and the barycentrics (u, v) of p1 and p2; no bounds on u, v.
-bool rayPlaneBarycentrics(const FacetedSphereMesh& mesh, int triangle, const Ray& ray, float& t, float& u, float& v) {
+bool rayPlaneBarycentrics(const FacetedSphereMesh& mesh, int triangle, const Ray& ray, float& t,
+                          float& u, float& v) {
     const glm::ivec3 tri = mesh.triangles[size_t(triangle)];
     const glm::vec3 p0 = mesh.positions[tri.x];
     const glm::vec3 e1 = mesh.positions[tri.y] - p0, e2 = mesh.positions[tri.z] - p0;
@@ -72,7 +76,8 @@ FacetedHit intersectFacetedSphere(const FacetedSphereMesh& mesh, const Ray& ray)
     const glm::vec3 oc = ray.origin - mesh.center;
     const float b = glm::dot(oc, ray.direction);
     const float c = glm::dot(oc, oc) - mesh.radius * mesh.radius;
-    if (c > 0.f && (b > 0.f || b * b - c * glm::dot(ray.direction, ray.direction) < 0.f)) return hit;
+    if (c > 0.f && (b > 0.f || b * b - c * glm::dot(ray.direction, ray.direction) < 0.f))
+        return hit;
     float best = std::numeric_limits<float>::infinity();
     float bestU = 0.f, bestV = 0.f;
     for (int k = 0; k < int(mesh.triangles.size()); ++k) {
@@ -95,9 +100,12 @@ FacetedHit intersectFacetedSphere(const FacetedSphereMesh& mesh, const Ray& ray)
     return hit;
 }
 
-glm::vec3 interpolatedNormalOnPlane(const FacetedSphereMesh& mesh, int triangle, const Ray& ray, glm::vec3 fallback) {
+glm::vec3 interpolatedNormalOnPlane(const FacetedSphereMesh& mesh, int triangle, const Ray& ray,
+                                    glm::vec3 fallback) {
     float t, u, v;
-    if (!rayPlaneBarycentrics(mesh, triangle, ray, t, u, v) || !std::isfinite(u) || !std::isfinite(v)) return fallback;
+    if (!rayPlaneBarycentrics(mesh, triangle, ray, t, u, v) || !std::isfinite(u) ||
+        !std::isfinite(v))
+        return fallback;
     return interpolate(mesh, triangle, u, v);
 }
 

@@ -40,8 +40,8 @@ SurfaceHit intersect(const Geometry& g, const Ray& ray) {
         glm::vec3 p = ray.origin + t * ray.direction;
         glm::vec3 bitangent = glm::cross(g.normal, g.tangent);
         glm::vec3 d = p - g.center;
-        float s = glm::dot(d, g.tangent) / g.size.x + 0.5f;   // 0 .. 1 along the tangent
-        float r = 0.5f - glm::dot(d, bitangent) / g.size.y;   // 0 at the bitangent's edge
+        float s = glm::dot(d, g.tangent) / g.size.x + 0.5f; // 0 .. 1 along the tangent
+        float r = 0.5f - glm::dot(d, bitangent) / g.size.y; // 0 at the bitangent's edge
         if (s < 0.f || s > 1.f || r < 0.f || r > 1.f) return h;
         h.hit = true;
         h.t = t;
@@ -79,7 +79,8 @@ SurfaceHit intersect(const Geometry& g, const Ray& ray) {
     h.tangent = {-sinPhi, cosPhi, 0.f};
     h.bitangent = glm::cross(h.normal, h.tangent); // towards the north pole: decreasing v
     h.dpdu = glm::vec3(-sinPhi, cosPhi, 0.f) * (g.radius * sinTheta * 2.f * kPi / g.tiling.x);
-    h.dpdv = glm::vec3(cosTheta * cosPhi, cosTheta * sinPhi, -sinTheta) * (g.radius * kPi / g.tiling.y);
+    h.dpdv =
+        glm::vec3(cosTheta * cosPhi, cosTheta * sinPhi, -sinTheta) * (g.radius * kPi / g.tiling.y);
     return h;
 }
 

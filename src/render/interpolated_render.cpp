@@ -49,12 +49,13 @@ glm::vec3 shadeSample(const InterpolatedContext& ctx, float px, float py) {
     // the LOD of the interpolated normal's change to the neighbouring pixels.
     glm::vec3 normal = glm::normalize(hit.interpolated);
     if (ctx.method == InterpolatedMethod::CubemapToksvig) {
-        const glm::vec3 nx =
-            interpolatedNormalOnPlane(ctx.mesh, hit.triangle, cameraRay(ctx.camera, px + 1.f, py), hit.interpolated);
-        const glm::vec3 ny =
-            interpolatedNormalOnPlane(ctx.mesh, hit.triangle, cameraRay(ctx.camera, px, py + 1.f), hit.interpolated);
-        normal = sampleNormalCubeMap(ctx.cube, hit.interpolated,
-                                     normalCubeMapLod(ctx.cube, hit.interpolated, nx, ny) + ctx.lodBias);
+        const glm::vec3 nx = interpolatedNormalOnPlane(
+            ctx.mesh, hit.triangle, cameraRay(ctx.camera, px + 1.f, py), hit.interpolated);
+        const glm::vec3 ny = interpolatedNormalOnPlane(
+            ctx.mesh, hit.triangle, cameraRay(ctx.camera, px, py + 1.f), hit.interpolated);
+        normal =
+            sampleNormalCubeMap(ctx.cube, hit.interpolated,
+                                normalCubeMapLod(ctx.cube, hit.interpolated, nx, ny) + ctx.lodBias);
     }
     const Material& m = scene.material;
     glm::vec3 radiance(0.f);
@@ -63,7 +64,8 @@ glm::vec3 shadeSample(const InterpolatedContext& ctx, float px, float py) {
         lightAt(light, hit.position, l, irradiance);
         if (glm::dot(l, hit.faceNormal) <= 0.f) continue; // behind the facet
         if (ctx.method == InterpolatedMethod::CubemapToksvig)
-            radiance += irradiance * shadeToksvig(m, m.albedo, normal, l, view, ctx.options->roughnessMapping,
+            radiance += irradiance * shadeToksvig(m, m.albedo, normal, l, view,
+                                                  ctx.options->roughnessMapping,
                                                   ctx.options->varianceScale);
         else
             radiance += irradiance * shadeNormal(m, m.albedo, normal, l, glm::normalize(l + view));
@@ -85,34 +87,40 @@ std::string interpolatedMethodNames() {
     return std::string(kGroundTruth) + ", " + kRenormalized + ", " + kCubemapToksvig;
 }
 
-Result<Image> renderInterpolated(const Scene& scene, const std::string& method, const RenderOptions& options,
+Result<Image> renderInterpolated(const Scene& scene, const std::string& method,
+                                 const RenderOptions& options,
                                  const InterpolatedOptions& interpolated) {
     const int cubeSize = interpolated.cubeSize;
     if (scene.geometry.type != GeometryType::FacetedSphere)
         return Error{"render: " + method + " needs a faceted-sphere scene"};
     const Geometry& g = scene.geometry;
-    if (g.segments < kMinSphereSegments || g.segments > kMaxSphereSegments || g.rings < kMinSphereRings ||
-        g.rings > kMaxSphereRings || !(g.radius > 0.f))
-        return Error{"render: a faceted sphere needs " + std::to_string(kMinSphereSegments) + " .. " +
-                     std::to_string(kMaxSphereSegments) + " segments, " + std::to_string(kMinSphereRings) + " .. " +
-                     std::to_string(kMaxSphereRings) + " rings and a positive radius"};
+    if (g.segments < kMinSphereSegments || g.segments > kMaxSphereSegments ||
+        g.rings < kMinSphereRings || g.rings > kMaxSphereRings || !(g.radius > 0.f))
+        return Error{"render: a faceted sphere needs " + std::to_string(kMinSphereSegments) +
+                     " .. " + std::to_string(kMaxSphereSegments) + " segments, " +
+                     std::to_string(kMinSphereRings) + " .. " + std::to_string(kMaxSphereRings) +
+                     " rings and a positive radius"};
     if (cubeSize < 1 || cubeSize > 4096 || (cubeSize & (cubeSize - 1)) != 0)
         return Error{"render: the normal cube map's size must be a power of two in 1 .. 4096"};
     if (options.spp < 1 || options.spp > (1 << 20))
         return Error{"render: spp must be in 1 .. 1048576, got " + std::to_string(options.spp)};
-    if (scene.camera.width < 1 || scene.camera.height < 1) return Error{"render: the camera's image is empty"};
+    if (scene.camera.width < 1 || scene.camera.height < 1)
+        return Error{"render: the camera's image is empty"};
 
     InterpolatedContext ctx;
     ctx.scene = &scene;
     ctx.options = &options;
     ctx.camera = cameraFrame(scene.camera);
     ctx.mesh = facetedSphereMesh(g);
-    if (method == kGroundTruth) ctx.method = InterpolatedMethod::Truth;
-    else if (method == kRenormalized) ctx.method = InterpolatedMethod::Renormalized;
-    else if (method == kCubemapToksvig) ctx.method = InterpolatedMethod::CubemapToksvig;
+    if (method == kGroundTruth)
+        ctx.method = InterpolatedMethod::Truth;
+    else if (method == kRenormalized)
+        ctx.method = InterpolatedMethod::Renormalized;
+    else if (method == kCubemapToksvig)
+        ctx.method = InterpolatedMethod::CubemapToksvig;
     else
-        return Error{"render: unknown method '" + method + "' for a faceted-sphere scene (expected " +
-                     interpolatedMethodNames() + ")"};
+        return Error{"render: unknown method '" + method +
+                     "' for a faceted-sphere scene (expected " + interpolatedMethodNames() + ")"};
     if (!std::isfinite(interpolated.lodBias) || std::abs(interpolated.lodBias) > 16.f)
         return Error{"render: the cube map's LOD bias must be finite and within +-16"};
     ctx.lodBias = interpolated.lodBias;
@@ -129,7 +137,8 @@ Result<Image> renderInterpolated(const Scene& scene, const std::string& method, 
 #pragma omp parallel for schedule(dynamic, 1)
     for (int y = 0; y < camera.height; ++y) {
         for (int x = 0; x < camera.width; ++x) {
-            uint64_t state = options.seed * 0x2545F4914F6CDD1Dull + uint64_t(y) * uint64_t(camera.width) + uint64_t(x);
+            uint64_t state = options.seed * 0x2545F4914F6CDD1Dull +
+                             uint64_t(y) * uint64_t(camera.width) + uint64_t(x);
             glm::vec3 sum(0.f);
             for (int sy = 0; sy < gy; ++sy)
                 for (int sx = 0; sx < gx; ++sx) {
@@ -138,7 +147,8 @@ Result<Image> renderInterpolated(const Scene& scene, const std::string& method, 
                         jx = (float(sx) + uniform(state)) / float(gx);
                         jy = (float(sy) + uniform(state)) / float(gy);
                     }
-                    sum += shadeSample(ctx, float(x) + jx + options.pixelShift.x, float(y) + jy + options.pixelShift.y);
+                    sum += shadeSample(ctx, float(x) + jx + options.pixelShift.x,
+                                       float(y) + jy + options.pixelShift.y);
                 }
             const glm::vec3 mean = sum / float(options.spp);
             float* p = out.at(x, y);
@@ -153,7 +163,8 @@ Result<Image> renderInterpolated(const Scene& scene, const std::string& method, 
     return out;
 }
 
-double temporalErrorFlicker(const std::vector<Image>& frames, const std::vector<Image>& truthFrames) {
+double temporalErrorFlicker(const std::vector<Image>& frames,
+                            const std::vector<Image>& truthFrames) {
     if (frames.size() < 2 || frames.size() != truthFrames.size()) return 0.0;
     for (size_t f = 0; f < frames.size(); ++f)
         if (frames[f].texelCount() != frames.front().texelCount() ||

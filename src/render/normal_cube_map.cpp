@@ -9,12 +9,18 @@ namespace ndfmip {
 
 glm::vec3 cubeFaceDirection(int face, float a, float b) {
     switch (face) { // the inverse of cubeFaceCoordinates (OpenGL's face table)
-    case 0: return {1.f, -b, -a};
-    case 1: return {-1.f, -b, a};
-    case 2: return {a, 1.f, b};
-    case 3: return {a, -1.f, -b};
-    case 4: return {a, -b, 1.f};
-    default: return {-a, -b, -1.f};
+    case 0:
+        return {1.f, -b, -a};
+    case 1:
+        return {-1.f, -b, a};
+    case 2:
+        return {a, 1.f, b};
+    case 3:
+        return {a, -1.f, -b};
+    case 4:
+        return {a, -b, 1.f};
+    default:
+        return {-a, -b, -1.f};
     }
 }
 
@@ -42,14 +48,19 @@ void cubeFaceCoordinates(glm::vec3 d, int& face, float& a, float& b) {
 namespace {
 
 // The solid angle of the face rectangle [a0, a1] x [b0, b1] seen from the cube's centre:
-// the area of a unit-distance rectangle's projection, by the antiderivative atan(ab/sqrt(1+a^2+b^2)).
+// the area of a unit-distance rectangle's projection, by the antiderivative
+// atan(ab/sqrt(1+a^2+b^2)).
 double faceSolidAngle(double a0, double a1, double b0, double b1) {
-    auto corner = [](double a, double b) { return std::atan2(a * b, std::sqrt(1.0 + a * a + b * b)); };
+    auto corner = [](double a, double b) {
+        return std::atan2(a * b, std::sqrt(1.0 + a * a + b * b));
+    };
     return corner(a1, b1) - corner(a0, b1) - corner(a1, b0) + corner(a0, b0);
 }
 
 // Face coordinate of texel edge `i` on a face of `size` texels.
-float texelEdge(int i, int size) { return 2.f * float(i) / float(size) - 1.f; }
+float texelEdge(int i, int size) {
+    return 2.f * float(i) / float(size) - 1.f;
+}
 
 // The texel of `level` nearest to direction d (any face).
 const glm::vec3& texelAt(const CubeLevel& level, glm::vec3 d) {
@@ -72,11 +83,14 @@ glm::vec3 seamlessTexel(const CubeLevel& level, int face, int x, int y) {
 }
 
 glm::vec3 bilinear(const CubeLevel& level, int face, float a, float b) {
-    const float x = (a + 1.f) * 0.5f * float(level.size) - 0.5f, y = (b + 1.f) * 0.5f * float(level.size) - 0.5f;
+    const float x = (a + 1.f) * 0.5f * float(level.size) - 0.5f,
+                y = (b + 1.f) * 0.5f * float(level.size) - 0.5f;
     const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
     const float fx = x - float(x0), fy = y - float(y0);
-    return (1.f - fy) * ((1.f - fx) * seamlessTexel(level, face, x0, y0) + fx * seamlessTexel(level, face, x0 + 1, y0)) +
-           fy * ((1.f - fx) * seamlessTexel(level, face, x0, y0 + 1) + fx * seamlessTexel(level, face, x0 + 1, y0 + 1));
+    return (1.f - fy) * ((1.f - fx) * seamlessTexel(level, face, x0, y0) +
+                         fx * seamlessTexel(level, face, x0 + 1, y0)) +
+           fy * ((1.f - fx) * seamlessTexel(level, face, x0, y0 + 1) +
+                 fx * seamlessTexel(level, face, x0 + 1, y0 + 1));
 }
 
 } // namespace
@@ -96,7 +110,8 @@ NormalCubeMap buildNormalCubeMap(int size) {
                 const float a0 = texelEdge(x, size), a1 = texelEdge(x + 1, size);
                 const float b0 = texelEdge(y, size), b1 = texelEdge(y + 1, size);
                 const size_t i = (size_t(face) * size + y) * size + x;
-                level0.texels[i] = glm::normalize(cubeFaceDirection(face, 0.5f * (a0 + a1), 0.5f * (b0 + b1)));
+                level0.texels[i] =
+                    glm::normalize(cubeFaceDirection(face, 0.5f * (a0 + a1), 0.5f * (b0 + b1)));
                 weight[i] = faceSolidAngle(a0, a1, b0, b1);
             }
     map.levels.push_back(std::move(level0));
@@ -114,7 +129,8 @@ NormalCubeMap buildNormalCubeMap(int size) {
                     double total = 0.0;
                     for (int j = 0; j < 2; ++j)
                         for (int i = 0; i < 2; ++i) {
-                            const size_t f = (size_t(face) * fine.size + 2 * y + j) * fine.size + 2 * x + i;
+                            const size_t f =
+                                (size_t(face) * fine.size + 2 * y + j) * fine.size + 2 * x + i;
                             sum += weight[f] * glm::dvec3(fine.texels[f]);
                             total += weight[f];
                         }
@@ -149,15 +165,18 @@ float normalCubeMapLod(const NormalCubeMap& map, glm::vec3 n, glm::vec3 nx, glm:
     // The neighbours projected onto n's face (its plane extended), as a GPU differentiates the
     // face coordinates of the pixel quad within the face the centre selects.
     const glm::vec3 axis = cubeFaceDirection(face, 0.f, 0.f);
-    const glm::vec3 right = cubeFaceDirection(face, 1.f, 0.f) - axis, down = cubeFaceDirection(face, 0.f, 1.f) - axis;
+    const glm::vec3 right = cubeFaceDirection(face, 1.f, 0.f) - axis,
+                    down = cubeFaceDirection(face, 0.f, 1.f) - axis;
     auto project = [&](glm::vec3 d) {
         const float ma = glm::dot(d, axis);
-        if (!(ma > 0.f)) return glm::vec2(a, b) + glm::vec2(1e6f); // behind the face: a huge footprint
+        if (!(ma > 0.f))
+            return glm::vec2(a, b) + glm::vec2(1e6f); // behind the face: a huge footprint
         return glm::vec2(glm::dot(d, right), glm::dot(d, down)) / ma;
     };
     const glm::vec2 centre = project(n);
     const float texels = 0.5f * float(map.levels.front().size); // per unit of face coordinate
-    const float rho = texels * std::max(glm::length(project(nx) - centre), glm::length(project(ny) - centre));
+    const float rho =
+        texels * std::max(glm::length(project(nx) - centre), glm::length(project(ny) - centre));
     return rho > 1.f ? std::log2(rho) : 0.f;
 }
 

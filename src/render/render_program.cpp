@@ -14,8 +14,9 @@ namespace ndfmip {
 namespace {
 
 // The library's files in the order they depend on each other, then the ray caster.
-const char* const kLibraryFiles[] = {"brdf.glsl", "naive.glsl", "toksvig.glsl", "toksvig_lut.glsl",
-                                     "sh.glsl",   "vmf.glsl",   "lean.glsl",    "render/raycast.glsl"};
+const char* const kLibraryFiles[] = {
+    "brdf.glsl", "naive.glsl", "toksvig.glsl", "toksvig_lut.glsl",
+    "sh.glsl",   "vmf.glsl",   "lean.glsl",    "render/raycast.glsl"};
 
 Result<std::string> embedded(const std::string& path) {
     for (const EmbeddedShader& s : embeddedShaders())
@@ -23,16 +24,23 @@ Result<std::string> embedded(const std::string& path) {
     return Error{"GPU: no shader file " + path + " in this build"};
 }
 
-void add(std::vector<UniformValue>& u, const std::string& name, int v) { u.push_back({name, true, {float(v)}}); }
-void add(std::vector<UniformValue>& u, const std::string& name, float v) { u.push_back({name, false, {v}}); }
-void add(std::vector<UniformValue>& u, const std::string& name, glm::vec2 v) { u.push_back({name, false, {v.x, v.y}}); }
+void add(std::vector<UniformValue>& u, const std::string& name, int v) {
+    u.push_back({name, true, {float(v)}});
+}
+void add(std::vector<UniformValue>& u, const std::string& name, float v) {
+    u.push_back({name, false, {v}});
+}
+void add(std::vector<UniformValue>& u, const std::string& name, glm::vec2 v) {
+    u.push_back({name, false, {v.x, v.y}});
+}
 void add(std::vector<UniformValue>& u, const std::string& name, glm::vec3 v) {
     u.push_back({name, false, {v.x, v.y, v.z}});
 }
 
 // Why a method cannot be drawn under an environment on the GPU; empty when it can.
 std::string environmentRefusal(const MethodShader& shader, const std::string& method) {
-    if (!shader.shadeEnvironment) return "render --gpu: method " + quote(method) + " cannot shade under an environment";
+    if (!shader.shadeEnvironment)
+        return "render --gpu: method " + quote(method) + " cannot shade under an environment";
     return {};
 }
 
@@ -49,16 +57,19 @@ Image shLightingRows(const ShLighting& lighting, int order, const glm::mat3* fra
             double* p = &values[size_t(3 * rows) * size_t(i)];
             p[c] = lighting.radiance[size_t(i)][c];
             if (axes)
-                for (int k = 0; k < 3; ++k) p[3 + 3 * k + c] = lighting.reparameterisedAxes[k][size_t(i)][c];
+                for (int k = 0; k < 3; ++k)
+                    p[3 + 3 * k + c] = lighting.reparameterisedAxes[k][size_t(i)][c];
             else
                 p[3 + c] = lighting.reparameterised[size_t(i)][c];
         }
-    if (frame) rotateSh(glm::transpose(glm::dmat3(*frame)), order, values.data(), values.data(), 3 * rows);
+    if (frame)
+        rotateSh(glm::transpose(glm::dmat3(*frame)), order, values.data(), values.data(), 3 * rows);
     Image out(count, rows, 3);
     for (int i = 0; i < count; ++i)
         for (int row = 0; row < rows; ++row)
             for (int c = 0; c < 3; ++c)
-                out.at(i, row)[c] = float(values[size_t(3 * rows) * size_t(i) + size_t(3 * row + c)]);
+                out.at(i, row)[c] =
+                    float(values[size_t(3 * rows) * size_t(i) + size_t(3 * row + c)]);
     return out;
 }
 
@@ -75,7 +86,8 @@ Image shLightingRowsToRotate(const ShLighting& lighting, int order) {
         for (int i = 0; i < count; ++i)
             for (int c = 0; c < 3; ++c) out.at(i, row)[c] = rows.at(i, row)[c];
     for (int k = 0; k < points; ++k)
-        for (int c = 0; c < 3; ++c) out.at(k, rows.height)[c] = float(sampling.points[size_t(k)][c]);
+        for (int c = 0; c < 3; ++c)
+            out.at(k, rows.height)[c] = float(sampling.points[size_t(k)][c]);
     for (int l = 0; l <= order; ++l)
         for (int m = 0; m < 2 * l + 1; ++m)
             for (int k = 0; k < points; ++k)
@@ -89,11 +101,13 @@ Image shLightingRowsToRotate(const ShLighting& lighting, int order) {
 // for a material without a lobe.
 Image albedoChannel(const SplitSumLighting& lighting, Brdf brdf) {
     const bool engine = lighting.albedoKind == SpecularAlbedo::EngineDfg;
-    if (!engine && brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx) return Image(1, 1, 1);
+    if (!engine && brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx)
+        return Image(1, 1, 1);
     const Image& table = lighting.albedo[engine ? 0 : size_t(int(brdf) - 1)];
     const int channel = engine ? 2 : 0;
     Image out(table.width, table.height, 1);
-    for (size_t i = 0; i < table.texelCount(); ++i) out.pixels[i] = table.pixels[i * size_t(table.channels) + size_t(channel)];
+    for (size_t i = 0; i < table.texelCount(); ++i)
+        out.pixels[i] = table.pixels[i * size_t(table.channels) + size_t(channel)];
     return out;
 }
 
@@ -152,27 +166,36 @@ namespace {
 
 // A faceted-sphere scene (interpolated.h): the CPU's mesh, every vertex and triangle as it
 // builds them, and the method's checks as renderInterpolated's.
-Result<RenderProgram> interpolatedProgram(const Scene& scene, const std::string& method, const RenderOptions& options) {
+Result<RenderProgram> interpolatedProgram(const Scene& scene, const std::string& method,
+                                          const RenderOptions& options) {
     if (method == kGroundTruth)
-        return Error{"render --gpu: '" + method + "' of a faceted-sphere scene is rendered on the CPU only"};
+        return Error{"render --gpu: '" + method +
+                     "' of a faceted-sphere scene is rendered on the CPU only"};
     if (method != kRenormalized && method != kCubemapToksvig)
-        return Error{"render --gpu: unknown method " + quote(method) + " for a faceted-sphere scene (expected " +
-                     std::string(kRenormalized) + ", " + kCubemapToksvig + ")"};
+        return Error{"render --gpu: unknown method " + quote(method) +
+                     " for a faceted-sphere scene (expected " + std::string(kRenormalized) + ", " +
+                     kCubemapToksvig + ")"};
     const Geometry& g = scene.geometry;
-    if (g.segments < kMinSphereSegments || g.segments > kMaxSphereSegments || g.rings < kMinSphereRings ||
-        g.rings > kMaxSphereRings || !(g.radius > 0.f))
-        return Error{"render --gpu: a faceted sphere needs " + std::to_string(kMinSphereSegments) + " .. " +
-                     std::to_string(kMaxSphereSegments) + " segments, " + std::to_string(kMinSphereRings) + " .. " +
-                     std::to_string(kMaxSphereRings) + " rings and a positive radius"};
+    if (g.segments < kMinSphereSegments || g.segments > kMaxSphereSegments ||
+        g.rings < kMinSphereRings || g.rings > kMaxSphereRings || !(g.radius > 0.f))
+        return Error{"render --gpu: a faceted sphere needs " + std::to_string(kMinSphereSegments) +
+                     " .. " + std::to_string(kMaxSphereSegments) + " segments, " +
+                     std::to_string(kMinSphereRings) + " .. " + std::to_string(kMaxSphereRings) +
+                     " rings and a positive radius"};
     if (!scene.environment.path.empty())
-        return Error{"render --gpu: faceted-sphere scenes are lit by point lights only, not an environment"};
+        return Error{
+            "render --gpu: faceted-sphere scenes are lit by point lights only, not an environment"};
     const Material& m = scene.material;
-    if (m.brdf == Brdf::Tabulated || m.factor) return Error{"render --gpu: tabulated BRDFs are rendered on the CPU only"};
+    if (m.brdf == Brdf::Tabulated || m.factor)
+        return Error{"render --gpu: tabulated BRDFs are rendered on the CPU only"};
     if (scene.lights.size() > size_t(kGpuMaxLights))
-        return Error{"render --gpu: at most " + std::to_string(kGpuMaxLights) + " lights, the scene has " +
-                     std::to_string(scene.lights.size())};
-    if (options.spp != 1) return Error{"render --gpu: methods take one sample per pixel (--spp is the ground truth's)"};
-    if (scene.camera.width < 1 || scene.camera.height < 1) return Error{"render --gpu: the camera's image is empty"};
+        return Error{"render --gpu: at most " + std::to_string(kGpuMaxLights) +
+                     " lights, the scene has " + std::to_string(scene.lights.size())};
+    if (options.spp != 1)
+        return Error{
+            "render --gpu: methods take one sample per pixel (--spp is the ground truth's)"};
+    if (scene.camera.width < 1 || scene.camera.height < 1)
+        return Error{"render --gpu: the camera's image is empty"};
 
     RenderProgram program;
     // The mesh as rows of one texture (faceted.glsl): positions, vertex normals, face normals,
@@ -192,9 +215,11 @@ Result<RenderProgram> interpolatedProgram(const Scene& scene, const std::string&
         }
     const InterpolatedOptions cube; // the CPU renderer's cube map and LOD bias
     if (method == kCubemapToksvig)
-        program.normalCube = std::make_shared<const NormalCubeMap>(buildNormalCubeMap(cube.cubeSize));
+        program.normalCube =
+            std::make_shared<const NormalCubeMap>(buildNormalCubeMap(cube.cubeSize));
 
-    std::vector<std::string> files = {"brdf.glsl", "toksvig.glsl", "render/raycast.glsl", "render/cube_faces.glsl",
+    std::vector<std::string> files = {"brdf.glsl",           "toksvig.glsl",
+                                      "render/raycast.glsl", "render/cube_faces.glsl",
                                       "render/faceted.glsl", "render/interpolated.frag"};
     program.fragmentParts.emplace_back("<defines>", "");
     for (const std::string& file : files) {
@@ -219,40 +244,53 @@ Result<RenderProgram> interpolatedProgram(const Scene& scene, const std::string&
 
 } // namespace
 
-Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& textures, const std::string& method,
-                                    const RenderOptions& options) {
-    if (scene.geometry.type == GeometryType::FacetedSphere) return interpolatedProgram(scene, method, options);
+Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& textures,
+                                    const std::string& method, const RenderOptions& options) {
+    if (scene.geometry.type == GeometryType::FacetedSphere)
+        return interpolatedProgram(scene, method, options);
     RenderProgram program;
     if (method == kGroundTruth || method == kExact)
         return Error{"render --gpu: '" + method + "' is rendered on the CPU only"};
     program.shader = findShader(method);
     if (!program.shader)
-        return Error{"render --gpu: unknown method " + quote(method) + " (expected " + renderMethodNames() + ")"};
+        return Error{"render --gpu: unknown method " + quote(method) + " (expected " +
+                     renderMethodNames() + ")"};
     const MethodShader& shader = *program.shader;
     const Material& m = scene.material;
-    if (m.brdf == Brdf::Tabulated || m.factor) return Error{"render --gpu: tabulated BRDFs are rendered on the CPU only"};
+    if (m.brdf == Brdf::Tabulated || m.factor)
+        return Error{"render --gpu: tabulated BRDFs are rendered on the CPU only"};
     const bool environment = !scene.environment.path.empty();
     if (environment) {
         if (const std::string refusal = environmentRefusal(shader, method); !refusal.empty())
             return Error{refusal};
         if (!textures.environment)
-            return Error{"render --gpu: the scene's environment " + quote(scene.environment.path) + " is not loaded"};
-        if (options.shViews != 0) return Error{"render --gpu: --sh-views is rendered on the CPU only"};
+            return Error{"render --gpu: the scene's environment " + quote(scene.environment.path) +
+                         " is not loaded"};
+        if (options.shViews != 0)
+            return Error{"render --gpu: --sh-views is rendered on the CPU only"};
     }
     if (scene.lights.size() > size_t(kGpuMaxLights))
-        return Error{"render --gpu: at most " + std::to_string(kGpuMaxLights) + " lights, the scene has " +
-                     std::to_string(scene.lights.size())};
-    if (options.spp != 1) return Error{"render --gpu: methods take one sample per pixel (--spp is the ground truth's)"};
-    if (options.taps < 1 || options.taps > 16) return Error{"render --gpu: taps must be in 1 .. 16"};
-    if (options.anisotropy < 1 || options.anisotropy > 64) return Error{"render --gpu: anisotropy must be in 1 .. 64"};
-    if (scene.camera.width < 1 || scene.camera.height < 1) return Error{"render --gpu: the camera's image is empty"};
+        return Error{"render --gpu: at most " + std::to_string(kGpuMaxLights) +
+                     " lights, the scene has " + std::to_string(scene.lights.size())};
+    if (options.spp != 1)
+        return Error{
+            "render --gpu: methods take one sample per pixel (--spp is the ground truth's)"};
+    if (options.taps < 1 || options.taps > 16)
+        return Error{"render --gpu: taps must be in 1 .. 16"};
+    if (options.anisotropy < 1 || options.anisotropy > 64)
+        return Error{"render --gpu: anisotropy must be in 1 .. 64"};
+    if (scene.camera.width < 1 || scene.camera.height < 1)
+        return Error{"render --gpu: the camera's image is empty"};
     const Bake& bake = textures.bake;
     if (bake.levels.empty() || bake.method != shader.bake)
-        return Error{"render --gpu: no bake of method '" + std::string(methodName(shader.bake)) + "' to render with"};
+        return Error{"render --gpu: no bake of method '" + std::string(methodName(shader.bake)) +
+                     "' to render with"};
     const CameraFrame camera = cameraFrame(scene.camera);
     // As the CPU renderer: the view towards the camera (environment frame) before prepare.
-    if (environment) program.setup.environmentView = worldToEnvironment(glm::dvec3(-camera.forward));
-    if (Status ready = shader.prepare(m, textures, options, program.setup); !ready) return Error{ready.error};
+    if (environment)
+        program.setup.environmentView = worldToEnvironment(glm::dvec3(-camera.forward));
+    if (Status ready = shader.prepare(m, textures, options, program.setup); !ready)
+        return Error{ready.error};
     const ShaderSetup& setup = program.setup;
     const bool shLighting = environment && setup.shLighting;
     int environmentShOrder = 0;
@@ -264,16 +302,23 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         // sh: on a plane, its one tangent frame (geometry.cpp's), as the CPU rotates into it; on a
         // sphere the shader rotates into each hit's frame (shLightingRowsToRotate).
         const Geometry& g = scene.geometry;
-        const glm::mat3 frame = tangentToEnvironment(g.tangent, glm::cross(g.normal, g.tangent), g.normal);
+        const glm::mat3 frame =
+            tangentToEnvironment(g.tangent, glm::cross(g.normal, g.tangent), g.normal);
         const int order = environmentShOrder;
-        if (!shader.shLightingInTangentFrame) program.environmentSh = shLightingRows(lighting, order, nullptr);
-        else if (g.type == GeometryType::Plane) program.environmentSh = shLightingRows(lighting, order, &frame);
-        else program.environmentSh = shLightingRowsToRotate(lighting, order);
+        if (!shader.shLightingInTangentFrame)
+            program.environmentSh = shLightingRows(lighting, order, nullptr);
+        else if (g.type == GeometryType::Plane)
+            program.environmentSh = shLightingRows(lighting, order, &frame);
+        else
+            program.environmentSh = shLightingRowsToRotate(lighting, order);
         program.environment = textures.environment;
         program.environmentVisible = scene.environment.visible;
     } else if (environment) {
-        const SplitSumChain* chain = setup.splitSum ? findChain(*setup.splitSum, setup.environmentLod) : nullptr;
-        if (!chain) return Error{"render --gpu: method " + quote(method) + " prepared no environment lighting"};
+        const SplitSumChain* chain =
+            setup.splitSum ? findChain(*setup.splitSum, setup.environmentLod) : nullptr;
+        if (!chain)
+            return Error{"render --gpu: method " + quote(method) +
+                         " prepared no environment lighting"};
         // One texture's mips (the log2sigma rule's cube faces: six layers of one): level k must
         // be GL's size of level k.
         const bool cube = !chain->cube.levels.empty();
@@ -281,8 +326,10 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         const Image& base = cube ? chain->cube.levels.front()[0] : chain->levels.front();
         for (int k = 0; k < levels; ++k) {
             const Image& level = cube ? chain->cube.levels[size_t(k)][0] : chain->levels[size_t(k)];
-            if (level.width != std::max(base.width >> k, 1) || level.height != std::max(base.height >> k, 1))
-                return Error{"render --gpu: level " + std::to_string(k) + " of the prefiltered environment is not a mip level"};
+            if (level.width != std::max(base.width >> k, 1) ||
+                level.height != std::max(base.height >> k, 1))
+                return Error{"render --gpu: level " + std::to_string(k) +
+                             " of the prefiltered environment is not a mip level"};
         }
         program.environmentChain = chain;
         program.environmentAlbedo = albedoChannel(*setup.splitSum, m.brdf);
@@ -293,13 +340,15 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     auto& layers = program.layers;
     for (size_t p = 0; p < bake.planes.size(); ++p) {
         if (!bake.planes[p].linear) continue;
-        if (bake.levels.front()[p]->channels > 4) return Error{"render --gpu: planes of more than 4 channels"};
+        if (bake.levels.front()[p]->channels > 4)
+            return Error{"render --gpu: planes of more than 4 channels"};
         std::vector<const Image*> chain;
         for (const auto& level : bake.levels) chain.push_back(level[p].get());
         layers.push_back(chain);
     }
     if (shader.gpuLayers)
-        if (Status s = shader.gpuLayers(textures, bake.levels.size(), layers); !s) return Error{s.error};
+        if (Status s = shader.gpuLayers(textures, bake.levels.size(), layers); !s)
+            return Error{s.error};
     const int methodLayers = int(layers.size());
     const bool albedoMap = !textures.albedo.empty();
     if (albedoMap) {
@@ -311,8 +360,10 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     }
     for (const auto& chain : layers)
         for (size_t k = 0; k < chain.size(); ++k)
-            if (chain[k]->width != bake.levels[k].front()->width || chain[k]->height != bake.levels[k].front()->height)
-                return Error{"render --gpu: level " + std::to_string(k) + " of a texture differs in size from the bake's"};
+            if (chain[k]->width != bake.levels[k].front()->width ||
+                chain[k]->height != bake.levels[k].front()->height)
+                return Error{"render --gpu: level " + std::to_string(k) +
+                             " of a texture differs in size from the bake's"};
 
     // The fragment shader: defines, the library, the ray caster, the method's glue, the main.
     std::string defines = shader.gpuDefines ? shader.gpuDefines(setup, methodLayers) : "";
@@ -328,11 +379,13 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         defines += "#define NDFMIP_ENV_SH_ORDER " + std::to_string(environmentShOrder) + "\n";
         defines += "#define NDFMIP_ENV_SH_POINTS " +
                    std::to_string(shRotationSampling(environmentShOrder).points.size()) + "\n";
-        if (setup.shLighting->cosine == SpecularCosine::MeanNormal) defines += "#define NDFMIP_ENV_SH_AXES\n";
+        if (setup.shLighting->cosine == SpecularCosine::MeanNormal)
+            defines += "#define NDFMIP_ENV_SH_AXES\n";
     }
     program.fragmentParts.emplace_back("<defines>", defines);
     std::vector<std::string> files(std::begin(kLibraryFiles), std::end(kLibraryFiles));
-    if (environment) files.insert(files.end(), {"render/cube_faces.glsl", "render/environment.glsl"});
+    if (environment)
+        files.insert(files.end(), {"render/cube_faces.glsl", "render/environment.glsl"});
     files.push_back(shader.glsl);
     files.push_back("render/main.frag");
     for (const std::string& file : files) {
@@ -364,7 +417,8 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         add(u, "ndfmipEnvCube", 7);
         add(u, "ndfmipEnvVisible", program.environmentVisible ? 1 : 0);
         const double rotation = -textures.environment->environment.rotation;
-        add(u, "ndfmipEnvRotation", glm::vec2(float(std::cos(rotation)), float(std::sin(rotation))));
+        add(u, "ndfmipEnvRotation",
+            glm::vec2(float(std::cos(rotation)), float(std::sin(rotation))));
     }
     if (shLighting) {
         for (int l = 0; l <= environmentShOrder; ++l) {
@@ -378,7 +432,8 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         add(u, "ndfmipEnvRule", int(setup.environmentLod));
         add(u, "ndfmipEnvTexelAngle", float(lighting.texelAngle));
         for (size_t k = 0; k < 9; ++k)
-            add(u, "ndfmipEnvIrradiance[" + std::to_string(k) + "]", glm::vec3(lighting.irradiance[k]));
+            add(u, "ndfmipEnvIrradiance[" + std::to_string(k) + "]",
+                glm::vec3(lighting.irradiance[k]));
         add(u, "ndfmipEnvBandFactors", lighting.vmfBandFactors ? 1 : 0);
     }
     return program;

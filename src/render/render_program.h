@@ -48,7 +48,7 @@ const char* renderVertexShader();
 
 // Checks that the GPU path can draw `method` (errors, one line, as renderGpu's) and assembles it.
 // Faceted-sphere scenes take the methods renormalized and cubemap-toksvig (interpolated.h).
-Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& textures, const std::string& method,
-                                    const RenderOptions& options);
+Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& textures,
+                                    const std::string& method, const RenderOptions& options);
 
 } // namespace ndfmip

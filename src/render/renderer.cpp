@@ -27,7 +27,7 @@ struct PixelRandom {
         z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
         return z ^ (z >> 31);
     }
-    float uniform() { return float(next() >> 40) * (1.f / 16777216.f); } // [0, 1)
+    float uniform() { return float(next() >> 40) * (1.f / 16777216.f); }               // [0, 1)
     double uniformDouble() { return double(next() >> 11) * (1. / 9007199254740992.); } // [0, 1)
 };
 
@@ -86,16 +86,16 @@ struct Context {
     const RenderTextures* textures = nullptr;
     const RenderOptions* options = nullptr;
     Shader shader = Shader::Truth;
-    bool exactTruth = false;  // truth integrated texel by texel (exactBoxView)
+    bool exactTruth = false; // truth integrated texel by texel (exactBoxView)
     // exactBoxView scenes: the view and the lights in the plane's tangent frame, the same at
     // every point (orthographic camera, directional lights).
     glm::vec3 fixedView{0.f, 0.f, 1.f};
     std::vector<LightSample> fixedLights;
-    FilteredPlanes planes;    // methods: the linear planes (exact: the shaded chain)
-    std::vector<glm::ivec2> sizes; // their levels' sizes
+    FilteredPlanes planes;                // methods: the linear planes (exact: the shaded chain)
+    std::vector<glm::ivec2> sizes;        // their levels' sizes
     const MethodShader* method = nullptr; // Shader::Method
-    ShaderSetup setup;        // what it prepared for this material and bake
-    MipChain albedo;          // empty without an albedo map
+    ShaderSetup setup;                    // what it prepared for this material and bake
+    MipChain albedo;                      // empty without an albedo map
     const EnvironmentLighting* lighting = nullptr; // the environment, if any
 };
 
@@ -104,8 +104,8 @@ glm::mat3 hitToEnvironment(const SurfaceHit& hit) {
 }
 
 // One method's shading of one set of parameters (filtered, or one texel's) at a surface point.
-glm::vec3 shadeParameters(const Context& ctx, const float* params, glm::vec3 albedo, const SurfaceHit& hit,
-                          glm::vec3 view) {
+glm::vec3 shadeParameters(const Context& ctx, const float* params, glm::vec3 albedo,
+                          const SurfaceHit& hit, glm::vec3 view) {
     if (ctx.shader == Shader::Exact) return {params[0], params[1], params[2]}; // already radiance
     const Scene& scene = *ctx.scene;
     glm::vec3 radiance(0.f);
@@ -124,7 +124,8 @@ glm::vec3 shadeParameters(const Context& ctx, const float* params, glm::vec3 alb
 
 // A method's lookup at one hit with footprint `footprint`: the filtering rule's taps, then the
 // parameters blended and shaded once, or each texel shaded and the results blended.
-glm::vec3 shadeLookup(const Context& ctx, const SurfaceHit& hit, glm::vec3 view, const UvFootprint& footprint) {
+glm::vec3 shadeLookup(const Context& ctx, const SurfaceHit& hit, glm::vec3 view,
+                      const UvFootprint& footprint) {
     const RenderOptions& o = *ctx.options;
     TapList taps;
     filteredTaps(ctx.sizes, hit.uv, footprint, o.anisotropy, o.lodBias, taps);
@@ -165,13 +166,15 @@ glm::vec3 shadeLookup(const Context& ctx, const SurfaceHit& hit, glm::vec3 view,
 
 // The ray through (px, py), what it hits and the view direction in the hit's tangent frame;
 // false where it misses the object or sees its back (`radiance` then holds what the pixel sees).
-bool traceSurface(const Context& ctx, float px, float py, SurfaceHit& hit, glm::vec3& view, glm::vec3& radiance) {
+bool traceSurface(const Context& ctx, float px, float py, SurfaceHit& hit, glm::vec3& view,
+                  glm::vec3& radiance) {
     const Ray ray = cameraRay(ctx.camera, px, py);
     hit = intersect(ctx.scene->geometry, ray);
     if (!hit.hit) {
         radiance = ctx.scene->background;
         if (ctx.lighting && ctx.scene->environment.visible)
-            radiance = environmentRadiance(ctx.lighting->environment, glm::dvec3(worldToEnvironment(ray.direction)));
+            radiance = environmentRadiance(ctx.lighting->environment,
+                                           glm::dvec3(worldToEnvironment(ray.direction)));
         return false;
     }
     view = toTangent(hit, -ray.direction);
@@ -184,7 +187,8 @@ bool traceSurface(const Context& ctx, float px, float py, SurfaceHit& hit, glm::
 
 // The truth at one point: the finest normal (box or bilinear surface) shaded by every light,
 // and the environment's estimate (environment_truth.h) when there is one.
-glm::vec3 shadeTruth(const Context& ctx, const SurfaceHit& hit, glm::vec3 view, PixelRandom& random) {
+glm::vec3 shadeTruth(const Context& ctx, const SurfaceHit& hit, glm::vec3 view,
+                     PixelRandom& random) {
     const Scene& scene = *ctx.scene;
     const bool box = ctx.options->truth == TruthFilter::Box;
     const glm::vec3 normal = sampleNormal(*ctx.textures->normals, hit.uv, box);
@@ -204,7 +208,8 @@ glm::vec3 shadeTruth(const Context& ctx, const SurfaceHit& hit, glm::vec3 view, 
         const LightSample ls = lightAt(light, hit.position);
         const glm::vec3 l = toTangent(hit, ls.direction);
         if (l.z <= 0.f) continue;
-        radiance += ls.irradiance * shadeNormal(scene.material, albedo, normal, l, glm::normalize(l + view));
+        radiance += ls.irradiance *
+                    shadeNormal(scene.material, albedo, normal, l, glm::normalize(l + view));
     }
     if (ctx.lighting) {
         const glm::mat3 toEnvironment = hitToEnvironment(hit);
@@ -213,8 +218,8 @@ glm::vec3 shadeTruth(const Context& ctx, const SurfaceHit& hit, glm::vec3 view, 
         for (int i = 0; i < n; ++i) {
             double u[5];
             for (double& x : u) x = random.uniformDouble();
-            sum += estimateEnvironmentRadiance(*ctx.lighting, toEnvironment, scene.material, albedo, normal, view,
-                                               ctx.options->environmentEstimator, u);
+            sum += estimateEnvironmentRadiance(*ctx.lighting, toEnvironment, scene.material, albedo,
+                                               normal, view, ctx.options->environmentEstimator, u);
         }
         radiance += sum / float(n);
     }
@@ -242,7 +247,8 @@ glm::vec3 shadeSample(const Context& ctx, float px, float py, PixelRandom& rando
     const float step = 1.f / float(k);
     for (int j = 0; j < k; ++j)
         for (int i = 0; i < k; ++i) {
-            const float qx = px + (float(i) + 0.5f) * step - 0.5f, qy = py + (float(j) + 0.5f) * step - 0.5f;
+            const float qx = px + (float(i) + 0.5f) * step - 0.5f,
+                        qy = py + (float(j) + 0.5f) * step - 0.5f;
             if (!traceSurface(ctx, qx, qy, hit, view, radiance)) {
                 sum += radiance;
                 continue;
@@ -263,7 +269,8 @@ bool pixelTexels(const Context& ctx, float px, float py, glm::vec2& lo, glm::vec
     const glm::vec2 size(float(normals.width), float(normals.height));
     glm::vec2 corner[2];
     for (int c = 0; c < 2; ++c) {
-        const SurfaceHit hit = intersect(ctx.scene->geometry, cameraRay(ctx.camera, px + float(c), py + float(c)));
+        const SurfaceHit hit =
+            intersect(ctx.scene->geometry, cameraRay(ctx.camera, px + float(c), py + float(c)));
         if (!hit.hit) return false;
         corner[c] = hit.uv * size;
     }
@@ -279,7 +286,8 @@ bool pixelTexels(const Context& ctx, float px, float py, glm::vec2& lo, glm::vec
 glm::vec3 exactPixel(const Context& ctx, float px, float py, PixelRandom& random) {
     glm::vec2 lo, hi;
     bool covered = false;
-    if (!pixelTexels(ctx, px, py, lo, hi)) return shadeSample(ctx, px + 0.5f, py + 0.5f, random, covered);
+    if (!pixelTexels(ctx, px, py, lo, hi))
+        return shadeSample(ctx, px + 0.5f, py + 0.5f, random, covered);
     SurfaceHit hit;
     glm::vec3 view, radiance;
     if (!traceSurface(ctx, px + 0.5f, py + 0.5f, hit, view, radiance)) return radiance;
@@ -294,10 +302,12 @@ glm::vec3 exactPixel(const Context& ctx, float px, float py, PixelRandom& random
     const long x0 = long(std::floor(double(lo.x) * k)), x1 = long(std::ceil(double(hi.x) * k));
     const long y0 = long(std::floor(double(lo.y) * k)), y1 = long(std::ceil(double(hi.y) * k));
     for (long y = y0; y < y1; ++y) {
-        const double top = std::max(double(y) / k, double(lo.y)), bottom = std::min(double(y + 1) / k, double(hi.y));
+        const double top = std::max(double(y) / k, double(lo.y)),
+                     bottom = std::min(double(y + 1) / k, double(hi.y));
         if (bottom <= top) continue;
         for (long x = x0; x < x1; ++x) {
-            const double left = std::max(double(x) / k, double(lo.x)), right = std::min(double(x + 1) / k, double(hi.x));
+            const double left = std::max(double(x) / k, double(lo.x)),
+                         right = std::min(double(x + 1) / k, double(hi.x));
             if (right <= left) continue;
             const glm::vec2 uv(glm::dvec2(0.5 * (left + right), 0.5 * (top + bottom)) / size);
             const glm::vec3 n = sampleNormal(normals, uv, box);
@@ -314,8 +324,8 @@ glm::vec3 exactPixel(const Context& ctx, float px, float py, PixelRandom& random
             }
             glm::vec3 r(0.f);
             for (const LightSample& light : ctx.fixedLights)
-                r += light.irradiance *
-                     shadeNormal(scene.material, albedo, n, light.direction, glm::normalize(light.direction + view));
+                r += light.irradiance * shadeNormal(scene.material, albedo, n, light.direction,
+                                                    glm::normalize(light.direction + view));
             sum += ((right - left) * (bottom - top)) * glm::dvec3(r);
         }
     }
@@ -324,7 +334,8 @@ glm::vec3 exactPixel(const Context& ctx, float px, float py, PixelRandom& random
 
 // The exact reference's planes: level 0 every texel's normal shaded (RGB radiance, every
 // light), coarser levels the pyramid's exact footprint means of it. Needs constant l and v.
-std::vector<SharedImage> shadedChain(const Scene& scene, const RenderTextures& textures, const Context& ctx) {
+std::vector<SharedImage> shadedChain(const Scene& scene, const RenderTextures& textures,
+                                     const Context& ctx) {
     const Image& normals = *textures.normals;
     const glm::vec3 view = ctx.fixedView;
     auto level0 = std::make_shared<Image>(normals.width, normals.height, 3, Image::Uninitialized{});
@@ -339,8 +350,9 @@ std::vector<SharedImage> shadedChain(const Scene& scene, const RenderTextures& t
             }
             glm::vec3 r(0.f);
             for (const LightSample& light : ctx.fixedLights)
-                r += light.irradiance * shadeNormal(scene.material, albedo, glm::vec3(n[0], n[1], n[2]),
-                                                    light.direction, glm::normalize(light.direction + view));
+                r += light.irradiance * shadeNormal(scene.material, albedo,
+                                                    glm::vec3(n[0], n[1], n[2]), light.direction,
+                                                    glm::normalize(light.direction + view));
             float* out = level0->at(x, y);
             out[0] = r.x, out[1] = r.y, out[2] = r.z;
         }
@@ -353,17 +365,19 @@ std::vector<SharedImage> shadedChain(const Scene& scene, const RenderTextures& t
 
 } // namespace
 
-Result<Image> render(const Scene& scene, const RenderTextures& textures, const std::string& methodName,
-                     const RenderOptions& options) {
+Result<Image> render(const Scene& scene, const RenderTextures& textures,
+                     const std::string& methodName, const RenderOptions& options) {
     return render(scene, textures, methodName, options, nullptr);
 }
 
-Result<Image> render(const Scene& scene, const RenderTextures& textures, const std::string& methodName,
-                     const RenderOptions& options, RenderNoise* noise) {
+Result<Image> render(const Scene& scene, const RenderTextures& textures,
+                     const std::string& methodName, const RenderOptions& options,
+                     RenderNoise* noise) {
     // Interpolated normals, no normal map: their own renderer.
     if (scene.geometry.type == GeometryType::FacetedSphere) {
         if (!scene.environment.path.empty())
-            return Error{"render: faceted-sphere scenes are lit by point lights only, not an environment"};
+            return Error{
+                "render: faceted-sphere scenes are lit by point lights only, not an environment"};
         return renderInterpolated(scene, methodName, options);
     }
     if (!textures.normals || textures.normals->channels != 3 || textures.normals->empty())
@@ -371,7 +385,8 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
     if (options.spp < 1 || options.spp > (1 << 20))
         return Error{"render: spp must be in 1 .. 1048576, got " + std::to_string(options.spp)};
     if (options.anisotropy < 1 || options.anisotropy > 64)
-        return Error{"render: anisotropy must be in 1 .. 64, got " + std::to_string(options.anisotropy)};
+        return Error{"render: anisotropy must be in 1 .. 64, got " +
+                     std::to_string(options.anisotropy)};
     if (scene.camera.width < 1 || scene.camera.height < 1)
         return Error{"render: the camera's image is empty"};
 
@@ -383,7 +398,8 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
         return Error{"render: environment samples must be in 1 .. 4096, got " +
                      std::to_string(options.environmentSamples)};
     if (!scene.environment.path.empty() && !textures.environment)
-        return Error{"render: the scene's environment " + quote(scene.environment.path) + " is not loaded"};
+        return Error{"render: the scene's environment " + quote(scene.environment.path) +
+                     " is not loaded"};
     if (options.shViews < 0 || options.shViews > kMaxShViews)
         return Error{"render: SH views must be in 0 .. " + std::to_string(kMaxShViews) + ", got " +
                      std::to_string(options.shViews)};
@@ -396,7 +412,8 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
     ctx.lighting = textures.environment.get();
     if (!textures.albedo.empty()) {
         const Image& a = *textures.albedo.front();
-        if (a.width != textures.normals->width || a.height != textures.normals->height || a.channels < 3)
+        if (a.width != textures.normals->width || a.height != textures.normals->height ||
+            a.channels < 3)
             return Error{"render: the albedo map must be RGB and the normal map's size"};
         for (const SharedImage& level : textures.albedo) ctx.albedo.levels.push_back(level.get());
         ctx.albedo.channels = a.channels;
@@ -421,8 +438,9 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
     } else if (methodName == kExact) {
         if (ctx.lighting) return Error{"render: 'exact' cannot shade under an environment"};
         if (!exactBoxView(scene))
-            return Error{"render: 'exact' needs constant light and view directions: an orthographic view "
-                         "straight down on a plane, directional lights"};
+            return Error{
+                "render: 'exact' needs constant light and view directions: an orthographic view "
+                "straight down on a plane, directional lights"};
         ctx.shader = Shader::Exact;
         exactChain = shadedChain(scene, textures, ctx);
         MipChain chain;
@@ -433,36 +451,42 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
     } else {
         ctx.method = findShader(methodName);
         if (!ctx.method)
-            return Error{"render: unknown method " + quote(methodName) + " (expected " + renderMethodNames() + ")"};
+            return Error{"render: unknown method " + quote(methodName) + " (expected " +
+                         renderMethodNames() + ")"};
         ctx.shader = Shader::Method;
         if (ctx.lighting && !ctx.method->shadeEnvironment)
-            return Error{"render: method " + quote(methodName) + " cannot shade under an environment"};
+            return Error{"render: method " + quote(methodName) +
+                         " cannot shade under an environment"};
         const Bake& bake = textures.bake;
         if (bake.levels.empty() || bake.method != ctx.method->bake)
-            return Error{"render: no bake of method '" + std::string(ndfmip::methodName(ctx.method->bake)) +
-                         "' to render with"};
+            return Error{"render: no bake of method '" +
+                         std::string(ndfmip::methodName(ctx.method->bake)) + "' to render with"};
         const Image& level0 = *bake.levels.front().front();
         if (level0.width != textures.normals->width || level0.height != textures.normals->height)
             return Error{"render: the bake's level 0 is " + std::to_string(level0.width) + "x" +
                          std::to_string(level0.height) + " but the normal map is " +
                          std::to_string(textures.normals->width) + "x" +
                          std::to_string(textures.normals->height)};
-        if (ctx.lighting) ctx.setup.environmentView = worldToEnvironment(glm::dvec3(-ctx.camera.forward));
-        if (Status ready = ctx.method->prepare(scene.material, textures, options, ctx.setup); !ready)
+        if (ctx.lighting)
+            ctx.setup.environmentView = worldToEnvironment(glm::dvec3(-ctx.camera.forward));
+        if (Status ready = ctx.method->prepare(scene.material, textures, options, ctx.setup);
+            !ready)
             return Error{ready.error};
         ctx.planes = linearPlanes(bake);
         if (methodName == kRoughnessMips) { // an engine's roughness mips, filtered like the planes
             if (textures.roughness.size() != bake.levels.size())
                 return Error{"render: roughness-mips needs a roughness image per level (" +
-                             std::to_string(bake.levels.size()) + "), got " + std::to_string(textures.roughness.size())};
+                             std::to_string(bake.levels.size()) + "), got " +
+                             std::to_string(textures.roughness.size())};
             MipChain chain;
             for (size_t k = 0; k < textures.roughness.size(); ++k) {
                 const Image& r = *textures.roughness[k];
                 const Image& level = *bake.levels[k].front();
                 if (r.width != level.width || r.height != level.height || r.channels < 1)
-                    return Error{"render: roughness level " + std::to_string(k) + " is " + std::to_string(r.width) +
-                                 "x" + std::to_string(r.height) + ", the mip level " + std::to_string(level.width) +
-                                 "x" + std::to_string(level.height)};
+                    return Error{"render: roughness level " + std::to_string(k) + " is " +
+                                 std::to_string(r.width) + "x" + std::to_string(r.height) +
+                                 ", the mip level " + std::to_string(level.width) + "x" +
+                                 std::to_string(level.height)};
                 chain.levels.push_back(&r);
             }
             chain.channels = textures.roughness.front()->channels;
@@ -489,8 +513,8 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
 #pragma omp parallel for schedule(dynamic, 1)
     for (int y = 0; y < camera.height; ++y) {
         for (int x = 0; x < camera.width; ++x) {
-            PixelRandom random{options.seed * 0x2545F4914F6CDD1Dull + uint64_t(y) * uint64_t(camera.width) +
-                               uint64_t(x)};
+            PixelRandom random{options.seed * 0x2545F4914F6CDD1Dull +
+                               uint64_t(y) * uint64_t(camera.width) + uint64_t(x)};
             // The environment's samples draw from a stream of their own, so the jitter (and the
             // lights' part of the image) is the same with or without an environment.
             PixelRandom lightingRandom{random.state ^ 0xD1B54A32D192ED03ull};
@@ -498,7 +522,8 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
             double standardError = 0.;
             bool covered = false;
             if (ctx.exactTruth) { // one exact integral over the whole pixel
-                mean = exactPixel(ctx, float(x) + options.pixelShift.x, float(y) + options.pixelShift.y, lightingRandom);
+                mean = exactPixel(ctx, float(x) + options.pixelShift.x,
+                                  float(y) + options.pixelShift.y, lightingRandom);
                 covered = true;
             } else {
                 double sumY = 0., sumY2 = 0.; // the per-sample luminances, for the noise
@@ -510,8 +535,9 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
                             jy = (float(sy) + random.uniform()) / float(gy);
                         }
                         bool seen = false;
-                        const glm::vec3 r = shadeSample(ctx, float(x) + jx + options.pixelShift.x,
-                                                        float(y) + jy + options.pixelShift.y, lightingRandom, seen);
+                        const glm::vec3 r =
+                            shadeSample(ctx, float(x) + jx + options.pixelShift.x,
+                                        float(y) + jy + options.pixelShift.y, lightingRandom, seen);
                         mean += r;
                         covered = covered || seen;
                         const double lum = rec709Luminance(glm::dvec3(r));
@@ -522,11 +548,14 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
                 mean /= float(options.spp);
                 const double n = double(options.spp);
                 if (options.spp > 1)
-                    standardError = std::sqrt(std::max(0., (sumY2 - sumY * sumY / n) / (n - 1.)) / n);
+                    standardError =
+                        std::sqrt(std::max(0., (sumY2 - sumY * sumY / n) / (n - 1.)) / n);
             }
             if (noise) {
                 noise->standardError.at(x, y)[0] = float(standardError);
-                if (covered) rowNoise[size_t(y)] += glm::dvec3(standardError, rec709Luminance(glm::dvec3(mean)), 1.);
+                if (covered)
+                    rowNoise[size_t(y)] +=
+                        glm::dvec3(standardError, rec709Luminance(glm::dvec3(mean)), 1.);
             }
             float* px = out.at(x, y);
             px[0] = mean.x;
@@ -541,7 +570,8 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
     }
     if (noise) {
         glm::dvec3 total(0.);
-        for (const glm::dvec3& row : rowNoise) total += row; // in row order: the same on any thread count
+        for (const glm::dvec3& row : rowNoise)
+            total += row; // in row order: the same on any thread count
         noise->coveredPixels = size_t(total.z);
         noise->relativeStandardError = total.y > 0. ? total.x / total.y : 0.;
     }
@@ -559,33 +589,48 @@ const char* environmentWayName(EnvironmentWay way) {
 }
 
 bool environmentWayFromString(const std::string& name, EnvironmentWay& out) {
-    if (name == "prefiltered") out = EnvironmentWay::Prefiltered;
-    else if (name == "sh") out = EnvironmentWay::ShLighting;
-    else return false;
+    if (name == "prefiltered")
+        out = EnvironmentWay::Prefiltered;
+    else if (name == "sh")
+        out = EnvironmentWay::ShLighting;
+    else
+        return false;
     return true;
 }
 
-const char* truthFilterName(TruthFilter filter) { return filter == TruthFilter::Box ? "box" : "bilinear"; }
+const char* truthFilterName(TruthFilter filter) {
+    return filter == TruthFilter::Box ? "box" : "bilinear";
+}
 
 bool truthFilterFromString(const std::string& name, TruthFilter& out) {
-    if (name == "box") out = TruthFilter::Box;
-    else if (name == "bilinear") out = TruthFilter::Bilinear;
-    else return false;
+    if (name == "box")
+        out = TruthFilter::Box;
+    else if (name == "bilinear")
+        out = TruthFilter::Bilinear;
+    else
+        return false;
     return true;
 }
 
-const char* shadeFilterName(ShadeFilter filter) { return filter == ShadeFilter::Parameter ? "parameter" : "texel"; }
+const char* shadeFilterName(ShadeFilter filter) {
+    return filter == ShadeFilter::Parameter ? "parameter" : "texel";
+}
 
 bool shadeFilterFromString(const std::string& name, ShadeFilter& out) {
-    if (name == "parameter") out = ShadeFilter::Parameter;
-    else if (name == "texel") out = ShadeFilter::Texel;
-    else return false;
+    if (name == "parameter")
+        out = ShadeFilter::Parameter;
+    else if (name == "texel")
+        out = ShadeFilter::Texel;
+    else
+        return false;
     return true;
 }
 
 bool exactBoxView(const Scene& scene) {
-    if (!scene.environment.path.empty()) return false; // light from every direction varies per point
-    if (scene.camera.type != CameraType::Orthographic || scene.geometry.type != GeometryType::Plane) return false;
+    if (!scene.environment.path.empty())
+        return false; // light from every direction varies per point
+    if (scene.camera.type != CameraType::Orthographic || scene.geometry.type != GeometryType::Plane)
+        return false;
     for (const Light& light : scene.lights)
         if (light.type != LightType::Directional) return false;
     const CameraFrame frame = cameraFrame(scene.camera);

@@ -42,7 +42,8 @@ const char* brdfName(Brdf brdf) {
 }
 
 bool brdfFromString(const std::string& name, Brdf& out) {
-    for (Brdf brdf : {Brdf::Lambert, Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx, Brdf::Tabulated}) {
+    for (Brdf brdf :
+         {Brdf::Lambert, Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx, Brdf::Tabulated}) {
         if (name == brdfName(brdf)) {
             out = brdf;
             return true;
@@ -223,8 +224,8 @@ int integerIn(const json& value, const std::string& path, int lo, int hi) {
     bool ok = value.is_number();
     double x = ok ? value.get<double>() : 0.0;
     if (!ok || !std::isfinite(x) || x != std::floor(x) || x < lo || x > hi)
-        fail(path, "expected an integer in " + std::to_string(lo) + " .. " + std::to_string(hi) + ", got " +
-                       shown(value));
+        fail(path, "expected an integer in " + std::to_string(lo) + " .. " + std::to_string(hi) +
+                       ", got " + shown(value));
     return int(x);
 }
 
@@ -328,7 +329,8 @@ Geometry readObject(const json& value, const std::string& path) {
     const json& o = object(value, path);
     Geometry g;
     if (const json* v = find(o, "type"))
-        g.type = GeometryType(oneOf(*v, at(path, "type"), {"plane", "sphere", "faceted-sphere"}, "object type"));
+        g.type = GeometryType(
+            oneOf(*v, at(path, "type"), {"plane", "sphere", "faceted-sphere"}, "object type"));
     if (g.type == GeometryType::Plane)
         checkKeys(o, path, {"type", "center", "normal", "tangent", "size", "tiling"}, "a plane");
     else if (g.type == GeometryType::Sphere)
@@ -339,7 +341,8 @@ Geometry readObject(const json& value, const std::string& path) {
         if (const json* v = find(o, "center")) g.center = vec3(*v, at(path, "center"));
         if (const json* v = find(o, "radius")) g.radius = positive(*v, at(path, "radius"));
         if (const json* v = find(o, "segments"))
-            g.segments = integerIn(*v, at(path, "segments"), kMinSphereSegments, kMaxSphereSegments);
+            g.segments =
+                integerIn(*v, at(path, "segments"), kMinSphereSegments, kMaxSphereSegments);
         if (const json* v = find(o, "rings"))
             g.rings = integerIn(*v, at(path, "rings"), kMinSphereRings, kMaxSphereRings);
         return g;
@@ -390,7 +393,8 @@ Light readLight(const json& value, const std::string& path) {
 // `optional`: the scene has an environment, so no light at all is fine.
 std::vector<Light> readLights(const json& value, const std::string& path, bool optional) {
     if (!value.is_array()) fail(path, "expected an array of lights, got " + shown(value));
-    if (value.empty() && !optional) fail(path, "empty (a scene needs at least one light or an environment)");
+    if (value.empty() && !optional)
+        fail(path, "empty (a scene needs at least one light or an environment)");
     // Every light is shaded at every sample: thousands would only make a render crawl.
     if (value.size() > kMaxLights)
         fail(path, std::to_string(value.size()) + " lights; a scene has at most " +
@@ -422,8 +426,10 @@ Material readMaterial(const json& value, const std::string& path, const std::str
             fail(at(path, "brdf"), "unknown BRDF " + quote(name) +
                                        " (expected lambert, blinnphong, beckmann, ggx, tabulated)");
     }
-    if (const json* v = find(o, "table")) m.table = readTable(*v, at(path, "table"), baseDir, "theta_h");
-    if (const json* v = find(o, "g_table")) m.factor = readTable(*v, at(path, "g_table"), baseDir, "theta_d");
+    if (const json* v = find(o, "table"))
+        m.table = readTable(*v, at(path, "table"), baseDir, "theta_h");
+    if (const json* v = find(o, "g_table"))
+        m.factor = readTable(*v, at(path, "g_table"), baseDir, "theta_d");
     if (m.brdf == Brdf::Tabulated && !m.table)
         fail(at(path, "table"), "missing (brdf \"tabulated\" needs a theta_h table file)");
     if (m.brdf != Brdf::Tabulated && (m.table || m.factor))
@@ -441,7 +447,8 @@ Material readMaterial(const json& value, const std::string& path, const std::str
 // (resolved against the scene's folder) and returns the object to read the other keys from,
 // or nullptr for a plain name.
 const json* readFileRef(const json& value, const std::string& path, const std::string& baseDir,
-                        std::initializer_list<std::string_view> allowed, const std::string& what, std::string& file) {
+                        std::initializer_list<std::string_view> allowed, const std::string& what,
+                        std::string& file) {
     if (value.is_string()) {
         file = resolvePath(pathText(value, path), baseDir);
         return nullptr;
@@ -453,12 +460,15 @@ const json* readFileRef(const json& value, const std::string& path, const std::s
     return &value;
 }
 
-EnvironmentRef readEnvironment(const json& file, const std::string& path, const std::string& baseDir) {
+EnvironmentRef readEnvironment(const json& file, const std::string& path,
+                               const std::string& baseDir) {
     EnvironmentRef ref;
-    const json* object = readFileRef(file, path, baseDir, {"path", "intensity", "rotation", "visible"}, "environment", ref.path);
+    const json* object = readFileRef(
+        file, path, baseDir, {"path", "intensity", "rotation", "visible"}, "environment", ref.path);
     if (!object) return ref;
     const json& value = *object;
-    if (const json* v = find(value, "intensity")) ref.options.intensity = positive(*v, at(path, "intensity"));
+    if (const json* v = find(value, "intensity"))
+        ref.options.intensity = positive(*v, at(path, "intensity"));
     if (const json* v = find(value, "rotation")) {
         ref.options.rotationDegrees = number(*v, at(path, "rotation"));
         if (std::fabs(ref.options.rotationDegrees) > 360.f)
@@ -470,9 +480,10 @@ EnvironmentRef readEnvironment(const json& file, const std::string& path, const 
 
 NormalMapRef readNormalMap(const json& file, const std::string& path, const std::string& baseDir) {
     NormalMapRef ref;
-    const json* object = readFileRef(file, path, baseDir,
-                                     {"path", "green_down", "two_channel", "signed", "height_scale", "address"},
-                                     "normal_map", ref.path);
+    const json* object =
+        readFileRef(file, path, baseDir,
+                    {"path", "green_down", "two_channel", "signed", "height_scale", "address"},
+                    "normal_map", ref.path);
     if (!object) return ref;
     const json& value = *object;
     DecodeOptions& d = ref.decode;
@@ -491,24 +502,27 @@ NormalMapRef readNormalMap(const json& file, const std::string& path, const std:
 
 Scene readScene(const json& root, const std::string& baseDir) {
     if (!root.is_object()) fail("", "expected a JSON object at the top level, got " + shown(root));
-    checkKeys(
-        root, "",
-        {"camera", "object", "lights", "material", "normal_map", "method", "bake", "background",
-         "albedo_map", "environment"},
-        "a scene");
+    checkKeys(root, "",
+              {"camera", "object", "lights", "material", "normal_map", "method", "bake",
+               "background", "albedo_map", "environment"},
+              "a scene");
     Scene scene;
     scene.camera = readCamera(required(root, "", "camera"), "camera");
     scene.geometry = readObject(required(root, "", "object"), "object");
     if (const json* v = find(root, "environment"))
         scene.environment = readEnvironment(*v, "environment", baseDir);
     const bool lit = !scene.environment.path.empty();
-    if (const json* v = find(root, "lights")) scene.lights = readLights(*v, "lights", lit);
-    else if (!lit) fail("lights", "missing (a scene needs lights or an environment)");
-    if (const json* v = find(root, "material")) scene.material = readMaterial(*v, "material", baseDir);
+    if (const json* v = find(root, "lights"))
+        scene.lights = readLights(*v, "lights", lit);
+    else if (!lit)
+        fail("lights", "missing (a scene needs lights or an environment)");
+    if (const json* v = find(root, "material"))
+        scene.material = readMaterial(*v, "material", baseDir);
     if (scene.geometry.type == GeometryType::FacetedSphere) {
         // Interpolated vertex normals (interpolated.h): nothing to texture with.
         for (const char* key : {"normal_map", "bake", "albedo_map"})
-            if (find(root, key)) fail(key, "a faceted-sphere scene takes none (its normals are interpolated)");
+            if (find(root, key))
+                fail(key, "a faceted-sphere scene takes none (its normals are interpolated)");
         scene.method = kGroundTruth;
     } else {
         scene.normalMap = readNormalMap(required(root, "", "normal_map"), "normal_map", baseDir);

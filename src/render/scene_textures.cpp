@@ -8,8 +8,8 @@
 #include "ndfmip/environment_lighting.h"
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
-#include "ndfmip/render.h"
 #include "ndfmip/method_parameters.h"
+#include "ndfmip/render.h"
 #include "ndfmip/vmf.h"
 
 namespace ndfmip {
@@ -47,7 +47,8 @@ Result<SharedImage> loadAlbedo(const std::string& path, int width, int height) {
             float v = image.pixels[i * image.channels + c];
             if (!std::isfinite(v)) return Error{path + ": NaN or infinite albedo value"};
             // The sRGB transfer function (IEC 61966-2-1) for integer files.
-            if (!source->isFloat) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+            if (!source->isFloat)
+                v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
             rgb.pixels[3 * i + c] = std::max(v, 0.f);
         }
     return std::make_shared<const Image>(std::move(rgb));
@@ -57,9 +58,11 @@ Result<RenderTextures> loadSceneTextures(const Scene& scene, const std::string& 
                                          const SceneTextureOptions& options) {
     if (scene.geometry.type == GeometryType::FacetedSphere) return RenderTextures{}; // no textures
     const bool bakeless = method == kGroundTruth || method == kExact;
-    // The bake a shader reads (toksvig-lut: toksvig's; roughness-mips: naive's), from the method table.
+    // The bake a shader reads (toksvig-lut: toksvig's; roughness-mips: naive's), from the method
+    // table.
     const MethodShader* shader = findShader(method);
-    if (!bakeless && !shader) return Error{"unknown method " + quote(method) + " (expected " + renderMethodNames() + ")"};
+    if (!bakeless && !shader)
+        return Error{"unknown method " + quote(method) + " (expected " + renderMethodNames() + ")"};
     RenderTextures textures;
     DecodeReport report;
     // The peak from the options, checked by the decoder from the map's header before it
@@ -68,8 +71,9 @@ Result<RenderTextures> loadSceneTextures(const Scene& scene, const std::string& 
     BakeOptions planned;
     if (bakesHere) planned.parameters = parametersOf(shader->bake, options.bakeParameters);
     Result<Image> normals = [&] {
-        const PlannedPeak peak(bakesHere ? bakeDescription(shader->bake, planned) : std::string("the normal map"),
-                               16.0 + (bakesHere ? bakeBytesPerTexel(shader->bake, planned) : 12.0 + 16.0));
+        const PlannedPeak peak(
+            bakesHere ? bakeDescription(shader->bake, planned) : std::string("the normal map"),
+            16.0 + (bakesHere ? bakeBytesPerTexel(shader->bake, planned) : 12.0 + 16.0));
         return loadNormalMap(scene.normalMap.path, scene.normalMap.decode, &report);
     }();
     if (!normals) return normals.error();
@@ -78,7 +82,8 @@ Result<RenderTextures> loadSceneTextures(const Scene& scene, const std::string& 
     const std::string bakeDir = options.bakeDir.empty() ? scene.bakeDir : options.bakeDir;
     SharedImage albedo;
     if (!scene.albedoMap.empty()) {
-        Result<SharedImage> loaded = loadAlbedo(scene.albedoMap, textures.normals->width, textures.normals->height);
+        Result<SharedImage> loaded =
+            loadAlbedo(scene.albedoMap, textures.normals->width, textures.normals->height);
         if (!loaded) return loaded.error();
         albedo = loaded.value();
     }
@@ -94,10 +99,12 @@ Result<RenderTextures> loadSceneTextures(const Scene& scene, const std::string& 
             BakeOptions bakeOptions;
             bakeOptions.parameters = parametersOf(shader->bake, options.bakeParameters);
             bakeOptions.albedo = albedo;
-            if (Status s = checkCommandParameterValues(options.bakeParameters, kParameterRender, ParameterNaming::Key); !s)
+            if (Status s = checkCommandParameterValues(options.bakeParameters, kParameterRender,
+                                                       ParameterNaming::Key);
+                !s)
                 return Error{s.error};
-            if (Status s = checkBakeMemory(scene.normalMap.path, shader->bake, bakeOptions, textures.normals->width,
-                                           textures.normals->height);
+            if (Status s = checkBakeMemory(scene.normalMap.path, shader->bake, bakeOptions,
+                                           textures.normals->width, textures.normals->height);
                 !s)
                 return Error{s.error};
             textures.bake = bakeMethod(shader->bake, *pyramid, bakeOptions);
@@ -105,9 +112,11 @@ Result<RenderTextures> loadSceneTextures(const Scene& scene, const std::string& 
     }
     if (albedo) textures.albedo = albedoMips(*pyramid, albedo);
     if (!scene.environment.path.empty()) {
-        Result<Environment> env = loadEnvironment(scene.environment.path, scene.environment.options);
+        Result<Environment> env =
+            loadEnvironment(scene.environment.path, scene.environment.options);
         if (!env) return env.error();
-        textures.environment = std::make_shared<const EnvironmentLighting>(makeEnvironmentLighting(std::move(env.value())));
+        textures.environment = std::make_shared<const EnvironmentLighting>(
+            makeEnvironmentLighting(std::move(env.value())));
     }
     return textures;
 }
@@ -119,11 +128,14 @@ Status checkRenderOptions(const RenderOptions& o) {
         return Status::failure(text);
     };
     if (!(o.spp >= 1 && o.spp <= (1 << 20))) return outside("spp", o.spp, 1, 1 << 20);
-    if (!(o.anisotropy >= 1 && o.anisotropy <= 64)) return outside("anisotropy", o.anisotropy, 1, 64);
+    if (!(o.anisotropy >= 1 && o.anisotropy <= 64))
+        return outside("anisotropy", o.anisotropy, 1, 64);
     if (!(o.taps >= 1 && o.taps <= 16)) return outside("taps", o.taps, 1, 16);
     if (!(o.lodBias >= -16.f && o.lodBias <= 16.f)) return outside("lod_bias", o.lodBias, -16, 16);
-    if (!(o.varianceScale > 0.f && o.varianceScale <= 1e3f)) return outside("variance_scale", o.varianceScale, 0, 1e3);
-    if (!std::isfinite(o.pixelShift.x) || !std::isfinite(o.pixelShift.y)) return Status::failure("pixel_shift: not finite");
+    if (!(o.varianceScale > 0.f && o.varianceScale <= 1e3f))
+        return outside("variance_scale", o.varianceScale, 0, 1e3);
+    if (!std::isfinite(o.pixelShift.x) || !std::isfinite(o.pixelShift.y))
+        return Status::failure("pixel_shift: not finite");
     return Status::success();
 }
 

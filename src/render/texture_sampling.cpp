@@ -32,7 +32,8 @@ void bilinearTaps(int level, int w, int h, glm::vec2 uv, float weight, TapList& 
     }
 }
 
-void trilinearTaps(const std::vector<glm::ivec2>& sizes, glm::vec2 uv, float lod, float weight, TapList& out) {
+void trilinearTaps(const std::vector<glm::ivec2>& sizes, glm::vec2 uv, float lod, float weight,
+                   TapList& out) {
     const int last = int(sizes.size()) - 1;
     lod = std::clamp(lod, 0.f, float(last));
     const int k0 = int(std::floor(lod));
@@ -49,7 +50,8 @@ void filteredTaps(const std::vector<glm::ivec2>& sizes, glm::vec2 uv, const UvFo
     const float lx = glm::length(footprint.dx * size), ly = glm::length(footprint.dy * size);
     const float major = std::max(lx, ly), minor = std::min(lx, ly);
     int probes = 1;
-    if (maxProbes > 1 && minor > 0.f) probes = std::clamp(int(std::ceil(major / minor)), 1, maxProbes);
+    if (maxProbes > 1 && minor > 0.f)
+        probes = std::clamp(int(std::ceil(major / minor)), 1, maxProbes);
     if (probes == 1) {
         trilinearTaps(sizes, uv, (major > 0.f ? std::log2(major) : 0.f) + lodBias, 1.f, out);
         return;
@@ -92,8 +94,8 @@ void sampleTrilinear(const MipChain& chain, glm::vec2 uv, float lod, float* out)
     gatherTaps(chain, taps, out);
 }
 
-void sampleFiltered(const MipChain& chain, glm::vec2 uv, const UvFootprint& footprint, int maxProbes,
-                    float* out, float lodBias) {
+void sampleFiltered(const MipChain& chain, glm::vec2 uv, const UvFootprint& footprint,
+                    int maxProbes, float* out, float lodBias) {
     TapList taps;
     filteredTaps(levelSizes(chain), uv, footprint, maxProbes, lodBias, taps);
     gatherTaps(chain, taps, out);

@@ -42,7 +42,8 @@ void bilinearTaps(int level, int w, int h, glm::vec2 uv, float weight, TapList& 
 
 // The taps of a trilinear lookup at (uv, lod), lod clamped to [0, last level]; `sizes` holds
 // each level's (width, height).
-void trilinearTaps(const std::vector<glm::ivec2>& sizes, glm::vec2 uv, float lod, float weight, TapList& out);
+void trilinearTaps(const std::vector<glm::ivec2>& sizes, glm::vec2 uv, float lod, float weight,
+                   TapList& out);
 
 // As a GPU with anisotropic filtering: up to maxProbes trilinear probes spread along the major
 // axis of the footprint, each at the LOD of the footprint's length divided by the probe count,
@@ -63,8 +64,8 @@ void accumulateBilinear(const Image& level, glm::vec2 uv, float weight, float* o
 void sampleTrilinear(const MipChain& chain, glm::vec2 uv, float lod, float* out);
 
 // filteredTaps then gatherTaps.
-void sampleFiltered(const MipChain& chain, glm::vec2 uv, const UvFootprint& footprint, int maxProbes,
-                    float* out, float lodBias = 0.f);
+void sampleFiltered(const MipChain& chain, glm::vec2 uv, const UvFootprint& footprint,
+                    int maxProbes, float* out, float lodBias = 0.f);
 
 // The texel of `image` that contains uv (wrapped addressing).
 const float* nearestTexel(const Image& image, glm::vec2 uv);

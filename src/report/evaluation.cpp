@@ -40,7 +40,9 @@ struct EvalProblem {
     std::string message;
 };
 
-[[noreturn]] void fail(std::string message) { throw EvalProblem{std::move(message)}; }
+[[noreturn]] void fail(std::string message) {
+    throw EvalProblem{std::move(message)};
+}
 
 // The ranges the command line's parser holds the options to, for callers without it.
 void checkRanges(const EvalOptions& a) {
@@ -68,11 +70,13 @@ void checkRanges(const EvalOptions& a) {
 // {level} replaced by 0, 1, ... and each {key} of `fields` by its value. Level k must have
 // sizes[k] texels; the first channel is kept (8/16-bit files as stored, 0..1, no sRGB decoding,
 // as roughness maps are linear data).
-std::vector<SharedImage> loadRoughnessMips(const std::string& pattern, const std::vector<std::pair<int, int>>& sizes,
-                                           const std::vector<std::pair<std::string, std::string>>& fields) {
+std::vector<SharedImage>
+loadRoughnessMips(const std::string& pattern, const std::vector<std::pair<int, int>>& sizes,
+                  const std::vector<std::pair<std::string, std::string>>& fields) {
     auto substitute = [](std::string text, const std::string& key, const std::string& value) {
         const std::string token = "{" + key + "}";
-        for (size_t at = text.find(token); at != std::string::npos; at = text.find(token, at + value.size()))
+        for (size_t at = text.find(token); at != std::string::npos;
+             at = text.find(token, at + value.size()))
             text.replace(at, token.size(), value);
         return text;
     };
@@ -86,8 +90,9 @@ std::vector<SharedImage> loadRoughnessMips(const std::string& pattern, const std
         if (!source) fail(source.error().message);
         const Image& image = source->image;
         if (image.width != sizes[k].first || image.height != sizes[k].second)
-            fail(path + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) + ", but mip level " +
-                 std::to_string(k) + " is " + std::to_string(sizes[k].first) + "x" + std::to_string(sizes[k].second));
+            fail(path + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                 ", but mip level " + std::to_string(k) + " is " + std::to_string(sizes[k].first) +
+                 "x" + std::to_string(sizes[k].second));
         Image r(image.width, image.height, 1);
         for (size_t i = 0; i < image.texelCount(); ++i) {
             const float v = image.pixels[i * image.channels];
@@ -106,9 +111,12 @@ struct Setting {
     float exponent = 0.f, roughness = 0.f;
     std::string label() const {
         char text[64];
-        if (material.brdf == Brdf::BlinnPhong) std::snprintf(text, sizeof text, "%s s=%g", brdf.c_str(), exponent);
-        else if (material.brdf == Brdf::Lambert) std::snprintf(text, sizeof text, "%s", brdf.c_str());
-        else std::snprintf(text, sizeof text, "%s alpha=%g", brdf.c_str(), roughness);
+        if (material.brdf == Brdf::BlinnPhong)
+            std::snprintf(text, sizeof text, "%s s=%g", brdf.c_str(), exponent);
+        else if (material.brdf == Brdf::Lambert)
+            std::snprintf(text, sizeof text, "%s", brdf.c_str());
+        else
+            std::snprintf(text, sizeof text, "%s alpha=%g", brdf.c_str(), roughness);
         return text;
     }
 };
@@ -134,7 +142,8 @@ std::vector<Setting> settingsOf(const EvalOptions& a) {
     for (const std::string& name : a.brdfs) {
         Brdf brdf;
         if (!brdfFromString(name, brdf))
-            fail("--brdfs: unknown BRDF " + quote(name) + " (expected lambert, blinnphong, beckmann, ggx)");
+            fail("--brdfs: unknown BRDF " + quote(name) +
+                 " (expected lambert, blinnphong, beckmann, ggx)");
         if (brdf == Brdf::Lambert) out.push_back(makeSetting(brdf, 0.f, 0.f));
         if (brdf == Brdf::BlinnPhong)
             for (float s : a.exponents) out.push_back(makeSetting(brdf, s, 0.f));
@@ -149,7 +158,8 @@ std::vector<Setting> settingsOf(const EvalOptions& a) {
 // (90: straight down) and tilted about the texel grid's x axis, so that a pixel covers footprint
 // texels across and footprint / sin(elevation) along the view, and the truth is still one exact
 // integral per pixel (exactBoxView).
-Scene evalScene(int mapWidth, int mapHeight, int footprint, int pixels, glm::vec2 shift, float elevation = 90.f) {
+Scene evalScene(int mapWidth, int mapHeight, int footprint, int pixels, glm::vec2 shift,
+                float elevation = 90.f) {
     Scene s;
     const float pixelWorld = float(footprint) / float(mapWidth);
     const float viewWorld = pixelWorld * float(pixels);
@@ -158,7 +168,8 @@ Scene evalScene(int mapWidth, int mapHeight, int footprint, int pixels, glm::vec
     // `shift` pixels off the texel grid, the same for every footprint.
     const glm::vec3 offset(shift.x * pixelWorld, shift.y * pixelWorld * stretch, 0.f);
     s.camera.type = CameraType::Orthographic;
-    const glm::vec3 towardsEye = down ? glm::vec3(0.f, 0.f, 1.f) : glm::vec3(0.f, -std::cos(e), std::sin(e));
+    const glm::vec3 towardsEye =
+        down ? glm::vec3(0.f, 0.f, 1.f) : glm::vec3(0.f, -std::cos(e), std::sin(e));
     s.camera.eye = 10.f * towardsEye + offset;
     s.camera.target = offset;
     s.camera.up = down ? glm::vec3(0.f, 1.f, 0.f) : glm::vec3(0.f, std::sin(e), std::cos(e));
@@ -169,9 +180,11 @@ Scene evalScene(int mapWidth, int mapHeight, int footprint, int pixels, glm::vec
     s.geometry.tiling = {size, size * float(mapWidth) / float(mapHeight)};
     // Straight down: 25 degrees off the normal. Tilted: near the mirror direction of the view
     // (the glancing highlight a distant floor shows), 30 degrees aside in azimuth.
-    const float polar = glm::radians(down ? 25.f : 90.f - elevation), azimuth = glm::radians(down ? 30.f : 120.f);
+    const float polar = glm::radians(down ? 25.f : 90.f - elevation),
+                azimuth = glm::radians(down ? 30.f : 120.f);
     Light light;
-    light.direction = {std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar)};
+    light.direction = {std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth),
+                       std::cos(polar)};
     s.lights = {light};
     return s;
 }
@@ -195,18 +208,27 @@ double percentileLuminance(const Image& image, double q) {
     return values[k];
 }
 
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+json number(double v) {
+    return std::isfinite(v) ? json(v) : json(nullptr);
+}
 
 json caseJson(const ReportCase& c) {
-    return {{"map", c.map},       {"footprint", c.footprint}, {"method", c.method},
-            {"brdf", c.brdf},     {"exponent", c.exponent},   {"roughness", c.roughness},
-            {"rel_rmse", number(c.relRmse)}, {"rmse", number(c.rmse)}, {"psnr", number(c.psnr)},
-            {"energy_ratio", number(c.energyRatio)}, {"flicker", number(c.flicker)}};
+    return {{"map", c.map},
+            {"footprint", c.footprint},
+            {"method", c.method},
+            {"brdf", c.brdf},
+            {"exponent", c.exponent},
+            {"roughness", c.roughness},
+            {"rel_rmse", number(c.relRmse)},
+            {"rmse", number(c.rmse)},
+            {"psnr", number(c.psnr)},
+            {"energy_ratio", number(c.energyRatio)},
+            {"flicker", number(c.flicker)}};
 }
 
 // Frames of one view shifted by sub-pixel amounts; their flicker.
-double flickerOf(const Scene& scene, const RenderTextures& t, const std::string& method, RenderOptions o,
-                 int frames) {
+double flickerOf(const Scene& scene, const RenderTextures& t, const std::string& method,
+                 RenderOptions o, int frames) {
     if (frames < 2) return std::nan("");
     std::vector<Image> images;
     for (glm::vec2 shift : flickerShifts(frames)) {
@@ -246,14 +268,16 @@ MethodSpec methodSpec(const std::string& label) {
     const std::string variant = label.substr(at + 1);
     EnvironmentLod lod;
     EnvironmentWay way;
-    if (environmentLodFromString(variant, lod) && spec.render != kExact && spec.render != kToksvigLut &&
-        spec.method != Method::Sh && spec.method != Method::Lean)
+    if (environmentLodFromString(variant, lod) && spec.render != kExact &&
+        spec.render != kToksvigLut && spec.method != Method::Sh && spec.method != Method::Lean)
         spec.lod = lod;
     else if (environmentWayFromString(variant, way) && spec.method == Method::Vmf)
         spec.way = way;
     else
-        fail("--methods: " + quote(label) + ": naive, toksvig and vmf take @log2sigma, @filament, @unity or "
-             "@unreal (the prefiltered levels' rule), vmf also @sh or @prefiltered (how it shades under an "
+        fail("--methods: " + quote(label) +
+             ": naive, toksvig and vmf take @log2sigma, @filament, @unity or "
+             "@unreal (the prefiltered levels' rule), vmf also @sh or @prefiltered (how it shades "
+             "under an "
              "environment)");
     return spec;
 }
@@ -270,7 +294,8 @@ MethodSpec methodSpecOf(const std::string& label) {
     auto method = methodFromString(name);
     if (!method)
         fail("--methods: unknown method " + quote(label) +
-                      " (expected naive, toksvig, toksvig-lut, sh[:ORDER], vmf[:LOBES[:BUDGET]], lean, exact)");
+             " (expected naive, toksvig, toksvig-lut, sh[:ORDER], vmf[:LOBES[:BUDGET]], lean, "
+             "exact)");
     spec.method = *method;
     spec.render = methodName(*method);
     if (!order.empty()) {
@@ -278,7 +303,8 @@ MethodSpec methodSpecOf(const std::string& label) {
         std::vector<std::string> values;
         for (size_t from = 0;;) {
             const size_t colon = order.find(':', from);
-            values.push_back(order.substr(from, colon == std::string::npos ? std::string::npos : colon - from));
+            values.push_back(
+                order.substr(from, colon == std::string::npos ? std::string::npos : colon - from));
             if (colon == std::string::npos) break;
             from = colon + 1;
         }
@@ -293,20 +319,22 @@ struct MapData {
     std::string name;
     SharedImage normals;
     Pyramid pyramid;
-    std::map<std::string, Bake> bakes; // by label
+    std::map<std::string, Bake> bakes;                         // by label
     std::map<std::string, std::vector<SharedImage>> roughness; // external mips by "NAME alpha"
 };
 
 int viewPixels(const MapData& map, int footprint, int maxPixels) {
-    return std::clamp((std::max(map.normals->width, map.normals->height) + footprint - 1) / footprint, 32,
-                      std::max(32, maxPixels));
+    return std::clamp((std::max(map.normals->width, map.normals->height) + footprint - 1) /
+                          footprint,
+                      32, std::max(32, maxPixels));
 }
 
 // The report's WebGL2 view of `map`: its baked methods that the GPU shaders draw, at the
 // footprints >= 2, one plain trilinear lookup per pixel (what WebGL's sampler gives), with the
 // CPU renderer's image of the first for the page's own check. Float data kept under ~32 MB.
-std::string liveViewOf(const MapData& map, const EvalOptions& a, const std::vector<MethodSpec>& specs,
-                       const Material& material, glm::vec2 shift) {
+std::string liveViewOf(const MapData& map, const EvalOptions& a,
+                       const std::vector<MethodSpec>& specs, const Material& material,
+                       glm::vec2 shift) {
     WebglView view;
     view.map = map.name;
     for (int f : a.footprints)
@@ -319,11 +347,13 @@ std::string liveViewOf(const MapData& map, const EvalOptions& a, const std::vect
     plain.taps = 1;
     plain.lodBias = 0.f;
     plain.shadeFilter = ShadeFilter::Parameter;
-    const double texels = double(map.normals->width >> view.baseLevel) * double(map.normals->height >> view.baseLevel);
+    const double texels = double(map.normals->width >> view.baseLevel) *
+                          double(map.normals->height >> view.baseLevel);
     double bytes = 0.0;
     // vMF first: the page checks its first method against the CPU.
     std::vector<MethodSpec> ordered = specs;
-    std::stable_partition(ordered.begin(), ordered.end(), [](const MethodSpec& m) { return m.render == "vmf"; });
+    std::stable_partition(ordered.begin(), ordered.end(),
+                          [](const MethodSpec& m) { return m.render == "vmf"; });
     for (const MethodSpec& spec : ordered) {
         if (!spec.baked || spec.render == kToksvigLut || !map.bakes.count(spec.label)) continue;
         RenderTextures t;
@@ -333,7 +363,8 @@ std::string liveViewOf(const MapData& map, const EvalOptions& a, const std::vect
         method.label = spec.label;
         bool drawable = true;
         for (int footprint : view.footprints) {
-            Scene scene = evalScene(map.normals->width, map.normals->height, footprint, viewPixels(map, footprint, a.maxPixels), shift);
+            Scene scene = evalScene(map.normals->width, map.normals->height, footprint,
+                                    viewPixels(map, footprint, a.maxPixels), shift);
             scene.material = material;
             Result<RenderProgram> program = renderProgram(scene, t, spec.render, plain);
             if (!program) {
@@ -348,8 +379,9 @@ std::string liveViewOf(const MapData& map, const EvalOptions& a, const std::vect
         if (bytes + methodBytes > 32e6) continue;
         bytes += methodBytes;
         if (view.methods.empty()) {
-            Scene scene = evalScene(map.normals->width, map.normals->height, view.footprints.front(),
-                                    viewPixels(map, view.footprints.front(), a.maxPixels), shift);
+            Scene scene =
+                evalScene(map.normals->width, map.normals->height, view.footprints.front(),
+                          viewPixels(map, view.footprints.front(), a.maxPixels), shift);
             scene.material = material;
             view.reference = renderOrFail(scene, t, spec.render, plain);
             view.exposureStops = autoExposure(view.reference);
@@ -358,7 +390,6 @@ std::string liveViewOf(const MapData& map, const EvalOptions& a, const std::vect
     }
     return webglViewHtml(view);
 }
-
 
 // An --external-roughness row: a peer's perceptual-roughness mips beside the standard normal
 // mipmap, rendered as kRoughnessMips for Beckmann and GGX settings.
@@ -408,7 +439,8 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
     if (a.externalEncoding != "perceptual" && a.externalEncoding != "alpha")
         fail("--external-encoding: " + quote(a.externalEncoding) + " is not perceptual or alpha");
     RenderOptions filtering;
-    if (!truthFilterFromString(a.truth, filtering.truth)) fail("--truth: " + quote(a.truth) + " is not box or bilinear");
+    if (!truthFilterFromString(a.truth, filtering.truth))
+        fail("--truth: " + quote(a.truth) + " is not box or bilinear");
     if (!shadeFilterFromString(*a.lobeFilter, filtering.shadeFilter))
         fail("--lobe-filter: " + quote(*a.lobeFilter) + " is not parameter or texel");
     // Aligned: one plain lookup per pixel unless the filtering rule is given.
@@ -422,7 +454,8 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
     if (a.aligned)
         for (int f : a.footprints)
             if ((f & (f - 1)) != 0)
-                fail("--aligned: footprint " + std::to_string(f) + " is not a power of two (one texel of a level)");
+                fail("--aligned: footprint " + std::to_string(f) +
+                     " is not a power of two (one texel of a level)");
     std::vector<MethodSpec> specs;
     for (const std::string& m : a.methods) specs.push_back(methodSpec(m));
     for (MethodSpec& spec : specs)
@@ -430,7 +463,8 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
             spec.options.parameters["coherent"] = *a.coherence;
     for (const MethodSpec& spec : specs)
         if ((spec.lod || spec.way) && a.environment.empty())
-            fail("--methods: " + quote(spec.label) + ": a variant after @ applies under --environment only");
+            fail("--methods: " + quote(spec.label) +
+                 ": a variant after @ applies under --environment only");
     for (int f : a.footprints)
         if (f < 1 || f > 4096) fail("--footprints: " + std::to_string(f) + " is not in 1 .. 4096");
     const DecodeOptions& decode = a.decode;
@@ -438,23 +472,29 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
     std::shared_ptr<const EnvironmentLighting> lighting;
     std::vector<std::pair<std::string, std::string>> skipped;
     if (!a.environment.empty()) {
-        if (a.calibrate) fail("--calibrate: the roughness calibration is made under the directional light, not --environment");
+        if (a.calibrate)
+            fail("--calibrate: the roughness calibration is made under the directional light, not "
+                 "--environment");
         Result<Environment> env = loadEnvironment(a.environment, a.environmentOptions);
         if (!env) fail(env.error().message);
-        lighting = std::make_shared<const EnvironmentLighting>(makeEnvironmentLighting(std::move(env.value())));
+        lighting = std::make_shared<const EnvironmentLighting>(
+            makeEnvironmentLighting(std::move(env.value())));
         const char* reason = "cannot shade under an environment";
         std::vector<MethodSpec> kept;
         for (const MethodSpec& spec : specs) {
             const MethodShader* shader = findShader(spec.render);
-            if (shader && shader->shadeEnvironment) kept.push_back(spec);
-            else skipped.emplace_back(spec.label, reason);
+            if (shader && shader->shadeEnvironment)
+                kept.push_back(spec);
+            else
+                skipped.emplace_back(spec.label, reason);
         }
         specs = std::move(kept);
         const MethodShader* roughnessMips = findShader(kRoughnessMips);
         if (!(roughnessMips && roughnessMips->shadeEnvironment))
             for (const ExternalRoughness& row : externals) skipped.emplace_back(row.name, reason);
     }
-    const bool externalRows = !externals.empty() && (!lighting || findShader(kRoughnessMips)->shadeEnvironment);
+    const bool externalRows =
+        !externals.empty() && (!lighting || findShader(kRoughnessMips)->shadeEnvironment);
     double truthNoise = 0.;
 
     EvalReport report;
@@ -484,20 +524,21 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
         map.pyramid = buildPyramid(map.normals);
         for (const MethodSpec& spec : specs)
             if (spec.baked)
-                if (Status s = checkBakeMemory(a.maps[mapIndex], spec.method, spec.options, map.normals->width,
-                                               map.normals->height);
+                if (Status s = checkBakeMemory(a.maps[mapIndex], spec.method, spec.options,
+                                               map.normals->width, map.normals->height);
                     !s)
                     fail(s.error);
         for (const MethodSpec& spec : specs)
             if (spec.baked && !map.bakes.count(spec.bakeKey))
                 map.bakes[spec.bakeKey] = bakeMethod(spec.method, map.pyramid, spec.options);
-        if (externalRows) map.bakes["naive (external roughness)"] = bakeMethod(Method::Naive, map.pyramid, {});
+        if (externalRows)
+            map.bakes["naive (external roughness)"] = bakeMethod(Method::Naive, map.pyramid, {});
         if (a.calibrate && map.bakes.count("toksvig") == 0)
             map.bakes["toksvig"] = bakeMethod(Method::Toksvig, map.pyramid, {});
         if (a.log) {
             char line[512];
-            std::snprintf(line, sizeof line, "eval: %s (%zu/%zu), %dx%d", map.name.c_str(), mapIndex + 1, a.maps.size(),
-                          map.normals->width, map.normals->height);
+            std::snprintf(line, sizeof line, "eval: %s (%zu/%zu), %dx%d", map.name.c_str(),
+                          mapIndex + 1, a.maps.size(), map.normals->width, map.normals->height);
             a.log(line);
         }
         auto textures = [&](const std::string& label) {
@@ -514,7 +555,8 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
             return std::string("toksvig"); // the calibration's own bake
         };
 
-        if (mapIndex == 0 && a.webgl && lighting && a.log) a.log("eval: no live view under an environment");
+        if (mapIndex == 0 && a.webgl && lighting && a.log)
+            a.log("eval: no live view under an environment");
         if (mapIndex == 0 && a.webgl && !lighting) {
             report.liveView = liveViewOf(map, a, specs, settings.front().material, shift);
             if (a.log && report.liveView.empty())
@@ -522,9 +564,11 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
         }
 
         for (int footprint : a.footprints) {
-            const int pixels = std::clamp((std::max(map.normals->width, map.normals->height) + footprint - 1) / footprint,
-                                          32, std::max(32, a.maxPixels));
-            Scene scene = evalScene(map.normals->width, map.normals->height, footprint, pixels, shift, a.elevation);
+            const int pixels = std::clamp(
+                (std::max(map.normals->width, map.normals->height) + footprint - 1) / footprint, 32,
+                std::max(32, a.maxPixels));
+            Scene scene = evalScene(map.normals->width, map.normals->height, footprint, pixels,
+                                    shift, a.elevation);
             if (lighting) { // the environment replaces the directional light
                 scene.lights.clear();
                 scene.environment.path = a.environment;
@@ -541,12 +585,22 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
             for (const Setting& setting : settings) {
                 scene.material = setting.material;
                 RenderNoise noise;
-                Result<Image> truthImage = render(scene, textures(kGroundTruth), kGroundTruth, truthOptions, &noise);
+                Result<Image> truthImage =
+                    render(scene, textures(kGroundTruth), kGroundTruth, truthOptions, &noise);
                 if (!truthImage) fail(truthImage.error().message);
                 const Image truth = std::move(truthImage.value());
-                ReportCase truthCase{map.name, kGroundTruth, setting.brdf, footprint, setting.exponent,
-                                     setting.roughness, 0, 0, std::numeric_limits<double>::infinity(), 1,
-                                     flickerOf(scene, textures(kGroundTruth), kGroundTruth, truthOptions, a.frames)};
+                ReportCase truthCase{
+                    map.name,
+                    kGroundTruth,
+                    setting.brdf,
+                    footprint,
+                    setting.exponent,
+                    setting.roughness,
+                    0,
+                    0,
+                    std::numeric_limits<double>::infinity(),
+                    1,
+                    flickerOf(scene, textures(kGroundTruth), kGroundTruth, truthOptions, a.frames)};
                 report.cases.push_back(truthCase);
                 cases.push_back(caseJson(truthCase));
                 if (lighting) {
@@ -554,48 +608,66 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
                     truthNoise = std::max(truthNoise, noise.relativeStandardError);
                     if (a.log) {
                         char line[256];
-                        std::snprintf(line, sizeof line, "eval: truth at footprint %d, %s: relative standard error %.3f%%",
-                                      footprint, setting.label().c_str(), 100. * noise.relativeStandardError);
+                        std::snprintf(
+                            line, sizeof line,
+                            "eval: truth at footprint %d, %s: relative standard error %.3f%%",
+                            footprint, setting.label().c_str(), 100. * noise.relativeStandardError);
                         a.log(line);
                     }
                 }
 
-                const bool showcase = a.allImages || setting.label() == settings.front().label() ||
-                                      (setting.brdf == "blinnphong" && setting.exponent == 32.f) ||
-                                      (setting.brdf == "ggx" && setting.roughness == a.roughness.front());
+                const bool showcase =
+                    a.allImages || setting.label() == settings.front().label() ||
+                    (setting.brdf == "blinnphong" && setting.exponent == 32.f) ||
+                    (setting.brdf == "ggx" && setting.roughness == a.roughness.front());
                 ReportGroup group;
                 const float stops = autoExposure(truth);
                 const float errorScale = float(0.5 * percentileLuminance(truth, 0.99));
                 if (showcase) {
                     char title[256];
-                    std::snprintf(title, sizeof title, "%s, footprint %d, %s", map.name.c_str(), footprint,
-                                  setting.label().c_str());
+                    std::snprintf(title, sizeof title, "%s, footprint %d, %s", map.name.c_str(),
+                                  footprint, setting.label().c_str());
                     group.title = title;
                     group.images.push_back({"ground truth", toneMap(truth, stops)});
                 }
                 for (const MethodSpec& spec : specs) {
                     const std::string& method = spec.label;
                     // Toksvig's table is for Blinn-Phong only.
-                    if (method == kToksvigLut && setting.material.brdf != Brdf::BlinnPhong) continue;
+                    if (method == kToksvigLut && setting.material.brdf != Brdf::BlinnPhong)
+                        continue;
                     RenderOptions rowOptions = methodOptions;
                     if (spec.lod) rowOptions.environmentLod = *spec.lod;
                     if (spec.way) rowOptions.vmfEnvironment = *spec.way;
-                    const Image image = renderOrFail(scene, textures(spec.bakeKey), renderName(method), rowOptions);
+                    const Image image =
+                        renderOrFail(scene, textures(spec.bakeKey), renderName(method), rowOptions);
                     Result<ImageComparison> cmp = compareImages(image, truth);
                     if (!cmp) fail(cmp.error().message);
-                    ReportCase c{map.name, method, setting.brdf, footprint, setting.exponent, setting.roughness,
-                                 cmp->relativeRmse, cmp->rmse, cmp->psnr, cmp->energyRatio,
-                                 flickerOf(scene, textures(spec.bakeKey), renderName(method), rowOptions, a.frames)};
+                    ReportCase c{map.name,
+                                 method,
+                                 setting.brdf,
+                                 footprint,
+                                 setting.exponent,
+                                 setting.roughness,
+                                 cmp->relativeRmse,
+                                 cmp->rmse,
+                                 cmp->psnr,
+                                 cmp->energyRatio,
+                                 flickerOf(scene, textures(spec.bakeKey), renderName(method),
+                                           rowOptions, a.frames)};
                     report.cases.push_back(c);
                     cases.push_back(caseJson(c));
                     if (showcase) {
                         group.images.push_back({method, toneMap(image, stops)});
-                        group.images.push_back({method + " error", errorImage(image, truth, errorScale > 0 ? errorScale : 0.f)});
+                        group.images.push_back(
+                            {method + " error",
+                             errorImage(image, truth, errorScale > 0 ? errorScale : 0.f)});
                     }
                 }
                 for (const ExternalRoughness& row : externals) {
                     if (!externalRows) break;
-                    if (setting.material.brdf != Brdf::Ggx && setting.material.brdf != Brdf::Beckmann) continue;
+                    if (setting.material.brdf != Brdf::Ggx &&
+                        setting.material.brdf != Brdf::Beckmann)
+                        continue;
                     char alpha[32];
                     std::snprintf(alpha, sizeof alpha, "%g", setting.roughness);
                     const std::string key = row.name + " " + alpha;
@@ -604,24 +676,36 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
                     t.bake = map.bakes.at("naive (external roughness)");
                     if (!map.roughness.count(key)) {
                         std::vector<std::pair<int, int>> sizes;
-                        for (const auto& level : t.bake.levels) sizes.emplace_back(level[0]->width, level[0]->height);
+                        for (const auto& level : t.bake.levels)
+                            sizes.emplace_back(level[0]->width, level[0]->height);
                         map.roughness[key] = loadRoughnessMips(
                             row.pattern, sizes,
-                            {{"stem", std::filesystem::path(map.name).stem().string()}, {"roughness", alpha}});
+                            {{"stem", std::filesystem::path(map.name).stem().string()},
+                             {"roughness", alpha}});
                     }
                     t.roughness = map.roughness.at(key);
                     t.roughnessIsAlpha = a.externalEncoding == "alpha";
                     const Image image = renderOrFail(scene, t, kRoughnessMips, methodOptions);
                     Result<ImageComparison> cmp = compareImages(image, truth);
                     if (!cmp) fail(cmp.error().message);
-                    ReportCase c{map.name, row.name, setting.brdf, footprint, setting.exponent, setting.roughness,
-                                 cmp->relativeRmse, cmp->rmse, cmp->psnr, cmp->energyRatio,
+                    ReportCase c{map.name,
+                                 row.name,
+                                 setting.brdf,
+                                 footprint,
+                                 setting.exponent,
+                                 setting.roughness,
+                                 cmp->relativeRmse,
+                                 cmp->rmse,
+                                 cmp->psnr,
+                                 cmp->energyRatio,
                                  flickerOf(scene, t, kRoughnessMips, methodOptions, a.frames)};
                     report.cases.push_back(c);
                     cases.push_back(caseJson(c));
                     if (showcase) {
                         group.images.push_back({row.name, toneMap(image, stops)});
-                        group.images.push_back({row.name + " error", errorImage(image, truth, errorScale > 0 ? errorScale : 0.f)});
+                        group.images.push_back(
+                            {row.name + " error",
+                             errorImage(image, truth, errorScale > 0 ? errorScale : 0.f)});
                     }
                 }
                 if (showcase) report.groups.push_back(std::move(group));
@@ -631,7 +715,8 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
             // GGX with each shipped roughness mapping, and ours with every candidate constant.
             for (float alpha : a.calibrationRoughness) {
                 scene.material = makeSetting(Brdf::Ggx, 0.f, alpha).material;
-                const Image truth = renderOrFail(scene, textures(kGroundTruth), kGroundTruth, truthOptions);
+                const Image truth =
+                    renderOrFail(scene, textures(kGroundTruth), kGroundTruth, truthOptions);
                 auto record = [&](const std::string& name, RoughnessMapping mapping, float scale) {
                     RenderOptions o = methodOptions;
                     o.roughnessMapping = mapping;
@@ -639,8 +724,11 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
                     const Image image = renderOrFail(scene, textures("toksvig"), "toksvig", o);
                     Result<ImageComparison> cmp = compareImages(image, truth);
                     if (!cmp) fail(cmp.error().message);
-                    calibration.push_back({{"map", map.name}, {"footprint", footprint}, {"roughness", alpha},
-                                           {"mapping", name}, {"rel_rmse", number(cmp->relativeRmse)},
+                    calibration.push_back({{"map", map.name},
+                                           {"footprint", footprint},
+                                           {"roughness", alpha},
+                                           {"mapping", name},
+                                           {"rel_rmse", number(cmp->relativeRmse)},
                                            {"energy_ratio", number(cmp->energyRatio)}});
                     // Geometric mean: errors differ by orders of magnitude between alphas.
                     auto& [logSum, count] = candidateError[name];
@@ -649,8 +737,9 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
                         ++count;
                     }
                 };
-                for (RoughnessMapping m : {RoughnessMapping::Ours, RoughnessMapping::Hdrp, RoughnessMapping::Filament,
-                                           RoughnessMapping::Godot, RoughnessMapping::Unreal})
+                for (RoughnessMapping m :
+                     {RoughnessMapping::Ours, RoughnessMapping::Hdrp, RoughnessMapping::Filament,
+                      RoughnessMapping::Godot, RoughnessMapping::Unreal})
                     record(roughnessMappingName(m), m, kVarianceScale);
                 for (float c : a.calibrationScales) {
                     char name[32];
@@ -669,18 +758,29 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
         std::snprintf(viewText, sizeof viewText, "orthographic, straight down");
         std::snprintf(lightText, sizeof lightText, "directional, 25 deg off the normal");
     } else {
-        std::snprintf(viewText, sizeof viewText, "orthographic, %g deg above the plane", a.elevation);
-        std::snprintf(lightText, sizeof lightText, "directional, %g deg above the plane, 30 deg from the mirror azimuth",
+        std::snprintf(viewText, sizeof viewText, "orthographic, %g deg above the plane",
+                      a.elevation);
+        std::snprintf(lightText, sizeof lightText,
+                      "directional, %g deg above the plane, 30 deg from the mirror azimuth",
                       a.elevation);
     }
-    root["setup"] = {{"view", viewText}, {"light", lightText}, {"elevation_degrees", a.elevation},
-                     {"footprints", a.footprints}, {"methods", a.methods}, {"frames", a.frames},
+    root["setup"] = {{"view", viewText},
+                     {"light", lightText},
+                     {"elevation_degrees", a.elevation},
+                     {"footprints", a.footprints},
+                     {"methods", a.methods},
+                     {"frames", a.frames},
                      {"truth", a.truth},
-                     {"truth_spp", truthFilter == TruthFilter::Box ? json("exact integral, no samples")
-                                   : a.spp > 0 ? json(a.spp) : json("max(64, footprint^2), at most 1024")},
-                     {"aligned", a.aligned}, {"offset", {shift.x, shift.y}},
-                     {"taps", filtering.taps}, {"lod_bias", filtering.lodBias},
-                     {"lobe_filter", *a.lobeFilter}, {"eval_view", a.view},
+                     {"truth_spp", truthFilter == TruthFilter::Box
+                                       ? json("exact integral, no samples")
+                                   : a.spp > 0 ? json(a.spp)
+                                               : json("max(64, footprint^2), at most 1024")},
+                     {"aligned", a.aligned},
+                     {"offset", {shift.x, shift.y}},
+                     {"taps", filtering.taps},
+                     {"lod_bias", filtering.lodBias},
+                     {"lobe_filter", *a.lobeFilter},
+                     {"eval_view", a.view},
                      {"coherent", a.coherence.value_or(0.f)},
                      {"seed", a.seed}};
     if (lighting) {
@@ -688,10 +788,12 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
         root["setup"]["environment"] = {{"path", a.environment},
                                         {"intensity", a.environmentOptions.intensity},
                                         {"rotation_degrees", a.environmentOptions.rotationDegrees}};
-        root["setup"]["truth_spp"] = a.spp > 0 ? json(a.spp) : json("max(64, footprint^2), at most 1024");
+        root["setup"]["truth_spp"] =
+            a.spp > 0 ? json(a.spp) : json("max(64, footprint^2), at most 1024");
         root["setup"]["truth_max_rel_std_error"] = number(truthNoise);
         json left = json::array();
-        for (const auto& [method, reason] : skipped) left.push_back({{"method", method}, {"reason", reason}});
+        for (const auto& [method, reason] : skipped)
+            left.push_back({{"method", method}, {"reason", reason}});
         root["skipped"] = left;
     }
     root["cases"] = cases;
@@ -705,19 +807,24 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
             if (mean < bestError) bestError = mean, best = name;
         }
         root["calibration"] = {{"cases", calibration}, {"mean_rel_rmse", summary}, {"best", best}};
-        report.notes.push_back("Roughness calibration (GGX, geometric mean of the relative RMSE over maps, "
-                               "footprints and base roughness): best is " + best + ".");
+        report.notes.push_back(
+            "Roughness calibration (GGX, geometric mean of the relative RMSE over maps, "
+            "footprints and base roughness): best is " +
+            best + ".");
     }
 
     char view[160];
-    std::snprintf(view, sizeof view, a.aligned ? "on the texel grid (aligned: each pixel one texel of a level)"
-                                               : "offset from the texel grid by (%g, %g) pixels", shift.x, shift.y);
-    const std::string truthText =
-        truthFilter == TruthFilter::Box
-            ? "the box surface of the finest normals (each texel's normal over its square, what the mip levels "
-              "average), integrated exactly over each pixel"
-            : "stratified supersampling of the bilinear, renormalised surface of the finest normals, "
-              "max(64, footprint^2) samples per pixel up to 1024";
+    std::snprintf(view, sizeof view,
+                  a.aligned ? "on the texel grid (aligned: each pixel one texel of a level)"
+                            : "offset from the texel grid by (%g, %g) pixels",
+                  shift.x, shift.y);
+    const std::string truthText = truthFilter == TruthFilter::Box
+                                      ? "the box surface of the finest normals (each texel's "
+                                        "normal over its square, what the mip levels "
+                                        "average), integrated exactly over each pixel"
+                                      : "stratified supersampling of the bilinear, renormalised "
+                                        "surface of the finest normals, "
+                                        "max(64, footprint^2) samples per pixel up to 1024";
     char filter[160];
     std::snprintf(filter, sizeof filter, "%d x %d sub-samples per pixel, LOD bias %g, %s filtering",
                   filtering.taps, filtering.taps, filtering.lodBias, a.lobeFilter->c_str());
@@ -726,17 +833,29 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
         std::snprintf(noiseText, sizeof noiseText, "%.3f%%", 100. * truthNoise);
         std::string left;
         for (const auto& [method, reason] : skipped) left += (left.empty() ? "" : ", ") + method;
-        report.notes.insert(report.notes.begin(),
-            "Lit by the environment " + a.environment + " instead of the directional light: the truth is sampled "
-            "(environment and BRDF samples, MIS) with a relative standard error of at most " + noiseText +
-            (left.empty() ? std::string(".") : "; left out (they cannot shade under an environment): " + left + "."));
+        report.notes.insert(
+            report.notes.begin(),
+            "Lit by the environment " + a.environment +
+                " instead of the directional light: the truth is sampled "
+                "(environment and BRDF samples, MIS) with a relative standard error of at most " +
+                noiseText +
+                (left.empty()
+                     ? std::string(".")
+                     : "; left out (they cannot shade under an environment): " + left + "."));
     }
     report.notes.insert(report.notes.begin(),
-        "Each case: a top-down orthographic view of the map tiled on a plane, one pixel covering footprint x "
-        "footprint texels, " + std::string(view) + "; one directional light 25 degrees off the normal. Ground "
-        "truth: " + truthText + ". Methods: trilinear filtering, " + filter + "; 'exact' shades each texel "
-        "read as the exact mean over its normals (the floor of any per-texel NDF). Flicker: mean over pixels "
-        "of temporal std / mean over " + std::to_string(a.frames) + " sub-pixel-shifted frames.");
+                        "Each case: a top-down orthographic view of the map tiled on a plane, one "
+                        "pixel covering footprint x "
+                        "footprint texels, " +
+                            std::string(view) +
+                            "; one directional light 25 degrees off the normal. Ground "
+                            "truth: " +
+                            truthText + ". Methods: trilinear filtering, " + filter +
+                            "; 'exact' shades each texel "
+                            "read as the exact mean over its normals (the floor of any per-texel "
+                            "NDF). Flicker: mean over pixels "
+                            "of temporal std / mean over " +
+                            std::to_string(a.frames) + " sub-pixel-shifted frames.");
     EvalResult result;
     result.json = root.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
     if (!a.output.empty()) {

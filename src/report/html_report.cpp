@@ -52,7 +52,6 @@ const char* const kGroundTruth = "groundtruth";
 const char* const kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
                                 "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"};
 
-
 // `digits` significant digits (or decimals when `fixed`); NaN as an en dash, infinities as
 // "inf" so a diverging method reads as such instead of as printf's "nan".
 std::string formatNumber(double value, int digits, bool fixed = false) {

@@ -22,7 +22,8 @@ std::string levelData(const std::vector<std::vector<const Image*>>& layers, size
         const Image& image = *chain[level];
         for (size_t i = 0; i < image.texelCount(); ++i)
             for (int c = 0; c < 4; ++c) {
-                const float v = c < image.channels ? image.pixels[i * size_t(image.channels) + size_t(c)] : 0.f;
+                const float v =
+                    c < image.channels ? image.pixels[i * size_t(image.channels) + size_t(c)] : 0.f;
                 bytes.append(reinterpret_cast<const char*>(&v), 4);
             }
     }
@@ -31,7 +32,8 @@ std::string levelData(const std::vector<std::vector<const Image*>>& layers, size
 
 nlohmann::json uniformsJson(const std::vector<UniformValue>& uniforms) {
     nlohmann::json out = nlohmann::json::array();
-    for (const UniformValue& u : uniforms) out.push_back({{"name", u.name}, {"int", u.integer}, {"v", u.values}});
+    for (const UniformValue& u : uniforms)
+        out.push_back({{"name", u.name}, {"int", u.integer}, {"v", u.values}});
     return out;
 }
 
@@ -172,7 +174,8 @@ std::string webglViewHtml(const WebglView& view) {
         const auto& layers = m.program.layers;
         const Image& base = *layers.front()[size_t(view.baseLevel)];
         nlohmann::json levels = nlohmann::json::array();
-        for (size_t k = size_t(view.baseLevel); k < layers.front().size(); ++k) levels.push_back(levelData(layers, k));
+        for (size_t k = size_t(view.baseLevel); k < layers.front().size(); ++k)
+            levels.push_back(levelData(layers, k));
         nlohmann::json uniforms = nlohmann::json::array();
         for (const auto& list : m.uniforms) {
             std::vector<UniformValue> shifted = list;
@@ -193,20 +196,27 @@ std::string webglViewHtml(const WebglView& view) {
     data["reference"] = base64Encode(reference);
     std::string json = data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
     // Inside <script type="application/json">: "</" would end the element.
-    for (size_t at = json.find("</"); at != std::string::npos; at = json.find("</", at + 2)) json.replace(at, 2, "<\\/");
+    for (size_t at = json.find("</"); at != std::string::npos; at = json.find("</", at + 2))
+        json.replace(at, 2, "<\\/");
 
-    std::string html = "<h2>Live view (WebGL2)</h2><p>" + escapeHtml(view.map) +
-                       " drawn in this browser by ndfmip's GLSL shaders (GLSL ES 3.00), the bake's own levels as "
-                       "float mip levels, one trilinear lookup per pixel.</p><p><label>method <select "
-                       "id=\"ndfmip-live-method\">";
+    std::string html =
+        "<h2>Live view (WebGL2)</h2><p>" + escapeHtml(view.map) +
+        " drawn in this browser by ndfmip's GLSL shaders (GLSL ES 3.00), the bake's own levels as "
+        "float mip levels, one trilinear lookup per pixel.</p><p><label>method <select "
+        "id=\"ndfmip-live-method\">";
     for (size_t i = 0; i < view.methods.size(); ++i)
-        html += "<option value=\"" + std::to_string(i) + "\">" + escapeHtml(view.methods[i].label) + "</option>";
+        html += "<option value=\"" + std::to_string(i) + "\">" + escapeHtml(view.methods[i].label) +
+                "</option>";
     html += "</select></label> <label>footprint <select id=\"ndfmip-live-footprint\">";
     for (size_t i = 0; i < view.footprints.size(); ++i)
-        html += "<option value=\"" + std::to_string(i) + "\">" + std::to_string(view.footprints[i]) + "</option>";
-    html += "</select></label> <span id=\"ndfmip-live-time\"></span></p><canvas id=\"ndfmip-live-canvas\" "
-            "style=\"image-rendering: pixelated; width: 384px\"></canvas><p id=\"ndfmip-webgl-check\">The live view "
-            "needs JavaScript and WebGL2.</p><script type=\"application/json\" id=\"ndfmip-live-data\">" +
+        html += "<option value=\"" + std::to_string(i) + "\">" +
+                std::to_string(view.footprints[i]) + "</option>";
+    html += "</select></label> <span id=\"ndfmip-live-time\"></span></p><canvas "
+            "id=\"ndfmip-live-canvas\" "
+            "style=\"image-rendering: pixelated; width: 384px\"></canvas><p "
+            "id=\"ndfmip-webgl-check\">The live view "
+            "needs JavaScript and WebGL2.</p><script type=\"application/json\" "
+            "id=\"ndfmip-live-data\">" +
             json + "</script><script>" + kScript + "</script>";
     return html;
 }

@@ -14,7 +14,7 @@ namespace ndfmip {
 
 struct WebglMethod {
     std::string label;
-    RenderProgram program;                      // layers and shader parts (uniforms: per footprint below)
+    RenderProgram program; // layers and shader parts (uniforms: per footprint below)
     std::vector<std::vector<UniformValue>> uniforms; // one list per footprint of the view
 };
 

@@ -26,7 +26,8 @@ std::string slurp(const std::string& path) {
     return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
-// The first texel of level 0 of an uncompressed RGBA8 DDS with the DX10 header (4 + 124 + 20 bytes).
+// The first texel of level 0 of an uncompressed RGBA8 DDS with the DX10 header (4 + 124 + 20
+// bytes).
 std::array<int, 4> firstTexel(const std::string& dds) {
     const std::string bytes = slurp(dds);
     std::array<int, 4> out{};
@@ -40,28 +41,39 @@ TEST(EngineCli, PackedMapsFollowEachEnginesLayout) {
     // G perceptual roughness 0.6, B metallic 0.25.
     Image normal(8, 8, 3), packed(8, 8, 4);
     for (size_t i = 0; i < 64; ++i) {
-        normal.pixels[3 * i] = 0.5f, normal.pixels[3 * i + 1] = 0.8f, normal.pixels[3 * i + 2] = 0.9f;
-        packed.pixels[4 * i] = 0.5f, packed.pixels[4 * i + 1] = 0.6f, packed.pixels[4 * i + 2] = 0.25f;
+        normal.pixels[3 * i] = 0.5f, normal.pixels[3 * i + 1] = 0.8f,
+                          normal.pixels[3 * i + 2] = 0.9f;
+        packed.pixels[4 * i] = 0.5f, packed.pixels[4 * i + 1] = 0.6f,
+                          packed.pixels[4 * i + 2] = 0.25f;
     }
     ASSERT_TRUE(savePng(dir.file("n.png"), normal, 16));
     ASSERT_TRUE(savePng(dir.file("m.png"), packed, 16));
-    const std::string common = " --roughness-map " + test::shellArg(dir.file("m.png")) +
-                               " --roughness-channel g --metallic-channel b --occlusion-channel r --export dds -q -o ";
+    const std::string common =
+        " --roughness-map " + test::shellArg(dir.file("m.png")) +
+        " --roughness-channel g --metallic-channel b --occlusion-channel r --export dds -q -o ";
     std::string output;
     for (const char* engine : {"unity", "gltf", "unreal"}) {
         const std::string out = dir.file(engine);
-        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --engine " + engine + common + test::shellArg(out), &output), 0)
+        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --engine " + engine +
+                                   common + test::shellArg(out),
+                               &output),
+                  0)
             << output;
     }
     // Unity's mask map: metallic, occlusion, detail mask 1, smoothness 1 - 0.6 (flat: no widening).
-    EXPECT_EQ(firstTexel(dir.file("unity") + "/dds/unity_mask_map.dds"), (std::array<int, 4>{64, 128, 255, 102}));
+    EXPECT_EQ(firstTexel(dir.file("unity") + "/dds/unity_mask_map.dds"),
+              (std::array<int, 4>{64, 128, 255, 102}));
     // glTF's ORM: occlusion, roughness, metallic.
-    EXPECT_EQ(firstTexel(dir.file("gltf") + "/dds/gltf_occlusion_roughness_metallic.dds"), (std::array<int, 4>{128, 153, 64, 255}));
+    EXPECT_EQ(firstTexel(dir.file("gltf") + "/dds/gltf_occlusion_roughness_metallic.dds"),
+              (std::array<int, 4>{128, 153, 64, 255}));
     // Unreal flips green: its BC5 normal map differs from glTF's for normals tilted in y.
-    EXPECT_NE(slurp(dir.file("unreal") + "/dds/unreal_normal.dds"), slurp(dir.file("gltf") + "/dds/gltf_normal.dds"));
-    test::expectCliRefuses("bake " + test::shellArg(dir.file("n.png")) + " --engine cryengine -o " + test::shellArg(dir.file("x")),
+    EXPECT_NE(slurp(dir.file("unreal") + "/dds/unreal_normal.dds"),
+              slurp(dir.file("gltf") + "/dds/gltf_normal.dds"));
+    test::expectCliRefuses("bake " + test::shellArg(dir.file("n.png")) + " --engine cryengine -o " +
+                               test::shellArg(dir.file("x")),
                            {"--engine", "cryengine", "unity"});
-    test::expectCliRefuses("bake " + test::shellArg(dir.file("n.png")) + " --engine gltf --metallic-channel b -o " +
+    test::expectCliRefuses("bake " + test::shellArg(dir.file("n.png")) +
+                               " --engine gltf --metallic-channel b -o " +
                                test::shellArg(dir.file("x")),
                            {"--metallic-channel", "--roughness-map"});
 }
@@ -93,7 +105,8 @@ void saveColumns(const std::string& path, float x, float y, float z) {
     for (int row = 0; row < 8; ++row)
         for (int col = 0; col < 8; ++col) {
             float* p = normal.at(col, row);
-            p[0] = 0.5f * ((col % 2 ? -x : x) + 1.f), p[1] = 0.5f * (y + 1.f), p[2] = 0.5f * (z + 1.f);
+            p[0] = 0.5f * ((col % 2 ? -x : x) + 1.f), p[1] = 0.5f * (y + 1.f),
+            p[2] = 0.5f * (z + 1.f);
         }
     ASSERT_TRUE(savePng(path, normal, 16));
 }
@@ -110,11 +123,13 @@ TEST(EngineCli, GltfLayoutPackedMapHoldsThePerceptualRoughnessInG) {
         const std::string out = dir.file(engine);
         std::string output;
         ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --engine " + engine +
-                                   " --base-roughness 0.2 --export ktx2 -q -o " + test::shellArg(out),
+                                   " --base-roughness 0.2 --export ktx2 -q -o " +
+                                   test::shellArg(out),
                                &output),
                   0)
             << output;
-        const std::string file = slurp(out + "/ktx2/" + engine + "_occlusion_roughness_metallic.ktx2");
+        const std::string file =
+            slurp(out + "/ktx2/" + engine + "_occlusion_roughness_metallic.ktx2");
         ASSERT_GT(file.size(), 80u);
         EXPECT_EQ(u32(file, 12), 37u); // VK_FORMAT_R8G8B8A8_UNORM
         ASSERT_EQ(u32(file, 40), 4u);  // 8, 4, 2, 1
@@ -124,7 +139,8 @@ TEST(EngineCli, GltfLayoutPackedMapHoldsThePerceptualRoughnessInG) {
             ASSERT_EQ(level.size(), size_t(4 * (8 >> k) * (8 >> k)));
             for (size_t i = 0; i < level.size(); i += 4) {
                 EXPECT_EQ((unsigned char)level[i], 255) << engine << " level " << k;
-                EXPECT_NEAR((unsigned char)level[i + 1], 255.0 * std::sqrt(alpha), 0.6) << engine << " level " << k;
+                EXPECT_NEAR((unsigned char)level[i + 1], 255.0 * std::sqrt(alpha), 0.6)
+                    << engine << " level " << k;
                 EXPECT_EQ((unsigned char)level[i + 2], 0) << engine << " level " << k;
                 EXPECT_EQ((unsigned char)level[i + 3], 255) << engine << " level " << k;
             }
@@ -132,16 +148,18 @@ TEST(EngineCli, GltfLayoutPackedMapHoldsThePerceptualRoughnessInG) {
         const nlohmann::json about = aboutOf(file);
         ASSERT_TRUE(about.is_object()) << engine;
         EXPECT_EQ(about["content"], "material");
-        EXPECT_EQ(about["channels"], (nlohmann::json{{"r", "occlusion"}, {"g", "roughness: perceptual, sqrt(alpha)"},
-                                                     {"b", "metallic"}, {"a", "1"}}));
+        EXPECT_EQ(about["channels"], (nlohmann::json{{"r", "occlusion"},
+                                                     {"g", "roughness: perceptual, sqrt(alpha)"},
+                                                     {"b", "metallic"},
+                                                     {"a", "1"}}));
     }
 }
 
 // Runs the CLI with stdout and stderr kept apart; returns the status.
 int runApart(const test::TempDir& dir, const std::string& args, std::string* err) {
     const std::string errFile = dir.file("stderr.txt");
-    const int status = std::system((std::string("\"") + NDFMIP_CLI_PATH + "\" " + args + " > /dev/null 2> " +
-                                    test::shellArg(errFile))
+    const int status = std::system((std::string("\"") + NDFMIP_CLI_PATH + "\" " + args +
+                                    " > /dev/null 2> " + test::shellArg(errFile))
                                        .c_str());
     *err = slurp(errFile);
     return status;
@@ -156,13 +174,20 @@ TEST(EngineCli, EngineWithoutMaterialRoughnessWarns) {
     std::string err;
     ASSERT_EQ(runApart(dir, bake + test::shellArg(dir.file("a")), &err), 0) << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
-    for (const char* word : {"warning", "--engine three", "--base-roughness", "--roughness-map", "mirror"})
+    for (const char* word :
+         {"warning", "--engine three", "--base-roughness", "--roughness-map", "mirror"})
         EXPECT_NE(err.find(word), std::string::npos) << word << " in " << err;
-    ASSERT_EQ(runApart(dir, bake + test::shellArg(dir.file("b")) + " --base-roughness 0.3", &err), 0) << err;
+    ASSERT_EQ(runApart(dir, bake + test::shellArg(dir.file("b")) + " --base-roughness 0.3", &err),
+              0)
+        << err;
     EXPECT_EQ(err, "");
     ASSERT_EQ(runApart(dir, bake + test::shellArg(dir.file("c")) + " -q", &err), 0) << err;
     EXPECT_EQ(err, "");
-    ASSERT_EQ(runApart(dir, "bake " + test::shellArg(dir.file("n.png")) + " --export ktx2 -o " + test::shellArg(dir.file("d")), &err), 0)
+    ASSERT_EQ(runApart(dir,
+                       "bake " + test::shellArg(dir.file("n.png")) + " --export ktx2 -o " +
+                           test::shellArg(dir.file("d")),
+                       &err),
+              0)
         << err;
     EXPECT_EQ(err, "");
 }
@@ -170,31 +195,38 @@ TEST(EngineCli, EngineWithoutMaterialRoughnessWarns) {
 // The npm package ktx-parse's ES module, or "" where node or the package is missing.
 std::string ktxParseModule() {
     const char* modules = std::getenv("NDFMIP_NODE_MODULES");
-    const std::string path = modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules";
+    const std::string path =
+        modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules";
     if (!std::filesystem::exists("/usr/bin/node")) return "";
-    for (const char* candidate : {"/ktx-parse/dist/ktx-parse.modern.js", "/ktx-parse/dist/index.mjs"})
+    for (const char* candidate :
+         {"/ktx-parse/dist/ktx-parse.modern.js", "/ktx-parse/dist/index.mjs"})
         if (std::filesystem::exists(path + candidate)) return path + candidate;
     return "";
 }
 
 // The key/value data of a KTX2 file as ktx-parse reads it (values as text, trailing NUL dropped).
-nlohmann::json ktxParseKeys(const test::TempDir& dir, const std::string& module, const std::string& file) {
+nlohmann::json ktxParseKeys(const test::TempDir& dir, const std::string& module,
+                            const std::string& file) {
     const std::string script = dir.file("keys.mjs"), out = dir.file("keys.json");
     std::ofstream(script) << "import { read } from '" << module << "';\n"
                           << "import { readFileSync } from 'fs';\n"
                           << "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
                           << "const kv = {};\n"
                           << "for (const [k, v] of Object.entries(c.keyValue))\n"
-                          << "  kv[k] = typeof v === 'string' ? v : new TextDecoder().decode(v).replace(/\\0$/, '');\n"
+                          << "  kv[k] = typeof v === 'string' ? v : new "
+                             "TextDecoder().decode(v).replace(/\\0$/, '');\n"
                           << "console.log(JSON.stringify(kv));\n";
-    if (std::system(("node " + test::shellArg(script) + " " + test::shellArg(file) + " > " + test::shellArg(out) + " 2>&1").c_str()) != 0)
+    if (std::system(("node " + test::shellArg(script) + " " + test::shellArg(file) + " > " +
+                     test::shellArg(out) + " 2>&1")
+                        .c_str()) != 0)
         return "node failed: " + slurp(out);
     return nlohmann::json::parse(slurp(out), nullptr, false);
 }
 
 // --normal-format reaches the engine's normal map: its VkFormat, its texels (y flipped for
 // Unreal's -Y), its KTXswizzle, and an ndfmip key saying the green convention; the plain
-// normal file says the source's (+Y here). The roughness file says it is one channel of sqrt(alpha).
+// normal file says the source's (+Y here). The roughness file says it is one channel of
+// sqrt(alpha).
 TEST(EngineCli, EngineNormalMapTakesTheNormalFormatAndSaysItsConvention) {
     test::TempDir dir("ndfmip_engine_format");
     saveColumns(dir.file("n.png"), 0.f, 0.6f, 0.8f); // tilted in y: (0, 0.6, 0.8) everywhere
@@ -204,11 +236,14 @@ TEST(EngineCli, EngineNormalMapTakesTheNormalFormatAndSaysItsConvention) {
         uint32_t vkFormat;
         const char* swizzle;
     };
-    for (const Case& c : {Case{"bc5", 141, "rg01"}, Case{"rg16", 77, "rg01"}, Case{"rgba8", 37, "rgb1"}}) {
+    for (const Case& c :
+         {Case{"bc5", 141, "rg01"}, Case{"rg16", 77, "rg01"}, Case{"rgba8", 37, "rgb1"}}) {
         const std::string out = dir.file(c.format);
         std::string output;
-        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --engine unreal --normal-format " + c.format +
-                                   " --base-roughness 0.2 --export ktx2 -q -o " + test::shellArg(out),
+        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) +
+                                   " --engine unreal --normal-format " + c.format +
+                                   " --base-roughness 0.2 --export ktx2 -q -o " +
+                                   test::shellArg(out),
                                &output),
                   0)
             << output;
@@ -245,7 +280,8 @@ TEST(EngineCli, EngineNormalMapTakesTheNormalFormatAndSaysItsConvention) {
         EXPECT_EQ(rough["content"], "roughness");
         EXPECT_EQ(rough["encoding"], "sqrt(alpha)");
         EXPECT_EQ(rough["channels"].size(), 1u);
-        EXPECT_FALSE(readKtx2KeyValues(slurp(out + "/ktx2/roughness_bc4.ktx2"))->count("KTXswizzle"));
+        EXPECT_FALSE(
+            readKtx2KeyValues(slurp(out + "/ktx2/roughness_bc4.ktx2"))->count("KTXswizzle"));
         if (module.empty()) continue;
         // ktx-parse, a reader ndfmip did not write, reads the same keys.
         const nlohmann::json parsed = ktxParseKeys(dir, module, engineFile);
@@ -255,7 +291,8 @@ TEST(EngineCli, EngineNormalMapTakesTheNormalFormatAndSaysItsConvention) {
         EXPECT_EQ(parsed["KTXwriter"], kv->at("KTXwriter"));
         EXPECT_EQ(parsed["ndfmip"], kv->at("ndfmip"));
     }
-    if (module.empty()) GTEST_SKIP() << "node and the npm package ktx-parse not found: ndfmip's own reader only";
+    if (module.empty())
+        GTEST_SKIP() << "node and the npm package ktx-parse not found: ndfmip's own reader only";
 }
 
 } // namespace

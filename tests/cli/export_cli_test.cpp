@@ -1,12 +1,12 @@
 // bake --export ktx2,dds: the files every level in one container each, listed in the manifest,
 // the bake still read back; DDS headers as an independent reader (nvddsinfo) sees them.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <cmath>
-#include <algorithm>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -41,25 +41,32 @@ TEST(ExportCli, ToksvigWritesNormalRoughnessAndPlaneContainers) {
         ASSERT_TRUE(m["exports"].contains(container)) << m["exports"].dump();
         const auto names = m["exports"][container].get<std::vector<std::string>>();
         for (const char* stem : {"normal_bc5", "roughness_bc4", "mean"})
-            EXPECT_NE(std::find(names.begin(), names.end(), std::string(container) + "/" + stem + "." + container), names.end())
+            EXPECT_NE(std::find(names.begin(), names.end(),
+                                std::string(container) + "/" + stem + "." + container),
+                      names.end())
                 << stem;
-        for (const std::string& name : names) EXPECT_TRUE(std::filesystem::exists(out + "/" + name)) << name;
+        for (const std::string& name : names)
+            EXPECT_TRUE(std::filesystem::exists(out + "/" + name)) << name;
     }
     EXPECT_TRUE(m["exports"].contains("png16"));
     // The bake is still a bake: inspect reads it, and a rebake replaces it.
-    ASSERT_EQ(test::runCli("inspect " + test::shellArg(out) + " --level 3 --texel 1,1", &output), 0) << output;
-    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) +
-                               " --green-down --method vmf --lobes 2 --export ktx2 --export-textures planes -o " +
-                               test::shellArg(out),
-                           &output),
-              0)
+    ASSERT_EQ(test::runCli("inspect " + test::shellArg(out) + " --level 3 --texel 1,1", &output), 0)
+        << output;
+    ASSERT_EQ(
+        test::runCli(
+            "bake " + test::shellArg(kMap) +
+                " --green-down --method vmf --lobes 2 --export ktx2 --export-textures planes -o " +
+                test::shellArg(out),
+            &output),
+        0)
         << output;
     const auto names = manifestOf(out)["exports"]["ktx2"].get<std::vector<std::string>>();
     EXPECT_EQ(names, (std::vector<std::string>{"ktx2/lobe0.ktx2", "ktx2/lobe1.ktx2"}));
     EXPECT_FALSE(std::filesystem::exists(out + "/dds"));
     // A plane's KTX2 names the plane and its channels.
     std::ifstream in(out + "/ktx2/lobe1.ktx2", std::ios::binary);
-    Result<Ktx2KeyValues> kv = readKtx2KeyValues(std::string((std::istreambuf_iterator<char>(in)), {}));
+    Result<Ktx2KeyValues> kv =
+        readKtx2KeyValues(std::string((std::istreambuf_iterator<char>(in)), {}));
     ASSERT_TRUE(kv) << kv.error().message;
     const nlohmann::json about = nlohmann::json::parse(kv->at("ndfmip"));
     EXPECT_EQ(about["content"], "plane");
@@ -74,15 +81,20 @@ TEST(ExportCli, PlanesOnlyWhenAskedFor) {
     test::TempDir dir("ndfmip_export_planes");
     const std::string out = dir.file("wall.bake");
     std::string output;
-    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --export ktx2,dds -q -o " + test::shellArg(out), &output), 0)
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --export ktx2,dds -q -o " +
+                               test::shellArg(out),
+                           &output),
+              0)
         << output;
     std::vector<std::string> files;
     for (const auto& entry : std::filesystem::recursive_directory_iterator(out))
         if (entry.is_regular_file()) files.push_back(entry.path().lexically_relative(out).string());
     std::sort(files.begin(), files.end());
-    EXPECT_EQ(files, (std::vector<std::string>{"dds/normal_bc5.dds", "dds/roughness_bc4.dds", "ktx2/normal_bc5.ktx2",
-                                               "ktx2/roughness_bc4.ktx2", "manifest.json"}));
-    test::expectCliRefuses("bake " + test::shellArg(kMap) + " --method vmf --lobes 2 --export ktx2 -o " +
+    EXPECT_EQ(files, (std::vector<std::string>{"dds/normal_bc5.dds", "dds/roughness_bc4.dds",
+                                               "ktx2/normal_bc5.ktx2", "ktx2/roughness_bc4.ktx2",
+                                               "manifest.json"}));
+    test::expectCliRefuses("bake " + test::shellArg(kMap) +
+                               " --method vmf --lobes 2 --export ktx2 -o " +
                                test::shellArg(dir.file("v")),
                            {"--export ktx2", "planes", "--export-textures"});
     EXPECT_FALSE(std::filesystem::exists(dir.file("v")));
@@ -90,16 +102,22 @@ TEST(ExportCli, PlanesOnlyWhenAskedFor) {
 }
 
 TEST(ExportCli, DdsHeaderAsNvddsinfoReadsIt) {
-    if (!std::filesystem::exists("/usr/bin/nvddsinfo")) GTEST_SKIP() << "nvddsinfo (libnvtt-bin) not installed";
+    if (!std::filesystem::exists("/usr/bin/nvddsinfo"))
+        GTEST_SKIP() << "nvddsinfo (libnvtt-bin) not installed";
     test::TempDir dir("ndfmip_export_dds");
     const std::string out = dir.file("wall.bake");
     std::string output;
-    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --green-down --method toksvig --export dds -o " + test::shellArg(out),
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) +
+                               " --green-down --method toksvig --export dds -o " +
+                               test::shellArg(out),
                            &output),
               0)
         << output;
     const std::string info = dir.file("info.txt");
-    ASSERT_EQ(std::system(("nvddsinfo " + test::shellArg(out + "/dds/normal_bc5.dds") + " > " + test::shellArg(info)).c_str()), 0);
+    ASSERT_EQ(std::system(("nvddsinfo " + test::shellArg(out + "/dds/normal_bc5.dds") + " > " +
+                           test::shellArg(info))
+                              .c_str()),
+              0);
     std::ifstream in(info);
     const std::string text((std::istreambuf_iterator<char>(in)), {});
     EXPECT_NE(text.find("Width: 256"), std::string::npos) << text;
@@ -109,15 +127,21 @@ TEST(ExportCli, DdsHeaderAsNvddsinfoReadsIt) {
 
 TEST(ExportCli, UnknownExportsAndForeignPathsAreRefused) {
     test::TempDir dir("ndfmip_export_bad");
-    test::expectCliRefuses("bake " + test::shellArg(kMap) + " --export ktx3 -o " + test::shellArg(dir.file("x")),
+    test::expectCliRefuses("bake " + test::shellArg(kMap) + " --export ktx3 -o " +
+                               test::shellArg(dir.file("x")),
                            {"--export", "ktx3"});
     const std::string out = dir.file("wall.bake");
     std::string output;
-    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --export exr,ktx2 -o " + test::shellArg(out), &output), 0) << output;
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --export exr,ktx2 -o " +
+                               test::shellArg(out),
+                           &output),
+              0)
+        << output;
     nlohmann::json m = manifestOf(out);
     m["exports"]["ktx2"][0] = "../../etc/passwd";
     std::ofstream(out + "/manifest.json") << m.dump(2);
-    test::expectCliRefuses("inspect " + test::shellArg(out) + " --texel 0,0", {"exports.ktx2", "not ktx2/"});
+    test::expectCliRefuses("inspect " + test::shellArg(out) + " --texel 0,0",
+                           {"exports.ktx2", "not ktx2/"});
 }
 
 // --export lists exactly what is written: the roughness alone in one KTX2, no EXR planes; the
@@ -126,7 +150,8 @@ TEST(ExportCli, OnlyWhatIsAskedForIsWritten) {
     test::TempDir dir("ndfmip_export_only");
     const std::string out = dir.file("wall.bake");
     std::string output;
-    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --export ktx2 --export-textures roughness --zstd 3 -o " +
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) +
+                               " --export ktx2 --export-textures roughness --zstd 3 -o " +
                                test::shellArg(out),
                            &output),
               0)
@@ -139,20 +164,24 @@ TEST(ExportCli, OnlyWhatIsAskedForIsWritten) {
     const nlohmann::json m = manifestOf(out);
     EXPECT_EQ(m["storage"], "none");
     EXPECT_TRUE(m["levels"][0]["files"].empty());
-    test::expectCliRefuses("inspect " + test::shellArg(out) + " --texel 0,0", {"only exported textures", "exr"});
+    test::expectCliRefuses("inspect " + test::shellArg(out) + " --texel 0,0",
+                           {"only exported textures", "exr"});
     // Formats by name; the next bake replaces the folder.
-    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --export dds,ktx2 --export-textures normal,roughness "
-                                                            "--normal-format rg16 --roughness-format r16f -o " +
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) +
+                               " --export dds,ktx2 --export-textures normal,roughness "
+                               "--normal-format rg16 --roughness-format r16f -o " +
                                test::shellArg(out),
                            &output),
               0)
         << output;
     const auto names = manifestOf(out)["exports"]["dds"].get<std::vector<std::string>>();
     EXPECT_EQ(names, (std::vector<std::string>{"dds/normal_rg16.dds", "dds/roughness_r16f.dds"}));
-    test::expectCliRefuses("bake " + test::shellArg(kMap) + " --export ktx2 --export-textures albedo -o " +
+    test::expectCliRefuses("bake " + test::shellArg(kMap) +
+                               " --export ktx2 --export-textures albedo -o " +
                                test::shellArg(dir.file("y")),
                            {"--export-textures", "albedo"});
-    test::expectCliRefuses("bake " + test::shellArg(kMap) + " --export dds --zstd 3 -o " + test::shellArg(dir.file("y")),
+    test::expectCliRefuses("bake " + test::shellArg(kMap) + " --export dds --zstd 3 -o " +
+                               test::shellArg(dir.file("y")),
                            {"--zstd", "ktx2"});
     EXPECT_FALSE(std::filesystem::exists(dir.file("y")));
 }
@@ -168,7 +197,8 @@ double bestBc4SquaredError(const double values[16]) {
             double total = 0.0;
             for (int i = 0; i < 16 && total < best; ++i) {
                 double nearest = 1e30;
-                for (double p : palette) nearest = std::min(nearest, (values[i] - p) * (values[i] - p));
+                for (double p : palette)
+                    nearest = std::min(nearest, (values[i] - p) * (values[i] - p));
                 total += nearest;
             }
             best = std::min(best, total);
@@ -182,11 +212,13 @@ double bestBc4SquaredError(const double values[16]) {
 // blocks (this map's levels 3-5: the best any BC4 block can do is 43.2-43.4 dB) the bar is
 // that optimum, less 1.5 dB; everywhere at least 40 dB.
 TEST(ExportCli, DecodedBc4RoughnessMatchesTheFloatPlane) {
-    if (!std::filesystem::exists("/usr/bin/nvdecompress")) GTEST_SKIP() << "nvdecompress (libnvtt-bin) not installed";
+    if (!std::filesystem::exists("/usr/bin/nvdecompress"))
+        GTEST_SKIP() << "nvdecompress (libnvtt-bin) not installed";
     test::TempDir dir("ndfmip_export_rough");
     const std::string out = dir.file("wall.bake");
     std::string output;
-    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) + " --green-down --base-roughness 0.2 --export exr,dds -o " +
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(kMap) +
+                               " --green-down --base-roughness 0.2 --export exr,dds -o " +
                                test::shellArg(out),
                            &output),
               0)
@@ -206,21 +238,25 @@ TEST(ExportCli, DecodedBc4RoughnessMatchesTheFloatPlane) {
         at += bytes;
         const std::string level = dir.file("r" + std::to_string(k) + ".dds");
         std::ofstream(level, std::ios::binary) << ddsFileLegacy(one).value();
-        ASSERT_EQ(std::system(("cd " + test::shellArg(dir.path.string()) + " && nvdecompress " + test::shellArg(level) +
-                               " > /dev/null 2>&1")
+        ASSERT_EQ(std::system(("cd " + test::shellArg(dir.path.string()) + " && nvdecompress " +
+                               test::shellArg(level) + " > /dev/null 2>&1")
                                   .c_str()),
                   0);
         Result<SourceImage> decoded = loadImage(dir.file("r" + std::to_string(k) + ".tga"));
         ASSERT_TRUE(decoded) << decoded.error().message;
-        Result<SourceImage> plane = loadImage(out + "/" + m["levels"][k]["files"]["roughness_ggx"].get<std::string>());
+        Result<SourceImage> plane =
+            loadImage(out + "/" + m["levels"][k]["files"]["roughness_ggx"].get<std::string>());
         ASSERT_TRUE(plane) << plane.error().message;
         double squared = 0.0;
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                const double e = double(decoded->image.at(x, y)[0]) - std::sqrt(double(plane->image.at(x, y)[0]));
+                const double e = double(decoded->image.at(x, y)[0]) -
+                                 std::sqrt(double(plane->image.at(x, y)[0]));
                 squared += e * e;
             }
-        auto psnr = [&](double total) { return 10.0 * std::log10(1.0 / std::max(total / double(w * h), 1e-12)); };
+        auto psnr = [&](double total) {
+            return 10.0 * std::log10(1.0 / std::max(total / double(w * h), 1e-12));
+        };
         EXPECT_GE(psnr(squared), 40.0) << "level " << k;
         if (w % 4 == 0 && h % 4 == 0 && w <= 32 && h <= 32) {
             double optimum = 0.0;
@@ -228,11 +264,13 @@ TEST(ExportCli, DecodedBc4RoughnessMatchesTheFloatPlane) {
                 for (int bx = 0; bx < w; bx += 4) {
                     double values[16];
                     for (int i = 0; i < 16; ++i)
-                        values[i] = 255.0 * std::sqrt(double(plane->image.at(bx + i % 4, by + i / 4)[0]));
+                        values[i] =
+                            255.0 * std::sqrt(double(plane->image.at(bx + i % 4, by + i / 4)[0]));
                     optimum += bestBc4SquaredError(values);
                 }
             EXPECT_GE(psnr(squared), psnr(optimum) - 1.5) << "level " << k;
-            std::printf("level %zu (%dx%d): %.1f dB, best 8-level BC4 %.1f dB\n", k, w, h, psnr(squared), psnr(optimum));
+            std::printf("level %zu (%dx%d): %.1f dB, best 8-level BC4 %.1f dB\n", k, w, h,
+                        psnr(squared), psnr(optimum));
         } else {
             std::printf("level %zu (%dx%d): %.1f dB\n", k, w, h, psnr(squared));
         }

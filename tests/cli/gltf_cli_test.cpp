@@ -143,8 +143,9 @@ TEST(GltfCli, FilteredAssetKeepsEverythingElseAndMatchesBake) {
     Fixture f;
     const std::string out = f.dir.file("out.glb");
     std::string output;
-    ASSERT_EQ(
-        test::runCli("gltf " + test::shellArg(f.gltf) + " -o " + test::shellArg(out) + kDds, &output), 0)
+    ASSERT_EQ(test::runCli("gltf " + test::shellArg(f.gltf) + " -o " + test::shellArg(out) + kDds,
+                           &output),
+              0)
         << output;
     std::printf("%s", output.c_str());
     EXPECT_NE(output.find("Wall"), std::string::npos) << output;
@@ -283,9 +284,10 @@ TEST(GltfCli, GlbInputPassesTheKhronosValidator) {
         f.dir.path / "in.glb", f.asset, {{"image/png", f.normalPng}, {"image/png", f.materialPng}});
     const std::string out = f.dir.file("out.glb");
     std::string output;
-    ASSERT_EQ(test::runCli("gltf " + test::shellArg(input) + " -o " + test::shellArg(out) + " -q" + kDds,
-                           &output),
-              0)
+    ASSERT_EQ(
+        test::runCli("gltf " + test::shellArg(input) + " -o " + test::shellArg(out) + " -q" + kDds,
+                     &output),
+        0)
         << output;
     EXPECT_EQ(output, "");
     const test::Glb glb = test::parseGlb(test::fileBytes(out));

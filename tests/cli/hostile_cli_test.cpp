@@ -135,8 +135,10 @@ TEST_F(HostileCli, SpecialFilesAsInputsFailAtOnce) {
                                 : input == dir ? "is a directory"
                                                : "(a character device)";
         // A folder given to bake is a batch of its images, which needs an output pattern.
-        if (input == dir) expectCliRefuses(bakeArgs(input), {"{stem}"});
-        else expectCliRefuses(bakeArgs(input), {input, why});
+        if (input == dir)
+            expectCliRefuses(bakeArgs(input), {"{stem}"});
+        else
+            expectCliRefuses(bakeArgs(input), {input, why});
         expectCliRefuses(bakeArgs(map, "--gloss " + shellArg(input) + " --max-exponent 8"),
                          {input, why});
         expectCliRefuses("compare " + shellArg(map) + " " + shellArg(input), {input, why});
@@ -179,9 +181,9 @@ TEST_F(HostileCli, ShOrderTimesMapSizeIsCheckedBeforeBaking) {
     const std::string big = tmp.file("big.png");
     ASSERT_TRUE(savePng(big, flatMap(512, 512), 8));
     // l* = 30: 241 planes of 16 bytes per texel and level, about 1.3 GiB for 512x512.
-    expectCliRefuses(
-        bakeArgs(big, "--method sh --order 30 --max-memory 1"),
-        {big, "sh bake of order 30", "512x512", "GiB", "above the limit of 1.0 GiB", "--max-memory"});
+    expectCliRefuses(bakeArgs(big, "--method sh --order 30 --max-memory 1"),
+                     {big, "sh bake of order 30", "512x512", "GiB", "above the limit of 1.0 GiB",
+                      "--max-memory"});
     expectNothingWritten();
 }
 

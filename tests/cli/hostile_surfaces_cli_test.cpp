@@ -11,8 +11,8 @@
 #include <string>
 
 #include <stdlib.h>
-#include <sys/wait.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 
 #include <nlohmann/json.hpp>
 
@@ -55,7 +55,7 @@ std::string headerOnlyPng(uint32_t width, uint32_t height, size_t dataBytes) {
     be32(width);
     be32(height);
     png += std::string("\x08\x02\x00\x00\x00", 5); // 8 bits, RGB
-    be32(0);                                        // CRC (never reached)
+    be32(0);                                       // CRC (never reached)
     be32(uint32_t(dataBytes));
     png += "IDAT";
     png += std::string(dataBytes, '\x55');
@@ -71,8 +71,9 @@ class HostileSurfaces : public ::testing::Test {
     void SetUp() override { ASSERT_TRUE(savePng(map, flatMap(8, 8), 16)); }
 
     std::string envmapArgs(const std::string& input, const std::string& extra) const {
-        return "envmap " + shellArg(input) + " -q --samples 4 --dfg-size 8 --dfg-samples 4 --size 32 --levels 2 " +
-               extra + " -o " + shellArg(out.string());
+        return "envmap " + shellArg(input) +
+               " -q --samples 4 --dfg-size 8 --dfg-samples 4 --size 32 --levels 2 " + extra +
+               " -o " + shellArg(out.string());
     }
     std::string bakeArgs(const std::string& input, const std::string& extra = "") const {
         return "bake " + shellArg(input) + " -q " + extra + " -o " + shellArg(out.string());
@@ -138,17 +139,19 @@ TEST_F(HostileSurfaces, ControlCharactersInPathsAreRefused) {
 
 TEST_F(HostileSurfaces, ShardNumbersOutOfRangeOrEmptyAreRefused) {
     const std::string pattern = shellArg((tmp.path / "o" / "{stem}").string());
-    for (const std::string shard : {"1/99999999999", "", "0/4294967297", "-0x1/2", "+1/2", "1/2 ", " 1/2", "1/", "/2",
-                                    "2/2", "0/0"}) {
+    for (const std::string shard : {"1/99999999999", "", "0/4294967297", "-0x1/2", "+1/2", "1/2 ",
+                                    " 1/2", "1/", "/2", "2/2", "0/0"}) {
         SCOPED_TRACE(shard);
-        expectCliRefuses("bake " + shellArg(map) + " -q --shard " + shellArg(shard) + " -o " + pattern,
+        expectCliRefuses("bake " + shellArg(map) + " -q --shard " + shellArg(shard) + " -o " +
+                             pattern,
                          {"--shard '" + shard + "'", "expected I/N"});
     }
     EXPECT_FALSE(fs::exists(tmp.path / "o"));
     // Indices from an indexed job's environment, parsed whole: INT64_MIN, past INT64_MAX, trailing
     // bytes, exponents and spaces are all refused by name.
     for (const char* variable : {"SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"})
-        for (const std::string value : {"-9223372036854775808", "9223372036854775808", "12abc", "1e3", " 1", "+1"}) {
+        for (const std::string value :
+             {"-9223372036854775808", "9223372036854775808", "12abc", "1e3", " 1", "+1"}) {
             SCOPED_TRACE(std::string(variable) + "=" + value);
             ::setenv(variable, value.c_str(), 1);
             expectCliRefuses("bake " + shellArg(map) + " -q --shards 4 -o " + pattern,
@@ -158,20 +161,23 @@ TEST_F(HostileSurfaces, ShardNumbersOutOfRangeOrEmptyAreRefused) {
     // SLURM_ARRAY_TASK_MIN cannot make the difference overflow either.
     ::setenv("SLURM_ARRAY_TASK_ID", "2147483647", 1);
     ::setenv("SLURM_ARRAY_TASK_MIN", "-2147483648", 1);
-    expectCliRefuses("bake " + shellArg(map) + " -q --shards 4 -o " + pattern, {"shard index 4294967295"});
+    expectCliRefuses("bake " + shellArg(map) + " -q --shards 4 -o " + pattern,
+                     {"shard index 4294967295"});
     ::unsetenv("SLURM_ARRAY_TASK_ID");
     ::unsetenv("SLURM_ARRAY_TASK_MIN");
     EXPECT_FALSE(fs::exists(tmp.path / "o"));
     // A good one still bakes: shard 0 of 1 holds every map.
     std::string output;
-    ASSERT_EQ(runCli("bake " + shellArg(map) + " -q --shard 0/1 -o " + pattern, &output), 0) << output;
+    ASSERT_EQ(runCli("bake " + shellArg(map) + " -q --shard 0/1 -o " + pattern, &output), 0)
+        << output;
     EXPECT_TRUE(fs::exists(tmp.path / "o" / "map" / "manifest.json"));
 }
 
 // ---- the cache skip checks the files, not only the manifest ----------------------------------
 
 TEST_F(HostileSurfaces, AnUpToDateBakeWithAMissingOrEmptyFileIsBakedAgain) {
-    const std::string args = "bake " + shellArg(map) + " --export exr,png16 -o " + shellArg(out.string());
+    const std::string args =
+        "bake " + shellArg(map) + " --export exr,png16 -o " + shellArg(out.string());
     std::string output;
     ASSERT_EQ(runCli(args, &output), 0) << output;
     ASSERT_EQ(runCli(args, &output), 0) << output;
@@ -204,7 +210,8 @@ TEST_F(HostileSurfaces, AnUpToDateBakeWithAMissingOrEmptyFileIsBakedAgain) {
 TEST_F(HostileSurfaces, AnOutputThatIsALinkIsRefusedAndKept) {
     const fs::path real = tmp.path / "real.bake";
     std::string output;
-    ASSERT_EQ(runCli("bake " + shellArg(map) + " -q -o " + shellArg(real.string()), &output), 0) << output;
+    ASSERT_EQ(runCli("bake " + shellArg(map) + " -q -o " + shellArg(real.string()), &output), 0)
+        << output;
     const auto earlier = snapshot(real);
     fs::create_directory_symlink("real.bake", out);
     expectCliRefuses(bakeArgs(map, "--method naive"), {out.string(), "symbolic link", "real.bake"});
@@ -229,7 +236,8 @@ TEST_F(HostileSurfaces, MapNamesWhoseStemIsADotFolderAreRefused) {
         SCOPED_TRACE(name);
         const fs::path odd = tmp.path / "maps" / name;
         fs::copy_file(map, odd);
-        expectCliRefuses("bake " + shellArg(odd.string()) + " -q -o " + shellArg((outs / "{stem}").string()),
+        expectCliRefuses("bake " + shellArg(odd.string()) + " -q -o " +
+                             shellArg((outs / "{stem}").string()),
                          {name, "{stem}", "names a folder"});
         fs::remove(odd);
     }
@@ -257,7 +265,8 @@ TEST_F(HostileSurfaces, ARenderThatCannotWriteItsPngKeepsTheEarlierExr) {
     const std::string scene = tmp.file("scene.json");
     writeBytes(scene, planeScene("map.png").dump());
     const std::string exr = tmp.file("r.exr");
-    const std::string render = "render " + shellArg(scene) + " -q --method groundtruth --spp 1 -o " + shellArg(exr);
+    const std::string render =
+        "render " + shellArg(scene) + " -q --method groundtruth --spp 1 -o " + shellArg(exr);
     std::string output;
     ASSERT_EQ(runCli(render, &output), 0) << output;
     struct stat before {};
@@ -294,9 +303,11 @@ TEST_F(HostileSurfaces, AnImageAGltfNamesSaysWhyItCannotBeRead) {
     // Read, but not decodable: the decoder's reason, not a bare "cannot read".
     const fs::path folder = tmp.path / "asset";
     fs::create_directories(folder);
-    const std::string gltf = writeGltf(folder, quadAsset(), {{"empty.png", ""}, {"orm.png", "GIF89a"}});
+    const std::string gltf =
+        writeGltf(folder, quadAsset(), {{"empty.png", ""}, {"orm.png", "GIF89a"}});
     const std::string glb = tmp.file("out.glb");
-    expectCliRefuses("gltf " + shellArg(gltf) + " -q -o " + shellArg(glb), {"empty.png", "file is empty"});
+    expectCliRefuses("gltf " + shellArg(gltf) + " -q -o " + shellArg(glb),
+                     {"empty.png", "file is empty"});
     EXPECT_FALSE(fs::exists(glb));
 }
 
@@ -313,18 +324,26 @@ TEST_F(HostileSurfaces, EveryCommandRefusesFromTheHeaderWhatMaxMemoryCannotHold)
     const std::string big = tmp.file("big.png");
     writeBytes(big, headerOnlyPng(2048, 1024, 16384)); // 6.3 MB of rows: deflate holds it in 6 KB
     const std::string limit = "--max-memory 0.01 ";
-    expectCliRefuses(limit + bakeArgs(big), {big, "a toksvig bake of a 2048x1024 map needs about", "--max-memory"});
-    expectCliRefuses(limit + envmapArgs(big, ""), {big, "prefiltering of a 2048x1024 map needs about", "--max-memory"});
+    expectCliRefuses(limit + bakeArgs(big),
+                     {big, "a toksvig bake of a 2048x1024 map needs about", "--max-memory"});
+    expectCliRefuses(limit + envmapArgs(big, ""),
+                     {big, "prefiltering of a 2048x1024 map needs about", "--max-memory"});
     expectCliRefuses(limit + "eval " + shellArg(big) + " -q -o " + shellArg(tmp.file("report")),
                      {big, "the evaluation of a 2048x1024 map needs about", "--max-memory"});
     const json scene = {{"camera",
-                         {{"type", "orthographic"}, {"eye", {0, 0, 1}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}},
-                          {"ortho_height", 2}, {"width", 4}, {"height", 4}}},
+                         {{"type", "orthographic"},
+                          {"eye", {0, 0, 1}},
+                          {"target", {0, 0, 0}},
+                          {"up", {0, 1, 0}},
+                          {"ortho_height", 2},
+                          {"width", 4},
+                          {"height", 4}}},
                         {"object", {{"type", "plane"}}},
                         {"lights", {{{"type", "directional"}, {"direction", {0, 0, 1}}}}},
                         {"normal_map", "big.png"}};
     writeBytes(tmp.path / "scene.json", scene.dump());
-    expectCliRefuses(limit + "render " + shellArg(tmp.file("scene.json")) + " -o " + shellArg(tmp.file("o.exr")),
+    expectCliRefuses(limit + "render " + shellArg(tmp.file("scene.json")) + " -o " +
+                         shellArg(tmp.file("o.exr")),
                      {"big.png", "needs about", "--max-memory"});
     EXPECT_FALSE(fs::exists(out));
     EXPECT_FALSE(fs::exists(tmp.file("o.exr")));
@@ -348,25 +367,29 @@ TEST_F(HostileSurfaces, RunningOutOfMemoryIsALineNamingTheFile) {
     // The CLI under 1 GiB of address space, which its own mappings fit in (--version runs), with
     // few threads and malloc arenas (each reserves address space, more with more cores).
     auto limited = [](const std::string& args, std::string* output) {
-        const std::string command = std::string("ulimit -v 1048576; OMP_NUM_THREADS=2 MALLOC_ARENA_MAX=2 exec \"") +
-                                    NDFMIP_CLI_PATH + "\" " + args + " 2>&1";
+        const std::string command =
+            std::string("ulimit -v 1048576; OMP_NUM_THREADS=2 MALLOC_ARENA_MAX=2 exec \"") +
+            NDFMIP_CLI_PATH + "\" " + args + " 2>&1";
         FILE* pipe = popen(command.c_str(), "r");
         if (!pipe) return -1;
         output->clear();
         char buffer[4096];
-        for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) output->append(buffer, n);
+        for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;)
+            output->append(buffer, n);
         const int status = pclose(pipe);
         return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     };
     std::string output;
     ASSERT_EQ(limited("--version", &output), 0) << output;
     const std::string sh = " -q --method sh --order 8 ";
-    expectOneLineError(limited("--max-memory 1000 bake " + shellArg(big) + sh + "-o " + shellArg(out.string()), &output),
-                       output, {big, "out of memory"});
+    expectOneLineError(
+        limited("--max-memory 1000 bake " + shellArg(big) + sh + "-o " + shellArg(out.string()),
+                &output),
+        output, {big, "out of memory"});
     EXPECT_FALSE(fs::exists(out));
     // In a batch, the map's --json line says the same, and the batch fails.
-    const int batch = limited("--max-memory 1000 bake " + shellArg(big) + " " + shellArg(map) + sh + "--json -o " +
-                                  shellArg((tmp.path / "batch" / "{stem}").string()),
+    const int batch = limited("--max-memory 1000 bake " + shellArg(big) + " " + shellArg(map) + sh +
+                                  "--json -o " + shellArg((tmp.path / "batch" / "{stem}").string()),
                               &output);
     EXPECT_NE(batch, 0) << output;
     EXPECT_NE(output.find("\"error\":\"" + big + ": out of memory"), std::string::npos) << output;

@@ -30,7 +30,7 @@ using test::OrderedJson;
 
 const std::string kMap = std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png";
 
-#define SKIP_WITHOUT_ENCODER()                                                                   \
+#define SKIP_WITHOUT_ENCODER()                                                                     \
     if (!basisuEncoder()) GTEST_SKIP() << basisuEncoder().error().message
 
 // Sets an environment variable for one test, restoring it after.
@@ -43,8 +43,10 @@ struct ScopedEnv {
         setenv(n.c_str(), value.c_str(), 1);
     }
     ~ScopedEnv() {
-        if (had) setenv(name.c_str(), old.c_str(), 1);
-        else unsetenv(name.c_str());
+        if (had)
+            setenv(name.c_str(), old.c_str(), 1);
+        else
+            unsetenv(name.c_str());
     }
 };
 
@@ -78,14 +80,18 @@ std::vector<const Image*> pointers(const std::vector<Image>& levels) {
     return out;
 }
 
-uint64_t uastcBytes(int w, int h) { return uint64_t((w + 3) / 4) * uint64_t((h + 3) / 4) * 16; }
+uint64_t uastcBytes(int w, int h) {
+    return uint64_t((w + 3) / 4) * uint64_t((h + 3) / 4) * 16;
+}
 
 // The npm package ktx-parse's ES module, or "" where node or the package is missing.
 std::string ktxParseModule() {
     const char* modules = std::getenv("NDFMIP_NODE_MODULES");
-    const std::string path = modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules";
+    const std::string path =
+        modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules";
     if (!fs::exists("/usr/bin/node")) return "";
-    for (const char* candidate : {"/ktx-parse/dist/ktx-parse.modern.js", "/ktx-parse/dist/index.mjs"})
+    for (const char* candidate :
+         {"/ktx-parse/dist/ktx-parse.modern.js", "/ktx-parse/dist/index.mjs"})
         if (fs::exists(path + candidate)) return path + candidate;
     return "";
 }
@@ -93,31 +99,38 @@ std::string ktxParseModule() {
 // What ktx-parse reads of a KTX2 file: format, size, levels, scheme, colour model, transfer.
 std::string ktxParse(const test::TempDir& dir, const std::string& module, const std::string& file) {
     const std::string script = dir.file("read.mjs"), out = dir.file("ktx_parse.json");
-    test::writeBytes(script, "import { read } from '" + module +
-                                 "';\nimport { readFileSync } from 'fs';\n"
-                                 "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
-                                 "const d = c.dataFormatDescriptor[0];\n"
-                                 "console.log(JSON.stringify({format: c.vkFormat, w: c.pixelWidth, h: c.pixelHeight, "
-                                 "levels: c.levels.map(l => l.uncompressedByteLength), scheme: c.supercompressionScheme, "
-                                 "model: d.colorModel, transfer: d.transferFunction, writer: c.keyValue.KTXwriter}));\n");
-    const int status = std::system(("node " + test::shellArg(script) + " " + test::shellArg(file) + " > " +
-                                    test::shellArg(out) + " 2>&1")
+    test::writeBytes(
+        script,
+        "import { read } from '" + module +
+            "';\nimport { readFileSync } from 'fs';\n"
+            "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
+            "const d = c.dataFormatDescriptor[0];\n"
+            "console.log(JSON.stringify({format: c.vkFormat, w: c.pixelWidth, h: c.pixelHeight, "
+            "levels: c.levels.map(l => l.uncompressedByteLength), scheme: "
+            "c.supercompressionScheme, "
+            "model: d.colorModel, transfer: d.transferFunction, writer: "
+            "c.keyValue.KTXwriter}));\n");
+    const int status = std::system(("node " + test::shellArg(script) + " " + test::shellArg(file) +
+                                    " > " + test::shellArg(out) + " 2>&1")
                                        .c_str());
     return status == 0 ? test::fileBytes(out) : "node failed: " + test::fileBytes(out);
 }
 
 // The encoder's transcoder (basisu -unpack) decodes every level of `file` to PNGs (via BC7,
 // which UASTC transcodes to nearly losslessly); each is compared with the level it was made of.
-void expectLevelsDecodeBack(const test::TempDir& dir, const std::string& file, const std::vector<Image>& levels) {
+void expectLevelsDecodeBack(const test::TempDir& dir, const std::string& file,
+                            const std::vector<Image>& levels) {
     const std::string encoder = basisuEncoder().value();
     const fs::path unpacked = dir.path / "unpacked";
     fs::create_directories(unpacked);
-    const std::string command = "cd " + test::shellArg(unpacked.string()) + " && " + test::shellArg(encoder) +
-                                " -unpack -no_ktx -file " + test::shellArg(file) + " > unpack.log 2>&1";
+    const std::string command = "cd " + test::shellArg(unpacked.string()) + " && " +
+                                test::shellArg(encoder) + " -unpack -no_ktx -file " +
+                                test::shellArg(file) + " > unpack.log 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0) << test::fileBytes(unpacked / "unpack.log");
     const std::string stem = fs::path(file).stem().string();
     for (size_t k = 0; k < levels.size(); ++k) {
-        const fs::path png = unpacked / (stem + "_unpacked_rgb_BC7_RGBA_" + std::to_string(k) + "_0_0000.png");
+        const fs::path png =
+            unpacked / (stem + "_unpacked_rgb_BC7_RGBA_" + std::to_string(k) + "_0_0000.png");
         Result<SourceImage> decoded = loadImage(png.string());
         ASSERT_TRUE(decoded) << decoded.error().message;
         const Image& d = decoded->image;
@@ -127,7 +140,8 @@ void expectLevelsDecodeBack(const test::TempDir& dir, const std::string& file, c
         double error = 0.0;
         for (int y = 0; y < l.height; ++y)
             for (int x = 0; x < l.width; ++x)
-                for (int c = 0; c < 3; ++c) error += std::abs(double(d.at(x, y)[c]) - double(l.at(x, y)[c]));
+                for (int c = 0; c < 3; ++c)
+                    error += std::abs(double(d.at(x, y)[c]) - double(l.at(x, y)[c]));
         error /= 3.0 * double(l.texelCount());
         EXPECT_LE(error, 3.0 / 255.0) << "level " << k << " (" << l.width << "x" << l.height << ")";
     }
@@ -142,7 +156,8 @@ TEST(Ktx2Uastc, EveryLevelIsNdfmipsReadBackAndDecoded) {
     ASSERT_TRUE(t) << t.error().message;
     ASSERT_EQ(t->levels.size(), levels.size());
     for (size_t k = 0; k < levels.size(); ++k)
-        EXPECT_EQ(t->levels[k].size(), uastcBytes(levels[k].width, levels[k].height)) << "level " << k;
+        EXPECT_EQ(t->levels[k].size(), uastcBytes(levels[k].width, levels[k].height))
+            << "level " << k;
     Result<std::string> bytes = ktx2File(t.value(), 6, {{"ndfmip", "{\"content\":\"test\"}"}});
     ASSERT_TRUE(bytes) << bytes.error().message;
     const std::string file = dir.file("pattern.ktx2");
@@ -179,8 +194,10 @@ TEST(Ktx2Uastc, EveryLevelIsNdfmipsReadBackAndDecoded) {
         const std::string json = ktxParse(dir, module, file);
         std::string lengths;
         for (size_t k = 0; k < levels.size(); ++k)
-            lengths += (k ? "," : "") + std::to_string(uastcBytes(levels[k].width, levels[k].height));
-        EXPECT_NE(json.find("\"format\":0,\"w\":70,\"h\":36,\"levels\":[" + lengths + "],\"scheme\":2,\"model\":166,"
+            lengths +=
+                (k ? "," : "") + std::to_string(uastcBytes(levels[k].width, levels[k].height));
+        EXPECT_NE(json.find("\"format\":0,\"w\":70,\"h\":36,\"levels\":[" + lengths +
+                            "],\"scheme\":2,\"model\":166,"
                             "\"transfer\":1"),
                   std::string::npos)
             << json;
@@ -195,26 +212,29 @@ TEST(Ktx2Uastc, MissingOrFailingEncoderIsOneLine) {
         const ScopedEnv env("NDFMIP_BASISU", "/nonexistent/basisu");
         Result<EncodedTexture> t = encodeTexture(pointers(levels), TextureFormat::Uastc);
         ASSERT_FALSE(t);
-        EXPECT_NE(t.error().message.find("NDFMIP_BASISU=/nonexistent/basisu"), std::string::npos) << t.error().message;
+        EXPECT_NE(t.error().message.find("NDFMIP_BASISU=/nonexistent/basisu"), std::string::npos)
+            << t.error().message;
         EXPECT_EQ(t.error().message.find('\n'), std::string::npos);
     }
     {
         const ScopedEnv env("NDFMIP_BASISU", "/bin/false");
         Result<EncodedTexture> t = encodeTexture(pointers(levels), TextureFormat::Uastc);
         ASSERT_FALSE(t);
-        EXPECT_NE(t.error().message.find("/bin/false failed on the 8x8 level (exit 1)"), std::string::npos)
+        EXPECT_NE(t.error().message.find("/bin/false failed on the 8x8 level (exit 1)"),
+                  std::string::npos)
             << t.error().message;
     }
     // Through the CLI: one line, non-zero, no bake folder.
     test::TempDir dir("uastc_missing");
     const std::string out = dir.file("wall.bake");
     const ScopedEnv env("NDFMIP_BASISU", "/nonexistent/basisu");
-    test::expectCliRefuses("bake " + test::shellArg(kMap) + " --export ktx2 --normal-format uastc -q -o " +
-                               test::shellArg(out),
+    test::expectCliRefuses("bake " + test::shellArg(kMap) +
+                               " --export ktx2 --normal-format uastc -q -o " + test::shellArg(out),
                            {"NDFMIP_BASISU", "Basis Universal encoder"});
     EXPECT_FALSE(fs::exists(out));
     // DDS holds no UASTC.
-    test::expectCliRefuses("bake " + test::shellArg(kMap) + " --export dds --roughness-format uastc -q -o " +
+    test::expectCliRefuses("bake " + test::shellArg(kMap) +
+                               " --export dds --roughness-format uastc -q -o " +
                                test::shellArg(out),
                            {"--roughness-format uastc is a KTX2 format"});
 }
@@ -240,7 +260,8 @@ TEST(Ktx2Uastc, BakeWritesUastcNormalAndRoughness) {
         EXPECT_EQ(t->format, TextureFormat::Uastc);
         ASSERT_EQ(int(t->levels.size()), levelCount(256, 256)) << name;
         for (size_t k = 0; k < t->levels.size(); ++k)
-            EXPECT_EQ(t->levels[k].size(), uastcBytes(256 >> k, 256 >> k)) << name << " level " << k;
+            EXPECT_EQ(t->levels[k].size(), uastcBytes(256 >> k, 256 >> k))
+                << name << " level " << k;
         EXPECT_EQ(u32(bytes, 44), 2u) << name << ": Zstandard";
         Result<Ktx2KeyValues> keys = readKtx2KeyValues(bytes);
         ASSERT_TRUE(keys);
@@ -253,17 +274,20 @@ TEST(Ktx2Uastc, BakeWritesUastcNormalAndRoughness) {
 std::string validatorReport(const test::TempDir& dir, const std::string& glb) {
     const char* modules = std::getenv("NDFMIP_NODE_MODULES");
     const std::string path =
-        (modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules") + "/gltf-validator";
+        (modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules") +
+        "/gltf-validator";
     if (!fs::exists("/usr/bin/node") || !fs::exists(path + "/index.js")) return "";
     const std::string script = dir.file("validate.js"), out = dir.file("validator.json");
-    test::writeBytes(script,
-                     "const v = require(process.argv[2]);\n"
-                     "const bytes = new Uint8Array(require('fs').readFileSync(process.argv[3]));\n"
-                     "v.validateBytes(bytes, {maxIssues: 0}).then(r => console.log(JSON.stringify({errors: "
-                     "r.issues.numErrors, codes: r.issues.messages.map(m => m.code + ' ' + (m.pointer || ''))})))\n"
-                     "  .catch(e => { console.log(JSON.stringify({failed: String(e)})); process.exit(1); });\n");
-    EXPECT_EQ(std::system(("node " + test::shellArg(script) + " " + test::shellArg(path) + " " + test::shellArg(glb) +
-                           " > " + test::shellArg(out) + " 2>&1")
+    test::writeBytes(
+        script,
+        "const v = require(process.argv[2]);\n"
+        "const bytes = new Uint8Array(require('fs').readFileSync(process.argv[3]));\n"
+        "v.validateBytes(bytes, {maxIssues: 0}).then(r => console.log(JSON.stringify({errors: "
+        "r.issues.numErrors, codes: r.issues.messages.map(m => m.code + ' ' + (m.pointer || "
+        "''))})))\n"
+        "  .catch(e => { console.log(JSON.stringify({failed: String(e)})); process.exit(1); });\n");
+    EXPECT_EQ(std::system(("node " + test::shellArg(script) + " " + test::shellArg(path) + " " +
+                           test::shellArg(glb) + " > " + test::shellArg(out) + " 2>&1")
                               .c_str()),
               0)
         << test::fileBytes(out);
@@ -279,15 +303,19 @@ std::string quadGltf(const test::TempDir& dir) {
             float* p = orm.at(x, y);
             p[0] = 1.f, p[1] = 0.2f + 0.6f * float(x) / 255.f, p[2] = float((x / 32 + y / 32) % 2);
         }
-    return test::writeGltf(dir.path, test::quadAsset(), {{"normal.png", normal}, {"orm.png", encodePng(orm, 8).value()}});
+    return test::writeGltf(dir.path, test::quadAsset(),
+                           {{"normal.png", normal}, {"orm.png", encodePng(orm, 8).value()}});
 }
 
 TEST(GltfBasisu, DefaultWritesKhrTextureBasisuWithNdfmipsLevels) {
     SKIP_WITHOUT_ENCODER();
     test::TempDir dir("gltf_basisu");
-    const std::string input = quadGltf(dir), out = dir.file("out.glb"), again = dir.file("again.glb");
+    const std::string input = quadGltf(dir), out = dir.file("out.glb"),
+                      again = dir.file("again.glb");
     std::string output;
-    ASSERT_EQ(test::runCli("gltf " + test::shellArg(input) + " -o " + test::shellArg(out) + " -q", &output), 0)
+    ASSERT_EQ(test::runCli("gltf " + test::shellArg(input) + " -o " + test::shellArg(out) + " -q",
+                           &output),
+              0)
         << output;
     const test::Glb glb = test::parseGlb(test::fileBytes(out));
     ASSERT_TRUE(glb.ok);
@@ -315,20 +343,25 @@ TEST(GltfBasisu, DefaultWritesKhrTextureBasisuWithNdfmipsLevels) {
         EXPECT_EQ(OrderedJson::parse(report)["errors"], 0) << report;
     }
     // A rerun on its own output replaces its own images: the same size, within 1 %.
-    ASSERT_EQ(test::runCli("gltf " + test::shellArg(out) + " -o " + test::shellArg(again), &output), 0) << output;
-    EXPECT_NE(output.find("images of an earlier ndfmip gltf replaced"), std::string::npos) << output;
+    ASSERT_EQ(test::runCli("gltf " + test::shellArg(out) + " -o " + test::shellArg(again), &output),
+              0)
+        << output;
+    EXPECT_NE(output.find("images of an earlier ndfmip gltf replaced"), std::string::npos)
+        << output;
     const std::string a = test::fileBytes(out), b = test::fileBytes(again);
     EXPECT_LE(std::abs(double(b.size()) - double(a.size())), 0.01 * double(a.size()));
     EXPECT_EQ(test::parseGlb(b).json["images"].size(), glb.json["images"].size());
     // Rerun as DDS: the KHR_texture_basisu images and the extension's name go.
     const std::string dds = dir.file("dds.glb");
-    ASSERT_EQ(test::runCli("gltf " + test::shellArg(out) + " -o " + test::shellArg(dds) + " -q --texture-format dds",
+    ASSERT_EQ(test::runCli("gltf " + test::shellArg(out) + " -o " + test::shellArg(dds) +
+                               " -q --texture-format dds",
                            &output),
               0)
         << output;
     const test::Glb d = test::parseGlb(test::fileBytes(dds));
     ASSERT_TRUE(d.ok);
-    EXPECT_EQ(d.json["extensionsUsed"].dump().find("KHR_texture_basisu"), std::string::npos) << d.json.dump();
+    EXPECT_EQ(d.json["extensionsUsed"].dump().find("KHR_texture_basisu"), std::string::npos)
+        << d.json.dump();
     EXPECT_TRUE(d.json["textures"][0]["extensions"].contains("MSFT_texture_dds"));
     EXPECT_FALSE(d.json["textures"][0]["extensions"].contains("KHR_texture_basisu"));
 }
@@ -345,7 +378,8 @@ TEST(GltfBasisu, ForeignBasisuTextureAndMissingEncoderAreOneLine) {
     // The normal texture already carries a KTX2 of the asset's own.
     OrderedJson gltf = OrderedJson::parse(test::fileBytes(input));
     gltf["images"].push_back({{"uri", "normal.png"}, {"mimeType", "image/png"}});
-    gltf["textures"][0]["extensions"]["KHR_texture_basisu"] = {{"source", gltf["images"].size() - 1}};
+    gltf["textures"][0]["extensions"]["KHR_texture_basisu"] = {
+        {"source", gltf["images"].size() - 1}};
     gltf["extensionsUsed"] = {"KHR_texture_basisu"};
     const std::string foreign = dir.file("foreign.gltf");
     test::writeBytes(foreign, gltf.dump());

@@ -9,10 +9,14 @@ namespace ndfmip {
 namespace {
 
 TEST(PixelMemory, FreeHugePageBytesCountsOrdersNineAndUp) {
-    // Orders 0..10 per zone; order k holds 2^k pages of 4 KiB, so order 9 is 2 MiB and order 10 is 4 MiB.
-    const char* text = "Node 0, zone      DMA      0      0      0      0      0      0      0      0      1      1      3 \n"
-                       "Node 0, zone    DMA32      4      1      2      2      2      2      1      4      4      2    752 \n"
-                       "Node 0, zone   Normal  14712  19432  14333   9116   5409   3550   1979    929    468    234    242 \n";
+    // Orders 0..10 per zone; order k holds 2^k pages of 4 KiB, so order 9 is 2 MiB and order 10 is
+    // 4 MiB.
+    const char* text = "Node 0, zone      DMA      0      0      0      0      0      0      0     "
+                       " 0      1      1      3 \n"
+                       "Node 0, zone    DMA32      4      1      2      2      2      2      1     "
+                       " 4      4      2    752 \n"
+                       "Node 0, zone   Normal  14712  19432  14333   9116   5409   3550   1979    "
+                       "929    468    234    242 \n";
     const size_t mib = size_t(1) << 20;
     EXPECT_EQ(freeHugePageBytes(text), (1 + 2 + 234) * 2 * mib + (3 + 752 + 242) * 4 * mib);
     EXPECT_EQ(freeHugePageBytes(""), 0u);

@@ -43,7 +43,8 @@ void expectMeansMatchBruteForce(const Image& map) {
                 bruteForceMean(map, footprint(pyramid, k, x, y), expected);
                 for (int c = 0; c < 3; ++c)
                     ASSERT_NEAR(mean.at(x, y)[c], expected[c], 2e-6)
-                        << map.width << "x" << map.height << " level " << k << " texel " << x << "," << y;
+                        << map.width << "x" << map.height << " level " << k << " texel " << x << ","
+                        << y;
             }
     }
 }

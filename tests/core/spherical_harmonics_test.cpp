@@ -42,7 +42,8 @@ TEST(SphericalHarmonics, OrthonormalByExactQuadrature) {
         double r = std::sqrt(1 - zs[i] * zs[i]);
         for (int j = 0; j < phis; ++j) {
             double phi = 2 * M_PI * j / phis;
-            std::vector<double> y = evaluateSh({r * std::cos(phi), r * std::sin(phi), zs[i]}, order);
+            std::vector<double> y =
+                evaluateSh({r * std::cos(phi), r * std::sin(phi), zs[i]}, order);
             double weight = ws[i] * 2 * M_PI / phis;
             for (int a = 0; a < n; ++a)
                 for (int b = a; b < n; ++b) gram[size_t(a) * n + b] += weight * y[a] * y[b];
@@ -60,12 +61,15 @@ TEST(SphericalHarmonics, ClosedFormsUpToBandTwo) {
         glm::dvec3 d = glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
         std::vector<double> y = evaluateSh(d, 2);
         const double x = d.x, yy = d.y, z = d.z;
-        const double expected[9] = {
-            0.5 * std::sqrt(1 / M_PI),
-            std::sqrt(3 / (4 * M_PI)) * yy, std::sqrt(3 / (4 * M_PI)) * z, std::sqrt(3 / (4 * M_PI)) * x,
-            0.5 * std::sqrt(15 / M_PI) * x * yy, 0.5 * std::sqrt(15 / M_PI) * yy * z,
-            0.25 * std::sqrt(5 / M_PI) * (3 * z * z - 1), 0.5 * std::sqrt(15 / M_PI) * x * z,
-            0.25 * std::sqrt(15 / M_PI) * (x * x - yy * yy)};
+        const double expected[9] = {0.5 * std::sqrt(1 / M_PI),
+                                    std::sqrt(3 / (4 * M_PI)) * yy,
+                                    std::sqrt(3 / (4 * M_PI)) * z,
+                                    std::sqrt(3 / (4 * M_PI)) * x,
+                                    0.5 * std::sqrt(15 / M_PI) * x * yy,
+                                    0.5 * std::sqrt(15 / M_PI) * yy * z,
+                                    0.25 * std::sqrt(5 / M_PI) * (3 * z * z - 1),
+                                    0.5 * std::sqrt(15 / M_PI) * x * z,
+                                    0.25 * std::sqrt(15 / M_PI) * (x * x - yy * yy)};
         for (int i = 0; i < 9; ++i) EXPECT_NEAR(y[i], expected[i], 1e-12) << i;
     }
 }

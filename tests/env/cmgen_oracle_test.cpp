@@ -329,15 +329,16 @@ TEST_F(CmgenOracle, PrefilteredLevelsOfTheSharedMaps) {
             double faceError = 0., faceNorm = 0.;
             for (int face = 0; face < 6; ++face) {
                 const Image& theirs = faces[size_t(face)];
-                const Image mine = cubeFaceFromEquirect(ours[size_t(k)].radiance, face, theirs.width);
+                const Image mine =
+                    cubeFaceFromEquirect(ours[size_t(k)].radiance, face, theirs.width);
                 for (size_t i = 0; i < theirs.pixels.size(); ++i) {
                     const double d = mine.pixels[i] - theirs.pixels[i];
                     faceError += d * d, faceNorm += double(theirs.pixels[i]) * theirs.pixels[i];
                 }
             }
             const double faceApart = std::sqrt(faceError / faceNorm);
-            std::printf("[ measured ] %s level %d: our cube faces vs cmgen's %.3f\n", path.filename().c_str(), k,
-                        faceApart);
+            std::printf("[ measured ] %s level %d: our cube faces vs cmgen's %.3f\n",
+                        path.filename().c_str(), k, faceApart);
             EXPECT_LT(faceApart, 1.25 * apart + 0.02) << path << " level " << k;
             const double oursError =
                 relativeRmseAgainstBruteForce(env, ours[size_t(k)].radiance, r * r, 300);

@@ -14,7 +14,8 @@ namespace {
 // A map with a bright blob, a coloured band and a dark floor, so rows and columns differ.
 Environment unevenMap(int width, double rotationDegrees = 0.) {
     Environment env = envtest::mapOf(width, [](glm::dvec3 d) {
-        const double blob = std::exp(20. * (glm::dot(d, glm::normalize(glm::dvec3(0.6, 0.5, -0.3))) - 1.));
+        const double blob =
+            std::exp(20. * (glm::dot(d, glm::normalize(glm::dvec3(0.6, 0.5, -0.3))) - 1.));
         const double band = std::abs(d.y) < 0.2 ? 0.5 : 0.;
         return glm::dvec3(0.05 + 30. * blob + band, 0.02 + 20. * blob, d.y > 0. ? 0.1 : 0.);
     });
@@ -23,11 +24,12 @@ Environment unevenMap(int width, double rotationDegrees = 0.) {
 }
 
 TEST(EnvironmentFrames, WorldToEnvironmentIsAProperRotationAndItsInverse) {
-    const glm::vec3 x = worldToEnvironment(glm::vec3(1, 0, 0)), y = worldToEnvironment(glm::vec3(0, 1, 0)),
+    const glm::vec3 x = worldToEnvironment(glm::vec3(1, 0, 0)),
+                    y = worldToEnvironment(glm::vec3(0, 1, 0)),
                     z = worldToEnvironment(glm::vec3(0, 0, 1));
     EXPECT_FLOAT_EQ(glm::dot(glm::cross(x, y), z), 1.f); // right-handed stays right-handed
-    EXPECT_EQ(z, glm::vec3(0, 1, 0));                      // world up is the map's top
-    EXPECT_EQ(y, glm::vec3(0, 0, 1));                      // the default view is the map's centre
+    EXPECT_EQ(z, glm::vec3(0, 1, 0));                    // world up is the map's top
+    EXPECT_EQ(y, glm::vec3(0, 0, 1));                    // the default view is the map's centre
     const glm::vec3 w(0.3f, -0.7f, 0.2f);
     EXPECT_EQ(environmentToWorld(worldToEnvironment(w)), w);
     const glm::mat3 m = tangentToEnvironment({1, 0, 0}, {0, 1, 0}, {0, 0, 1});
@@ -69,7 +71,8 @@ TEST(EnvironmentSampler, HistogramOfSamplesMatchesThePdf) {
     std::mt19937_64 random(3);
     std::uniform_real_distribution<double> uniform(0., 1.);
     for (int i = 0; i < n; ++i) {
-        const glm::dvec2 uv = equirectCoordinates(sampleEnvironment(s, uniform(random), uniform(random)).direction);
+        const glm::dvec2 uv =
+            equirectCoordinates(sampleEnvironment(s, uniform(random), uniform(random)).direction);
         counts[size_t(std::min(int(uv.y * h), h - 1) * w + std::min(int(uv.x * w), w - 1))] += 1.;
     }
     const int k = 16; // sub-cells per cell side for the expected mass
@@ -80,7 +83,8 @@ TEST(EnvironmentSampler, HistogramOfSamplesMatchesThePdf) {
             double mass = 0.;
             for (int j = 0; j < k; ++j)
                 for (int i = 0; i < k; ++i)
-                    mass += environmentPdf(s, equirectDirection((x + (i + 0.5) / k) / w, (y + (j + 0.5) / k) / h)) *
+                    mass += environmentPdf(s, equirectDirection((x + (i + 0.5) / k) / w,
+                                                                (y + (j + 0.5) / k) / h)) *
                             equirectTexelSolidAngle(w * k, h * k, y * k + j);
             const double expected = mass * n;
             if (expected < 20.) continue;
@@ -93,7 +97,8 @@ TEST(EnvironmentSampler, HistogramOfSamplesMatchesThePdf) {
 }
 
 TEST(EnvironmentSampler, DensityFollowsLuminanceAndBlackMapsAreUniform) {
-    Environment env = envtest::mapOf(16, [](glm::dvec3 d) { return glm::dvec3(d.y > 0. ? 3. : 1.); });
+    Environment env =
+        envtest::mapOf(16, [](glm::dvec3 d) { return glm::dvec3(d.y > 0. ? 3. : 1.); });
     const EnvironmentSampler s = makeEnvironmentSampler(env);
     // Radiance 3 over the upper half, 1 below: pdf = L / (2 pi (3 + 1)).
     EXPECT_NEAR(environmentPdf(s, {0., 0.9, 0.1}), 3. / (8. * M_PI), 1e-12);

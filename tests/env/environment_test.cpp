@@ -162,21 +162,26 @@ int glCubeFace(glm::dvec3 r, double& s, double& t) {
     const glm::dvec3 a = glm::abs(r);
     int face;
     double sc, tc, ma;
-    if (a.x >= a.y && a.x >= a.z) face = r.x > 0 ? 0 : 1, ma = a.x, sc = r.x > 0 ? -r.z : r.z, tc = -r.y;
-    else if (a.y >= a.z) face = r.y > 0 ? 2 : 3, ma = a.y, sc = r.x, tc = r.y > 0 ? r.z : -r.z;
-    else face = r.z > 0 ? 4 : 5, ma = a.z, sc = r.z > 0 ? r.x : -r.x, tc = -r.y;
+    if (a.x >= a.y && a.x >= a.z)
+        face = r.x > 0 ? 0 : 1, ma = a.x, sc = r.x > 0 ? -r.z : r.z, tc = -r.y;
+    else if (a.y >= a.z)
+        face = r.y > 0 ? 2 : 3, ma = a.y, sc = r.x, tc = r.y > 0 ? r.z : -r.z;
+    else
+        face = r.z > 0 ? 4 : 5, ma = a.z, sc = r.z > 0 ? r.x : -r.x, tc = -r.y;
     s = (sc / ma + 1.) / 2., t = (tc / ma + 1.) / 2.;
     return face;
 }
 
 TEST(EnvironmentCube, FaceDirectionsFollowTheGlRule) {
     for (int i = 0; i < 2000; ++i) {
-        const double z = 1. - 2. * (i + 0.5) / 2000., phi = i * 2.399963229728653, q = std::sqrt(1. - z * z);
+        const double z = 1. - 2. * (i + 0.5) / 2000., phi = i * 2.399963229728653,
+                     q = std::sqrt(1. - z * z);
         const glm::dvec3 r(q * std::cos(phi), z, q * std::sin(phi));
         double s, t;
         const int face = glCubeFace(r, s, t);
         const glm::dvec3 d = cubeFaceDirection(face, s, t);
-        EXPECT_NEAR(glm::length(d - r), 0., 1e-12) << "face " << cubeFaceName(face) << " s " << s << " t " << t;
+        EXPECT_NEAR(glm::length(d - r), 0., 1e-12)
+            << "face " << cubeFaceName(face) << " s " << s << " t " << t;
     }
     EXPECT_STREQ(cubeFaceName(0), "px");
     EXPECT_STREQ(cubeFaceName(5), "nz");
@@ -191,8 +196,10 @@ TEST(EnvironmentCube, FacesOfASmoothMapHoldItsValues) {
         double worst = 0.;
         for (int y = 0; y < 16; ++y)
             for (int x = 0; x < 16; ++x) {
-                const glm::dvec3 d = cubeFaceDirection(face, (x + 0.5) / 16, (y + 0.5) / 16) + glm::dvec3(2.);
-                for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(image.at(x, y)[c] - d[c]));
+                const glm::dvec3 d =
+                    cubeFaceDirection(face, (x + 0.5) / 16, (y + 0.5) / 16) + glm::dvec3(2.);
+                for (int c = 0; c < 3; ++c)
+                    worst = std::max(worst, std::abs(image.at(x, y)[c] - d[c]));
             }
         // The texel mean of a linear function is the function at the mean direction of the
         // texel, which is within a few thousandths of its centre direction at 16 texels a face.
@@ -403,7 +410,8 @@ TEST(BlinnPhongPrefilter, MatchesBruteForceAndDiffersFromTheConvertedGgx) {
     // (it must be off by more than the Blinn-Phong level's own error, or this lobe adds nothing).
     const Environment env = mapOf(128, sunAndSky);
     const BruteForceGgx truthOf(env);
-    for (auto [exponent, width, tolerance] : {std::tuple{8., 32, 0.02}, {32., 64, 0.02}, {128., 128, 0.035}}) {
+    for (auto [exponent, width, tolerance] :
+         {std::tuple{8., 32, 0.02}, {32., 64, 0.02}, {128., 128, 0.035}}) {
         const Image level = prefilterBlinnPhongLevel(env, exponent, width, 2048);
         const double alpha = blinnPhongAlpha(exponent);
         const Image ggx = prefilterGgxLevel(env, std::sqrt(alpha), width, 2048);
@@ -423,7 +431,8 @@ TEST(BlinnPhongPrefilter, MatchesBruteForceAndDiffersFromTheConvertedGgx) {
         error = std::sqrt(error / norm), converted = std::sqrt(converted / norm);
         EXPECT_LT(error, tolerance) << "s = " << exponent;
         EXPECT_GT(converted, 1.5 * error) << "s = " << exponent;
-        std::printf("[ measured ] Blinn-Phong s = %.0f at %d wide: relative RMSE %.4f; GGX alpha = %.3f: %.4f\n",
+        std::printf("[ measured ] Blinn-Phong s = %.0f at %d wide: relative RMSE %.4f; GGX alpha = "
+                    "%.3f: %.4f\n",
                     exponent, width, error, alpha, converted);
     }
 }

@@ -119,14 +119,16 @@ TEST_F(EnvmapCli, CubeLayoutWritesSixFacesPerLevel) {
 // IEEE binary16 to float (normal numbers and zero: what radiance and the DFG table hold).
 float halfToFloat(uint16_t bits) {
     const int exponent = (bits >> 10) & 31, mantissa = bits & 1023;
-    const float magnitude = exponent == 0 ? std::ldexp(float(mantissa), -24)
-                                          : std::ldexp(1.f + float(mantissa) / 1024.f, exponent - 15);
+    const float magnitude = exponent == 0
+                                ? std::ldexp(float(mantissa), -24)
+                                : std::ldexp(1.f + float(mantissa) / 1024.f, exponent - 15);
     return bits & 0x8000 ? -magnitude : magnitude;
 }
 
 // Texel (x, y) of face `face` (0 for a 2D texture) of level k of an RGBA16F KTX2 file, read
 // through its level index.
-glm::vec4 ktx2Texel(const std::string& file, uint32_t k, int face, int faces, int width, int x, int y) {
+glm::vec4 ktx2Texel(const std::string& file, uint32_t k, int face, int faces, int width, int x,
+                    int y) {
     uint64_t offset = 0;
     std::memcpy(&offset, file.data() + 80 + 24 * k, 8);
     const int w = std::max(width >> k, 1);
@@ -134,7 +136,10 @@ glm::vec4 ktx2Texel(const std::string& file, uint32_t k, int face, int faces, in
     glm::vec4 v;
     for (int c = 0; c < 4; ++c) {
         uint16_t bits;
-        std::memcpy(&bits, file.data() + offset + size_t(face) * faceBytes + (size_t(y) * size_t(w) + size_t(x)) * 8 + 2 * size_t(c), 2);
+        std::memcpy(&bits,
+                    file.data() + offset + size_t(face) * faceBytes +
+                        (size_t(y) * size_t(w) + size_t(x)) * 8 + 2 * size_t(c),
+                    2);
         v[c] = halfToFloat(bits);
     }
     return v;
@@ -145,30 +150,38 @@ TEST_F(EnvmapCli, Ktx2HoldsEveryLevelOfBothLayouts) {
     ASSERT_EQ(runCli(envmapArgs(map, "--layout both --ktx2"), &output), 0) << output;
     const json manifest = json::parse(fileBytes(out / "environment.json"));
     EXPECT_EQ(manifest["ktx2"]["ggx_cube"], "ggx_cube.ktx2");
-    const std::string cube = fileBytes(out / "ggx_cube.ktx2"), flat = fileBytes(out / "ggx_equirect.ktx2");
+    const std::string cube = fileBytes(out / "ggx_cube.ktx2"),
+                      flat = fileBytes(out / "ggx_equirect.ktx2");
     uint32_t header[9];
     std::memcpy(header, cube.data() + 12, sizeof header); // vkFormat ... levelCount
     EXPECT_EQ(header[0], 97u);                            // VK_FORMAT_R16G16B16A16_SFLOAT
     EXPECT_EQ(header[2], 8u);                             // face size: 32 / 4
     EXPECT_EQ(header[6], 6u);                             // faceCount
     EXPECT_EQ(header[7], 2u);                             // levelCount
-    // Every face's corner texels are the EXR faces' (to half precision); the equirect file's the EXR levels'.
+    // Every face's corner texels are the EXR faces' (to half precision); the equirect file's the
+    // EXR levels'.
     for (uint32_t k = 0; k < 2; ++k) {
         for (int face = 0; face < kCubeFaces; ++face) {
             const std::string name = manifest["ggx"]["levels"][k]["faces"][cubeFaceName(face)];
             const Image faceImage = loadImage((out / name).string())->image;
             for (auto [x, y] : {std::pair{0, 0}, {faceImage.width - 1, faceImage.height - 1}}) {
                 const glm::vec4 got = ktx2Texel(cube, k, face, 6, 8, x, y);
-                for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], faceImage.at(x, y)[c], 1e-3f * (1.f + faceImage.at(x, y)[c]));
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_NEAR(got[c], faceImage.at(x, y)[c],
+                                1e-3f * (1.f + faceImage.at(x, y)[c]));
                 EXPECT_EQ(got[3], 1.f);
             }
         }
-        const Image level = loadImage((out / ("ggx_L" + std::to_string(k) + ".exr")).string())->image;
+        const Image level =
+            loadImage((out / ("ggx_L" + std::to_string(k) + ".exr")).string())->image;
         const glm::vec4 got = ktx2Texel(flat, k, 0, 1, 32, level.width - 1, 1);
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], level.at(level.width - 1, 1)[c], 1e-3f * (1.f + level.at(level.width - 1, 1)[c]));
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(got[c], level.at(level.width - 1, 1)[c],
+                        1e-3f * (1.f + level.at(level.width - 1, 1)[c]));
     }
     EXPECT_TRUE(fs::is_regular_file(out / "dfg.ktx2"));
-    // Each file says what it holds: radiance at each level's roughness, as the manifest has it; the DFG table.
+    // Each file says what it holds: radiance at each level's roughness, as the manifest has it; the
+    // DFG table.
     for (const std::string& file : {cube, flat}) {
         Result<Ktx2KeyValues> kv = readKtx2KeyValues(file);
         ASSERT_TRUE(kv) << kv.error().message;
@@ -177,9 +190,11 @@ TEST_F(EnvmapCli, Ktx2HoldsEveryLevelOfBothLayouts) {
         EXPECT_EQ(about["content"], "radiance");
         ASSERT_EQ(about["perceptual_roughness"].size(), 2u);
         for (size_t k = 0; k < 2; ++k)
-            EXPECT_EQ(about["perceptual_roughness"][k], manifest["ggx"]["levels"][k]["perceptual_roughness"]);
+            EXPECT_EQ(about["perceptual_roughness"][k],
+                      manifest["ggx"]["levels"][k]["perceptual_roughness"]);
     }
-    EXPECT_EQ(json::parse(readKtx2KeyValues(fileBytes(out / "dfg.ktx2"))->at("ndfmip"))["content"], "dfg");
+    EXPECT_EQ(json::parse(readKtx2KeyValues(fileBytes(out / "dfg.ktx2"))->at("ndfmip"))["content"],
+              "dfg");
     // The folder holds only what its manifest lists, so a rerun may replace it.
     ASSERT_EQ(runCli(envmapArgs(map, "--layout cube"), &output), 0) << output;
     EXPECT_FALSE(fs::exists(out / "ggx_cube.ktx2"));
@@ -193,7 +208,8 @@ TEST_F(EnvmapCli, DdsHoldsTheKtx2TexturesInDdsOrder) {
     const json manifest = json::parse(fileBytes(out / "environment.json"));
     EXPECT_EQ(manifest["dds"]["ggx_cube"], "ggx_cube.dds");
     EXPECT_EQ(manifest["dds"]["dfg"], "dfg.dds");
-    const std::string ktx2 = fileBytes(out / "ggx_cube.ktx2"), dds = fileBytes(out / "ggx_cube.dds");
+    const std::string ktx2 = fileBytes(out / "ggx_cube.ktx2"),
+                      dds = fileBytes(out / "ggx_cube.dds");
     auto u32 = [](const std::string& bytes, size_t at) {
         uint32_t v = 0;
         std::memcpy(&v, bytes.data() + at, 4);
@@ -201,22 +217,24 @@ TEST_F(EnvmapCli, DdsHoldsTheKtx2TexturesInDdsOrder) {
     };
     ASSERT_GE(dds.size(), 148u);
     EXPECT_EQ(dds.substr(0, 4), "DDS ");
-    EXPECT_EQ(u32(dds, 4 + 24), 2u);             // dwMipMapCount
+    EXPECT_EQ(u32(dds, 4 + 24), 2u);                // dwMipMapCount
     EXPECT_EQ(u32(dds, 4 + 108), 0x200u | 0xFC00u); // DDSCAPS2_CUBEMAP and all six faces
-    EXPECT_EQ(u32(dds, 128), 10u);               // DXGI_FORMAT_R16G16B16A16_FLOAT
-    EXPECT_EQ(u32(dds, 128 + 8), 0x4u);          // D3D11_RESOURCE_MISC_TEXTURECUBE
+    EXPECT_EQ(u32(dds, 128), 10u);                  // DXGI_FORMAT_R16G16B16A16_FLOAT
+    EXPECT_EQ(u32(dds, 128 + 8), 0x4u);             // D3D11_RESOURCE_MISC_TEXTURECUBE
     size_t at = 148;
     for (int face = 0; face < kCubeFaces; ++face)
         for (uint32_t k = 0; k < 2; ++k) {
             uint64_t offset = 0;
             std::memcpy(&offset, ktx2.data() + 80 + 24 * k, 8);
             const size_t faceBytes = size_t(8 >> k) * size_t(8 >> k) * 8;
-            EXPECT_EQ(dds.compare(at, faceBytes, ktx2, offset + size_t(face) * faceBytes, faceBytes), 0)
+            EXPECT_EQ(
+                dds.compare(at, faceBytes, ktx2, offset + size_t(face) * faceBytes, faceBytes), 0)
                 << "face " << face << " level " << k;
             at += faceBytes;
         }
     EXPECT_EQ(at, dds.size());
-    const std::string flatKtx2 = fileBytes(out / "ggx_equirect.ktx2"), flat = fileBytes(out / "ggx_equirect.dds");
+    const std::string flatKtx2 = fileBytes(out / "ggx_equirect.ktx2"),
+                      flat = fileBytes(out / "ggx_equirect.dds");
     at = 148;
     for (uint32_t k = 0; k < 2; ++k) {
         uint64_t offset = 0, length = 0;

@@ -138,11 +138,14 @@ TEST(ShViewSet, WeightsAreContinuousAcrossFaces) {
     auto blend = [&](glm::dvec3 v) {
         const ShViewWeights w = shViewWeights(f, v);
         glm::dvec3 sum(0.);
-        for (int k = 0; k < w.count; ++k) sum += w.weight[k] * gradientSky(grid[size_t(w.index[k])]);
+        for (int k = 0; k < w.count; ++k)
+            sum += w.weight[k] * gradientSky(grid[size_t(w.index[k])]);
         return sum;
     };
-    for (glm::dvec3 edge : {glm::dvec3(0., 0.3, 0.7), glm::dvec3(0.4, -0.5, 0.), glm::dvec3(0., -0.2, -0.9)}) {
-        const glm::dvec3 across = edge.x == 0. ? glm::dvec3(1e-9, 0., 0.) : glm::dvec3(0., 0., 1e-9);
+    for (glm::dvec3 edge :
+         {glm::dvec3(0., 0.3, 0.7), glm::dvec3(0.4, -0.5, 0.), glm::dvec3(0., -0.2, -0.9)}) {
+        const glm::dvec3 across =
+            edge.x == 0. ? glm::dvec3(1e-9, 0., 0.) : glm::dvec3(0., 0., 1e-9);
         const glm::dvec3 a = blend(edge + across), b = blend(edge - across);
         EXPECT_LT(glm::length(a - b), 1e-7);
     }
@@ -173,7 +176,8 @@ TEST(ShViewSet, AtAPreparedViewEqualsPrepareShLighting) {
             expectSameCoefficients(interpolated.radiance, exact.radiance);
             expectSameCoefficients(interpolated.reparameterised, exact.reparameterised);
             for (int k = 0; k < 3; ++k)
-                expectSameCoefficients(interpolated.reparameterisedAxes[k], exact.reparameterisedAxes[k]);
+                expectSameCoefficients(interpolated.reparameterisedAxes[k],
+                                       exact.reparameterisedAxes[k]);
             EXPECT_TRUE(set.views[i].radiance.empty()); // L is kept once, in the set
         }
     }
@@ -189,8 +193,10 @@ TEST(ShViewSet, ViewIndependentCoefficientInterpolatesExactly) {
     for (glm::dvec3 v : testViews()) {
         const ShLighting lighting = interpolateShLighting(set, v);
         for (int c = 0; c < 3; ++c)
-            EXPECT_NEAR(lighting.reparameterised[0][c], set.radiance[0][c], 1e-11 * set.radiance[0][c]);
-        spread = std::max(spread, std::fabs(lighting.reparameterised[2].x - set.views[0].reparameterised[2].x));
+            EXPECT_NEAR(lighting.reparameterised[0][c], set.radiance[0][c],
+                        1e-11 * set.radiance[0][c]);
+        spread = std::max(
+            spread, std::fabs(lighting.reparameterised[2].x - set.views[0].reparameterised[2].x));
     }
     EXPECT_GT(spread, 1e-3 * set.radiance[0].x);
 }
@@ -212,7 +218,8 @@ double interpolationError(const Environment& env, const ShViewSet& set, int coun
             if (glm::dot(n, view) < 0.2) continue;
             const glm::mat3 frame = tangentFrame(n, glm::cross(view, glm::dvec3(0.3, 0.9, 0.1)));
             const glm::vec3 v(glm::transpose(glm::dmat3(frame)) * view);
-            const glm::dvec3 reference(shadeShEnvironment(m, glm::vec3(0.f), g.data(), a, v, frame, exact));
+            const glm::dvec3 reference(
+                shadeShEnvironment(m, glm::vec3(0.f), g.data(), a, v, frame, exact));
             const glm::dvec3 approximate(
                 shadeShEnvironment(m, glm::vec3(0.f), g.data(), a, v, frame, interpolated));
             error += glm::dot(approximate - reference, approximate - reference);
@@ -223,13 +230,15 @@ double interpolationError(const Environment& env, const ShViewSet& set, int coun
 }
 
 // Errors per set size for docs/ENVIRONMENT.md; each larger set must do better.
-std::vector<double> errorsBySetSize(const Environment& env, const std::vector<int>& frequencies, const char* name) {
+std::vector<double> errorsBySetSize(const Environment& env, const std::vector<int>& frequencies,
+                                    const char* name) {
     std::vector<double> errors;
     for (int f : frequencies) {
         const ShViewSet set = prepareShViewSet(env, 8, f);
         errors.push_back(interpolationError(env, set, 7));
-        std::printf("%s: %4d views (f = %d): relative RMS specular error against the true view %.4f\n", name,
-                    shViewCount(f), f, errors.back());
+        std::printf(
+            "%s: %4d views (f = %d): relative RMS specular error against the true view %.4f\n",
+            name, shViewCount(f), f, errors.back());
     }
     return errors;
 }

@@ -15,9 +15,10 @@ namespace {
 
 using namespace envtest;
 
-const EnvironmentLod kRules[] = {EnvironmentLod::Log2Sigma, EnvironmentLod::Filament, EnvironmentLod::Unity,
-                                 EnvironmentLod::Unreal};
-const EnvironmentLod kEngineRules[] = {EnvironmentLod::Filament, EnvironmentLod::Unity, EnvironmentLod::Unreal};
+const EnvironmentLod kRules[] = {EnvironmentLod::Log2Sigma, EnvironmentLod::Filament,
+                                 EnvironmentLod::Unity, EnvironmentLod::Unreal};
+const EnvironmentLod kEngineRules[] = {EnvironmentLod::Filament, EnvironmentLod::Unity,
+                                       EnvironmentLod::Unreal};
 
 // Small and quick: 64-wide chains from a 128-wide map.
 SplitSumOptions smallOptions() {
@@ -63,8 +64,8 @@ template <class F> glm::dvec3 sphereIntegral(const F& f, int thetaSteps = 200) {
 }
 
 // The truth at one normal n (tangent frame): integral L(T l) shadeNormal(n, l, h) dl.
-glm::dvec3 bruteForce(const Material& m, glm::vec3 albedo, glm::vec3 n, glm::vec3 v, const glm::mat3& frame,
-                      const Radiance& radiance) {
+glm::dvec3 bruteForce(const Material& m, glm::vec3 albedo, glm::vec3 n, glm::vec3 v,
+                      const glm::mat3& frame, const Radiance& radiance) {
     return sphereIntegral([&](glm::dvec3 l) {
         const glm::vec3 lf(l);
         const glm::vec3 h = glm::normalize(lf + v);
@@ -115,14 +116,16 @@ TEST(SplitSumLod, ChainRoughnessIsTheRulesInverse) {
         for (int k = 1; k < 6; ++k) {
             const double r = environmentLodRoughness(rule, k, 7);
             if (r >= 1.) continue; // Unreal's last level lies past r = 1
-            EXPECT_NEAR(environmentLodLevel(rule, r, 7), k, 1e-9) << environmentLodName(rule) << " level " << k;
+            EXPECT_NEAR(environmentLodLevel(rule, r, 7), k, 1e-9)
+                << environmentLodName(rule) << " level " << k;
         }
 }
 
 TEST(SplitSumLod, Log2SigmaDoublingSpreadAddsALevel) {
     const double theta0 = M_PI / 64.;
     for (double sigma : {0.08, 0.15, 0.3})
-        EXPECT_NEAR(log2SigmaLevel(2. * sigma, theta0, 12), log2SigmaLevel(sigma, theta0, 12) + 1., 1e-12);
+        EXPECT_NEAR(log2SigmaLevel(2. * sigma, theta0, 12), log2SigmaLevel(sigma, theta0, 12) + 1.,
+                    1e-12);
     EXPECT_EQ(log2SigmaLevel(100., theta0, 6), 5.); // clamped to the chain
     // Reflection doubles the angle: a normal spread of sigma^2 alone gives 2 sigma.
     EXPECT_NEAR(reflectedSpread(0., 0.01), 0.2, 1e-12);
@@ -142,17 +145,20 @@ TEST(SplitSum, ConstantEnvironmentGivesAlbedoTimesRadiance) {
             const Material m = material(brdf);
             const glm::vec3 v(std::sin(theta), 0.f, std::cos(theta));
             // The truth: integral c shadeNormal dl, the lobe's albedo by brute force.
-            const double truth = bruteForce(m, glm::vec3(0.f), n, v, frame, [&](glm::dvec3) { return glm::dvec3(c); }).x;
+            const double truth = bruteForce(m, glm::vec3(0.f), n, v, frame, [&](glm::dvec3) {
+                                     return glm::dvec3(c);
+                                 }).x;
             for (EnvironmentLod rule : kRules) {
-                const glm::vec3 split = shadeNaiveSplitSum(m, glm::vec3(0.f), n, v, frame, lighting, rule);
+                const glm::vec3 split =
+                    shadeNaiveSplitSum(m, glm::vec3(0.f), n, v, frame, lighting, rule);
                 EXPECT_NEAR(split.x, truth, 0.02 * truth)
                     << brdfName(brdf) << " theta " << theta << " " << environmentLodName(rule);
             }
         }
     // Diffuse: albedo x c, exactly (a constant's SH irradiance is pi c).
     Material lambert = material(Brdf::Lambert);
-    const glm::vec3 split = shadeNaiveSplitSum(lambert, glm::vec3(0.5f), n, glm::vec3(0, 0, 1), frame, lighting,
-                                               EnvironmentLod::Filament);
+    const glm::vec3 split = shadeNaiveSplitSum(lambert, glm::vec3(0.5f), n, glm::vec3(0, 0, 1),
+                                               frame, lighting, EnvironmentLod::Filament);
     EXPECT_NEAR(split.y, 0.5 * c, 1e-4);
 }
 
@@ -167,7 +173,8 @@ TEST(SplitSum, EngineDfgGivesTheDfgAlbedo) {
         const glm::vec3 v(std::sin(theta), 0.f, std::cos(theta));
         const glm::dvec2 dfg = dfgIntegral(std::cos(theta), std::sqrt(0.3), 4096);
         const glm::vec3 split =
-            shadeNaiveSplitSum(m, glm::vec3(0.f), glm::vec3(0, 0, 1), v, glm::mat3(1.f), lighting, EnvironmentLod::Filament);
+            shadeNaiveSplitSum(m, glm::vec3(0.f), glm::vec3(0, 0, 1), v, glm::mat3(1.f), lighting,
+                               EnvironmentLod::Filament);
         EXPECT_NEAR(split.z, 3. * (dfg.x + dfg.y), 0.02 * 3. * (dfg.x + dfg.y)) << theta;
     }
 }
@@ -204,21 +211,23 @@ TEST(SplitSum, NaiveIsCloseToBruteForceOnASmoothEnvironment) {
                 for (int i = 0; i < 3; ++i) {
                     const double error = std::abs(split[i] - truth[i]) / truth[i];
                     worst = std::max(worst, error);
-                    EXPECT_LT(error, bounds[a]) << brdfName(brdf) << " theta " << theta << " "
-                                                << environmentLodName(rule) << " channel " << i << ": "
-                                                << split[i] << " vs " << truth[i];
+                    EXPECT_LT(error, bounds[a])
+                        << brdfName(brdf) << " theta " << theta << " " << environmentLodName(rule)
+                        << " channel " << i << ": " << split[i] << " vs " << truth[i];
                 }
             }
         }
-        std::printf("split sum vs brute force, smooth sky, view %.1f rad: worst relative error %.4f\n", theta,
-                    worst);
+        std::printf(
+            "split sum vs brute force, smooth sky, view %.1f rad: worst relative error %.4f\n",
+            theta, worst);
     }
 }
 
 // Blinn-Phong read through GGX chains at alpha^2 = 2/(s + 2). Two errors, each against a direct
 // integral: the mapping's (the GGX-prefiltered radiance at the mapped alpha against the
 // Blinn-Phong one) and the chain's (its lookup against the GGX integral), on a sky with a spot;
-// and the Blinn-Phong-lobe chain (what a Blinn-Phong material reads) against the Blinn-Phong integral.
+// and the Blinn-Phong-lobe chain (what a Blinn-Phong material reads) against the Blinn-Phong
+// integral.
 TEST(SplitSum, BlinnPhongMappingAgainstBruteForce) {
     const glm::dvec3 spot = glm::normalize(glm::dvec3(0.3, 0.5, 0.8));
     const Radiance sky = [&](glm::dvec3 d) {
@@ -234,7 +243,8 @@ TEST(SplitSum, BlinnPhongMappingAgainstBruteForce) {
     ASSERT_TRUE(findChain(phongLighting, EnvironmentLod::Filament)->blinnPhongLobe);
     // LD = integral L(l) lobe(h) <r.l> dl / integral lobe(h) <r.l> dl, n = v = r.
     const auto prefiltered = [&](glm::dvec3 r, const std::function<double(double)>& lobe) {
-        const glm::dvec3 t = glm::normalize(glm::cross(std::abs(r.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0), r));
+        const glm::dvec3 t = glm::normalize(
+            glm::cross(std::abs(r.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0), r));
         const glm::dmat3 frame(t, glm::cross(r, t), r);
         const glm::dvec3 sums = sphereIntegral([&](glm::dvec3 l) {
             if (l.z <= 0.) return glm::dvec3(0.);
@@ -246,18 +256,24 @@ TEST(SplitSum, BlinnPhongMappingAgainstBruteForce) {
     for (float s : {8.f, 32.f, 128.f}) {
         const double alpha = blinnPhongAlpha(s);
         double mapping = 0., chain = 0., phongChain = 0., throughGgx = 0.;
-        for (glm::dvec3 r : {spot, glm::normalize(spot + glm::dvec3(0.25, 0., 0.)), glm::dvec3(0., 0., 1.)}) {
-            const double phong = prefiltered(r, [&](double c) { return double(blinnPhong(float(c), s)); });
-            const double ggx = prefiltered(r, [&](double c) { return double(ggxD(float(c), float(alpha))); });
-            const double split = prefilteredRadiance(lighting, EnvironmentLod::Filament, r, std::sqrt(alpha)).x;
-            const double own = prefilteredRadiance(phongLighting, EnvironmentLod::Filament, r, std::sqrt(alpha)).x;
+        for (glm::dvec3 r :
+             {spot, glm::normalize(spot + glm::dvec3(0.25, 0., 0.)), glm::dvec3(0., 0., 1.)}) {
+            const double phong =
+                prefiltered(r, [&](double c) { return double(blinnPhong(float(c), s)); });
+            const double ggx =
+                prefiltered(r, [&](double c) { return double(ggxD(float(c), float(alpha))); });
+            const double split =
+                prefilteredRadiance(lighting, EnvironmentLod::Filament, r, std::sqrt(alpha)).x;
+            const double own =
+                prefilteredRadiance(phongLighting, EnvironmentLod::Filament, r, std::sqrt(alpha)).x;
             mapping = std::max(mapping, std::abs(ggx - phong) / phong);
             chain = std::max(chain, std::abs(split - ggx) / ggx);
             phongChain = std::max(phongChain, std::abs(own - phong) / phong);
             throughGgx = std::max(throughGgx, std::abs(split - phong) / phong);
         }
         std::printf("Blinn-Phong s = %g as GGX alpha = %.3f: mapping error %.4f, chain error %.4f; "
-                    "against the Blinn-Phong integral: through the GGX chain %.4f, the Blinn-Phong chain %.4f\n",
+                    "against the Blinn-Phong integral: through the GGX chain %.4f, the Blinn-Phong "
+                    "chain %.4f\n",
                     s, alpha, mapping, chain, throughGgx, phongChain);
         EXPECT_LT(mapping, 0.15) << "s " << s;
         EXPECT_LT(chain, 0.08) << "s " << s; // trilinear between levels of other roughness
@@ -281,10 +297,11 @@ TEST(SplitSum, ToksvigWithUnitNaIsNaive) {
             const Material m = material(brdf);
             const glm::vec3 albedo(0.3f);
             const glm::vec3 naive = shadeNaiveSplitSum(m, albedo, n, v, frame, lighting, rule);
-            const glm::vec3 toksvig =
-                shadeToksvigSplitSum(m, albedo, n, v, frame, lighting, rule, RoughnessMapping::Ours);
+            const glm::vec3 toksvig = shadeToksvigSplitSum(m, albedo, n, v, frame, lighting, rule,
+                                                           RoughnessMapping::Ours);
             for (int i = 0; i < 3; ++i)
-                EXPECT_NEAR(toksvig[i], naive[i], 1e-5 * naive[i]) << brdfName(brdf) << " " << environmentLodName(rule);
+                EXPECT_NEAR(toksvig[i], naive[i], 1e-5 * naive[i])
+                    << brdfName(brdf) << " " << environmentLodName(rule);
         }
 }
 
@@ -297,10 +314,12 @@ TEST(SplitSum, ShorterNaIsBlurrierAndDarkerInDiffuseBand1) {
     const SplitSumLighting lighting = prepareSplitSum(env, smallOptions());
     const Material m = material(Brdf::Ggx);
     for (EnvironmentLod rule : kRules) {
-        const glm::vec3 sharp = shadeToksvigSplitSum(m, glm::vec3(0.f), glm::vec3(0, 0, 1), glm::vec3(0, 0, 1),
-                                                     glm::mat3(1.f), lighting, rule, RoughnessMapping::Ours);
-        const glm::vec3 wide = shadeToksvigSplitSum(m, glm::vec3(0.f), glm::vec3(0, 0, 0.8f), glm::vec3(0, 0, 1),
-                                                    glm::mat3(1.f), lighting, rule, RoughnessMapping::Ours);
+        const glm::vec3 sharp =
+            shadeToksvigSplitSum(m, glm::vec3(0.f), glm::vec3(0, 0, 1), glm::vec3(0, 0, 1),
+                                 glm::mat3(1.f), lighting, rule, RoughnessMapping::Ours);
+        const glm::vec3 wide =
+            shadeToksvigSplitSum(m, glm::vec3(0.f), glm::vec3(0, 0, 0.8f), glm::vec3(0, 0, 1),
+                                 glm::mat3(1.f), lighting, rule, RoughnessMapping::Ours);
         EXPECT_LT(wide.x, sharp.x) << environmentLodName(rule);
     }
 }
@@ -318,9 +337,11 @@ TEST(SplitSum, VmfWithOneSharpLobeIsNaive) {
             const Material m = material(brdf);
             const glm::vec3 albedo(0.3f);
             const glm::vec3 naive = shadeNaiveSplitSum(m, albedo, mu, v, frame, lighting, rule);
-            const glm::vec3 vmf = shadeVmfSplitSum(m, albedo, lobe, 1, nullptr, v, frame, lighting, rule);
+            const glm::vec3 vmf =
+                shadeVmfSplitSum(m, albedo, lobe, 1, nullptr, v, frame, lighting, rule);
             for (int i = 0; i < 3; ++i)
-                EXPECT_NEAR(vmf[i], naive[i], 2e-3 * naive[i]) << brdfName(brdf) << " " << environmentLodName(rule);
+                EXPECT_NEAR(vmf[i], naive[i], 2e-3 * naive[i])
+                    << brdfName(brdf) << " " << environmentLodName(rule);
         }
 }
 
@@ -331,16 +352,22 @@ TEST(SplitSum, VmfDiffuseIsTheIrradianceAveragedOverTheLobe) {
     const glm::mat3 frame = tiltedFrame();
     const glm::vec3 mu = glm::normalize(glm::vec3(0.3f, -0.2f, 1.f));
     for (double kappa : {0.5, 3., 20.}) {
-        const glm::dvec3 mean = sphereIntegral([&](glm::dvec3 n) {
-            const double density = kappa / (4. * M_PI * std::sinh(kappa)) * std::exp(kappa * glm::dot(glm::dvec3(mu), n));
-            return density * glm::dvec3(irradianceAt(lighting, glm::dvec3(frame * glm::vec3(n))));
-        }, 120);
+        const glm::dvec3 mean = sphereIntegral(
+            [&](glm::dvec3 n) {
+                const double density = kappa / (4. * M_PI * std::sinh(kappa)) *
+                                       std::exp(kappa * glm::dot(glm::dvec3(mu), n));
+                return density *
+                       glm::dvec3(irradianceAt(lighting, glm::dvec3(frame * glm::vec3(n))));
+            },
+            120);
         // (alpha, alpha r mu) with r = A(kappa) = coth(kappa) - 1/kappa, the unpacking's inverse.
         const float r = float(1. / std::tanh(kappa) - 1. / kappa);
         const float lobe[4] = {1.f, r * mu.x, r * mu.y, r * mu.z};
-        const glm::vec3 vmf = shadeVmfSplitSum(material(Brdf::Lambert), glm::vec3(kPi), lobe, 1, nullptr,
-                                               glm::vec3(0, 0, 1), frame, lighting, EnvironmentLod::Filament);
-        for (int i = 0; i < 3; ++i) EXPECT_NEAR(vmf[i], mean[i], 0.01 * mean[i]) << "kappa " << kappa;
+        const glm::vec3 vmf =
+            shadeVmfSplitSum(material(Brdf::Lambert), glm::vec3(kPi), lobe, 1, nullptr,
+                             glm::vec3(0, 0, 1), frame, lighting, EnvironmentLod::Filament);
+        for (int i = 0; i < 3; ++i)
+            EXPECT_NEAR(vmf[i], mean[i], 0.01 * mean[i]) << "kappa " << kappa;
     }
 }
 
@@ -349,10 +376,12 @@ TEST(SplitSum, RoughnessMipsAtTheMaterialsRoughnessIsNaive) {
     const Material m = material(Brdf::Ggx);
     const glm::vec3 n = glm::normalize(glm::vec3(0.1f, 0.f, 1.f)), v(0.f, 0.f, 1.f);
     for (EnvironmentLod rule : kRules) {
-        const glm::vec3 naive = shadeNaiveSplitSum(m, glm::vec3(0.2f), n, v, tiltedFrame(), lighting, rule);
-        const glm::vec3 alpha = shadeRoughnessMipsSplitSum(m, glm::vec3(0.2f), n, 0.3f, true, v, tiltedFrame(), lighting, rule);
-        const glm::vec3 perceptual =
-            shadeRoughnessMipsSplitSum(m, glm::vec3(0.2f), n, std::sqrt(0.3f), false, v, tiltedFrame(), lighting, rule);
+        const glm::vec3 naive =
+            shadeNaiveSplitSum(m, glm::vec3(0.2f), n, v, tiltedFrame(), lighting, rule);
+        const glm::vec3 alpha = shadeRoughnessMipsSplitSum(m, glm::vec3(0.2f), n, 0.3f, true, v,
+                                                           tiltedFrame(), lighting, rule);
+        const glm::vec3 perceptual = shadeRoughnessMipsSplitSum(
+            m, glm::vec3(0.2f), n, std::sqrt(0.3f), false, v, tiltedFrame(), lighting, rule);
         for (int i = 0; i < 3; ++i) {
             EXPECT_NEAR(alpha[i], naive[i], 1e-5 * naive[i]);
             EXPECT_NEAR(perceptual[i], naive[i], 1e-5 * naive[i]);
@@ -365,8 +394,10 @@ TEST(SplitSum, RoughnessMipsAtTheMaterialsRoughnessIsNaive) {
 TEST(SplitSum, ReflectionGoesThroughTheTangentFrame) {
     // L = 1 + 0.5 x: a sharp lobe reads about 1 + 0.5 (T r).x, r the tangent-frame reflection.
     const SplitSumOptions o = smallOptions();
-    const SplitSumLighting constant = prepareSplitSum(mapOf(128, [](glm::dvec3) { return glm::dvec3(1.); }), o);
-    const SplitSumLighting linear = prepareSplitSum(mapOf(128, [](glm::dvec3 d) { return glm::dvec3(1. + 0.5 * d.x); }), o);
+    const SplitSumLighting constant =
+        prepareSplitSum(mapOf(128, [](glm::dvec3) { return glm::dvec3(1.); }), o);
+    const SplitSumLighting linear =
+        prepareSplitSum(mapOf(128, [](glm::dvec3 d) { return glm::dvec3(1. + 0.5 * d.x); }), o);
     Material m = material(Brdf::Ggx);
     m.roughness = 0.02f;
     const glm::mat3 frame = tiltedFrame();
@@ -375,13 +406,15 @@ TEST(SplitSum, ReflectionGoesThroughTheTangentFrame) {
         const glm::vec3 r = 2.f * glm::dot(n, v) * n - v;
         const float expected = 1.f + 0.5f * (frame * r).x;
         for (EnvironmentLod rule : kRules) {
-            const float ratio = shadeNaiveSplitSum(m, glm::vec3(0.f), n, v, frame, linear, rule).x /
-                                shadeNaiveSplitSum(m, glm::vec3(0.f), n, v, frame, constant, rule).x;
+            const float ratio =
+                shadeNaiveSplitSum(m, glm::vec3(0.f), n, v, frame, linear, rule).x /
+                shadeNaiveSplitSum(m, glm::vec3(0.f), n, v, frame, constant, rule).x;
             EXPECT_NEAR(ratio, expected, 0.01) << environmentLodName(rule);
         }
-        // Diffuse: E(n) of 1 + 0.5 x is pi + (2 pi/3) 0.5 (T n).x (Lambert's A_0 = pi, A_1 = 2 pi/3).
-        const glm::vec3 diffuse = shadeNaiveSplitSum(material(Brdf::Lambert), glm::vec3(1.f), n, v, frame, linear,
-                                                     EnvironmentLod::Filament);
+        // Diffuse: E(n) of 1 + 0.5 x is pi + (2 pi/3) 0.5 (T n).x (Lambert's A_0 = pi, A_1 = 2
+        // pi/3).
+        const glm::vec3 diffuse = shadeNaiveSplitSum(material(Brdf::Lambert), glm::vec3(1.f), n, v,
+                                                     frame, linear, EnvironmentLod::Filament);
         EXPECT_NEAR(diffuse.x, 1. + (2. / 3.) * 0.5 * (frame * n).x, 1e-3);
     }
 }

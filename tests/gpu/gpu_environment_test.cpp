@@ -27,7 +27,8 @@ using test::bumpyMap;
 std::shared_ptr<const EnvironmentLighting> skyLighting(double rotation = 0.) {
     const glm::dvec3 sun = glm::normalize(glm::dvec3(0.5, 0.6, 0.6));
     Environment env = envtest::mapOf(128, [&](glm::dvec3 d) {
-        glm::dvec3 c = d.y > 0. ? glm::dvec3(0.5, 0.6, 0.9) * (0.4 + 0.6 * d.y) : glm::dvec3(0.3, 0.25, 0.2);
+        glm::dvec3 c =
+            d.y > 0. ? glm::dvec3(0.5, 0.6, 0.9) * (0.4 + 0.6 * d.y) : glm::dvec3(0.3, 0.25, 0.2);
         c += 30. * std::exp(-60. * (1. - glm::dot(d, sun))) * glm::dvec3(1., 0.9, 0.7);
         if (std::sin(10. * std::atan2(d.x, d.z)) > 0.) c += glm::dvec3(0.3, 0.1, 0.05);
         return c;
@@ -64,7 +65,8 @@ Scene environmentScene(bool sphere, Brdf brdf) {
     return s;
 }
 
-RenderTextures texturesFor(const std::string& method, std::shared_ptr<const EnvironmentLighting> lighting) {
+RenderTextures texturesFor(const std::string& method,
+                           std::shared_ptr<const EnvironmentLighting> lighting) {
     RenderTextures t;
     t.normals = bumpyMap();
     t.environment = std::move(lighting);
@@ -72,7 +74,8 @@ RenderTextures texturesFor(const std::string& method, std::shared_ptr<const Envi
     BakeOptions options;
     options.parameters["lobes"] = 3;
     options.parameters["order"] = 6;
-    t.bake = bakeMethod(*methodFromString(method == kRoughnessMips ? "naive" : method), pyramid, options);
+    t.bake = bakeMethod(*methodFromString(method == kRoughnessMips ? "naive" : method), pyramid,
+                        options);
     if (method == kRoughnessMips) { // Toksvig's alpha, as an engine's roughness mips would hold
         BakeOptions base;
         base.baseRoughness = 0.2f;
@@ -128,40 +131,46 @@ TEST_P(GpuEnvironment, MatchesTheCpuOnThePlaneAndTheSphere) {
             Result<Image> gpu = renderGpu(scene, t, c.method, options);
             ASSERT_TRUE(gpu) << gpu.error().message;
             const Agreement a = agreement(gpu.value(), cpu.value());
-            std::printf("[ measured ] %s %s %s %s %s: mean relative error %.2e, relative RMSE %.2e\n", c.method,
-                        brdfName(c.brdf),
-                        c.way == EnvironmentWay::ShLighting ? "sh-lighting" : environmentLodName(c.lod),
-                        sphere ? "sphere" : "plane",
-                        shadeFilterName(filter), a.meanRelative, a.relativeRmse);
-            EXPECT_LT(a.meanRelative, 1e-3) << c.method << (sphere ? " sphere " : " plane ") << shadeFilterName(filter);
-            EXPECT_LT(a.relativeRmse, 3e-3) << c.method << (sphere ? " sphere " : " plane ") << shadeFilterName(filter);
+            std::printf(
+                "[ measured ] %s %s %s %s %s: mean relative error %.2e, relative RMSE %.2e\n",
+                c.method, brdfName(c.brdf),
+                c.way == EnvironmentWay::ShLighting ? "sh-lighting" : environmentLodName(c.lod),
+                sphere ? "sphere" : "plane", shadeFilterName(filter), a.meanRelative,
+                a.relativeRmse);
+            EXPECT_LT(a.meanRelative, 1e-3)
+                << c.method << (sphere ? " sphere " : " plane ") << shadeFilterName(filter);
+            EXPECT_LT(a.relativeRmse, 3e-3)
+                << c.method << (sphere ? " sphere " : " plane ") << shadeFilterName(filter);
         }
 }
 
 INSTANTIATE_TEST_SUITE_P(
     SplitSum, GpuEnvironment,
-    ::testing::Values(Case{"naive", Brdf::Ggx, EnvironmentLod::Filament},
-                      Case{"naive", Brdf::BlinnPhong, EnvironmentLod::Filament},
-                      Case{"roughness-mips", Brdf::Ggx, EnvironmentLod::Unity},
-                      Case{"toksvig", Brdf::BlinnPhong, EnvironmentLod::Unity},
-                      Case{"toksvig", Brdf::Ggx, EnvironmentLod::Unreal},
-                      Case{"toksvig", Brdf::Beckmann, EnvironmentLod::Filament},
-                      Case{"vmf", Brdf::Beckmann, EnvironmentLod::Filament},
-                      Case{"vmf", Brdf::BlinnPhong, EnvironmentLod::Unreal},
-                      // Toksvig's log2 sigma rule on its box chain of cube faces.
-                      Case{"toksvig", Brdf::BlinnPhong, EnvironmentLod::Log2Sigma},
-                      Case{"toksvig", Brdf::Ggx, EnvironmentLod::Log2Sigma},
-                      Case{"naive", Brdf::Beckmann, EnvironmentLod::Log2Sigma},
-                      Case{"roughness-mips", Brdf::Ggx, EnvironmentLod::Log2Sigma},
-                      Case{"vmf", Brdf::Ggx, EnvironmentLod::Log2Sigma},
-                      Case{"vmf", Brdf::BlinnPhong, EnvironmentLod::Filament, EnvironmentWay::ShLighting},
-                      Case{"vmf", Brdf::Ggx, EnvironmentLod::Filament, EnvironmentWay::ShLighting},
-                      Case{"sh", Brdf::BlinnPhong, EnvironmentLod::Filament, EnvironmentWay::ShLighting},
-                      Case{"sh", Brdf::Beckmann, EnvironmentLod::Filament, EnvironmentWay::ShLighting}),
+    ::testing::Values(
+        Case{"naive", Brdf::Ggx, EnvironmentLod::Filament},
+        Case{"naive", Brdf::BlinnPhong, EnvironmentLod::Filament},
+        Case{"roughness-mips", Brdf::Ggx, EnvironmentLod::Unity},
+        Case{"toksvig", Brdf::BlinnPhong, EnvironmentLod::Unity},
+        Case{"toksvig", Brdf::Ggx, EnvironmentLod::Unreal},
+        Case{"toksvig", Brdf::Beckmann, EnvironmentLod::Filament},
+        Case{"vmf", Brdf::Beckmann, EnvironmentLod::Filament},
+        Case{"vmf", Brdf::BlinnPhong, EnvironmentLod::Unreal},
+        // Toksvig's log2 sigma rule on its box chain of cube faces.
+        Case{"toksvig", Brdf::BlinnPhong, EnvironmentLod::Log2Sigma},
+        Case{"toksvig", Brdf::Ggx, EnvironmentLod::Log2Sigma},
+        Case{"naive", Brdf::Beckmann, EnvironmentLod::Log2Sigma},
+        Case{"roughness-mips", Brdf::Ggx, EnvironmentLod::Log2Sigma},
+        Case{"vmf", Brdf::Ggx, EnvironmentLod::Log2Sigma},
+        Case{"vmf", Brdf::BlinnPhong, EnvironmentLod::Filament, EnvironmentWay::ShLighting},
+        Case{"vmf", Brdf::Ggx, EnvironmentLod::Filament, EnvironmentWay::ShLighting},
+        Case{"sh", Brdf::BlinnPhong, EnvironmentLod::Filament, EnvironmentWay::ShLighting},
+        Case{"sh", Brdf::Beckmann, EnvironmentLod::Filament, EnvironmentWay::ShLighting}),
     [](const auto& param) {
         std::string name = param.param.method;
         name.append("_").append(brdfName(param.param.brdf)).append("_");
-        name.append(param.param.way == EnvironmentWay::ShLighting ? "shlighting" : environmentLodName(param.param.lod));
+        name.append(param.param.way == EnvironmentWay::ShLighting
+                        ? "shlighting"
+                        : environmentLodName(param.param.lod));
         for (char& ch : name)
             if (ch == '-') ch = '_';
         return name;
@@ -185,7 +194,8 @@ TEST(GpuEnvironmentSh, OrderEightOnTheSphereAtTheDefaultRuleMatchesTheCpu) {
         Result<Image> gpu = renderGpu(scene, t, "sh", RenderOptions{});
         ASSERT_TRUE(gpu) << gpu.error().message;
         const Agreement a = agreement(gpu.value(), cpu.value());
-        std::printf("[ measured ] sh order 8 %s sphere, default rule: mean relative error %.2e, relative RMSE %.2e\n",
+        std::printf("[ measured ] sh order 8 %s sphere, default rule: mean relative error %.2e, "
+                    "relative RMSE %.2e\n",
                     brdfName(brdf), a.meanRelative, a.relativeRmse);
         EXPECT_LT(a.meanRelative, 1e-3) << brdfName(brdf);
         EXPECT_LT(a.relativeRmse, 3e-3) << brdfName(brdf);
@@ -193,8 +203,8 @@ TEST(GpuEnvironmentSh, OrderEightOnTheSphereAtTheDefaultRuleMatchesTheCpu) {
 }
 
 // sh on the sphere at order 8 with 4 x 4 taps and texel shading, and with 3 x 3 taps and parameter
-// blending (16 and 9 hits per pixel, each rotating the lighting into its own frame): the SH loops are
-// unrolled (the order is a compile-time constant), so llvmpipe's loop limit of 65535 iterations
+// blending (16 and 9 hits per pixel, each rotating the lighting into its own frame): the SH loops
+// are unrolled (the order is a compile-time constant), so llvmpipe's loop limit of 65535 iterations
 // per fragment is not reached (before, 3 x 3 taps came out 9% off).
 TEST(GpuEnvironmentSh, OrderEightOnTheSphereWithMoreTapsMatchesTheCpu) {
     NDFMIP_GL_OR_SKIP(gl);
@@ -208,7 +218,8 @@ TEST(GpuEnvironmentSh, OrderEightOnTheSphereWithMoreTapsMatchesTheCpu) {
     scene.camera.width = scene.camera.height = 16; // the sphere fills most of it
     // Two programs, not four: each compiles for ~20 s on llvmpipe. 4 x 4 taps with texel shading
     // is the most iterations (13k in the busiest SIMD group), 3 x 3 the case that failed before.
-    for (auto [taps, filter] : {std::pair{4, ShadeFilter::Texel}, std::pair{3, ShadeFilter::Parameter}}) {
+    for (auto [taps, filter] :
+         {std::pair{4, ShadeFilter::Texel}, std::pair{3, ShadeFilter::Parameter}}) {
         RenderOptions options;
         options.taps = taps;
         options.shadeFilter = filter;
@@ -217,7 +228,8 @@ TEST(GpuEnvironmentSh, OrderEightOnTheSphereWithMoreTapsMatchesTheCpu) {
         Result<Image> gpu = renderGpu(scene, t, "sh", options);
         ASSERT_TRUE(gpu) << gpu.error().message;
         const Agreement a = agreement(gpu.value(), cpu.value());
-        std::printf("[ measured ] sh order 8 sphere, %d x %d taps, %s: mean relative error %.2e, relative RMSE "
+        std::printf("[ measured ] sh order 8 sphere, %d x %d taps, %s: mean relative error %.2e, "
+                    "relative RMSE "
                     "%.2e\n",
                     taps, taps, shadeFilterName(filter), a.meanRelative, a.relativeRmse);
         EXPECT_LT(a.meanRelative, 1e-3) << taps << " taps " << shadeFilterName(filter);
@@ -234,7 +246,8 @@ TEST(GpuEnvironmentAlbedo, AlbedoChainsAndLobeColoursMatchTheCpu) {
     for (int y = 0; y < 64; ++y)
         for (int x = 0; x < 64; ++x) {
             float* p = colours->at(x, y);
-            p[0] = 0.2f + 0.6f * float((x / 8 + y / 8) % 2), p[1] = 0.5f, p[2] = 0.1f + 0.01f * float(y);
+            p[0] = 0.2f + 0.6f * float((x / 8 + y / 8) % 2), p[1] = 0.5f,
+            p[2] = 0.1f + 0.01f * float(y);
         }
     const Scene scene = environmentScene(true, Brdf::Ggx);
     for (const char* method : {"toksvig", "vmf"})
@@ -259,8 +272,9 @@ TEST(GpuEnvironmentAlbedo, AlbedoChainsAndLobeColoursMatchTheCpu) {
             Result<Image> gpu = renderGpu(scene, t, method, render);
             ASSERT_TRUE(gpu) << gpu.error().message;
             const Agreement a = agreement(gpu.value(), cpu.value());
-            std::printf("[ measured ] %s %s with an albedo map: mean relative error %.2e, relative RMSE %.2e\n", method,
-                        environmentWayName(way), a.meanRelative, a.relativeRmse);
+            std::printf("[ measured ] %s %s with an albedo map: mean relative error %.2e, relative "
+                        "RMSE %.2e\n",
+                        method, environmentWayName(way), a.meanRelative, a.relativeRmse);
             EXPECT_LT(a.meanRelative, 1e-3) << method << " " << environmentWayName(way);
             EXPECT_LT(a.relativeRmse, 3e-3) << method << " " << environmentWayName(way);
         }
@@ -281,7 +295,8 @@ TEST(GpuEnvironmentErrors, MethodsWithoutAGpuEnvironmentShadingAreRefusedByName)
         RenderTextures t;
         t.normals = bumpyMap();
         t.environment = lighting;
-        Result<Image> image = renderGpu(environmentScene(r.sphere, Brdf::BlinnPhong), t, r.method, RenderOptions{});
+        Result<Image> image =
+            renderGpu(environmentScene(r.sphere, Brdf::BlinnPhong), t, r.method, RenderOptions{});
         ASSERT_FALSE(image) << r.method;
         const std::string& message = image.error().message;
         std::string quoted(1, '\'');

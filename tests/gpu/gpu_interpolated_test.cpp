@@ -64,8 +64,9 @@ void expectSameImage(const Scene& scene, const std::string& method, const char* 
     const double relative = meanRelativeError(gpu.value(), cpu.value());
     Result<ImageComparison> c = compareImages(gpu.value(), cpu.value());
     ASSERT_TRUE(c);
-    std::printf("%s %s %s: mean relative error %.3g, relative RMSE %.3g, max abs error %.3g\n", method.c_str(),
-                brdfName(scene.material.brdf), what, relative, c->relativeRmse, c->maxAbsError);
+    std::printf("%s %s %s: mean relative error %.3g, relative RMSE %.3g, max abs error %.3g\n",
+                method.c_str(), brdfName(scene.material.brdf), what, relative, c->relativeRmse,
+                c->maxAbsError);
     EXPECT_LE(relative, 1e-3) << method << " " << what;
     EXPECT_LE(c->relativeRmse, 1e-3) << method << " " << what;
 }
@@ -83,7 +84,8 @@ TEST_P(GpuInterpolated, MatchesTheCpuOnASmallAndATinyFacetedSphere) {
     const Case c = GetParam();
     expectSameImage(facetedScene(32, 7.f, c.brdf), c.method, "32 px");
     // 9 px across: 2 r / (2 d tan(fov/2)) of 16 px, d = |eye| = 20.4.
-    const float fov = float(2.0 * std::atan(2.0 * 16.0 / (9.0 * 2.0 * std::sqrt(416.0))) * 180.0 / M_PI);
+    const float fov =
+        float(2.0 * std::atan(2.0 * 16.0 / (9.0 * 2.0 * std::sqrt(416.0))) * 180.0 / M_PI);
     expectSameImage(facetedScene(16, fov, c.brdf), c.method, "9 px");
 }
 
@@ -100,10 +102,12 @@ TEST_P(GpuInterpolated, MatchesTheCpuWithASubPixelShift) {
 }
 
 INSTANTIATE_TEST_SUITE_P(BothMethods, GpuInterpolated,
-                         ::testing::Values(Case{kRenormalized, Brdf::BlinnPhong}, Case{kCubemapToksvig, Brdf::BlinnPhong},
+                         ::testing::Values(Case{kRenormalized, Brdf::BlinnPhong},
+                                           Case{kCubemapToksvig, Brdf::BlinnPhong},
                                            Case{kCubemapToksvig, Brdf::Ggx}),
                          [](const auto& param) {
-                             std::string name = std::string(param.param.method) + "_" + brdfName(param.param.brdf);
+                             std::string name =
+                                 std::string(param.param.method) + "_" + brdfName(param.param.brdf);
                              for (char& ch : name)
                                  if (ch == '-') ch = '_';
                              return name;
@@ -114,10 +118,12 @@ TEST(GpuInterpolatedErrors, GroundTruthAndUnknownMethodsAreOneLineErrors) {
     const Scene scene = facetedScene(16, 7.f, Brdf::BlinnPhong);
     Result<Image> truth = renderGpu(scene, RenderTextures{}, kGroundTruth, RenderOptions{});
     ASSERT_FALSE(truth);
-    EXPECT_EQ(truth.error().message, "render --gpu: 'groundtruth' of a faceted-sphere scene is rendered on the CPU only");
+    EXPECT_EQ(truth.error().message,
+              "render --gpu: 'groundtruth' of a faceted-sphere scene is rendered on the CPU only");
     Result<Image> other = renderGpu(scene, RenderTextures{}, "toksvig", RenderOptions{});
     ASSERT_FALSE(other);
-    EXPECT_NE(other.error().message.find("expected renormalized, cubemap-toksvig"), std::string::npos)
+    EXPECT_NE(other.error().message.find("expected renormalized, cubemap-toksvig"),
+              std::string::npos)
         << other.error().message;
     EXPECT_EQ(other.error().message.find('\n'), std::string::npos);
 }

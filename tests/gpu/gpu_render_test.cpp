@@ -55,19 +55,23 @@ RenderTextures texturesFor(const std::string& method) {
     BakeOptions options;
     options.parameters["order"] = 6;
     options.parameters["lobes"] = 3;
-    const std::string bake = method == kToksvigLut ? "toksvig" : method == kRoughnessMips ? "naive" : method;
+    const std::string bake = method == kToksvigLut      ? "toksvig"
+                             : method == kRoughnessMips ? "naive"
+                                                        : method;
     t.bake = bakeMethod(*methodFromString(bake), pyramid, options);
     if (method == kRoughnessMips) { // roughness from Toksvig's, as an engine's mips would hold
         BakeOptions base;
         base.baseRoughness = 0.15f; // the material's (alpha 0 would be a delta lobe)
         const Bake toksvig = bakeMethod(Method::Toksvig, pyramid, base);
-        for (const auto& level : toksvig.levels) t.roughness.push_back(level[2]); // roughness_ggx (alpha)
+        for (const auto& level : toksvig.levels)
+            t.roughness.push_back(level[2]); // roughness_ggx (alpha)
         t.roughnessIsAlpha = true;
     }
     return t;
 }
 
-void expectSameImage(const std::string& method, bool sphere, Brdf brdf, const RenderOptions& options) {
+void expectSameImage(const std::string& method, bool sphere, Brdf brdf,
+                     const RenderOptions& options) {
     NDFMIP_GL_OR_SKIP(gl);
     const Scene scene = testScene(sphere, brdf);
     const RenderTextures t = texturesFor(method);
@@ -107,17 +111,18 @@ TEST_P(GpuRender, PlainTrilinearAndAnisotropicProbesMatchTheCpu) {
     expectSameImage(c.method, false, c.brdf, plain);
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryMethod, GpuRender,
-                         ::testing::Values(Case{"naive", Brdf::Ggx}, Case{"toksvig", Brdf::BlinnPhong},
-                                           Case{"toksvig", Brdf::Ggx}, Case{"toksvig-lut", Brdf::BlinnPhong},
-                                           Case{"roughness-mips", Brdf::Ggx}, Case{"sh", Brdf::BlinnPhong},
-                                           Case{"vmf", Brdf::Beckmann}, Case{"lean", Brdf::Ggx}),
-                         [](const auto& param) {
-                             std::string name = std::string(param.param.method) + "_" + brdfName(param.param.brdf);
-                             for (char& ch : name)
-                                 if (ch == '-') ch = '_';
-                             return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    EveryMethod, GpuRender,
+    ::testing::Values(Case{"naive", Brdf::Ggx}, Case{"toksvig", Brdf::BlinnPhong},
+                      Case{"toksvig", Brdf::Ggx}, Case{"toksvig-lut", Brdf::BlinnPhong},
+                      Case{"roughness-mips", Brdf::Ggx}, Case{"sh", Brdf::BlinnPhong},
+                      Case{"vmf", Brdf::Beckmann}, Case{"lean", Brdf::Ggx}),
+    [](const auto& param) {
+        std::string name = std::string(param.param.method) + "_" + brdfName(param.param.brdf);
+        for (char& ch : name)
+            if (ch == '-') ch = '_';
+        return name;
+    });
 
 TEST(GpuRenderErrors, CpuOnlyCasesAreOneLineErrors) {
     NDFMIP_GL_OR_SKIP(gl);

@@ -27,8 +27,9 @@ inline SharedImage bumpyMap() {
     auto image = std::make_shared<Image>(64, 64, 3);
     for (int y = 0; y < 64; ++y)
         for (int x = 0; x < 64; ++x) {
-            const glm::vec3 n = glm::normalize(
-                glm::vec3(0.8f * std::sin(0.7f * float(x) + 0.3f * float(y)), 0.6f * std::cos(1.1f * float(y)), 1.f));
+            const glm::vec3 n =
+                glm::normalize(glm::vec3(0.8f * std::sin(0.7f * float(x) + 0.3f * float(y)),
+                                         0.6f * std::cos(1.1f * float(y)), 1.f));
             float* p = image->at(x, y);
             p[0] = n.x, p[1] = n.y, p[2] = n.z;
         }

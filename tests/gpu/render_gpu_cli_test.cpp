@@ -23,9 +23,13 @@ TEST(RenderGpuCli, WritesTheCpusImageAndTimesFrames) {
     test::TempDir dir("ndfmip_render_gpu");
     const std::string cpu = (dir.path / "cpu.exr").string(), gpu = (dir.path / "gpu.exr").string();
     std::string output;
-    ASSERT_EQ(test::runCli("render " + test::shellArg(kScene) + " --method vmf --lobes 3 -q -o " + test::shellArg(cpu), &output), 0)
+    ASSERT_EQ(test::runCli("render " + test::shellArg(kScene) + " --method vmf --lobes 3 -q -o " +
+                               test::shellArg(cpu),
+                           &output),
+              0)
         << output;
-    ASSERT_EQ(test::runCli("render " + test::shellArg(kScene) + " --method vmf --lobes 3 -q --gpu --gpu-frames 2 -o " +
+    ASSERT_EQ(test::runCli("render " + test::shellArg(kScene) +
+                               " --method vmf --lobes 3 -q --gpu --gpu-frames 2 -o " +
                                test::shellArg(gpu),
                            &output),
               0)
@@ -54,16 +58,21 @@ TEST(RenderGpuCli, EnvironmentScenesMatchTheCpu) {
         std::ofstream out(scene);
         out << R"({"camera": {"eye": [0, -4, 1.5], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 35, "width": 32, "height": 32},
  "object": {"type": "sphere", "radius": 1, "tiling": [4, 2]},
- "environment": {"path": )" << nlohmann::json((maps / "venice_sunset_1k.hdr").string()).dump()
+ "environment": {"path": )"
+            << nlohmann::json((maps / "venice_sunset_1k.hdr").string()).dump()
             << R"(, "rotation": 40, "visible": true},
  "material": {"brdf": "ggx", "roughness": 0.2, "albedo": 0.15, "specular": 1},
- "normal_map": {"path": )" << nlohmann::json(std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png").dump()
+ "normal_map": {"path": )"
+            << nlohmann::json(std::string(NDFMIP_SOURCE_DIR) +
+                              "/data/normalmaps/pyramidwall_256.png")
+                   .dump()
             << R"(, "green_down": true}})";
     }
     for (const char* args :
          {"--method toksvig --env-lod unreal", "--method toksvig --env-lod log2sigma",
           "--method vmf --lobes 2 --vmf-environment sh", "--method sh"}) {
-        const std::string cpu = (dir.path / "cpu.exr").string(), gpu = (dir.path / "gpu.exr").string();
+        const std::string cpu = (dir.path / "cpu.exr").string(),
+                          gpu = (dir.path / "gpu.exr").string();
         std::string output;
         const std::string common = "render " + test::shellArg(scene.string()) + " " + args + " -q";
         ASSERT_EQ(test::runCli(common + " -o " + test::shellArg(cpu), &output), 0) << output;
@@ -74,7 +83,8 @@ TEST(RenderGpuCli, EnvironmentScenesMatchTheCpu) {
         ASSERT_TRUE(c);
         EXPECT_LT(c->relativeRmse, 3e-3) << args;
     }
-    test::expectCliRefuses("render " + test::shellArg(scene.string()) + " --method lean --gpu -q -o " +
+    test::expectCliRefuses("render " + test::shellArg(scene.string()) +
+                               " --method lean --gpu -q -o " +
                                test::shellArg((dir.path / "lean.exr").string()),
                            {"'lean'", "cannot shade under an environment"});
 }
@@ -94,16 +104,21 @@ TEST(RenderGpuCli, FacetedSphereScenesMatchTheCpu) {
     }
     const std::string cpu = (dir.path / "cpu.exr").string(), gpu = (dir.path / "gpu.exr").string();
     std::string output;
-    const std::string common = "render " + test::shellArg(scene.string()) + " --method cubemap-toksvig -q ";
+    const std::string common =
+        "render " + test::shellArg(scene.string()) + " --method cubemap-toksvig -q ";
     ASSERT_EQ(test::runCli(common + "-o " + test::shellArg(cpu), &output), 0) << output;
-    ASSERT_EQ(test::runCli(common + "--gpu --frames 2 --truth-spp 4 -o " + test::shellArg(gpu), &output), 0) << output;
+    ASSERT_EQ(
+        test::runCli(common + "--gpu --frames 2 --truth-spp 4 -o " + test::shellArg(gpu), &output),
+        0)
+        << output;
     EXPECT_NE(output.find("error flicker"), std::string::npos) << output;
     Result<SourceImage> a = loadImage(cpu), b = loadImage(gpu);
     ASSERT_TRUE(a && b);
     Result<ImageComparison> c = compareImages(b->image, a->image);
     ASSERT_TRUE(c);
     EXPECT_LT(c->relativeRmse, 1e-3);
-    test::expectCliRefuses("render " + test::shellArg(scene.string()) + " --method groundtruth --gpu -q -o " +
+    test::expectCliRefuses("render " + test::shellArg(scene.string()) +
+                               " --method groundtruth --gpu -q -o " +
                                test::shellArg((dir.path / "truth.exr").string()),
                            {"'groundtruth'", "faceted-sphere", "CPU only"});
 }
@@ -113,13 +128,15 @@ TEST(RenderGpuCli, CpuOnlyMethodsAndMissingDriversAreOneLineErrors) {
     const std::string out = (dir.path / "x.exr").string();
     {
         NDFMIP_GL_OR_SKIP(gl);
-        test::expectCliRefuses("render " + test::shellArg(kScene) + " --method groundtruth --gpu -q -o " + test::shellArg(out),
+        test::expectCliRefuses("render " + test::shellArg(kScene) +
+                                   " --method groundtruth --gpu -q -o " + test::shellArg(out),
                                {"CPU only"});
     }
     // No EGL vendor library: libglvnd finds no driver.
     std::string output;
     setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/vendor.json", 1);
-    const int refused = test::runCli("render " + test::shellArg(kScene) + " --gpu -q -o " + test::shellArg(out), &output);
+    const int refused = test::runCli(
+        "render " + test::shellArg(kScene) + " --gpu -q -o " + test::shellArg(out), &output);
     unsetenv("__EGL_VENDOR_LIBRARY_FILENAMES");
     test::expectOneLineError(refused, output, {"GPU: ", "EGL"});
     EXPECT_FALSE(std::filesystem::exists(out));

@@ -49,10 +49,10 @@ Inputs randomInputs(uint32_t seed, int extra) {
     std::uniform_real_distribution<float> u(0.f, 1.f);
     for (int i = 0; i < kItems; ++i) {
         float* x = in.item(i);
-        x[0] = float(1 + i % 3);                     // Blinn-Phong, Beckmann, GGX
-        x[1] = std::exp(u(rng) * std::log(512.f));   // exponent 1 .. 512
-        x[2] = 0.05f + 0.95f * u(rng);               // alpha
-        for (int c = 3; c < 9; ++c) x[c] = u(rng);   // specular, albedo
+        x[0] = float(1 + i % 3);                   // Blinn-Phong, Beckmann, GGX
+        x[1] = std::exp(u(rng) * std::log(512.f)); // exponent 1 .. 512
+        x[2] = 0.05f + 0.95f * u(rng);             // alpha
+        for (int c = 3; c < 9; ++c) x[c] = u(rng); // specular, albedo
         const glm::vec3 l = upperDirection(rng), v = upperDirection(rng);
         x[9] = l.x, x[10] = l.y, x[11] = l.z, x[12] = v.x, x[13] = v.y, x[14] = v.z;
         const glm::vec3 n = upperDirection(rng) * (0.3f + 0.7f * u(rng));
@@ -69,7 +69,9 @@ Material materialOf(const float* x) {
     m.specular = glm::vec3(x[3], x[4], x[5]);
     return m;
 }
-glm::vec3 at3(const float* x, int k) { return {x[k], x[k + 1], x[k + 2]}; }
+glm::vec3 at3(const float* x, int k) {
+    return {x[k], x[k + 1], x[k + 2]};
+}
 
 const char* kHead = R"(
 uint ndfmipBase;
@@ -98,12 +100,15 @@ void expectGpuMatchesCpu(const Inputs& in, const std::string& body, const std::s
     NDFMIP_GL_OR_SKIP(gl);
     Result<ShaderSource> source =
         loadShaderFiles(NDFMIP_SOURCE_DIR "/shaders",
-                        {"brdf.glsl", "naive.glsl", "toksvig.glsl", "toksvig_lut.glsl", "sh.glsl", "vmf.glsl", "lean.glsl"},
+                        {"brdf.glsl", "naive.glsl", "toksvig.glsl", "toksvig_lut.glsl", "sh.glsl",
+                         "vmf.glsl", "lean.glsl"},
                         computeShaderHead());
     ASSERT_TRUE(source) << source.error().message;
     std::string kernel = "#define STRIDE " + std::to_string(in.stride) + "\n" + kHead + body +
-                         "    vec3 r = " + call + ";\n"
-                         "    ndfmipOutput[3u * i] = r.x; ndfmipOutput[3u * i + 1u] = r.y; ndfmipOutput[3u * i + 2u] = r.z;\n}\n";
+                         "    vec3 r = " + call +
+                         ";\n"
+                         "    ndfmipOutput[3u * i] = r.x; ndfmipOutput[3u * i + 1u] = r.y; "
+                         "ndfmipOutput[3u * i + 2u] = r.z;\n}\n";
     appendShaderText(source.value(), "<kernel>", kernel);
     Result<std::vector<float>> out = runCompute(gl.value(), source.value(), in.data, 3, kItems);
     ASSERT_TRUE(out) << out.error().message;
@@ -118,12 +123,14 @@ void expectGpuMatchesCpu(const Inputs& in, const std::string& body, const std::s
         std::vector<float> moved(item, item + in.stride);
         for (int k = 9; k < 20; ++k) moved[size_t(k)] *= 1.f + ((k % 2) ? 3e-7f : -3e-7f);
         const glm::vec3 spread = glm::abs(cpu(moved.data()) - expected);
-        const float scale = std::max({std::abs(expected.x), std::abs(expected.y), std::abs(expected.z)});
+        const float scale =
+            std::max({std::abs(expected.x), std::abs(expected.y), std::abs(expected.z)});
         for (int c = 0; c < 3; ++c) {
             const double gpu = out.value()[3 * size_t(i) + size_t(c)];
             // Relative to the item's largest channel, with a floor for values that are 0 on both.
-            const double difference = std::max(std::abs(gpu - double(expected[c])) - 2.0 * double(spread[c]), 0.0) /
-                                      std::max(double(scale), 1e-6);
+            const double difference =
+                std::max(std::abs(gpu - double(expected[c])) - 2.0 * double(spread[c]), 0.0) /
+                std::max(double(scale), 1e-6);
             if (!(difference <= worst)) worst = difference, worstItem = i;
         }
     }
@@ -132,28 +139,33 @@ void expectGpuMatchesCpu(const Inputs& in, const std::string& body, const std::s
 }
 
 TEST(GpuShaders, NaiveMatchesCpu) {
-    expectGpuMatchesCpu(randomInputs(1, 0), "", "ndfmipShadeNaive(m, albedo, vec3(p.x, p.y, p.z), l, v)",
-                        [](const float* x) { return shadeNaive(materialOf(x), at3(x, 6), at3(x, 15), at3(x, 9), at3(x, 12)); });
+    expectGpuMatchesCpu(
+        randomInputs(1, 0), "", "ndfmipShadeNaive(m, albedo, vec3(p.x, p.y, p.z), l, v)",
+        [](const float* x) {
+            return shadeNaive(materialOf(x), at3(x, 6), at3(x, 15), at3(x, 9), at3(x, 12));
+        });
 }
 
 TEST(GpuShaders, RoughnessMipsMatchCpu) {
     // Perceptual roughness 0.22 .. 1 (alpha >= 0.05, as the other materials here).
     Inputs in = randomInputs(2, 0);
     for (int i = 0; i < kItems; ++i) in.item(i)[19] = 0.22f + 0.78f * in.item(i)[19];
-    expectGpuMatchesCpu(in, "", "ndfmipShadeRoughnessMips(m, albedo, vec3(p.x, p.y, p.z), q, false, l, v)",
+    expectGpuMatchesCpu(in, "",
+                        "ndfmipShadeRoughnessMips(m, albedo, vec3(p.x, p.y, p.z), q, false, l, v)",
                         [](const float* x) {
-                            return shadeRoughnessMipsTexel(materialOf(x), at3(x, 6), at3(x, 15), x[19], false, at3(x, 9),
-                                                           at3(x, 12));
+                            return shadeRoughnessMipsTexel(materialOf(x), at3(x, 6), at3(x, 15),
+                                                           x[19], false, at3(x, 9), at3(x, 12));
                         });
 }
 
 TEST(GpuShaders, ToksvigMatchesCpuForEveryRoughnessMapping) {
     Inputs in = randomInputs(3, 0);
     for (int i = 0; i < kItems; ++i) in.item(i)[18] = float(i % 5); // the mapping
-    expectGpuMatchesCpu(in, "", "ndfmipShadeToksvig(m, albedo, vec3(p.x, p.y, p.z), l, v, int(p.w), 2.0f)",
+    expectGpuMatchesCpu(in, "",
+                        "ndfmipShadeToksvig(m, albedo, vec3(p.x, p.y, p.z), l, v, int(p.w), 2.0f)",
                         [](const float* x) {
-                            return shadeToksvig(materialOf(x), at3(x, 6), at3(x, 15), at3(x, 9), at3(x, 12),
-                                                RoughnessMapping(int(x[18])), 2.f);
+                            return shadeToksvig(materialOf(x), at3(x, 6), at3(x, 15), at3(x, 9),
+                                                at3(x, 12), RoughnessMapping(int(x[18])), 2.f);
                         });
 }
 
@@ -161,11 +173,12 @@ TEST(GpuShaders, ToksvigLutMatchesCpu) {
     // q stands for the table's relative value at (Na.H, Na.Na), which a texture fetch gives.
     Inputs in = randomInputs(4, 0);
     for (int i = 0; i < kItems; ++i) in.item(i)[0] = 1.f; // Blinn-Phong only
-    expectGpuMatchesCpu(in, "", "ndfmipShadeToksvigLut(m, albedo, vec3(p.x, p.y, p.z), q, l, v)", [](const float* x) {
-        const Material m = materialOf(x);
-        return shadeToksvigLobe(m, at3(x, 6), at3(x, 15), at3(x, 9), at3(x, 12),
-                                glsl().ndfmipToksvigLutLobe(m.exponent, x[19]));
-    });
+    expectGpuMatchesCpu(in, "", "ndfmipShadeToksvigLut(m, albedo, vec3(p.x, p.y, p.z), q, l, v)",
+                        [](const float* x) {
+                            const Material m = materialOf(x);
+                            return shadeToksvigLobe(m, at3(x, 6), at3(x, 15), at3(x, 9), at3(x, 12),
+                                                    glsl().ndfmipToksvigLutLobe(m.exponent, x[19]));
+                        });
 }
 
 TEST(GpuShaders, VmfMatchesCpu) {
@@ -188,7 +201,8 @@ TEST(GpuShaders, LeanMatchesCpu) {
     for (int i = 0; i < kItems; ++i) {
         float* x = in.item(i);
         const float bx = 0.5f * x[15] / x[17], by = 0.5f * x[16] / x[17];
-        const float vx = 0.3f * x[18], vy = 0.3f * x[19], c = 0.5f * std::sqrt(vx * vy) * (x[3] - 0.5f);
+        const float vx = 0.3f * x[18], vy = 0.3f * x[19],
+                    c = 0.5f * std::sqrt(vx * vy) * (x[3] - 0.5f);
         x[15] = bx, x[16] = by, x[17] = bx * bx + vx, x[18] = by * by + vy, x[19] = bx * by + c;
     }
     expectGpuMatchesCpu(in, "", "ndfmipShadeLean(m, albedo, p, q, l, v)", [](const float* x) {
@@ -242,7 +256,8 @@ TEST(GpuShaders, ShOrderSevenMatchesCpuInDouble) {
                             // The GPU gets A_l rounded to float; so does this.
                             for (double& value : a.diffuse) value = double(float(value));
                             for (double& value : a.specular) value = double(float(value));
-                            return shadeSh(materialOf(x), at3(x, 6), x + kBase, a, at3(x, 9), at3(x, 12));
+                            return shadeSh(materialOf(x), at3(x, 6), x + kBase, a, at3(x, 9),
+                                           at3(x, 12));
                         });
 }
 

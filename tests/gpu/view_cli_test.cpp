@@ -38,17 +38,21 @@ TEST(ViewCli, WithoutADisplayIsAOneLineError) {
 }
 
 TEST(ViewCli, DrawsEveryModeInAVirtualXServer) {
-    if (!std::filesystem::exists("/usr/bin/xvfb-run")) GTEST_SKIP() << "xvfb-run (xvfb) not installed";
+    if (!std::filesystem::exists("/usr/bin/xvfb-run"))
+        GTEST_SKIP() << "xvfb-run (xvfb) not installed";
     test::TempDir dir("ndfmip_view");
     for (const std::string& mode : {std::string("--method vmf --lobes 3 --split --mip-levels"),
-                                    std::string("--method toksvig --taps 1 --lod-bias 0"), std::string("--method sh --order 4")}) {
+                                    std::string("--method toksvig --taps 1 --lod-bias 0"),
+                                    std::string("--method sh --order 4")}) {
         const std::string log = dir.file("view.log");
-        const std::string command = "timeout 120 xvfb-run -a " + test::shellArg(NDFMIP_CLI_PATH) + " view " +
-                                    test::shellArg(kScene) + " --frames 2 " + mode + " > " + test::shellArg(log) + " 2>&1";
+        const std::string command = "timeout 120 xvfb-run -a " + test::shellArg(NDFMIP_CLI_PATH) +
+                                    " view " + test::shellArg(kScene) + " --frames 2 " + mode +
+                                    " > " + test::shellArg(log) + " 2>&1";
         const int status = std::system(command.c_str());
         std::ifstream in(log);
         const std::string output((std::istreambuf_iterator<char>(in)), {});
-        if (output.find("built without a window system") != std::string::npos) GTEST_SKIP() << output;
+        if (output.find("built without a window system") != std::string::npos)
+            GTEST_SKIP() << output;
         EXPECT_EQ(status, 0) << mode << ": " << output;
         EXPECT_NE(output.find("view: 2 frames of"), std::string::npos) << mode << ": " << output;
     }

@@ -26,7 +26,7 @@ std::string headerOnlyPng(uint32_t width, uint32_t height, size_t dataBytes) {
     be32(width);
     be32(height);
     png += std::string("\x08\x02\x00\x00\x00", 5); // 8 bits, RGB, deflate, no filter, no interlace
-    be32(0);                                        // CRC (never reached)
+    be32(0);                                       // CRC (never reached)
     be32(uint32_t(dataBytes));
     png += "IDAT";
     png += std::string(dataBytes, '\x55');
@@ -53,9 +53,10 @@ TEST_F(AllocationPolicy, APlannedPeakIsCheckedAgainstTheLimitAtTheHeadersSize) {
         EXPECT_TRUE(checkDecodedSize("a.png", 100, 100));
         const Status refused = checkDecodedSize("a.png", 103, 102);
         ASSERT_FALSE(refused);
-        EXPECT_EQ(refused.error,
-                  "a.png: a test bake of a 103x102 map needs about 1.0 MiB, above the limit of 1.0 MiB; "
-                  "--max-memory raises it");
+        EXPECT_EQ(
+            refused.error,
+            "a.png: a test bake of a 103x102 map needs about 1.0 MiB, above the limit of 1.0 MiB; "
+            "--max-memory raises it");
         EXPECT_EQ(outOfMemoryMessage("a.png"), "a.png: out of memory (needs about 1.0 MiB)");
         EXPECT_EQ(outOfMemoryMessage(), "a.png: out of memory (needs about 1.0 MiB)");
         // Another file's figure is not this one's.
@@ -79,14 +80,16 @@ TEST_F(AllocationPolicy, ABakeIsRefusedFromThePngHeaderBeforeDecoding) {
     ASSERT_FALSE(baked);
     const std::string& message = baked.error().message;
     // The estimate, not a decoding error: the data was never inflated.
-    EXPECT_EQ(message.rfind(input + ": a toksvig bake of a 2048x2048 map needs about ", 0), 0u) << message;
+    EXPECT_EQ(message.rfind(input + ": a toksvig bake of a 2048x2048 map needs about ", 0), 0u)
+        << message;
     EXPECT_NE(message.find("--max-memory"), std::string::npos) << message;
     // The peak counted is at least the bake's own estimate (the decoded file comes on top).
     const int64_t bake = bakeMemoryEstimate(Method::Toksvig, BakeOptions{}, 2048, 2048);
     setMaxMemory(bake);
     Result<BakeFileReport> again = bakeFile(input, tmp.file("out.bake"), options);
     ASSERT_FALSE(again);
-    EXPECT_NE(again.error().message.find("needs about"), std::string::npos) << again.error().message;
+    EXPECT_NE(again.error().message.find("needs about"), std::string::npos)
+        << again.error().message;
     EXPECT_FALSE(std::filesystem::exists(tmp.file("out.bake")));
 }
 

@@ -128,7 +128,8 @@ TEST(CrashRecovery, WriterTagsAreUniqueAndNameThisProcess) {
     for (std::thread& thread : threads) thread.join();
     const std::set<std::string> distinct(tags.begin(), tags.end());
     EXPECT_EQ(distinct.size(), tags.size());
-    for (const std::string& tag : tags) EXPECT_EQ(tag.rfind(std::to_string(::getpid()) + "-", 0), 0u) << tag;
+    for (const std::string& tag : tags)
+        EXPECT_EQ(tag.rfind(std::to_string(::getpid()) + "-", 0), 0u) << tag;
 }
 
 TEST(CrashRecovery, LeftoversOfThisProcessAreKeptAndNewNamesRecognised) {
@@ -156,12 +157,14 @@ TEST(CrashRecovery, ThreadsWritingFoldersBesideEachOtherAllSucceed) {
     for (int t = 0; t < kThreads; ++t)
         threads.emplace_back([&, t] {
             // Even threads: a folder of their own; odd ones: all the same folder.
-            const std::string name = (tmp.path / (t % 2 == 0 ? numbered("own", t) : std::string("shared"))).string();
+            const std::string name =
+                (tmp.path / (t % 2 == 0 ? numbered("own", t) : std::string("shared"))).string();
             for (int round = 0; round < 4; ++round) {
                 Status s = writeFolderWhole(
                     name, [](const fs::path&) { return Status::success(); },
                     [t](const fs::path& staging) {
-                        for (int f = 0; f < 8; ++f) writeBytes(staging / numbered("f", f), std::to_string(t));
+                        for (int f = 0; f < 8; ++f)
+                            writeBytes(staging / numbered("f", f), std::to_string(t));
                         return Status::success();
                     });
                 if (!s) errors[size_t(t)] = s.error;
@@ -174,7 +177,8 @@ TEST(CrashRecovery, ThreadsWritingFoldersBesideEachOtherAllSucceed) {
     EXPECT_EQ(names(tmp.path), expected);
     // The shared folder is one writer's whole: all 8 files from the same thread.
     const std::string writer = fileBytes(tmp.path / "shared" / "f0");
-    for (int f = 0; f < 8; ++f) EXPECT_EQ(fileBytes(tmp.path / "shared" / numbered("f", f)), writer);
+    for (int f = 0; f < 8; ++f)
+        EXPECT_EQ(fileBytes(tmp.path / "shared" / numbered("f", f)), writer);
     EXPECT_EQ(names(tmp.path / "shared").size(), 8u);
 }
 
@@ -194,7 +198,8 @@ TEST(CrashRecovery, ThreadsBakingIntoOneFolderAllSucceed) {
             BakeFileOptions options;
             options.method = t % 3 == 0 ? "naive" : "toksvig";
             options.force = true;
-            const std::string output = tmp.file(t < 12 ? numbered("map", t) + ".bake" : std::string("same.bake"));
+            const std::string output =
+                tmp.file(t < 12 ? numbered("map", t) + ".bake" : std::string("same.bake"));
             Result<BakeFileReport> baked = bakeFile(input, output, options);
             if (!baked) errors[size_t(t)] = baked.error().message;
         });

@@ -373,7 +373,8 @@ void expectNothingOrphaned(const test::Glb& glb) {
         EXPECT_TRUE(images.count(i)) << "image " << i << " is read by no texture";
         views.insert(glb.json["images"][i]["bufferView"].get<size_t>());
     }
-    for (const auto& accessor : glb.json["accessors"]) views.insert(accessor["bufferView"].get<size_t>());
+    for (const auto& accessor : glb.json["accessors"])
+        views.insert(accessor["bufferView"].get<size_t>());
     for (size_t v = 0; v < glb.json["bufferViews"].size(); ++v)
         EXPECT_TRUE(views.count(v)) << "bufferView " << v << " is read by nothing";
     // And the binary chunk holds nothing past the last bufferView (save alignment).
@@ -401,9 +402,9 @@ TEST(GltfFilter, SharedImagesAreDecodedAndBakedOnce) {
         }
         const fs::path folder = dir.path / (std::to_string(clones) + (otherFactor ? "f" : ""));
         fs::create_directories(folder);
-        const std::string path = test::writeGlb(
-            folder / "in.glb", asset,
-            {{"image/png", bundledNormalMap()}, {"image/png", materialMapPng()}});
+        const std::string path =
+            test::writeGlb(folder / "in.glb", asset,
+                           {{"image/png", bundledNormalMap()}, {"image/png", materialMapPng()}});
         Result<GltfFiltered> r = filterGltf(path, ddsOnly());
         EXPECT_TRUE(r) << r.error().message;
         return r ? std::move(r.value()) : GltfFiltered{};
@@ -478,7 +479,8 @@ TEST(GltfFilter, RerunOnItsOwnOutputReplacesItsImages) {
         for (int pass = 0; pass < 3; ++pass) {
             Result<GltfFiltered> r = filterGltf(from, ddsOnly());
             ASSERT_TRUE(r) << r.error().message;
-            EXPECT_EQ(r->replacedImages, pass == 0 ? 0 : 4) << "pass " << pass; // BC5, RGBA8 x2, PNG
+            EXPECT_EQ(r->replacedImages, pass == 0 ? 0 : 4)
+                << "pass " << pass; // BC5, RGBA8 x2, PNG
             passes.push_back(r->glb);
             from = dir.file("pass" + std::to_string(pass) + ".glb");
             test::writeBytes(from, r->glb);

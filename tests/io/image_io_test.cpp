@@ -101,8 +101,8 @@ std::string halfExrBytes() {
     s += '\0';
     uint64_t offset = s.size() + 8;
     for (int i = 0; i < 8; ++i) s += char((offset >> (8 * i)) & 0xFF);
-    put32(s, 0);      // y
-    put32(s, 3 * 4);  // bytes of pixel data
+    put32(s, 0);     // y
+    put32(s, 3 * 4); // bytes of pixel data
     for (const auto& channel : values)
         for (uint16_t v : channel) put16(s, v);
     return s;
@@ -147,8 +147,8 @@ TEST(ImageIo, Png16RoundTripIsExactWithAlpha) {
 TEST(ImageIo, PngClampsAndRoundsToNearest) {
     TempDir dir("pngclamp");
     Image image(6, 1, 1);
-    image.pixels = {-0.5f, 1.5f, std::numeric_limits<float>::quiet_NaN(), 10.4f / 255.f,
-                    10.6f / 255.f, 0.5f};
+    image.pixels = {-0.5f,         1.5f,          std::numeric_limits<float>::quiet_NaN(),
+                    10.4f / 255.f, 10.6f / 255.f, 0.5f};
     ASSERT_TRUE(ndfmip::savePng(dir.file("c.png"), image, 8));
     auto loaded = ndfmip::loadImage(dir.file("c.png"));
     ASSERT_TRUE(loaded) << loaded.error().message;

@@ -63,15 +63,15 @@ TEST(NormalDecode, IntegerMapIsTwoCMinusOne) {
 TEST(NormalDecode, GreenDownFlipsY) {
     DecodeOptions options;
     options.greenDown = true;
-    auto n = ndfmip::decodeNormalMap(source(filled(1, 1, {0.75f, 0.75f, 1.f})), options, "m",
-                                     nullptr);
+    auto n =
+        ndfmip::decodeNormalMap(source(filled(1, 1, {0.75f, 0.75f, 1.f})), options, "m", nullptr);
     ASSERT_TRUE(n) << n.error().message;
     expectNormal(n->at(0, 0), 0.5, -0.5, 1.0);
 }
 
 TEST(NormalDecode, AlphaIsIgnored) {
-    auto n = ndfmip::decodeNormalMap(source(filled(1, 1, {0.5f, 1.f, 0.5f, 0.f})), {}, "m",
-                                     nullptr);
+    auto n =
+        ndfmip::decodeNormalMap(source(filled(1, 1, {0.5f, 1.f, 0.5f, 0.f})), {}, "m", nullptr);
     ASSERT_TRUE(n) << n.error().message;
     ASSERT_EQ(n->channels, 3);
     expectNormal(n->at(0, 0), 0.0, 1.0, 0.0);
@@ -146,16 +146,16 @@ TEST(NormalDecode, NanInUnusedChannelIsIgnored) {
 }
 
 TEST(NormalDecode, AllZeroIsAnError) {
-    auto n = ndfmip::decodeNormalMap(source(filled(4, 4, {0.5f, 0.5f, 0.5f})), {}, "flat.png",
-                                     nullptr);
+    auto n =
+        ndfmip::decodeNormalMap(source(filled(4, 4, {0.5f, 0.5f, 0.5f})), {}, "flat.png", nullptr);
     ASSERT_FALSE(n);
     EXPECT_EQ(n.error().message, "flat.png: every normal is zero-length (not a normal map?)");
 }
 
 TEST(NormalDecode, CountsDegenerateOffUnitAndFacingDown) {
     Image image(4, 1, 3);
-    const float texels[4][3] = {{0.f, 0.f, 1.f}, {0.f, 0.f, 0.f}, {0.f, 2.f, 0.f},
-                                {0.6f, 0.f, -0.8f}};
+    const float texels[4][3] = {
+        {0.f, 0.f, 1.f}, {0.f, 0.f, 0.f}, {0.f, 2.f, 0.f}, {0.6f, 0.f, -0.8f}};
     for (int x = 0; x < 4; ++x)
         for (int c = 0; c < 3; ++c) image.at(x, 0)[c] = texels[x][c];
     DecodeOptions options;
@@ -262,8 +262,8 @@ TEST(NormalDecode, HeightQuadraticClamp) {
     expectNormal(n.at(0, row), -(height(1, row) - height(0, row)), 2 * b * row, 1.0, 1e-5);
     int x = 4;
     expectNormal(n.at(x, 0), -(2 * a * x + c * 0), -(height(x, 0) - height(x, 1)), 1.0, 1e-5);
-    expectNormal(n.at(x, H - 1), -(2 * a * x + c * (H - 1)),
-                 -(height(x, H - 2) - height(x, H - 1)), 1.0, 1e-5);
+    expectNormal(n.at(x, H - 1), -(2 * a * x + c * (H - 1)), -(height(x, H - 2) - height(x, H - 1)),
+                 1.0, 1e-5);
 }
 
 TEST(NormalDecode, HeightRampWrapsAcrossEdges) {

@@ -39,7 +39,8 @@ TEST(SharedMaps, EveryMapDecodesWithItsPublishedStatistics) {
         EXPECT_EQ(source->bitsPerChannel, m.bits) << m.file;
         double sumZ = 0;
         const Image& im = source->image;
-        for (size_t i = 0; i < im.texelCount(); ++i) sumZ += 2.0 * im.pixels[i * im.channels + 2] - 1.0;
+        for (size_t i = 0; i < im.texelCount(); ++i)
+            sumZ += 2.0 * im.pixels[i * im.channels + 2] - 1.0;
         // The published figures come from an 8-bit decode: for the 16-bit map, reducing to
         // 8 bits shifts the mean by up to one 8-bit step (2/255).
         EXPECT_NEAR(sumZ / double(im.texelCount()), m.meanZ, m.bits == 16 ? 2.0 / 255 : 0.0015)

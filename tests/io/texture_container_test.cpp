@@ -23,8 +23,7 @@
 namespace ndfmip {
 namespace {
 
-template <typename T>
-T read(const std::string& bytes, size_t at) {
+template <typename T> T read(const std::string& bytes, size_t at) {
     T v;
     std::memcpy(&v, bytes.data() + at, sizeof v);
     return v;
@@ -37,15 +36,17 @@ std::vector<Image> encodedNormalLevels(bool real = false) {
     if (real) {
         DecodeOptions decode;
         decode.greenDown = true;
-        Result<Image> map = loadNormalMap(std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png", decode, nullptr);
+        Result<Image> map =
+            loadNormalMap(std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png",
+                          decode, nullptr);
         if (map) normals = std::make_shared<const Image>(std::move(map.value()));
     }
     if (!normals) {
         auto synthetic = std::make_shared<Image>(64, 48, 3);
         for (int y = 0; y < 48; ++y)
             for (int x = 0; x < 64; ++x) {
-                const glm::vec3 n =
-                    glm::normalize(glm::vec3(0.6f * std::sin(0.3f * float(x)), 0.5f * std::cos(0.4f * float(y)), 1.f));
+                const glm::vec3 n = glm::normalize(glm::vec3(
+                    0.6f * std::sin(0.3f * float(x)), 0.5f * std::cos(0.4f * float(y)), 1.f));
                 float* p = synthetic->at(x, y);
                 p[0] = n.x, p[1] = n.y, p[2] = n.z;
             }
@@ -53,7 +54,8 @@ std::vector<Image> encodedNormalLevels(bool real = false) {
     }
     const Pyramid pyramid = buildPyramid(normals);
     std::vector<Image> means{*normals}; // the pyramid's mean normals, level after level
-    for (int k = 1; k < int(pyramid.levels.size()); ++k) means.push_back(averageToLevel(pyramid, means.back(), k));
+    for (int k = 1; k < int(pyramid.levels.size()); ++k)
+        means.push_back(averageToLevel(pyramid, means.back(), k));
     std::vector<Image> levels;
     for (Image mean : means) {
         for (size_t i = 0; i < mean.texelCount(); ++i) {
@@ -81,14 +83,16 @@ TEST(TextureContainer, RowsOfAnImagePadCutAndOwn) {
     const LevelRows same = rowsOf(rgb);
     EXPECT_EQ(same.channels, 3);
     same.row(1, row.data());
-    EXPECT_EQ(std::vector<float>(row.begin(), row.begin() + 6), std::vector<float>(rgb.at(0, 1), rgb.at(0, 1) + 6));
+    EXPECT_EQ(std::vector<float>(row.begin(), row.begin() + 6),
+              std::vector<float>(rgb.at(0, 1), rgb.at(0, 1) + 6));
     const LevelRows opaque = rowsOf(rgb, 4, 1.f);
     EXPECT_EQ(opaque.channels, 4);
     opaque.row(1, row.data());
     EXPECT_EQ(row, (std::vector<float>{6.5f, 7.5f, 8.5f, 1.f, 9.5f, 10.5f, 11.5f, 1.f}));
     const LevelRows two = rowsOf(rgb, 2);
     two.row(0, row.data());
-    EXPECT_EQ(std::vector<float>(row.begin(), row.begin() + 4), (std::vector<float>{0.5f, 1.5f, 3.5f, 4.5f}));
+    EXPECT_EQ(std::vector<float>(row.begin(), row.begin() + 4),
+              (std::vector<float>{0.5f, 1.5f, 3.5f, 4.5f}));
     auto shared = std::make_shared<const Image>(rgb);
     const std::weak_ptr<const Image> watch = shared;
     LevelRows owned = rowsOf(std::move(shared), 4, 0.f);
@@ -111,7 +115,8 @@ TEST(TextureContainer, Ktx2HeaderLevelIndexAndDescriptor) {
     const uint32_t levelCount = read<uint32_t>(file, 40);
     ASSERT_EQ(levelCount, levels.size());
     for (uint32_t k = 0; k < levelCount; ++k) {
-        const uint64_t offset = read<uint64_t>(file, 80 + 24 * k), length = read<uint64_t>(file, 88 + 24 * k);
+        const uint64_t offset = read<uint64_t>(file, 80 + 24 * k),
+                       length = read<uint64_t>(file, 88 + 24 * k);
         const int w = std::max(64 >> k, 1), h = std::max(48 >> k, 1);
         EXPECT_EQ(length, uint64_t(((w + 3) / 4) * ((h + 3) / 4) * 16)) << k;
         EXPECT_EQ(offset % 16, 0u) << k;
@@ -126,17 +131,19 @@ TEST(TextureContainer, Ktx2HeaderLevelIndexAndDescriptor) {
 // The bar: BC5 normals >= 40 dB and BC4 roughness >= 45 dB PSNR on every level, on the bundled
 // real map (stb_dxt's encoder; a synthetic map of 4-texel sines reaches only 37 dB at levels 1-2).
 TEST(TextureContainer, Bc5AndBc4DecodedByNvdecompressKeepEveryLevel) {
-    if (!std::filesystem::exists("/usr/bin/nvdecompress")) GTEST_SKIP() << "nvdecompress (libnvtt-bin) not installed";
+    if (!std::filesystem::exists("/usr/bin/nvdecompress"))
+        GTEST_SKIP() << "nvdecompress (libnvtt-bin) not installed";
     test::TempDir dir("ndfmip_dds");
     const std::vector<Image> levels = encodedNormalLevels(true);
-    std::vector<Image> roughness; // one channel: the encoded normal's blue, a smooth field in [0.5, 1]
+    std::vector<Image>
+        roughness; // one channel: the encoded normal's blue, a smooth field in [0.5, 1]
     for (const Image& level : levels) {
         Image r(level.width, level.height, 1);
         for (size_t i = 0; i < r.texelCount(); ++i) r.pixels[i] = level.pixels[3 * i + 2];
         roughness.push_back(std::move(r));
     }
-    const std::pair<TextureFormat, const std::vector<Image>*> cases[] = {{TextureFormat::Bc5Unorm, &levels},
-                                                                          {TextureFormat::Bc4Unorm, &roughness}};
+    const std::pair<TextureFormat, const std::vector<Image>*> cases[] = {
+        {TextureFormat::Bc5Unorm, &levels}, {TextureFormat::Bc4Unorm, &roughness}};
     for (const auto& [format, source] : cases) {
         Result<EncodedTexture> all = encodeTexture(pointers(*source), format);
         ASSERT_TRUE(all);
@@ -147,20 +154,25 @@ TEST(TextureContainer, Bc5AndBc4DecodedByNvdecompressKeepEveryLevel) {
             one.width = (*source)[k].width;
             one.height = (*source)[k].height;
             one.levels = {all->levels[k]};
-            const std::string dds = dir.file(std::string(textureFormatName(format)) + "_" + std::to_string(k) + ".dds");
+            const std::string dds =
+                dir.file(std::string(textureFormatName(format)) + "_" + std::to_string(k) + ".dds");
             // The legacy FourCC header: NVIDIA Texture Tools 2 decodes BC4/BC5 only from it (the
             // blocks are the same as in the DX10 file; its header is checked by nvddsinfo below).
             Result<std::string> legacy = ddsFileLegacy(one);
             ASSERT_TRUE(legacy);
             std::ofstream(dds, std::ios::binary) << legacy.value();
-            const std::string command = "cd " + test::shellArg(dir.path.string()) + " && nvdecompress " + test::shellArg(dds) + " > /dev/null 2>&1";
+            const std::string command = "cd " + test::shellArg(dir.path.string()) +
+                                        " && nvdecompress " + test::shellArg(dds) +
+                                        " > /dev/null 2>&1";
             ASSERT_EQ(std::system(command.c_str()), 0) << dds;
-            Result<SourceImage> decoded = loadImage(std::filesystem::path(dds).replace_extension(".tga").string());
+            Result<SourceImage> decoded =
+                loadImage(std::filesystem::path(dds).replace_extension(".tga").string());
             ASSERT_TRUE(decoded) << decoded.error().message;
             const Image& d = decoded->image;
             ASSERT_EQ(d.width, one.width);
             ASSERT_EQ(d.height, one.height);
-            // PSNR over the channels the format holds (nvdecompress writes BC4 red, BC5 red and green).
+            // PSNR over the channels the format holds (nvdecompress writes BC4 red, BC5 red and
+            // green).
             const int channels = format == TextureFormat::Bc5Unorm ? 2 : 1;
             double squared = 0.0;
             for (int y = 0; y < d.height; ++y)
@@ -169,9 +181,14 @@ TEST(TextureContainer, Bc5AndBc4DecodedByNvdecompressKeepEveryLevel) {
                         const double e = double(d.at(x, y)[c]) - double((*source)[k].at(x, y)[c]);
                         squared += e * e;
                     }
-            const double psnr = 10.0 * std::log10(1.0 / std::max(squared / double(d.texelCount() * size_t(channels)), 1e-12));
-            EXPECT_GE(psnr, format == TextureFormat::Bc5Unorm ? 40.0 : 45.0) << textureFormatName(format) << " level " << k;
-            std::printf("%s level %zu (%dx%d): %.1f dB\n", textureFormatName(format), k, d.width, d.height, psnr);
+            const double psnr =
+                10.0 *
+                std::log10(1.0 /
+                           std::max(squared / double(d.texelCount() * size_t(channels)), 1e-12));
+            EXPECT_GE(psnr, format == TextureFormat::Bc5Unorm ? 40.0 : 45.0)
+                << textureFormatName(format) << " level " << k;
+            std::printf("%s level %zu (%dx%d): %.1f dB\n", textureFormatName(format), k, d.width,
+                        d.height, psnr);
         }
     }
 }
@@ -179,20 +196,24 @@ TEST(TextureContainer, Bc5AndBc4DecodedByNvdecompressKeepEveryLevel) {
 // The npm package ktx-parse's ES module, or "" where node or the package is missing.
 std::string ktxParseModule() {
     const char* modules = std::getenv("NDFMIP_NODE_MODULES");
-    const std::string path = modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules";
+    const std::string path =
+        modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules";
     if (!std::filesystem::exists("/usr/bin/node")) return "";
     // dist/ktx-parse.modern.js in 1.x, dist/index.mjs in 2.x.
-    for (const char* candidate : {"/ktx-parse/dist/ktx-parse.modern.js", "/ktx-parse/dist/index.mjs"})
+    for (const char* candidate :
+         {"/ktx-parse/dist/ktx-parse.modern.js", "/ktx-parse/dist/index.mjs"})
         if (std::filesystem::exists(path + candidate)) return path + candidate;
     return "";
 }
 
-// Runs `script` (an ES module reading the KTX2 file given as its argument) and returns what it printed.
+// Runs `script` (an ES module reading the KTX2 file given as its argument) and returns what it
+// printed.
 std::string runNode(const test::TempDir& dir, const std::string& script, const std::string& file) {
     const std::string source = dir.file("read.mjs"), out = dir.file("out.json");
     std::ofstream(source) << script;
-    const int status = std::system(("node " + test::shellArg(source) + " " + test::shellArg(file) + " > " +
-                                    test::shellArg(out) + " 2>&1").c_str());
+    const int status = std::system(("node " + test::shellArg(source) + " " + test::shellArg(file) +
+                                    " > " + test::shellArg(out) + " 2>&1")
+                                       .c_str());
     std::ifstream in(out);
     std::string printed((std::istreambuf_iterator<char>(in)), {});
     return status == 0 ? printed : "node failed: " + printed;
@@ -200,25 +221,32 @@ std::string runNode(const test::TempDir& dir, const std::string& script, const s
 
 TEST(TextureContainer, Ktx2ReadBackByKtxParse) {
     const std::string module = ktxParseModule();
-    if (module.empty()) GTEST_SKIP() << "node and the npm package ktx-parse (scripts/setup installs it into .npm) not found";
+    if (module.empty())
+        GTEST_SKIP()
+            << "node and the npm package ktx-parse (scripts/setup installs it into .npm) not found";
     test::TempDir dir("ndfmip_ktx_parse");
     const std::vector<Image> levels = encodedNormalLevels();
-    const std::pair<TextureFormat, int> cases[] = {{TextureFormat::Bc5Unorm, 0}, {TextureFormat::Rgba32F, 0},
-                                                   {TextureFormat::Rgba16F, 0}, {TextureFormat::Rg16Unorm, 0},
-                                                   {TextureFormat::Bc5Unorm, 9}, {TextureFormat::Rgba16F, 3}};
+    const std::pair<TextureFormat, int> cases[] = {
+        {TextureFormat::Bc5Unorm, 0},  {TextureFormat::Rgba32F, 0},  {TextureFormat::Rgba16F, 0},
+        {TextureFormat::Rg16Unorm, 0}, {TextureFormat::Bc5Unorm, 9}, {TextureFormat::Rgba16F, 3}};
     for (const auto& [format, zstd] : cases) {
         Result<EncodedTexture> t = encodeTexture(pointers(levels), format);
         ASSERT_TRUE(t);
-        const std::string file = dir.file(std::string(textureFormatName(format)) + std::to_string(zstd) + ".ktx2");
+        const std::string file =
+            dir.file(std::string(textureFormatName(format)) + std::to_string(zstd) + ".ktx2");
         std::ofstream(file, std::ios::binary) << ktx2File(t.value(), zstd).value();
-        const std::string json = runNode(dir,
-                                         "import { read } from '" + module + "';\n"
-                                         "import { readFileSync } from 'fs';\n"
-                                         "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
-                                         "console.log(JSON.stringify({format: c.vkFormat, w: c.pixelWidth, h: c.pixelHeight, "
-                                         "levels: c.levels.map(l => l.uncompressedByteLength), scheme: c.supercompressionScheme, "
-                                         "model: c.dataFormatDescriptor[0].colorModel}));\n",
-                                         file);
+        const std::string json =
+            runNode(dir,
+                    "import { read } from '" + module +
+                        "';\n"
+                        "import { readFileSync } from 'fs';\n"
+                        "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
+                        "console.log(JSON.stringify({format: c.vkFormat, w: c.pixelWidth, h: "
+                        "c.pixelHeight, "
+                        "levels: c.levels.map(l => l.uncompressedByteLength), scheme: "
+                        "c.supercompressionScheme, "
+                        "model: c.dataFormatDescriptor[0].colorModel}));\n",
+                    file);
         EXPECT_NE(json.find("\"w\":64,\"h\":48"), std::string::npos) << json;
         std::string lengths = "[";
         for (size_t k = 0; k < t->levels.size(); ++k) {
@@ -226,14 +254,16 @@ TEST(TextureContainer, Ktx2ReadBackByKtxParse) {
             lengths += std::to_string(t->levels[k].size());
         }
         EXPECT_NE(json.find("\"levels\":" + lengths + "]"), std::string::npos) << json;
-        EXPECT_NE(json.find("\"scheme\":" + std::to_string(zstd > 0 ? 2 : 0)), std::string::npos) << json;
+        EXPECT_NE(json.find("\"scheme\":" + std::to_string(zstd > 0 ? 2 : 0)), std::string::npos)
+            << json;
     }
 }
 
 // Zstandard supercompression: every level inflated by the zstd tool (an independent decoder)
 // is the uncompressed level; the level index holds both lengths; levels are packed unaligned.
 TEST(TextureContainer, Ktx2ZstdLevelsInflateToTheLevels) {
-    if (std::system("zstd --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "the zstd tool is not installed";
+    if (std::system("zstd --version > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "the zstd tool is not installed";
     test::TempDir dir("ndfmip_ktx_zstd");
     const std::vector<Image> levels = encodedNormalLevels();
     Result<EncodedTexture> t = encodeTexture(pointers(levels), TextureFormat::Rgba16F);
@@ -242,12 +272,16 @@ TEST(TextureContainer, Ktx2ZstdLevelsInflateToTheLevels) {
     EXPECT_EQ(read<uint32_t>(file, 44), 2u); // supercompressionScheme: Zstandard
     EXPECT_LT(file.size(), ktx2File(t.value()).value().size());
     for (uint32_t k = 0; k < t->levels.size(); ++k) {
-        const uint64_t offset = read<uint64_t>(file, 80 + 24 * k), length = read<uint64_t>(file, 88 + 24 * k);
+        const uint64_t offset = read<uint64_t>(file, 80 + 24 * k),
+                       length = read<uint64_t>(file, 88 + 24 * k);
         EXPECT_EQ(read<uint64_t>(file, 96 + 24 * k), t->levels[k].size());
         ASSERT_LE(offset + length, file.size());
         const std::string packed = dir.file("level" + std::to_string(k) + ".zst");
         std::ofstream(packed, std::ios::binary) << file.substr(offset, length);
-        ASSERT_EQ(std::system(("zstd -q -d -f " + test::shellArg(packed) + " -o " + test::shellArg(packed + ".raw")).c_str()), 0);
+        ASSERT_EQ(std::system(("zstd -q -d -f " + test::shellArg(packed) + " -o " +
+                               test::shellArg(packed + ".raw"))
+                                  .c_str()),
+                  0);
         std::ifstream in(packed + ".raw", std::ios::binary);
         const std::string raw((std::istreambuf_iterator<char>(in)), {});
         EXPECT_EQ(raw, t->levels[k]) << "level " << k;
@@ -266,7 +300,8 @@ TEST(TextureContainer, Ktx2KeyValueDataLaidOutAsTheSpecificationSays) {
     ASSERT_TRUE(t);
     const std::string about = "{\"content\":\"normal\"}"; // 20 bytes
     for (const int zstd : {0, 5}) {
-        const std::string file = ktx2File(t.value(), zstd, {{"ndfmip", about}, {"KTXswizzle", "rg01"}}).value();
+        const std::string file =
+            ktx2File(t.value(), zstd, {{"ndfmip", about}, {"KTXswizzle", "rg01"}}).value();
         Result<Ktx2KeyValues> kv = readKtx2KeyValues(file);
         ASSERT_TRUE(kv) << kv.error().message;
         ASSERT_EQ(kv->size(), 3u);
@@ -282,8 +317,10 @@ TEST(TextureContainer, Ktx2KeyValueDataLaidOutAsTheSpecificationSays) {
             e.resize((e.size() + 3) / 4 * 4, '\0');
             return e;
         };
-        const std::string expected = entry("KTXswizzle", "rg01") + entry("KTXwriter", writer) + entry("ndfmip", about);
-        EXPECT_EQ(expected.substr(0, 20), std::string("\x10\0\0\0KTXswizzle\0rg01\0", 20)); // 16 bytes, no padding
+        const std::string expected =
+            entry("KTXswizzle", "rg01") + entry("KTXwriter", writer) + entry("ndfmip", about);
+        EXPECT_EQ(expected.substr(0, 20),
+                  std::string("\x10\0\0\0KTXswizzle\0rg01\0", 20)); // 16 bytes, no padding
         const uint32_t dfdAt = read<uint32_t>(file, 48), dfdLength = read<uint32_t>(file, 52);
         const uint32_t kvdAt = read<uint32_t>(file, 56), kvdLength = read<uint32_t>(file, 60);
         EXPECT_EQ(kvdAt, dfdAt + dfdLength);
@@ -293,7 +330,8 @@ TEST(TextureContainer, Ktx2KeyValueDataLaidOutAsTheSpecificationSays) {
         EXPECT_EQ(read<uint64_t>(file, 64), 0u); // no supercompression global data
         EXPECT_EQ(read<uint64_t>(file, 72), 0u);
         for (uint32_t k = 0; k < t->levels.size(); ++k) {
-            const uint64_t offset = read<uint64_t>(file, 80 + 24 * k), length = read<uint64_t>(file, 88 + 24 * k);
+            const uint64_t offset = read<uint64_t>(file, 80 + 24 * k),
+                           length = read<uint64_t>(file, 88 + 24 * k);
             EXPECT_GE(offset, kvdAt + kvdLength) << k;
             ASSERT_LE(offset + length, file.size());
             if (zstd == 0) {
@@ -302,7 +340,9 @@ TEST(TextureContainer, Ktx2KeyValueDataLaidOutAsTheSpecificationSays) {
         }
     }
     // KTXwriter given is kept; a key that cannot be written is refused.
-    EXPECT_EQ(readKtx2KeyValues(ktx2File(t.value(), 0, {{"KTXwriter", "x 1"}}).value())->at("KTXwriter"), "x 1");
+    EXPECT_EQ(
+        readKtx2KeyValues(ktx2File(t.value(), 0, {{"KTXwriter", "x 1"}}).value())->at("KTXwriter"),
+        "x 1");
     EXPECT_FALSE(ktx2File(t.value(), 0, {{"", "v"}}));
     EXPECT_FALSE(ktx2File(t.value(), 0, {{std::string("a\0b", 3), "v"}}));
 }
@@ -310,7 +350,8 @@ TEST(TextureContainer, Ktx2KeyValueDataLaidOutAsTheSpecificationSays) {
 // A damaged file is an error from the reader, never a read past its bytes.
 TEST(TextureContainer, Ktx2KeyValueReaderRefusesDamagedData) {
     const std::vector<Image> levels = encodedNormalLevels();
-    const std::string good = ktx2File(encodeTexture(pointers(levels), TextureFormat::Rgba8Unorm).value()).value();
+    const std::string good =
+        ktx2File(encodeTexture(pointers(levels), TextureFormat::Rgba8Unorm).value()).value();
     EXPECT_FALSE(readKtx2KeyValues("not a texture"));
     EXPECT_FALSE(readKtx2KeyValues(good.substr(0, 79)));
     const uint32_t kvdAt = read<uint32_t>(good, 56);
@@ -333,7 +374,9 @@ TEST(TextureContainer, Ktx2KeyValueReaderRefusesDamagedData) {
 // a supercompressed file (it returns KTX* values as text, others as bytes).
 TEST(TextureContainer, Ktx2KeyValuesReadBackByKtxParse) {
     const std::string module = ktxParseModule();
-    if (module.empty()) GTEST_SKIP() << "node and the npm package ktx-parse (scripts/setup installs it into .npm) not found";
+    if (module.empty())
+        GTEST_SKIP()
+            << "node and the npm package ktx-parse (scripts/setup installs it into .npm) not found";
     test::TempDir dir("ndfmip_ktx_kvd");
     const std::vector<Image> levels = encodedNormalLevels();
     Result<EncodedTexture> t = encodeTexture(pointers(levels), TextureFormat::Rg16Unorm);
@@ -341,21 +384,26 @@ TEST(TextureContainer, Ktx2KeyValuesReadBackByKtxParse) {
     const std::string about = "{\"content\":\"normal\",\"encoding\":\"(n+1)/2\",\"green\":\"up\"}";
     for (const int zstd : {0, 7}) {
         const std::string file = dir.file("kv" + std::to_string(zstd) + ".ktx2");
-        const std::string bytes = ktx2File(t.value(), zstd, {{"KTXswizzle", "rg01"}, {"ndfmip", about}}).value();
+        const std::string bytes =
+            ktx2File(t.value(), zstd, {{"KTXswizzle", "rg01"}, {"ndfmip", about}}).value();
         std::ofstream(file, std::ios::binary) << bytes;
-        const std::string json = runNode(dir,
-                                         "import { read } from '" + module + "';\n"
-                                         "import { readFileSync } from 'fs';\n"
-                                         "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
-                                         "const kv = {};\n"
-                                         "for (const [k, v] of Object.entries(c.keyValue))\n"
-                                         "  kv[k] = typeof v === 'string' ? v : new TextDecoder().decode(v).replace(/\\0$/, '');\n"
-                                         "console.log(JSON.stringify({keys: Object.keys(c.keyValue), kv, "
-                                         "levels: c.levels.length}));\n",
-                                         file);
+        const std::string json =
+            runNode(dir,
+                    "import { read } from '" + module +
+                        "';\n"
+                        "import { readFileSync } from 'fs';\n"
+                        "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
+                        "const kv = {};\n"
+                        "for (const [k, v] of Object.entries(c.keyValue))\n"
+                        "  kv[k] = typeof v === 'string' ? v : new "
+                        "TextDecoder().decode(v).replace(/\\0$/, '');\n"
+                        "console.log(JSON.stringify({keys: Object.keys(c.keyValue), kv, "
+                        "levels: c.levels.length}));\n",
+                    file);
         const nlohmann::json got = nlohmann::json::parse(json, nullptr, false);
         ASSERT_TRUE(got.is_object()) << json;
-        EXPECT_EQ(got["keys"], nlohmann::json::array({"KTXswizzle", "KTXwriter", "ndfmip"})) << json;
+        EXPECT_EQ(got["keys"], nlohmann::json::array({"KTXswizzle", "KTXwriter", "ndfmip"}))
+            << json;
         EXPECT_EQ(got["kv"]["KTXswizzle"], "rg01");
         EXPECT_EQ(got["kv"]["KTXwriter"], readKtx2KeyValues(bytes)->at("KTXwriter"));
         EXPECT_EQ(got["kv"]["ndfmip"], about);
@@ -372,7 +420,8 @@ std::vector<std::vector<Image>> numberedCube() {
             Image face(8 >> k, 8 >> k, 4);
             for (int y = 0; y < face.height; ++y)
                 for (int x = 0; x < face.width; ++x)
-                    for (int c = 0; c < 4; ++c) face.at(x, y)[c] = float(f + 10 * k) + float(x + 8 * y) / 1000.f + float(c);
+                    for (int c = 0; c < 4; ++c)
+                        face.at(x, y)[c] = float(f + 10 * k) + float(x + 8 * y) / 1000.f + float(c);
             faces.push_back(std::move(face));
         }
         cube.push_back(std::move(faces));
@@ -385,9 +434,10 @@ std::vector<std::vector<LevelRows>> rowsOf(const std::vector<std::vector<Image>>
     for (const std::vector<Image>& faces : cube) {
         rows.emplace_back();
         for (const Image& face : faces)
-            rows.back().push_back({face.width, face.height, face.channels, [&face](int y, float* out) {
-                                       std::copy_n(face.at(0, y), size_t(face.width) * 4, out);
-                                   }});
+            rows.back().push_back(
+                {face.width, face.height, face.channels, [&face](int y, float* out) {
+                     std::copy_n(face.at(0, y), size_t(face.width) * 4, out);
+                 }});
     }
     return rows;
 }
@@ -401,12 +451,14 @@ TEST(TextureContainer, CubeMapLevelsHoldTheirSixFaces) {
     for (size_t k = 0; k < 4; ++k) {
         const size_t faceBytes = size_t(8 >> k) * size_t(8 >> k) * 16;
         ASSERT_EQ(t->levels[k].size(), 6 * faceBytes);
-        for (int f = 0; f < 6; ++f) EXPECT_EQ(read<float>(t->levels[k], size_t(f) * faceBytes), float(f + 10 * int(k)));
+        for (int f = 0; f < 6; ++f)
+            EXPECT_EQ(read<float>(t->levels[k], size_t(f) * faceBytes), float(f + 10 * int(k)));
     }
     const std::string ktx2 = ktx2File(t.value()).value();
     EXPECT_EQ(read<uint32_t>(ktx2, 36), 6u); // faceCount
     EXPECT_EQ(read<uint32_t>(ktx2, 28), 0u); // pixelDepth
-    // DDS: face by face, each with its four levels; the cube flags in caps2 and the DX10 misc flags.
+    // DDS: face by face, each with its four levels; the cube flags in caps2 and the DX10 misc
+    // flags.
     const std::string dds = ddsFile(t.value());
     EXPECT_EQ(read<uint32_t>(dds, 4 + 108), 0x200u | 0xFC00u);
     EXPECT_EQ(read<uint32_t>(dds, 128 + 8), 0x4u);
@@ -425,24 +477,32 @@ TEST(TextureContainer, CubeMapLevelsHoldTheirSixFaces) {
 
 TEST(TextureContainer, CubeMapReadBackByKtxParse) {
     const std::string module = ktxParseModule();
-    if (module.empty()) GTEST_SKIP() << "node and the npm package ktx-parse (scripts/setup installs it into .npm) not found";
+    if (module.empty())
+        GTEST_SKIP()
+            << "node and the npm package ktx-parse (scripts/setup installs it into .npm) not found";
     test::TempDir dir("ndfmip_ktx_cube");
     Result<EncodedTexture> t = encodeCubeTexture(rowsOf(numberedCube()), TextureFormat::Rgba32F);
     ASSERT_TRUE(t);
     const std::string file = dir.file("cube.ktx2");
     std::ofstream(file, std::ios::binary) << ktx2File(t.value()).value();
     // The first float of every face of every level, as the reader splits the level data.
-    const std::string json = runNode(dir,
-                                     "import { read } from '" + module + "';\n"
-                                     "import { readFileSync } from 'fs';\n"
-                                     "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
-                                     "const first = c.levels.map((l, k) => { const d = l.levelData; "
-                                     "const f = new Float32Array(d.buffer.slice(d.byteOffset, d.byteOffset + d.byteLength)); "
-                                     "const n = f.length / c.faceCount; return [...Array(c.faceCount).keys()].map(i => f[i * n]); });\n"
-                                     "console.log(JSON.stringify({faces: c.faceCount, w: c.pixelWidth, h: c.pixelHeight, first}));\n",
-                                     file);
+    const std::string json =
+        runNode(dir,
+                "import { read } from '" + module +
+                    "';\n"
+                    "import { readFileSync } from 'fs';\n"
+                    "const c = read(new Uint8Array(readFileSync(process.argv[2])));\n"
+                    "const first = c.levels.map((l, k) => { const d = l.levelData; "
+                    "const f = new Float32Array(d.buffer.slice(d.byteOffset, d.byteOffset + "
+                    "d.byteLength)); "
+                    "const n = f.length / c.faceCount; return [...Array(c.faceCount).keys()].map(i "
+                    "=> f[i * n]); });\n"
+                    "console.log(JSON.stringify({faces: c.faceCount, w: c.pixelWidth, h: "
+                    "c.pixelHeight, first}));\n",
+                file);
     EXPECT_NE(json.find("\"faces\":6,\"w\":8,\"h\":8"), std::string::npos) << json;
-    EXPECT_NE(json.find("\"first\":[[0,1,2,3,4,5],[10,11,12,13,14,15],[20,21,22,23,24,25],[30,31,32,33,34,35]]"),
+    EXPECT_NE(json.find("\"first\":[[0,1,2,3,4,5],[10,11,12,13,14,15],[20,21,22,23,24,25],[30,31,"
+                        "32,33,34,35]]"),
               std::string::npos)
         << json;
 }

@@ -57,19 +57,25 @@ TEST(UntrustedPath, EveryReaderAndWriterRefusesAPathANulWouldCutShort) {
     gloss.gloss = png + "\0"s;
     gloss.maxExponent = 10.f;
     EXPECT_FALSE(bakeFile(png, tmp.file("out"), gloss));
-    EXPECT_EQ(std::distance(fs::directory_iterator(tmp.path), fs::directory_iterator()), 1) << "only a.png";
+    EXPECT_EQ(std::distance(fs::directory_iterator(tmp.path), fs::directory_iterator()), 1)
+        << "only a.png";
 }
 
 TEST(Printable, InvalidUtf8IsEscapedValidUtf8KeptControlsHidden) {
     EXPECT_EQ(printable("plain.png"), "plain.png");
-    EXPECT_EQ(printable("caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x99\x82"), "caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x99\x82");
-    EXPECT_EQ(printable("a\xFF" "b"), "a\\xFFb");
-    EXPECT_EQ(printable("\xC3("), "\\xC3(");           // a lead byte without its continuation
-    EXPECT_EQ(printable("\xE2\x82"), "\\xE2\\x82");    // a cut sequence
-    EXPECT_EQ(printable("\xC0\xAF"), "\\xC0\\xAF");    // an overlong '/'
+    EXPECT_EQ(printable("caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x99\x82"),
+              "caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x99\x82");
+    EXPECT_EQ(printable("a\xFF"
+                        "b"),
+              "a\\xFFb");
+    EXPECT_EQ(printable("\xC3("), "\\xC3(");                 // a lead byte without its continuation
+    EXPECT_EQ(printable("\xE2\x82"), "\\xE2\\x82");          // a cut sequence
+    EXPECT_EQ(printable("\xC0\xAF"), "\\xC0\\xAF");          // an overlong '/'
     EXPECT_EQ(printable("\xED\xA0\x80"), "\\xED\\xA0\\x80"); // a UTF-16 surrogate
     EXPECT_EQ(printable("a\nb\x1b[2J\x7f"), "a?b?[2J?");
-    EXPECT_EQ(printable("\xC2\x9B" "1m"), "?1m"); // C1 CSI
+    EXPECT_EQ(printable("\xC2\x9B"
+                        "1m"),
+              "?1m"); // C1 CSI
     // Cut by its output's length, at a whole character or escape.
     EXPECT_EQ(printable(std::string(10, '\xFF'), 9), "\\xFF\\xFF\xE2\x80\xA6");
     EXPECT_EQ(printable("\xC3\xA9\xC3\xA9", 3), "\xC3\xA9\xE2\x80\xA6");

@@ -27,7 +27,8 @@ TEST(MethodParameters, TablesAreWellFormed) {
             EXPECT_EQ(std::string(p.flag).rfind("--", 0), 0u);
             EXPECT_LE(p.min, p.defaultValue);
             EXPECT_GE(p.max, p.defaultValue);
-            EXPECT_TRUE(checkParameterValues(unit.method, {{p.key, p.defaultValue}}, ParameterNaming::Key));
+            EXPECT_TRUE(
+                checkParameterValues(unit.method, {{p.key, p.defaultValue}}, ParameterNaming::Key));
             EXPECT_NE(std::string(p.help), "");
         }
     }
@@ -54,11 +55,16 @@ TEST(MethodParameters, ChecksNameTheParameterAsTheCallerSpellsIt) {
         Status s = checkParameterValues(m, v, n);
         return s ? std::string() : s.error;
     };
-    EXPECT_EQ(error(Method::Vmf, {{"lobes", 9}}, ParameterNaming::Flag), "--lobes 9: expected a whole number 1 .. 8");
-    EXPECT_EQ(error(Method::Vmf, {{"lobes", 2.5}}, ParameterNaming::Key), "lobes 2.5: expected a whole number 1 .. 8");
-    EXPECT_EQ(error(Method::Vmf, {{"tolerance", 2}}, ParameterNaming::Key), "tolerance 2: expected 0 .. 1");
-    EXPECT_EQ(error(Method::Toksvig, {{"lobes", 2}}, ParameterNaming::Flag), "--lobes applies to --method vmf only");
-    EXPECT_EQ(error(Method::Vmf, {{"order", 3}}, ParameterNaming::Key), "order applies to method sh only");
+    EXPECT_EQ(error(Method::Vmf, {{"lobes", 9}}, ParameterNaming::Flag),
+              "--lobes 9: expected a whole number 1 .. 8");
+    EXPECT_EQ(error(Method::Vmf, {{"lobes", 2.5}}, ParameterNaming::Key),
+              "lobes 2.5: expected a whole number 1 .. 8");
+    EXPECT_EQ(error(Method::Vmf, {{"tolerance", 2}}, ParameterNaming::Key),
+              "tolerance 2: expected 0 .. 1");
+    EXPECT_EQ(error(Method::Toksvig, {{"lobes", 2}}, ParameterNaming::Flag),
+              "--lobes applies to --method vmf only");
+    EXPECT_EQ(error(Method::Vmf, {{"order", 3}}, ParameterNaming::Key),
+              "order applies to method sh only");
     EXPECT_EQ(error(Method::Vmf, {{"max_iterations", 5}, {"lobes", 2}}, ParameterNaming::Key), "");
     EXPECT_EQ(error(Method::Sh, {{"bands", 3}}, ParameterNaming::Key), "unknown parameter 'bands'");
     // vmf's own rule between two of its values.
@@ -66,9 +72,12 @@ TEST(MethodParameters, ChecksNameTheParameterAsTheCallerSpellsIt) {
               "--lobe-budget does not apply to coherent lobes");
     EXPECT_EQ(error(Method::Vmf, {{"coherent", 1}, {"lobe_budget", 0}}, ParameterNaming::Flag), "");
     // A command's values reach whichever method it bakes: ranges only.
-    EXPECT_TRUE(checkCommandParameterValues({{"lobes", 2}, {"order", 3}}, kParameterRender, ParameterNaming::Key));
-    EXPECT_FALSE(checkCommandParameterValues({{"order", 31}}, kParameterRender, ParameterNaming::Key));
-    EXPECT_FALSE(checkCommandParameterValues({{"coherent", 1}}, kParameterRender, ParameterNaming::Key));
+    EXPECT_TRUE(checkCommandParameterValues({{"lobes", 2}, {"order", 3}}, kParameterRender,
+                                            ParameterNaming::Key));
+    EXPECT_FALSE(
+        checkCommandParameterValues({{"order", 31}}, kParameterRender, ParameterNaming::Key));
+    EXPECT_FALSE(
+        checkCommandParameterValues({{"coherent", 1}}, kParameterRender, ParameterNaming::Key));
 }
 
 TEST(MethodParameters, EvalSpecsReadTheTablesPositions) {
@@ -80,9 +89,13 @@ TEST(MethodParameters, EvalSpecsReadTheTablesPositions) {
     ASSERT_TRUE(sh);
     EXPECT_EQ(sh->at("order"), 12.0);
     for (const auto& [method, spec, values] :
-         {std::tuple{Method::Vmf, "vmf:9", std::vector<std::string>{"9"}}, {Method::Vmf, "vmf:x", {"x"}},
-          {Method::Vmf, "vmf:4:11", {"4", "11"}}, {Method::Vmf, "vmf:4:0:1", {"4", "0", "1"}},
-          {Method::Sh, "sh:2.5", {"2.5"}}, {Method::Sh, "sh:", {""}}, {Method::Toksvig, "toksvig:3", {"3"}}}) {
+         {std::tuple{Method::Vmf, "vmf:9", std::vector<std::string>{"9"}},
+          {Method::Vmf, "vmf:x", {"x"}},
+          {Method::Vmf, "vmf:4:11", {"4", "11"}},
+          {Method::Vmf, "vmf:4:0:1", {"4", "0", "1"}},
+          {Method::Sh, "sh:2.5", {"2.5"}},
+          {Method::Sh, "sh:", {""}},
+          {Method::Toksvig, "toksvig:3", {"3"}}}) {
         Result<ParameterValues> parsed = parseParameterSpec(method, spec, values);
         ASSERT_FALSE(parsed) << spec;
         EXPECT_NE(parsed.error().message.find(spec), std::string::npos) << parsed.error().message;
@@ -93,7 +106,8 @@ TEST(MethodParameters, EvalSpecsReadTheTablesPositions) {
 
 // The cache key from the tables is the key earlier versions wrote for the same options (their
 // fixed list of keys, written out here), so bakes made by them stay up to date.
-// The project's version as CMakeLists.txt's project() line gives it (what the library is built with).
+// The project's version as CMakeLists.txt's project() line gives it (what the library is built
+// with).
 std::string projectVersion() {
     std::ifstream in(std::string(NDFMIP_SOURCE_DIR) + "/CMakeLists.txt");
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -107,17 +121,34 @@ std::string projectVersion() {
 TEST(MethodParameters, CacheKeysAreThoseOfTheFixedOptionList) {
     const std::string version = projectVersion();
     ASSERT_NE(version, "");
-    auto earlierKey = [&](int order, int lobes, float coherent, float budget, int iterations, double tolerance) {
-        const nlohmann::json options = {
-            {"method", "vmf"}, {"order", order}, {"lobes", lobes}, {"coherent", coherent},
-            {"lobe_budget", budget}, {"max_iterations", iterations}, {"tolerance", tolerance},
-            {"half", false}, {"max_exponent", 0.f}, {"base_roughness", 0.f},
-            {"roughness_channel", "r"}, {"roughness_encoding", "perceptual"},
-            {"engine", ""}, {"metallic_channel", ""}, {"occlusion_channel", ""},
-            {"export", ""}, {"export_textures", BakeFileOptions{}.exportTextures}, {"normal_format", "bc5"},
-            {"roughness_format", "bc4"}, {"zstd", 0},
-            {"green_down", false}, {"two_channel", false}, {"signed", false},
-            {"height", false}, {"height_scale", 1.f}, {"clamp", false}};
+    auto earlierKey = [&](int order, int lobes, float coherent, float budget, int iterations,
+                          double tolerance) {
+        const nlohmann::json options = {{"method", "vmf"},
+                                        {"order", order},
+                                        {"lobes", lobes},
+                                        {"coherent", coherent},
+                                        {"lobe_budget", budget},
+                                        {"max_iterations", iterations},
+                                        {"tolerance", tolerance},
+                                        {"half", false},
+                                        {"max_exponent", 0.f},
+                                        {"base_roughness", 0.f},
+                                        {"roughness_channel", "r"},
+                                        {"roughness_encoding", "perceptual"},
+                                        {"engine", ""},
+                                        {"metallic_channel", ""},
+                                        {"occlusion_channel", ""},
+                                        {"export", ""},
+                                        {"export_textures", BakeFileOptions{}.exportTextures},
+                                        {"normal_format", "bc5"},
+                                        {"roughness_format", "bc4"},
+                                        {"zstd", 0},
+                                        {"green_down", false},
+                                        {"two_channel", false},
+                                        {"signed", false},
+                                        {"height", false},
+                                        {"height_scale", 1.f},
+                                        {"clamp", false}};
         return sha256Text("ndfmip " + version + "\n" + options.dump() + "\nsource abc");
     };
     BakeFileOptions o;
@@ -125,7 +156,8 @@ TEST(MethodParameters, CacheKeysAreThoseOfTheFixedOptionList) {
     Result<std::string> plain = bakeCacheKey(o, "abc");
     ASSERT_TRUE(plain) << plain.error().message;
     EXPECT_EQ(plain.value(), earlierKey(0, 0, 0.f, 0.f, 50, 1e-5));
-    o.parameters = {{"lobes", 6}, {"coherent", double(0.3f)}, {"max_iterations", 7}, {"tolerance", 1e-3}};
+    o.parameters = {
+        {"lobes", 6}, {"coherent", double(0.3f)}, {"max_iterations", 7}, {"tolerance", 1e-3}};
     Result<std::string> given = bakeCacheKey(o, "abc");
     ASSERT_TRUE(given);
     EXPECT_EQ(given.value(), earlierKey(0, 6, 0.3f, 0.f, 7, 1e-3));

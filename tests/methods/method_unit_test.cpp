@@ -16,7 +16,8 @@ SharedImage bumpyNormals() {
     auto image = std::make_shared<Image>(16, 16, 3);
     for (int y = 0; y < 16; ++y)
         for (int x = 0; x < 16; ++x) {
-            const glm::vec3 n = glm::normalize(glm::vec3(0.7f * std::sin(0.9f * float(x)), 0.5f * std::cos(1.3f * float(y)), 1.f));
+            const glm::vec3 n = glm::normalize(
+                glm::vec3(0.7f * std::sin(0.9f * float(x)), 0.5f * std::cos(1.3f * float(y)), 1.f));
             float* p = image->at(x, y);
             p[0] = n.x, p[1] = n.y, p[2] = n.z;
         }
@@ -43,7 +44,8 @@ TEST(MethodUnit, PlanesAreWhatTheBakeMakes) {
             EXPECT_GE(bake.parameters.at(r.key), r.min);
             EXPECT_LE(bake.parameters.at(r.key), r.max);
         }
-        const std::vector<PlaneInfo> expected = unit.planes(bake.parameters, findPlane(bake.planes, "color0") >= 0);
+        const std::vector<PlaneInfo> expected =
+            unit.planes(bake.parameters, findPlane(bake.planes, "color0") >= 0);
         ASSERT_EQ(bake.planes.size(), expected.size());
         for (size_t p = 0; p < expected.size(); ++p) {
             EXPECT_EQ(bake.planes[p].name, expected[p].name);
@@ -69,14 +71,16 @@ TEST(MethodUnit, LevelZeroNormalIsTheMapsNormal) {
                     texel.insert(texel.end(), plane->at(x, y), plane->at(x, y) + plane->channels);
                 const glm::vec3 n = glm::normalize(unit.levelZeroNormal(texel.data()));
                 const float* truth = normals->at(x, y);
-                EXPECT_NEAR(glm::dot(n, glm::vec3(truth[0], truth[1], truth[2])), 1.f, 1e-4f) << x << "," << y;
+                EXPECT_NEAR(glm::dot(n, glm::vec3(truth[0], truth[1], truth[2])), 1.f, 1e-4f)
+                    << x << "," << y;
             }
     }
 }
 
 TEST(MethodUnit, ShadersReadExistingMethodsAndNamesAreUnique) {
     std::set<std::string> names;
-    for (const MethodUnit& unit : methodUnits()) EXPECT_TRUE(names.insert(unit.name).second) << unit.name;
+    for (const MethodUnit& unit : methodUnits())
+        EXPECT_TRUE(names.insert(unit.name).second) << unit.name;
     std::set<std::string> shaderNames;
     for (const MethodShader& shader : methodShaders()) {
         EXPECT_TRUE(shaderNames.insert(shader.name).second) << shader.name;
@@ -84,7 +88,8 @@ TEST(MethodUnit, ShadersReadExistingMethodsAndNamesAreUnique) {
         EXPECT_NE(renderMethodNames().find(shader.name), std::string::npos) << shader.name;
     }
     for (const MethodUnit& unit : methodUnits()) {
-        EXPECT_TRUE(shaderNames.count(unit.name)) << "every bake method renders under its own name: " << unit.name;
+        EXPECT_TRUE(shaderNames.count(unit.name))
+            << "every bake method renders under its own name: " << unit.name;
         EXPECT_EQ(methodFromString(unit.name), unit.method);
     }
 }

@@ -32,7 +32,8 @@ TEST(AlignedTruth, FlatMapEveryMethodEqualsTheTruth) {
         const float s = m == Method::Sh ? 4.f : 64.f;
         Bake bake = bakeMethod(m, p, options);
         for (int k = 0; k < int(p.levels.size()); ++k) {
-            ErrorStats e = compareToTruth(shadeLevel(bake, k, context(s)), groundTruthLevel(p, k, context(s)));
+            ErrorStats e =
+                compareToTruth(shadeLevel(bake, k, context(s)), groundTruthLevel(p, k, context(s)));
             // vmf: identical normals give kappa = 1e5 (the cap), which eq. 29 turns into
             // s' = s / (1 + s / kappa): 0.06% narrower at s = 64. lean: its lobe is Beckmann's
             // of alpha^2 = 2/(s + 2), which stands for Blinn-Phong s to 6% (tilted 13 degrees,

@@ -2,12 +2,12 @@
 // method's filtered NDF is one normal, so each must reproduce the sampled truth up to its own
 // approximation (the split sum's n = v = r, SH truncation), and a tilted map must move every
 // method's result the way it moves the truth's.
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
-#include <string>
 #include <iterator>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -39,7 +39,8 @@ Scene tiltedView(const Material& material) {
 double meanLuminance(const Image& image) {
     double sum = 0.;
     for (size_t i = 0; i < image.texelCount(); ++i)
-        sum += 0.2126 * image.pixels[3 * i] + 0.7152 * image.pixels[3 * i + 1] + 0.0722 * image.pixels[3 * i + 2];
+        sum += 0.2126 * image.pixels[3 * i] + 0.7152 * image.pixels[3 * i + 1] +
+               0.0722 * image.pixels[3 * i + 2];
     return sum / double(image.texelCount());
 }
 
@@ -61,7 +62,10 @@ constexpr Row kRows[] = {
 };
 
 Method bakeOf(const std::string& name) {
-    return name == "naive" ? Method::Naive : name == "toksvig" ? Method::Toksvig : name == "sh" ? Method::Sh : Method::Vmf;
+    return name == "naive"     ? Method::Naive
+           : name == "toksvig" ? Method::Toksvig
+           : name == "sh"      ? Method::Sh
+                               : Method::Vmf;
 }
 
 // Every row's mean radiance against the truth's, relative; `tilt` spreads the map's normals.
@@ -69,7 +73,8 @@ std::vector<double> compareRows(float tilt, double tolerance) {
     std::vector<double> errors;
     // A smooth sky, brighter above and towards +x (band 1 and 2 only, so SH of order 7 holds it).
     const Environment env = envtest::mapOf(128, [](glm::dvec3 d) {
-        return glm::dvec3(1.) + glm::dvec3(0.8, 0.7, 0.5) * d.y + glm::dvec3(0.3, 0.2, 0.1) * d.x + 0.4 * d.y * d.y;
+        return glm::dvec3(1.) + glm::dvec3(0.8, 0.7, 0.5) * d.y + glm::dvec3(0.3, 0.2, 0.1) * d.x +
+               0.4 * d.y * d.y;
     });
     auto lighting = std::make_shared<const EnvironmentLighting>(makeEnvironmentLighting(env));
     Material m;
@@ -79,7 +84,8 @@ std::vector<double> compareRows(float tilt, double tolerance) {
     m.specular = glm::vec3(1.f);
     const Scene scene = tiltedView(m);
     RenderTextures textures;
-    textures.normals = std::make_shared<const Image>(test::randomNormals(128, 128, tilt, 3)); // ~6 texels a pixel
+    textures.normals =
+        std::make_shared<const Image>(test::randomNormals(128, 128, tilt, 3)); // ~6 texels a pixel
     textures.environment = lighting;
     RenderOptions truthOptions;
     truthOptions.spp = 1024;
@@ -101,19 +107,23 @@ std::vector<double> compareRows(float tilt, double tolerance) {
         EXPECT_TRUE(image) << row.method << ": " << image.error().message;
         if (!image) return errors;
         const double got = meanLuminance(image.value()), error = std::abs(got / expected - 1.);
-        std::printf("[ measured ] tilt %.2f: %s (%s, %s) %.4f against the truth's %.4f: %.1f%%\n", tilt, row.method,
-                    environmentLodName(row.lod), environmentWayName(row.way), got, expected, 100. * error);
+        std::printf("[ measured ] tilt %.2f: %s (%s, %s) %.4f against the truth's %.4f: %.1f%%\n",
+                    tilt, row.method, environmentLodName(row.lod), environmentWayName(row.way), got,
+                    expected, 100. * error);
         // The sh method's specular cosine is the mean normal's (docs/ENVIRONMENT.md), further
         // from the reflecting normals' own the more they spread: 12% too dark on the bumpy map.
-        const double allowed = std::string(row.method) == "sh" ? std::max(tolerance, 0.15) : tolerance;
+        const double allowed =
+            std::string(row.method) == "sh" ? std::max(tolerance, 0.15) : tolerance;
         EXPECT_LT(error, allowed) << row.method << " " << environmentLodName(row.lod) << " "
-                                    << environmentWayName(row.way);
+                                  << environmentWayName(row.way);
         errors.push_back(error);
     }
     return errors;
 }
 
-TEST(EnvironmentMethods, FlatMapMatchesTheTruth) { compareRows(0.f, 0.06); }
+TEST(EnvironmentMethods, FlatMapMatchesTheTruth) {
+    compareRows(0.f, 0.06);
+}
 
 TEST(EnvironmentMethods, BumpyMapStaysNearTheTruth) {
     const std::vector<double> errors = compareRows(0.5f, 0.12);

@@ -38,7 +38,8 @@ Scene orthographicScene(int pixels, glm::vec3 toEye, Material material) {
     s.camera.type = CameraType::Orthographic;
     s.camera.target = {0.f, 0.f, 0.f};
     s.camera.eye = 5.f * glm::normalize(toEye);
-    s.camera.up = std::abs(toEye.y) < 0.9f * glm::length(toEye) ? glm::vec3(0.f, 1.f, 0.f) : glm::vec3(0.f, 0.f, 1.f);
+    s.camera.up = std::abs(toEye.y) < 0.9f * glm::length(toEye) ? glm::vec3(0.f, 1.f, 0.f)
+                                                                : glm::vec3(0.f, 0.f, 1.f);
     s.camera.orthoHeight = 0.5f; // inside the plane for any view used here
     s.camera.width = s.camera.height = pixels;
     s.geometry.size = {1.f, 1.f};
@@ -47,7 +48,8 @@ Scene orthographicScene(int pixels, glm::vec3 toEye, Material material) {
     return s;
 }
 
-RenderTextures texturesOf(const Image& normals, std::shared_ptr<const EnvironmentLighting> lighting) {
+RenderTextures texturesOf(const Image& normals,
+                          std::shared_ptr<const EnvironmentLighting> lighting) {
     RenderTextures t;
     t.normals = std::make_shared<const Image>(normals);
     t.environment = std::move(lighting);
@@ -68,7 +70,8 @@ Measured measure(const Scene& scene, const RenderTextures& textures, RenderOptio
     double variance = 0.;
     const size_t n = image->texelCount();
     for (size_t i = 0; i < n; ++i) {
-        m.mean += glm::dvec3(image->pixels[3 * i], image->pixels[3 * i + 1], image->pixels[3 * i + 2]);
+        m.mean +=
+            glm::dvec3(image->pixels[3 * i], image->pixels[3 * i + 1], image->pixels[3 * i + 2]);
         variance += double(noise.standardError.pixels[i]) * noise.standardError.pixels[i];
     }
     m.mean /= double(n);
@@ -109,8 +112,9 @@ glm::dvec3 hemisphereIntegral(const Material& m, glm::vec3 n, glm::vec3 v, int s
 }
 
 TEST(EnvironmentTruthSampling, LobeHalfVectorDensitiesIntegrateToOne) {
-    for (Material m : {specularMaterial(Brdf::BlinnPhong, 0.f), specularMaterial(Brdf::Beckmann, 0.2f),
-                       specularMaterial(Brdf::Ggx, 0.2f), specularMaterial(Brdf::Ggx, 0.9f)}) {
+    for (Material m :
+         {specularMaterial(Brdf::BlinnPhong, 0.f), specularMaterial(Brdf::Beckmann, 0.2f),
+          specularMaterial(Brdf::Ggx, 0.2f), specularMaterial(Brdf::Ggx, 0.9f)}) {
         const int steps = 200000;
         double sum = 0.;
         for (int i = 0; i < steps; ++i) sum += lobeHalfVectorPdf(m, (i + 0.5) / steps);
@@ -124,7 +128,8 @@ TEST(EnvironmentTruthSampling, LobeHalfVectorDensitiesIntegrateToOne) {
             const double x = c + (1. - c) * (i + 0.5) / steps;
             tail += lobeHalfVectorPdf(m, x);
         }
-        EXPECT_NEAR(tail * 2. * M_PI * (1. - c) / steps, m.brdf == Brdf::BlinnPhong ? 1. - u : u, 2e-4)
+        EXPECT_NEAR(tail * 2. * M_PI * (1. - c) / steps, m.brdf == Brdf::BlinnPhong ? 1. - u : u,
+                    2e-4)
             << brdfName(m.brdf);
     }
 }
@@ -142,8 +147,10 @@ TEST(EnvironmentTruth, ConstantEnvironmentOnLambertIsAlbedoTimesRadiance) {
         options.environmentEstimator = estimator;
         const Measured m = measure(scene, textures, options);
         for (int i = 0; i < 3; ++i) {
-            EXPECT_NEAR(m.mean[i], expected[i], 4. * m.meanError + 1e-5 * expected[i]) << int(estimator) << " " << i;
-            EXPECT_LT(m.meanError, 0.03 * rec709Luminance(expected)) << int(estimator); // the check has teeth
+            EXPECT_NEAR(m.mean[i], expected[i], 4. * m.meanError + 1e-5 * expected[i])
+                << int(estimator) << " " << i;
+            EXPECT_LT(m.meanError, 0.03 * rec709Luminance(expected))
+                << int(estimator); // the check has teeth
         }
         // Cosine sampling of a flat Lambertian surface under constant light has no variance.
         if (estimator == EnvironmentEstimator::Brdf) {
@@ -174,11 +181,13 @@ TEST(EnvironmentTruth, SmallBrightSourceApproachesADirectionalLight) {
     const glm::vec3 dWorld = glm::normalize(glm::vec3(0.4f, -0.3f, 1.f));
     const glm::dvec3 dEnv = worldToEnvironment(glm::dvec3(dWorld));
     const double capCos = std::cos(2. * M_PI / 180.);
-    Environment env = envtest::mapOf(1024, [&](glm::dvec3 d) { return glm::dvec3(glm::dot(d, dEnv) > capCos ? 1. : 0.); });
+    Environment env = envtest::mapOf(
+        1024, [&](glm::dvec3 d) { return glm::dvec3(glm::dot(d, dEnv) > capCos ? 1. : 0.); });
     double irradiance = 0.; // the source's integral of radiance (map read per texel)
     for (int y = 0; y < env.radiance.height; ++y)
         for (int x = 0; x < env.radiance.width; ++x)
-            irradiance += env.radiance.at(x, y)[0] * equirectTexelSolidAngle(env.radiance.width, env.radiance.height, y);
+            irradiance += env.radiance.at(x, y)[0] *
+                          equirectTexelSolidAngle(env.radiance.width, env.radiance.height, y);
     auto lighting = lightingOf(std::move(env));
     Material m = specularMaterial(Brdf::BlinnPhong, 0.f);
     m.exponent = 32.f;
@@ -206,7 +215,8 @@ TEST(EnvironmentTruth, SmallBrightSourceApproachesADirectionalLight) {
 // A map with a bright blob, a coloured band and a dark half.
 Environment unevenMap(int width) {
     return envtest::mapOf(width, [](glm::dvec3 d) {
-        const double blob = std::exp(40. * (glm::dot(d, glm::normalize(glm::dvec3(0.3, 0.8, -0.4))) - 1.));
+        const double blob =
+            std::exp(40. * (glm::dot(d, glm::normalize(glm::dvec3(0.3, 0.8, -0.4))) - 1.));
         const double band = std::abs(d.z) < 0.3 ? 0.6 : 0.;
         return glm::dvec3(0.1 + 40. * blob + band, 0.1 + 30. * blob, d.y > 0. ? 0.3 : 0.02);
     });
@@ -252,20 +262,25 @@ TEST(EnvironmentTruth, ImageIsTheSameOnAnyThreadCountAndPointLightsStillAdd) {
     EXPECT_EQ(one->pixels, many->pixels);
     // A light adds what it gives alone: lit = environment + light (same samples, same seed).
     Scene lit = scene;
-    lit.lights = {Light{LightType::Directional, glm::normalize(glm::vec3(0.2f, 0.1f, 1.f)), {}, glm::vec3(2.f)}};
+    lit.lights = {Light{
+        LightType::Directional, glm::normalize(glm::vec3(0.2f, 0.1f, 1.f)), {}, glm::vec3(2.f)}};
     Scene lightOnly = lit;
     lightOnly.environment = {};
     Result<Image> both = render(lit, textures, kGroundTruth, options);
     RenderOptions sampled = options;
     sampled.exact = false;
-    Result<Image> alone = render(lightOnly, texturesOf(*textures.normals, nullptr), kGroundTruth, sampled);
+    Result<Image> alone =
+        render(lightOnly, texturesOf(*textures.normals, nullptr), kGroundTruth, sampled);
     ASSERT_TRUE(both && alone);
     for (size_t i = 0; i < both->pixels.size(); ++i)
-        ASSERT_NEAR(both->pixels[i], one->pixels[i] + alone->pixels[i], 1e-4f * (1.f + both->pixels[i])) << i;
+        ASSERT_NEAR(both->pixels[i], one->pixels[i] + alone->pixels[i],
+                    1e-4f * (1.f + both->pixels[i]))
+            << i;
 }
 
 TEST(EnvironmentTruth, VisibleEnvironmentShowsWhereRaysMissAndMethodsWithoutAHookRefuse) {
-    auto lighting = lightingOf(envtest::mapOf(16, [](glm::dvec3 d) { return glm::dvec3(d.y > 0. ? 3. : 1.); }));
+    auto lighting =
+        lightingOf(envtest::mapOf(16, [](glm::dvec3 d) { return glm::dvec3(d.y > 0. ? 3. : 1.); }));
     Scene scene = orthographicScene(8, {0.f, 0.f, 1.f}, kLambert);
     scene.camera.orthoHeight = 4.f; // wider than the plane
     scene.environment.visible = true;
@@ -304,15 +319,16 @@ double planeNoise(const Environment& env, int pixels, int spp) {
     s.material = specularMaterial(Brdf::Ggx, 0.2f);
     s.material.albedo = glm::vec3(0.3f);
     s.environment.path = "(in memory)";
-    const RenderTextures textures = texturesOf(test::randomNormals(64, 64, 0.4f, 4), lightingOf(env));
+    const RenderTextures textures =
+        texturesOf(test::randomNormals(64, 64, 0.4f, 4), lightingOf(env));
     RenderOptions options;
     options.spp = spp;
     RenderNoise noise;
     Result<Image> image = render(s, textures, kGroundTruth, options, &noise);
     EXPECT_TRUE(image);
     EXPECT_GE(noise.coveredPixels, size_t(pixels * pixels / 2));
-    std::printf("[ measured ] %dx%d pixels, %d spp: relative standard error %.4f\n", pixels, pixels, spp,
-                noise.relativeStandardError);
+    std::printf("[ measured ] %dx%d pixels, %d spp: relative standard error %.4f\n", pixels, pixels,
+                spp, noise.relativeStandardError);
     return noise.relativeStandardError;
 }
 

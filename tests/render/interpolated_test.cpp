@@ -31,17 +31,20 @@ glm::vec3 randomDirection(std::mt19937& rng) {
 
 TEST(FacetedSphere, MeshHasTheTrianglesAndNormalsOfAUvSphere) {
     const FacetedSphereMesh mesh = facetedSphereMesh(facetedSphere(12, 6, 2.f));
-    EXPECT_EQ(mesh.triangles.size(), size_t(12 * (2 * 6 - 2))); // one per segment at each pole, two between
+    EXPECT_EQ(mesh.triangles.size(),
+              size_t(12 * (2 * 6 - 2))); // one per segment at each pole, two between
     for (size_t i = 0; i < mesh.positions.size(); ++i) {
         EXPECT_NEAR(glm::length(mesh.normals[i]), 1.f, 1e-6f);
         EXPECT_NEAR(glm::length(mesh.positions[i] - 2.f * mesh.normals[i]), 0.f, 1e-5f);
     }
     for (size_t k = 0; k < mesh.triangles.size(); ++k) { // outward, non-degenerate facets
         const glm::ivec3 t = mesh.triangles[k];
-        const glm::vec3 centroid = (mesh.positions[t.x] + mesh.positions[t.y] + mesh.positions[t.z]) / 3.f;
+        const glm::vec3 centroid =
+            (mesh.positions[t.x] + mesh.positions[t.y] + mesh.positions[t.z]) / 3.f;
         EXPECT_GT(glm::dot(mesh.faceNormals[k], centroid), 0.f);
         EXPECT_GT(glm::length(glm::cross(mesh.positions[t.y] - mesh.positions[t.x],
-                                         mesh.positions[t.z] - mesh.positions[t.x])), 1e-3f);
+                                         mesh.positions[t.z] - mesh.positions[t.x])),
+                  1e-3f);
     }
 }
 
@@ -52,7 +55,8 @@ TEST(FacetedSphere, RaysHitTheFacetsInsideTheSphereWithInterpolatedNormals) {
     int hits = 0;
     for (int i = 0; i < 400; ++i) {
         const glm::vec3 origin = 4.f * randomDirection(rng);
-        const glm::vec3 target = 0.5f * randomDirection(rng) * std::cbrt(std::uniform_real_distribution<float>(0, 1)(rng));
+        const glm::vec3 target = 0.5f * randomDirection(rng) *
+                                 std::cbrt(std::uniform_real_distribution<float>(0, 1)(rng));
         const Ray ray{origin, glm::normalize(target - origin)};
         const FacetedHit h = intersectFacetedSphere(mesh, ray);
         // Every ray towards a point well inside the inscribed polyhedron hits.
@@ -73,7 +77,8 @@ TEST(FacetedSphere, RaysHitTheFacetsInsideTheSphereWithInterpolatedNormals) {
         EXPECT_NEAR(glm::length(again - h.interpolated), 0.f, 1e-4f);
     }
     EXPECT_EQ(hits, 400);
-    EXPECT_FALSE(intersectFacetedSphere(mesh, {{0.f, -5.f, 1.01f}, {0.f, 1.f, 0.f}}).hit); // passes above
+    EXPECT_FALSE(
+        intersectFacetedSphere(mesh, {{0.f, -5.f, 1.01f}, {0.f, 1.f, 0.f}}).hit); // passes above
 }
 
 TEST(FacetedSphere, AVertexHitGivesTheVertexNormal) {
@@ -113,7 +118,8 @@ TEST(NormalCubeMap, LevelZeroLookupsAreUnitVectorsInTheirDirection) {
         EXPECT_GT(glm::dot(glm::normalize(n), d), std::cos(0.5f * texelAngle));
     }
     // At a texel's centre the lookup is that texel: exactly unit.
-    const glm::vec3 centre = cubeFaceDirection(4, (2.f * 10.f + 1.f) / 64.f - 1.f, (2.f * 40.f + 1.f) / 64.f - 1.f);
+    const glm::vec3 centre =
+        cubeFaceDirection(4, (2.f * 10.f + 1.f) / 64.f - 1.f, (2.f * 40.f + 1.f) / 64.f - 1.f);
     EXPECT_NEAR(glm::length(sampleNormalCubeMap(map, centre, 0.f)), 1.f, 1e-6f);
 }
 
@@ -145,20 +151,25 @@ TEST(NormalCubeMap, CoarseTexelsAreTheMeanUnitVectorOverTheirSolidAngle) {
     for (int face = 0; face < 6; ++face) {
         const glm::vec3 t = map.levels.back().at(face, 0, 0);
         EXPECT_NEAR(glm::length(t), faceMean, 2e-5) << "face " << face;
-        EXPECT_NEAR(glm::dot(glm::normalize(t), glm::normalize(cubeFaceDirection(face, 0.f, 0.f))), 1.f, 1e-6f);
+        EXPECT_NEAR(glm::dot(glm::normalize(t), glm::normalize(cubeFaceDirection(face, 0.f, 0.f))),
+                    1.f, 1e-6f);
     }
     // Texels of several levels, corner and centre, against the numerical mean.
-    struct Case { int level, face, x, y; };
-    for (const Case c : {Case{3, 0, 0, 0}, Case{3, 4, 7, 3}, Case{5, 2, 1, 2}, Case{5, 5, 3, 0}, Case{6, 1, 0, 1}}) {
+    struct Case {
+        int level, face, x, y;
+    };
+    for (const Case c : {Case{3, 0, 0, 0}, Case{3, 4, 7, 3}, Case{5, 2, 1, 2}, Case{5, 5, 3, 0},
+                         Case{6, 1, 0, 1}}) {
         const CubeLevel& level = map.levels[size_t(c.level)];
         const double w = 2.0 / level.size;
-        const glm::dvec3 expected = meanUnitVector(c.face, -1 + c.x * w, -1 + (c.x + 1) * w, -1 + c.y * w, -1 + (c.y + 1) * w);
+        const glm::dvec3 expected = meanUnitVector(c.face, -1 + c.x * w, -1 + (c.x + 1) * w,
+                                                   -1 + c.y * w, -1 + (c.y + 1) * w);
         const glm::vec3 got = level.at(c.face, c.x, c.y);
         // Level 0's midpoint rule (texels 2/128 wide) leaves about 2e-5; weighing the children
         // equally instead would be off by far more (the 1 x 1 face above: 0.79 against 0.83).
         EXPECT_NEAR(glm::length(glm::dvec3(got) - expected), 0.0, 5e-5)
-            << "level " << c.level << " face " << c.face << " texel " << c.x << "," << c.y << ": length "
-            << glm::length(got) << " vs " << glm::length(expected);
+            << "level " << c.level << " face " << c.face << " texel " << c.x << "," << c.y
+            << ": length " << glm::length(got) << " vs " << glm::length(expected);
         EXPECT_LT(glm::length(got), 1.f); // shortened: never renormalised
     }
 }
@@ -182,15 +193,18 @@ TEST(NormalCubeMap, LodIsLog2OfTheFootprintInTexels) {
     const NormalCubeMap map = buildNormalCubeMap(128);
     const glm::vec3 n(0.f, 0.f, 1.f);
     // Face +z: a = x / z, so a step of 0.1 in x is 0.1 face units = 6.4 texels of 128.
-    EXPECT_NEAR(normalCubeMapLod(map, n, n + glm::vec3(0.1f, 0.f, 0.f), n + glm::vec3(0.f, 0.02f, 0.f)),
-                std::log2(6.4f), 1e-4f);
+    EXPECT_NEAR(
+        normalCubeMapLod(map, n, n + glm::vec3(0.1f, 0.f, 0.f), n + glm::vec3(0.f, 0.02f, 0.f)),
+        std::log2(6.4f), 1e-4f);
     // The longer axis wins, and scale of the lookup vectors does not matter.
-    EXPECT_NEAR(normalCubeMapLod(map, 3.f * n, 3.f * n + glm::vec3(0.f, 0.f, 0.f), 3.f * (n + glm::vec3(0.f, 0.25f, 0.f))),
+    EXPECT_NEAR(normalCubeMapLod(map, 3.f * n, 3.f * n + glm::vec3(0.f, 0.f, 0.f),
+                                 3.f * (n + glm::vec3(0.f, 0.25f, 0.f))),
                 std::log2(16.f), 1e-4f);
     EXPECT_EQ(normalCubeMapLod(map, n, n, n), 0.f); // no change: the finest level
 }
 
-// ---- the claim on a rendered scene ---------------------------------------------------------------
+// ---- the claim on a rendered scene
+// ---------------------------------------------------------------
 
 // A 12 x 6 faceted sphere about 18 pixels across in a 64 x 64 image, a sharp Blinn-Phong
 // highlight (s = 256) from a point light near the camera: the interpolated normal turns by
@@ -250,18 +264,22 @@ TEST(InterpolatedRender, CubeMapToksvigBeatsRenormalizedOnAFarSharpHighlight) {
         ASSERT_TRUE(truth) << truth.error().message;
         // The truth's own noise: another seed, for scale.
         truthOptions.seed = 2;
-        const double truthNoise = compareImages(renderInterpolated(scene, kGroundTruth, truthOptions).value(),
-                                                truth.value())->relativeRmse;
+        const double truthNoise =
+            compareImages(renderInterpolated(scene, kGroundTruth, truthOptions).value(),
+                          truth.value())
+                ->relativeRmse;
         RenderOptions truthFrameOptions;
         truthFrameOptions.spp = 64;
-        const std::vector<Image> truthFrames = shiftedFrames(scene, kGroundTruth, truthFrameOptions);
+        const std::vector<Image> truthFrames =
+            shiftedFrames(scene, kGroundTruth, truthFrameOptions);
         const Measured renormalized = measure(scene, kRenormalized, truth.value(), truthFrames);
         const Measured cubemap = measure(scene, kCubemapToksvig, truth.value(), truthFrames);
-        std::printf("%s: relative RMSE renormalized %.4f, cubemap-toksvig %.4f (truth vs truth %.4f); "
-                    "error flicker %.4f, %.4f; flicker %.4f, %.4f (truth %.4f)\n",
-                    brdfName(brdf), renormalized.relativeRmse, cubemap.relativeRmse, truthNoise,
-                    renormalized.errorFlicker, cubemap.errorFlicker, renormalized.flicker, cubemap.flicker,
-                    temporalFlicker(truthFrames));
+        std::printf(
+            "%s: relative RMSE renormalized %.4f, cubemap-toksvig %.4f (truth vs truth %.4f); "
+            "error flicker %.4f, %.4f; flicker %.4f, %.4f (truth %.4f)\n",
+            brdfName(brdf), renormalized.relativeRmse, cubemap.relativeRmse, truthNoise,
+            renormalized.errorFlicker, cubemap.errorFlicker, renormalized.flicker, cubemap.flicker,
+            temporalFlicker(truthFrames));
         EXPECT_LT(truthNoise, 0.5 * cubemap.relativeRmse);
         EXPECT_LT(cubemap.relativeRmse, renormalized.relativeRmse) << brdfName(brdf);
         EXPECT_LT(cubemap.errorFlicker, renormalized.errorFlicker) << brdfName(brdf);
@@ -305,11 +323,13 @@ TEST(InterpolatedRender, SceneFileNeedsNoNormalMap) {
     EXPECT_EQ(scene->geometry.rings, 5);
     EXPECT_EQ(scene->geometry.radius, 0.5f);
     EXPECT_EQ(scene->method, kGroundTruth);
-    const Result<Image> image = render(scene.value(), RenderTextures{}, kRenormalized, RenderOptions{});
+    const Result<Image> image =
+        render(scene.value(), RenderTextures{}, kRenormalized, RenderOptions{});
     ASSERT_TRUE(image) << image.error().message;
     EXPECT_EQ(image->width, 16);
 
-    auto refused = [](const std::string& object, const std::string& extra, const std::string& mention) {
+    auto refused = [](const std::string& object, const std::string& extra,
+                      const std::string& mention) {
         const std::string t = R"({"camera": {}, "lights": [{}], "object": )" + object + extra + "}";
         const Result<Scene> s = parseScene(t, "s.json", "");
         ASSERT_FALSE(s) << object << extra;
@@ -334,8 +354,9 @@ TEST(InterpolatedRender, ErrorFlickerCountsOnlyTheChangingError) {
         return image;
     };
     const std::vector<Image> truth = {grey(1.f), grey(2.f)};
-    EXPECT_EQ(temporalErrorFlicker(truth, truth), 0.0);                       // no error
-    EXPECT_NEAR(temporalErrorFlicker({grey(1.5f), grey(2.5f)}, truth), 0.0, 1e-12); // a steady error
+    EXPECT_EQ(temporalErrorFlicker(truth, truth), 0.0); // no error
+    EXPECT_NEAR(temporalErrorFlicker({grey(1.5f), grey(2.5f)}, truth), 0.0,
+                1e-12); // a steady error
     // Errors +0.3 and -0.3: standard deviation 0.3 in every pixel, over a truth of RMS sqrt(2.5).
     EXPECT_NEAR(temporalErrorFlicker({grey(1.3f), grey(1.7f)}, truth), 0.3 / std::sqrt(2.5), 1e-6);
 }
@@ -349,17 +370,22 @@ namespace {
 TEST(InterpolatedCli, RendersAFacetedSphereAndPrintsTheErrorFlicker) {
     test::TempDir tmp("interp_cli");
     const std::string scene = tmp.file("faceted.json");
-    test::writeBytes(scene, R"({"camera": {"eye": [0, -20, 4], "fov": 20, "width": 24, "height": 24},
+    test::writeBytes(scene,
+                     R"({"camera": {"eye": [0, -20, 4], "fov": 20, "width": 24, "height": 24},
         "object": {"type": "faceted-sphere", "segments": 8, "rings": 4},
         "lights": [{"type": "point", "position": [6, -18, 10], "intensity": 400}],
         "material": {"brdf": "blinnphong", "exponent": 256}})");
     std::string out;
-    const int status = test::runCli("render " + test::shellArg(scene) + " --method cubemap-toksvig --frames 2 "
-                                    "--truth-spp 4 -q -o " + test::shellArg(tmp.file("c.exr")), &out);
+    const int status = test::runCli("render " + test::shellArg(scene) +
+                                        " --method cubemap-toksvig --frames 2 "
+                                        "--truth-spp 4 -q -o " +
+                                        test::shellArg(tmp.file("c.exr")),
+                                    &out);
     ASSERT_EQ(status, 0) << out;
     EXPECT_NE(out.find("error flicker (2 frames, truth 4 spp): "), std::string::npos) << out;
     EXPECT_TRUE(std::filesystem::exists(tmp.file("c.png")));
-    test::expectCliRefuses("render " + test::shellArg(scene) + " --gpu -o " + test::shellArg(tmp.file("g.exr")),
+    test::expectCliRefuses("render " + test::shellArg(scene) + " --gpu -o " +
+                               test::shellArg(tmp.file("g.exr")),
                            {"faceted-sphere", "CPU only"});
     test::expectCliRefuses("render " + test::shellArg(scene) + " --method toksvig -o " +
                                test::shellArg(tmp.file("t.exr")),

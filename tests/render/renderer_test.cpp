@@ -65,13 +65,17 @@ Scene grazingScene(Material material) {
     s.camera.height = 32;
     s.geometry.size = {8.f, 8.f};
     s.geometry.tiling = {8.f, 8.f};
-    s.lights = {Light{LightType::Directional, glm::normalize(glm::vec3(0.2f, 0.5f, 0.6f)), {}, glm::vec3(1.f)},
+    s.lights = {Light{LightType::Directional,
+                      glm::normalize(glm::vec3(0.2f, 0.5f, 0.6f)),
+                      {},
+                      glm::vec3(1.f)},
                 Light{LightType::Point, {}, {0.5f, -1.f, 1.f}, glm::vec3(0.5f, 0.3f, 0.2f)}};
     s.material = material;
     return s;
 }
 
-Material material(Brdf brdf, float exponent, float roughness, glm::vec3 albedo, glm::vec3 specular) {
+Material material(Brdf brdf, float exponent, float roughness, glm::vec3 albedo,
+                  glm::vec3 specular) {
     Material m;
     m.brdf = brdf;
     m.exponent = exponent;
@@ -105,7 +109,8 @@ void expectImagesNear(const Image& a, const Image& b, float tolerance) {
     ASSERT_EQ(a.pixels.size(), b.pixels.size());
     float worst = 0.f;
     for (size_t i = 0; i < a.pixels.size(); ++i)
-        worst = std::max(worst, std::abs(a.pixels[i] - b.pixels[i]) / std::max(1.f, std::abs(b.pixels[i])));
+        worst = std::max(worst, std::abs(a.pixels[i] - b.pixels[i]) /
+                                    std::max(1.f, std::abs(b.pixels[i])));
     EXPECT_LE(worst, tolerance);
 }
 
@@ -115,15 +120,18 @@ TEST(Renderer, FlatMapEveryMethodEqualsGroundTruth) {
         for (const Scene& scene : {grazingScene(m), alignedScene(8, m, {0.3f, 0.2f, 1.f})}) {
             RenderOptions truthOptions;
             truthOptions.spp = 4;
-            Result<Image> truth = render(scene, texturesFor(flat, Method::Naive), kGroundTruth, truthOptions);
+            Result<Image> truth =
+                render(scene, texturesFor(flat, Method::Naive), kGroundTruth, truthOptions);
             ASSERT_TRUE(truth.ok()) << truth.error().message;
             // A flat map shades the same at every position of a pixel, so the pixel centre of
             // the method matches the mean of the truth's samples up to the lights' variation.
             // lean's lobe is Beckmann's: exact for a Beckmann material on a flat map.
             for (Method method : {Method::Naive, Method::Toksvig, Method::Lean}) {
-                if (method == Method::Lean && m.brdf != Brdf::Beckmann && m.brdf != Brdf::Lambert) continue;
+                if (method == Method::Lean && m.brdf != Brdf::Beckmann && m.brdf != Brdf::Lambert)
+                    continue;
                 RenderOptions o = plainLookup(4);
-                Result<Image> image = render(scene, texturesFor(flat, method), methodName(method), o);
+                Result<Image> image =
+                    render(scene, texturesFor(flat, method), methodName(method), o);
                 ASSERT_TRUE(image.ok()) << image.error().message;
                 expectImagesNear(image.value(), truth.value(), 1e-4f);
             }
@@ -142,7 +150,8 @@ TEST(Renderer, FlatMapEveryMethodEqualsGroundTruth) {
 // series Sum_l A_l (2l + 1)/(4 pi) P_l(w.z): an independent check of the SH path, truncation
 // included.
 double legendreSeries(const std::vector<double>& A, double t) {
-    double p0 = 1.0, p1 = t, sum = A[0] / (4.0 * M_PI) + (A.size() > 1 ? 3.0 * A[1] * t / (4.0 * M_PI) : 0.0);
+    double p0 = 1.0, p1 = t,
+           sum = A[0] / (4.0 * M_PI) + (A.size() > 1 ? 3.0 * A[1] * t / (4.0 * M_PI) : 0.0);
     for (size_t l = 2; l < A.size(); ++l) {
         double p2 = ((2.0 * l - 1.0) * t * p1 - (l - 1.0) * p0) / double(l);
         sum += A[l] * (2.0 * l + 1.0) / (4.0 * M_PI) * p2;
@@ -168,10 +177,14 @@ TEST(Renderer, ShOnAFlatMapIsTheTruncatedLegendreSeries) {
             ASSERT_TRUE(a.ok());
             const glm::vec3 h = glm::normalize(light + view);
             const double diffuse = std::max(0.0, legendreSeries(a->diffuse, light.z));
-            const double lobe = std::max(0.0, legendreSeries(a->specular, h.z)) * specularFactor(m, light, h);
+            const double lobe =
+                std::max(0.0, legendreSeries(a->specular, h.z)) * specularFactor(m, light, h);
             for (int c = 0; c < 3; ++c) {
-                const double expected = m.albedo[c] * diffuse + (m.brdf == Brdf::Lambert ? 0.0 : m.specular[c] * light.z * lobe);
-                EXPECT_NEAR(image->at(1, 2)[c], expected, 1e-5 * std::max(1.0, expected)) << brdfName(m.brdf) << " order " << order;
+                const double expected =
+                    m.albedo[c] * diffuse +
+                    (m.brdf == Brdf::Lambert ? 0.0 : m.specular[c] * light.z * lobe);
+                EXPECT_NEAR(image->at(1, 2)[c], expected, 1e-5 * std::max(1.0, expected))
+                    << brdfName(m.brdf) << " order " << order;
             }
         }
     }
@@ -196,12 +209,14 @@ TEST(Renderer, ShMipsAreTheMeanOfTheirChildren) {
                         // The mean of the level-0 Y_lm over the footprint, and of the 2x2 children.
                         double block = 0;
                         for (int by = f.y0; by < f.y1; ++by)
-                            for (int bx = f.x0; bx < f.x1; ++bx) block += (*bake.levels[0][plane]).at(bx, by)[c];
+                            for (int bx = f.x0; bx < f.x1; ++bx)
+                                block += (*bake.levels[0][plane]).at(bx, by)[c];
                         block /= double(f.count());
                         double children = 0;
                         for (int cy = 0; cy < 2; ++cy)
                             for (int cx = 0; cx < 2; ++cx)
-                                children += fine.at(std::min(2 * x + cx, fine.width - 1), std::min(2 * y + cy, fine.height - 1))[c];
+                                children += fine.at(std::min(2 * x + cx, fine.width - 1),
+                                                    std::min(2 * y + cy, fine.height - 1))[c];
                         EXPECT_NEAR(coarse.at(x, y)[c], block, 1e-6);
                         if (fine.width % 2 == 0 && fine.height % 2 == 0) {
                             EXPECT_NEAR(coarse.at(x, y)[c], children / 4, 1e-6);
@@ -238,9 +253,10 @@ TEST(Renderer, VmfLobesReproduceATwoSpikeNdf) {
             test::setNormal(map, x, y, sign * std::sin(theta), 0.f, std::cos(theta));
         }
     const glm::vec3 light = glm::normalize(glm::vec3(0.35f, 0.1f, 1.f));
-    for (const Material& m : {material(Brdf::BlinnPhong, 32.f, 0.f, glm::vec3(0.3f), glm::vec3(1.f)),
-                              material(Brdf::Beckmann, 0.f, 0.25f, glm::vec3(0.f), glm::vec3(1.f)),
-                              material(Brdf::Ggx, 0.f, 0.25f, glm::vec3(0.f), glm::vec3(1.f))}) {
+    for (const Material& m :
+         {material(Brdf::BlinnPhong, 32.f, 0.f, glm::vec3(0.3f), glm::vec3(1.f)),
+          material(Brdf::Beckmann, 0.f, 0.25f, glm::vec3(0.f), glm::vec3(1.f)),
+          material(Brdf::Ggx, 0.f, 0.25f, glm::vec3(0.f), glm::vec3(1.f))}) {
         const Scene scene = alignedScene(4, m, light); // 2x2 texels per pixel: level 1
         RenderTextures t;
         t.normals = std::make_shared<const Image>(map);
@@ -252,7 +268,8 @@ TEST(Renderer, VmfLobesReproduceATwoSpikeNdf) {
         ASSERT_TRUE(truth.ok() && vmf.ok());
         float peak = 0.f;
         for (size_t i = 0; i < truth->pixels.size(); ++i) {
-            EXPECT_NEAR(vmf->pixels[i], truth->pixels[i], 2e-3f * std::max(1.f, truth->pixels[i])) << brdfName(m.brdf);
+            EXPECT_NEAR(vmf->pixels[i], truth->pixels[i], 2e-3f * std::max(1.f, truth->pixels[i]))
+                << brdfName(m.brdf);
             peak = std::max(peak, truth->pixels[i]);
         }
         EXPECT_GT(peak, 0.05f) << "the highlight is in view";
@@ -341,15 +358,18 @@ TEST(Renderer, AlignedOrthographicTruthIsTheBlockMean) {
                     }
                 const glm::vec3 expected = sum / float(block * block);
                 for (int c = 0; c < 3; ++c)
-                    EXPECT_NEAR(truth->at(px, py)[c], expected[c], 1e-5f * std::max(1.f, expected[c]));
+                    EXPECT_NEAR(truth->at(px, py)[c], expected[c],
+                                1e-5f * std::max(1.f, expected[c]));
                 // The method at level L sees exactly the block's texel.
                 const float* na = mean.at(px, py);
-                glm::vec3 own = shadeToksvig(m, {na[0], na[1], na[2]}, light, view, RoughnessMapping::Ours);
+                glm::vec3 own =
+                    shadeToksvig(m, {na[0], na[1], na[2]}, light, view, RoughnessMapping::Ours);
                 for (int c = 0; c < 3; ++c)
                     EXPECT_NEAR(filtered->at(px, py)[c], own[c], 1e-5f * std::max(1.f, own[c]));
                 // Lambertian reflection is linear in n: the unnormalised mean is exact.
                 if (m.brdf == Brdf::Lambert && allLit) {
-                    for (int c = 0; c < 3; ++c) EXPECT_NEAR(filtered->at(px, py)[c], expected[c], 1e-5f);
+                    for (int c = 0; c < 3; ++c)
+                        EXPECT_NEAR(filtered->at(px, py)[c], expected[c], 1e-5f);
                 }
             }
     }
@@ -378,7 +398,8 @@ TEST(Renderer, RayDifferentialLodMatchesTheAnalyticFootprint) {
     const float texelsPerUnit = float(mapSize) * plane.tiling.x / plane.size.x;
     EXPECT_NEAR(glm::length(f.dx) * mapSize, pixelWorld * texelsPerUnit, 1e-3f);
     EXPECT_NEAR(glm::length(f.dy) * mapSize, pixelWorld / std::cos(theta) * texelsPerUnit, 1e-3f);
-    EXPECT_NEAR(mipLod(f, mapSize, mapSize), std::log2(pixelWorld / std::cos(theta) * texelsPerUnit), 1e-4f);
+    EXPECT_NEAR(mipLod(f, mapSize, mapSize),
+                std::log2(pixelWorld / std::cos(theta) * texelsPerUnit), 1e-4f);
 
     // Perspective, looking straight down from height d: a pixel at the centre spans
     // 2 d tan(fov/2) / H world units.
@@ -502,30 +523,32 @@ TEST(MeasuringStick, ExactBoxTruthAgreesWithSupersampling) {
     // covered area; bilinear: the midpoint rule) against 128 x 128 stratified samples of the same
     // surface.
     const Image normals = test::randomNormals(16, 16, 0.8f, 21);
-    EXPECT_TRUE(exactBoxView(shiftedScene(5, allMaterials()[1], {0.3f, 0.2f, 1.f}, {0.37f, 0.21f})));
+    EXPECT_TRUE(
+        exactBoxView(shiftedScene(5, allMaterials()[1], {0.3f, 0.2f, 1.f}, {0.37f, 0.21f})));
     for (TruthFilter surface : {TruthFilter::Box, TruthFilter::Bilinear})
-    for (const Material& m : allMaterials()) {
-        const Scene scene = shiftedScene(5, m, {0.3f, 0.2f, 1.f}, {0.37f, 0.21f});
-        const RenderTextures t = texturesFor(normals, Method::Naive);
-        RenderOptions exact;
-        exact.truth = surface;
-        Result<Image> a = render(scene, t, kGroundTruth, exact);
-        RenderOptions sampled = exact;
-        sampled.exact = false;
-        sampled.spp = 16384;
-        Result<Image> b = render(scene, t, kGroundTruth, sampled);
-        ASSERT_TRUE(a.ok() && b.ok());
-        // Box: only the samples' error at texel edges is left. Bilinear: the midpoint rule's own
-        // error, largest on these independent random normals (neighbours up to 90 degrees apart;
-        // on real maps the rule agrees with 16384 samples to 0.5%, docs/RESULTS.md).
-        const double tolerance = surface == TruthFilter::Box ? 0.01 : 0.03;
-        EXPECT_LT(relativeRmse(a.value(), b.value()), tolerance) << brdfName(m.brdf) << " " << truthFilterName(surface);
-        // Noise-free: another seed gives the same image.
-        exact.seed = 99;
-        Result<Image> c = render(scene, t, kGroundTruth, exact);
-        ASSERT_TRUE(c.ok());
-        EXPECT_EQ(a->pixels, c->pixels);
-    }
+        for (const Material& m : allMaterials()) {
+            const Scene scene = shiftedScene(5, m, {0.3f, 0.2f, 1.f}, {0.37f, 0.21f});
+            const RenderTextures t = texturesFor(normals, Method::Naive);
+            RenderOptions exact;
+            exact.truth = surface;
+            Result<Image> a = render(scene, t, kGroundTruth, exact);
+            RenderOptions sampled = exact;
+            sampled.exact = false;
+            sampled.spp = 16384;
+            Result<Image> b = render(scene, t, kGroundTruth, sampled);
+            ASSERT_TRUE(a.ok() && b.ok());
+            // Box: only the samples' error at texel edges is left. Bilinear: the midpoint rule's
+            // own error, largest on these independent random normals (neighbours up to 90 degrees
+            // apart; on real maps the rule agrees with 16384 samples to 0.5%, docs/RESULTS.md).
+            const double tolerance = surface == TruthFilter::Box ? 0.01 : 0.03;
+            EXPECT_LT(relativeRmse(a.value(), b.value()), tolerance)
+                << brdfName(m.brdf) << " " << truthFilterName(surface);
+            // Noise-free: another seed gives the same image.
+            exact.seed = 99;
+            Result<Image> c = render(scene, t, kGroundTruth, exact);
+            ASSERT_TRUE(c.ok());
+            EXPECT_EQ(a->pixels, c->pixels);
+        }
     // Perspective or point lights: no exact integral.
     EXPECT_FALSE(exactBoxView(grazingScene(allMaterials()[1])));
 }
@@ -551,7 +574,8 @@ TEST(MeasuringStick, ExactBoxTruthHoldsForATiltedOrthographicView) {
             sampled.spp = 16384;
             Result<Image> b = render(scene, t, kGroundTruth, sampled);
             ASSERT_TRUE(a.ok() && b.ok());
-            EXPECT_LT(relativeRmse(a.value(), b.value()), 0.01) << brdfName(m.brdf) << " at " << elevation;
+            EXPECT_LT(relativeRmse(a.value(), b.value()), 0.01)
+                << brdfName(m.brdf) << " at " << elevation;
         }
         // A flat map: every pixel is the BRDF at the fixed view and light.
         scene.material = allMaterials()[1];
@@ -562,8 +586,10 @@ TEST(MeasuringStick, ExactBoxTruthHoldsForATiltedOrthographicView) {
         ASSERT_TRUE(image.ok());
         const glm::vec3 v = glm::normalize(scene.camera.eye - scene.camera.target);
         const glm::vec3 l = glm::normalize(scene.lights.front().direction);
-        const glm::vec3 expected = shadeNormal(scene.material, glm::vec3(0.f, 0.f, 1.f), l, glm::normalize(l + v));
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(image->at(2, 2)[c], expected[c], 1e-4f * (1.f + expected[c]));
+        const glm::vec3 expected =
+            shadeNormal(scene.material, glm::vec3(0.f, 0.f, 1.f), l, glm::normalize(l + v));
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(image->at(2, 2)[c], expected[c], 1e-4f * (1.f + expected[c]));
     }
     // Rolled about the view, the rows no longer follow the grid: sampled.
     Scene rolled = shiftedScene(5, allMaterials()[1], {0.f, 0.5f, 0.6f}, {0.f, 0.f});
@@ -627,7 +653,8 @@ TEST(MeasuringStick, DefaultFilteringRuleLowersTheFloor) {
     Result<Image> plain = render(scene, t, kExact, plainLookup());
     Result<Image> rule = render(scene, t, kExact, {});
     ASSERT_TRUE(truth.ok() && plain.ok() && rule.ok());
-    const double before = relativeRmse(plain.value(), truth.value()), after = relativeRmse(rule.value(), truth.value());
+    const double before = relativeRmse(plain.value(), truth.value()),
+                 after = relativeRmse(rule.value(), truth.value());
     EXPECT_GT(before, 0.05);
     EXPECT_LT(after, 0.8 * before) << before << " -> " << after;
 }
@@ -635,10 +662,12 @@ TEST(MeasuringStick, DefaultFilteringRuleLowersTheFloor) {
 TEST(MeasuringStick, ToksvigLutIsForBlinnPhong) {
     const Image normals = test::randomNormals(16, 16, 0.5f, 3);
     const RenderTextures t = texturesFor(normals, Method::Toksvig);
-    Result<Image> ggx = render(alignedScene(4, allMaterials()[3], {0.f, 0.f, 1.f}), t, kToksvigLut, {});
+    Result<Image> ggx =
+        render(alignedScene(4, allMaterials()[3], {0.f, 0.f, 1.f}), t, kToksvigLut, {});
     ASSERT_FALSE(ggx.ok());
     EXPECT_NE(ggx.error().message.find("Blinn-Phong"), std::string::npos);
-    Result<Image> phong = render(alignedScene(4, allMaterials()[1], {0.f, 0.f, 1.f}), t, kToksvigLut, {});
+    Result<Image> phong =
+        render(alignedScene(4, allMaterials()[1], {0.f, 0.f, 1.f}), t, kToksvigLut, {});
     EXPECT_TRUE(phong.ok());
     EXPECT_NE(renderMethodNames().find("toksvig-lut"), std::string::npos);
 }

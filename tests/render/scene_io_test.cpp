@@ -162,14 +162,15 @@ TEST(SceneRead, EnvironmentLightsASceneWithoutLights) {
     EXPECT_TRUE(scene->environment.visible);
     // A bare file name, beside lights and with an empty light list.
     auto plain = ndfmip::parseScene(
-        R"({"camera": {}, "object": {}, "normal_map": "n.png", "lights": [], "environment": "sky.hdr"})", "s",
-        "/scenes");
+        R"({"camera": {}, "object": {}, "normal_map": "n.png", "lights": [], "environment": "sky.hdr"})",
+        "s", "/scenes");
     ASSERT_TRUE(plain) << plain.error().message;
     EXPECT_EQ(plain->environment.path, "/scenes/sky.hdr");
     EXPECT_EQ(plain->environment.options.intensity, 1.f);
     EXPECT_FALSE(plain->environment.visible);
     // Without one, no environment.
-    auto none = ndfmip::parseScene(R"({"camera": {}, "object": {}, "lights": [{}], "normal_map": "n.png"})", "s", "");
+    auto none = ndfmip::parseScene(
+        R"({"camera": {}, "object": {}, "lights": [{}], "normal_map": "n.png"})", "s", "");
     ASSERT_TRUE(none);
     EXPECT_TRUE(none->environment.path.empty());
 }
@@ -454,7 +455,8 @@ INSTANTIATE_TEST_SUITE_P(
         // required sections and the document itself
         BadScene{R"({"camera": null})", "scene.json: camera: missing"},
         BadScene{R"({"object": null})", "scene.json: object: missing"},
-        BadScene{R"({"lights": null})", "scene.json: lights: missing (a scene needs lights or an environment)"},
+        BadScene{R"({"lights": null})",
+                 "scene.json: lights: missing (a scene needs lights or an environment)"},
         BadScene{R"({"normal_map": null})", "scene.json: normal_map: missing"},
         BadScene{R"([1, 2])", "scene.json: expected a JSON object at the top level, got [1,2]"},
         BadScene{R"({"camera": [1]})", "scene.json: camera: expected an object, got [1]"},
@@ -474,8 +476,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{R"({"material": {"brdf": "foo"}})",
                  "scene.json: material.brdf: unknown BRDF 'foo' (expected lambert, blinnphong, "
                  "beckmann, ggx, tabulated)"},
-        BadScene{R"({"material": {"brdf": "tabulated"}})",
-                 "scene.json: material.table: missing (brdf \"tabulated\" needs a theta_h table file)"},
+        BadScene{
+            R"({"material": {"brdf": "tabulated"}})",
+            "scene.json: material.table: missing (brdf \"tabulated\" needs a theta_h table file)"},
         BadScene{R"({"material": {"brdf": "tabulated", "table": "no_such_table.txt"}})",
                  "scene.json: material.table: ..."},
         BadScene{R"({"material": {"brdf": "ggx", "g_table": "x.txt"}})",
@@ -484,7 +487,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "scene.json: camera.type: unknown camera type 'fisheye' (expected perspective, "
                  "orthographic)"},
         BadScene{R"({"object": {"type": "cube"}})",
-                 "scene.json: object.type: unknown object type 'cube' (expected plane, sphere, faceted-sphere)"},
+                 "scene.json: object.type: unknown object type 'cube' (expected plane, sphere, "
+                 "faceted-sphere)"},
         BadScene{R"({"lights": [{}, {"type": "spot"}]})",
                  "scene.json: lights[1].type: unknown light type 'spot' (expected directional, "
                  "point)"},
@@ -505,8 +509,9 @@ INSTANTIATE_TEST_SUITE_P(
                  "scene.json: object.size: expected an array of 2 numbers, got [1]"},
         BadScene{R"({"lights": []})",
                  "scene.json: lights: empty (a scene needs at least one light or an environment)"},
-        BadScene{R"({"environment": 3})",
-                 R"(scene.json: environment: expected a file name or an object with "path", got 3)"},
+        BadScene{
+            R"({"environment": 3})",
+            R"(scene.json: environment: expected a file name or an object with "path", got 3)"},
         BadScene{R"({"environment": {"intensity": 2}})", "scene.json: environment.path: missing"},
         BadScene{R"({"environment": {"path": "e.hdr", "intensity": 0}})",
                  "scene.json: environment.intensity: must be > 0, got 0"},

@@ -57,7 +57,8 @@ Scene planeScene(glm::vec3 eye, CameraType type) {
 RenderTextures shTextures(const std::string& method) {
     RenderTextures t;
     t.normals = std::make_shared<const Image>(test::randomNormals(64, 64, 0.4f, 5));
-    t.environment = std::make_shared<const EnvironmentLighting>(makeEnvironmentLighting(envtest::mapOf(64, sunSky)));
+    t.environment = std::make_shared<const EnvironmentLighting>(
+        makeEnvironmentLighting(envtest::mapOf(64, sunSky)));
     BakeOptions bake;
     bake.parameters["order"] = 7;
     bake.parameters["lobes"] = 2;
@@ -85,7 +86,8 @@ double relativeRmse(const Image& a, const Image& reference) {
 // Orthographic, 35 degrees off the normal and off every grid view: the one prepared view is exact,
 // and the set's interpolation approaches it as the set grows.
 TEST(ShViewsRender, OrthographicErrorFallsAsTheSetGrows) {
-    const Scene scene = planeScene(4.f * glm::normalize(glm::vec3(0.35f, -0.45f, 0.82f)), CameraType::Orthographic);
+    const Scene scene =
+        planeScene(4.f * glm::normalize(glm::vec3(0.35f, -0.45f, 0.82f)), CameraType::Orthographic);
     for (const std::string method : {"sh", "vmf"}) {
         const RenderTextures t = shTextures(method);
         Result<Image> exact = render(scene, t, method, withViews(0));
@@ -95,8 +97,8 @@ TEST(ShViewsRender, OrthographicErrorFallsAsTheSetGrows) {
             Result<Image> image = render(scene, t, method, withViews(views));
             ASSERT_TRUE(image) << image.error().message;
             const double error = relativeRmse(image.value(), exact.value());
-            std::printf("[ measured ] %s, %d views: relative RMSE against the exact view %.5f\n", method.c_str(),
-                        views, error);
+            std::printf("[ measured ] %s, %d views: relative RMSE against the exact view %.5f\n",
+                        method.c_str(), views, error);
             EXPECT_LT(error, previous) << method << " " << views;
             EXPECT_GT(error, 0.);
             previous = error;

@@ -3,11 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
-#include <cctype>
 #include <string>
 #include <vector>
 
@@ -190,7 +190,8 @@ void expectCleanPage(const std::string& html) {
     for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
     auto wordChar = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
     for (size_t at = lower.find("nan"); at != std::string::npos; at = lower.find("nan", at + 1)) {
-        bool word = (at == 0 || !wordChar(lower[at - 1])) && (at + 3 >= lower.size() || !wordChar(lower[at + 3]));
+        bool word = (at == 0 || !wordChar(lower[at - 1])) &&
+                    (at + 3 >= lower.size() || !wordChar(lower[at + 3]));
         EXPECT_FALSE(word) << "a NaN printed as \"nan\" at " << at;
     }
     // No attribute value holds nan or inf (printf's output for non-finite coordinates).
@@ -198,7 +199,9 @@ void expectCleanPage(const std::string& html) {
         size_t end = lower.find('"', at + 2);
         if (end == std::string::npos) break;
         std::string value = lower.substr(at + 2, end - at - 2);
-        EXPECT_TRUE(value.find("nan") == std::string::npos && value.find("inf") == std::string::npos) << value;
+        EXPECT_TRUE(value.find("nan") == std::string::npos &&
+                    value.find("inf") == std::string::npos)
+            << value;
         at = end;
     }
     EXPECT_EQ(text.find("http"), std::string::npos);

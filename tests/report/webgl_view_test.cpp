@@ -27,7 +27,8 @@ SharedImage bumps() {
     auto image = std::make_shared<Image>(32, 32, 3);
     for (int y = 0; y < 32; ++y)
         for (int x = 0; x < 32; ++x) {
-            const glm::vec3 n = glm::normalize(glm::vec3(0.5f * std::sin(0.9f * float(x)), 0.4f * std::cos(1.3f * float(y)), 1.f));
+            const glm::vec3 n = glm::normalize(
+                glm::vec3(0.5f * std::sin(0.9f * float(x)), 0.4f * std::cos(1.3f * float(y)), 1.f));
             float* p = image->at(x, y);
             p[0] = n.x, p[1] = n.y, p[2] = n.z;
         }
@@ -61,7 +62,9 @@ TEST(WebglView, FragmentShaderIsGlslEs300ForEveryMethod) {
         const std::string file = dir.file(std::string(shader.name) + ".frag");
         std::ofstream(file) << webglFragmentSource(program.value());
         std::string output;
-        const int status = std::system((glslang + " " + test::shellArg(file) + " > " + test::shellArg(file + ".log") + " 2>&1").c_str());
+        const int status = std::system(
+            (glslang + " " + test::shellArg(file) + " > " + test::shellArg(file + ".log") + " 2>&1")
+                .c_str());
         std::ifstream log(file + ".log");
         output.assign(std::istreambuf_iterator<char>(log), {});
         EXPECT_EQ(status, 0) << output;
@@ -71,32 +74,37 @@ TEST(WebglView, FragmentShaderIsGlslEs300ForEveryMethod) {
 TEST(WebglView, ReportFrameInAHeadlessBrowserMatchesTheCpu) {
     const std::string chromium = findProgram("chromium");
     if (chromium.empty()) {
-        if (const char* v = std::getenv("NDFMIP_REQUIRE_BROWSER"); v && std::string(v) == "1") FAIL() << "no chromium";
+        if (const char* v = std::getenv("NDFMIP_REQUIRE_BROWSER"); v && std::string(v) == "1")
+            FAIL() << "no chromium";
         GTEST_SKIP() << "chromium not installed (scripts/setup installs it)";
     }
     test::TempDir dir("ndfmip_webgl_report");
     std::string output;
     const std::string map = std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png";
-    ASSERT_EQ(test::runCli("eval " + test::shellArg(map) + " --green-down --footprints 4,16 --methods toksvig,vmf:4,sh:4 "
-                           "--brdfs ggx --roughness 0.1 --frames 1 -q -o " + test::shellArg(dir.file("report")),
+    ASSERT_EQ(test::runCli("eval " + test::shellArg(map) +
+                               " --green-down --footprints 4,16 --methods toksvig,vmf:4,sh:4 "
+                               "--brdfs ggx --roughness 0.1 --frames 1 -q -o " +
+                               test::shellArg(dir.file("report")),
                            &output),
               0)
         << output;
     const std::string dom = dir.file("dom.html");
-    const std::string command = "timeout 180 " + chromium +
-                                " --headless --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader "
-                                "--virtual-time-budget=60000 --dump-dom " +
-                                test::shellArg("file://" + dir.file("report/report.html")) + " > " +
-                                test::shellArg(dom) + " 2>/dev/null";
+    const std::string command =
+        "timeout 180 " + chromium +
+        " --headless --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader "
+        "--virtual-time-budget=60000 --dump-dom " +
+        test::shellArg("file://" + dir.file("report/report.html")) + " > " + test::shellArg(dom) +
+        " 2>/dev/null";
     ASSERT_EQ(std::system(command.c_str()), 0);
     std::ifstream in(dom);
     const std::string page((std::istreambuf_iterator<char>(in)), {});
     const size_t at = page.find("data-rel-rmse=\"");
-    ASSERT_NE(at, std::string::npos) << "the page did not check itself: "
-                                     << page.substr(page.find("ndfmip-webgl-check") == std::string::npos
-                                                        ? 0
-                                                        : page.find("ndfmip-webgl-check"),
-                                                    300);
+    ASSERT_NE(at, std::string::npos)
+        << "the page did not check itself: "
+        << page.substr(page.find("ndfmip-webgl-check") == std::string::npos
+                           ? 0
+                           : page.find("ndfmip-webgl-check"),
+                       300);
     const double relRmse = std::atof(page.c_str() + at + 15);
     // The view draws vmf:4 first; measured 1e-6 against the CPU on SwiftShader.
     EXPECT_NE(page.find("WebGL2 frame of vmf:4"), std::string::npos);

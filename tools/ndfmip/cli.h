@@ -131,5 +131,4 @@ void checkBakeMemoryOrFail(const std::string& name, Method method, const BakeOpt
 // A short "\r<label> k/n" progress line on stderr when it is a terminal.
 void showProgress(const char* label, int done, int total);
 
-
 } // namespace ndfmip::cli

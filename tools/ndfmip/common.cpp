@@ -9,8 +9,8 @@
 
 #include "ndfmip/environment_sh_views.h"
 #include "ndfmip/io.h"
-#include "ndfmip/render.h"
 #include "ndfmip/limits.h"
+#include "ndfmip/render.h"
 #include "ndfmip/vmf.h"
 
 namespace ndfmip::cli {
@@ -30,8 +30,9 @@ void addInputOptions(CLI::App* command, InputOptions& o) {
                       "use R,G only and rebuild z (BC5-style maps)");
     command->add_flag("--signed", o.decode.signedValues,
                       "float (EXR) maps already hold n in [-1,1]");
-    command->add_option("--height", o.heightScale,
-                        "input is a height map; SCALE is the height of value 1.0 in texels")
+    command
+        ->add_option("--height", o.heightScale,
+                     "input is a height map; SCALE is the height of value 1.0 in texels")
         ->check(CLI::Range(1e-6f, 1e6f));
     command->add_flag("--clamp", o.clamp, "the map does not tile (default: wrap)");
 }
@@ -40,9 +41,12 @@ ParameterValues MethodParameterArgs::given() const {
     ParameterValues values;
     for (const auto& [key, option] : options) {
         if (option->count() == 0) continue;
-        if (integers.count(key)) values[key] = double(integers.at(key));
-        else if (floats.count(key)) values[key] = double(floats.at(key));
-        else values[key] = numbers.at(key);
+        if (integers.count(key))
+            values[key] = double(integers.at(key));
+        else if (floats.count(key))
+            values[key] = double(floats.at(key));
+        else
+            values[key] = numbers.at(key);
     }
     return values;
 }
@@ -64,19 +68,22 @@ void addMethodParameterOptions(CLI::App* command, unsigned use, MethodParameterA
     for (const std::string& key : order) {
         const MethodParameter& p = *byKey[key].front().second;
         std::string methods;
-        for (const auto& [method, unused] : byKey[key]) methods += (methods.empty() ? "" : ", ") + std::string(methodName(method));
+        for (const auto& [method, unused] : byKey[key])
+            methods += (methods.empty() ? "" : ", ") + std::string(methodName(method));
         char shown[32];
         std::snprintf(shown, sizeof shown, "%g", p.defaultValue);
-        const std::string help = methods + (use == kParameterBake ? "" : " baked on the fly") + ": " + p.help +
-                                 " (default " + shown + ")";
+        const std::string help = methods + (use == kParameterBake ? "" : " baked on the fly") +
+                                 ": " + p.help + " (default " + shown + ")";
         CLI::Option* option = nullptr;
         if (p.type == ParameterType::Integer)
             option = command->add_option(p.flag, args.integers[key], help)
                          ->check(CLI::Range(int64_t(p.min), int64_t(p.max)));
         else if (p.type == ParameterType::Float)
-            option = command->add_option(p.flag, args.floats[key], help)->check(CLI::Range(float(p.min), float(p.max)));
+            option = command->add_option(p.flag, args.floats[key], help)
+                         ->check(CLI::Range(float(p.min), float(p.max)));
         else
-            option = command->add_option(p.flag, args.numbers[key], help)->check(CLI::Range(p.min, p.max));
+            option = command->add_option(p.flag, args.numbers[key], help)
+                         ->check(CLI::Range(p.min, p.max));
         args.options[key] = option;
     }
 }
@@ -89,11 +96,12 @@ void warnAboutDecode(const std::string& path, const DecodeReport& report) {
                      "(wrong convention, or not a normal map?)\n",
                      path.c_str(), percent(report.offUnitLength));
     if (report.degenerate)
-        std::fprintf(stderr, "ndfmip: warning: %s: %zu zero-length normals replaced by (0,0,1)\n", path.c_str(),
-                     report.degenerate);
+        std::fprintf(stderr, "ndfmip: warning: %s: %zu zero-length normals replaced by (0,0,1)\n",
+                     path.c_str(), report.degenerate);
     if (report.facingDown)
-        std::fprintf(stderr, "ndfmip: warning: %s: %zu normals face away from the surface (z < 0)\n", path.c_str(),
-                     report.facingDown);
+        std::fprintf(stderr,
+                     "ndfmip: warning: %s: %zu normals face away from the surface (z < 0)\n",
+                     path.c_str(), report.facingDown);
 }
 
 Image loadNormalsOrFail(const std::string& path, const DecodeOptions& decode, bool quiet,
@@ -170,7 +178,8 @@ FilteringArgs::FilteringArgs()
       lobeFilter(shadeFilterName(RenderOptions{}.shadeFilter)) {}
 
 void FilteringArgs::apply(RenderOptions& o) const {
-    if (!truthFilterFromString(truth, o.truth)) throw Failure("--truth: " + quote(truth) + " is not box or bilinear");
+    if (!truthFilterFromString(truth, o.truth))
+        throw Failure("--truth: " + quote(truth) + " is not box or bilinear");
     if (!shadeFilterFromString(lobeFilter, o.shadeFilter))
         throw Failure("--lobe-filter: " + quote(lobeFilter) + " is not parameter or texel");
     o.taps = taps;
@@ -178,36 +187,45 @@ void FilteringArgs::apply(RenderOptions& o) const {
 }
 
 void addFilteringOptions(CLI::App* c, FilteringArgs& a) {
-    c->add_option("--truth", a.truth,
-                  "ground truth surface: box (each texel's normal over its square, as the mip levels "
-                  "average it; an exact, noise-free integral where the view allows) or bilinear")
+    c->add_option(
+         "--truth", a.truth,
+         "ground truth surface: box (each texel's normal over its square, as the mip levels "
+         "average it; an exact, noise-free integral where the view allows) or bilinear")
         ->capture_default_str();
-    c->add_option("--taps", a.taps, "methods: K x K sub-samples per pixel, each a K times smaller footprint")
-        ->check(CLI::Range(1, 16))->capture_default_str();
+    c->add_option("--taps", a.taps,
+                  "methods: K x K sub-samples per pixel, each a K times smaller footprint")
+        ->check(CLI::Range(1, 16))
+        ->capture_default_str();
     c->add_option("--lod-bias", a.lodBias, "methods: added to every lookup's LOD")
-        ->check(CLI::Range(-16.f, 16.f))->capture_default_str();
-    c->add_option("--lobe-filter", a.lobeFilter,
-                  "methods: parameter (blend the texels' parameters, then shade) or texel (shade each "
-                  "texel, then blend)")
+        ->check(CLI::Range(-16.f, 16.f))
+        ->capture_default_str();
+    c->add_option(
+         "--lobe-filter", a.lobeFilter,
+         "methods: parameter (blend the texels' parameters, then shade) or texel (shade each "
+         "texel, then blend)")
         ->capture_default_str();
 }
 
 void addEnvironmentOptions(CLI::App* c, EnvironmentArgs& a) {
     c->add_option("--environment", a.path,
-                  "light with this equirectangular HDR/EXR map (docs/ENVIRONMENT.md), in place of the scene's");
+                  "light with this equirectangular HDR/EXR map (docs/ENVIRONMENT.md), in place of "
+                  "the scene's");
     c->add_option("--env-intensity", a.intensity, "the environment's radiance scale (default 1)")
         ->check(CLI::PositiveNumber);
-    c->add_option("--env-rotation", a.rotationDegrees, "the environment's rotation about its up axis, degrees")
+    c->add_option("--env-rotation", a.rotationDegrees,
+                  "the environment's rotation about its up axis, degrees")
         ->check(CLI::Range(-360.f, 360.f));
 }
 
 void addEnvironmentShadingOptions(CLI::App* c, EnvironmentShadingArgs& a) {
     c->add_option("--env-lod", a.lod,
-                  "under an environment, the prefiltered levels' rule of naive, toksvig, roughness-mips and vmf "
+                  "under an environment, the prefiltered levels' rule of naive, toksvig, "
+                  "roughness-mips and vmf "
                   "(prefiltered): log2sigma (Toksvig's), filament, unity or unreal")
         ->capture_default_str();
     c->add_option("--vmf-environment", a.vmfWay,
-                  "under an environment, vmf shades by prefiltered levels per lobe (prefiltered, the engine way) "
+                  "under an environment, vmf shades by prefiltered levels per lobe (prefiltered, "
+                  "the engine way) "
                   "or by SH lighting (sh, Han et al. eqs. 34-37)")
         ->capture_default_str();
     addShViewsOption(c, a.shViews);
@@ -215,14 +233,18 @@ void addEnvironmentShadingOptions(CLI::App* c, EnvironmentShadingArgs& a) {
 
 void addShViewsOption(CLI::App* c, int& views) {
     c->add_option("--sh-views", views,
-                  "under an environment, SH lighting (sh, vmf with --vmf-environment sh) prepared for a set of at "
-                  "least N views, interpolated at each pixel's own view (0: one view, the image centre's; CPU only)")
-        ->check(CLI::Range(0, kMaxShViews))->capture_default_str();
+                  "under an environment, SH lighting (sh, vmf with --vmf-environment sh) prepared "
+                  "for a set of at "
+                  "least N views, interpolated at each pixel's own view (0: one view, the image "
+                  "centre's; CPU only)")
+        ->check(CLI::Range(0, kMaxShViews))
+        ->capture_default_str();
 }
 
 void EnvironmentShadingArgs::apply(RenderOptions& o) const {
     if (!environmentLodFromString(lod, o.environmentLod))
-        throw Failure("--env-lod " + quote(lod) + ": expected log2sigma, filament, unity or unreal");
+        throw Failure("--env-lod " + quote(lod) +
+                      ": expected log2sigma, filament, unity or unreal");
     if (!environmentWayFromString(vmfWay, o.vmfEnvironment))
         throw Failure("--vmf-environment " + quote(vmfWay) + ": expected prefiltered or sh");
     o.shViews = shViews;
@@ -240,7 +262,8 @@ void EnvironmentArgs::apply(Scene& scene) const {
         scene.environment.options = options();
     } else if (adjusted()) {
         if (scene.environment.path.empty())
-            throw Failure("--env-intensity and --env-rotation need --environment or a scene with an environment");
+            throw Failure("--env-intensity and --env-rotation need --environment or a scene with "
+                          "an environment");
         scene.environment.options = options(scene.environment.options);
     }
 }
@@ -248,7 +271,8 @@ void EnvironmentArgs::apply(Scene& scene) const {
 RoughnessMapping roughnessMappingOrFail(const std::string& name) {
     RoughnessMapping mapping;
     if (!roughnessMappingFromString(name, mapping))
-        throw Failure("unknown roughness mapping " + quote(name) + " (expected ours, hdrp, filament, godot, unreal)");
+        throw Failure("unknown roughness mapping " + quote(name) +
+                      " (expected ours, hdrp, filament, godot, unreal)");
     return mapping;
 }
 

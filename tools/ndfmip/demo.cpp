@@ -37,7 +37,8 @@ std::vector<ShadeContext> lightings(float exponent) {
 }
 
 // Nearest-neighbour enlargement of a level image to the map's size, tone-mapped by `scale`.
-void paste(Image& canvas, const Image& level, int offsetX, const Pyramid& pyramid, int k, float scale) {
+void paste(Image& canvas, const Image& level, int offsetX, const Pyramid& pyramid, int k,
+           float scale) {
     for (int y = 0; y < level.height; ++y)
         for (int x = 0; x < level.width; ++x) {
             Footprint f = footprint(pyramid, k, x, y);
@@ -64,14 +65,17 @@ void writePicture(const DemoArgs& a, const Pyramid& pyramid, const std::vector<B
     Status s = savePng(file, canvas, 8);
     if (!s) throw Failure(s.error);
     std::string names;
-    for (const Bake& bake : bakes) names += std::string(names.empty() ? "" : ", ") + methodName(bake.method);
-    std::printf("picture: %s (level %d, s = 128: truth, then %s)\n", file.c_str(), k, names.c_str());
+    for (const Bake& bake : bakes)
+        names += std::string(names.empty() ? "" : ", ") + methodName(bake.method);
+    std::printf("picture: %s (level %d, s = 128: truth, then %s)\n", file.c_str(), k,
+                names.c_str());
 }
 
 void runDemo(DemoArgs a) {
     DecodeOptions decode = a.input_options.resolved();
     if (a.defaultGreenDown) decode.greenDown = true;
-    Pyramid pyramid = buildPyramid(std::make_shared<const Image>(loadNormalsOrFail(a.input, decode, false)));
+    Pyramid pyramid =
+        buildPyramid(std::make_shared<const Image>(loadNormalsOrFail(a.input, decode, false)));
     for (Method m : allMethods())
         checkBakeMemoryOrFail(a.input, m, {}, pyramid.base->width, pyramid.base->height);
     // Only once the map has loaded: a bad map leaves no empty output folder behind.
@@ -84,7 +88,8 @@ void runDemo(DemoArgs a) {
     const std::vector<float> exponents = {8.f, 32.f, 128.f, 512.f};
     std::printf("%s: %dx%d, %zu levels\n", a.input.c_str(), normals.width, normals.height,
                 pyramid.levels.size());
-    std::printf("relative RMSE of the specular lobe vs the truth (energy ratio), pooled over 4 lights\n");
+    std::printf(
+        "relative RMSE of the specular lobe vs the truth (energy ratio), pooled over 4 lights\n");
     std::printf("%-5s %-9s", "level", "footprint");
     for (float s : exponents)
         for (const Bake& bake : bakes) std::printf(" %9s s=%-4g", methodName(bake.method), s);

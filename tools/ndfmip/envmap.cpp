@@ -149,9 +149,10 @@ void addEnvmapCommand(CLI::App& app) {
                   "GGX samples per texel of level 1, doubled per level from 2")
         ->check(CLI::Range(1, 65536))
         ->capture_default_str();
-    c->add_option("--layout", args->layout,
-                  "GGX level files: equirect (ggx_L<k>.exr), cube (ggx_L<k>_px.exr ... _nz.exr, the "
-                  "GL/Vulkan/KTX2 face order and orientation) or both")
+    c->add_option(
+         "--layout", args->layout,
+         "GGX level files: equirect (ggx_L<k>.exr), cube (ggx_L<k>_px.exr ... _nz.exr, the "
+         "GL/Vulkan/KTX2 face order and orientation) or both")
         ->capture_default_str();
     c->add_option("--lod-mapping", args->mapping,
                   "level k of N has perceptual roughness r with lod = k/(N-1): filament (lod = r "

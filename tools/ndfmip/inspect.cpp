@@ -1,8 +1,8 @@
 // ndfmip inspect DIR --level L --texel X,Y: one texel's stored parameters as JSON.
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 
@@ -33,7 +33,8 @@ std::pair<int, int> parseTexel(const std::string& text) {
 // Level-0 unit normal at (x, y) of a bake read at level 0, whatever its method.
 glm::vec3 levelZeroNormal(const LoadedBake& level0, int x, int y) {
     std::vector<float> texel;
-    for (const Image& plane : level0.level) texel.insert(texel.end(), plane.at(x, y), plane.at(x, y) + plane.channels);
+    for (const Image& plane : level0.level)
+        texel.insert(texel.end(), plane.at(x, y), plane.at(x, y) + plane.channels);
     const glm::vec3 n = methodUnit(level0.method).levelZeroNormal(texel.data());
     const float length = glm::length(n);
     return length > 0.f ? n / length : glm::vec3(0.f, 0.f, 1.f);
@@ -47,7 +48,8 @@ glm::dvec3 latLongDirection(int i, int j, int width, int height) {
 
 // The texel's NDF as densities over the sphere (integrating to 1), side by side: left the
 // method's own (MethodUnit::ndfDensity: the SH series, the vMF mixture), where it stores one;
-// right the histogram of the level-0 normals it covers. One scale for both; written as PNG (and EXR beside it).
+// right the histogram of the level-0 normals it covers. One scale for both; written as PNG (and EXR
+// beside it).
 void writeNdfImage(const InspectArgs& a, const LoadedBake& bake, int x, int y, const Footprint& f) {
     Result<LoadedBake> level0 = readBake(a.dir, 0);
     if (!level0) throw Failure(level0.error().message);
@@ -67,13 +69,15 @@ void writeNdfImage(const InspectArgs& a, const LoadedBake& bake, int x, int y, c
         }
     for (int j = 0; j < height; ++j) {
         // Solid angle of a pixel of row j.
-        double omega = (2.0 * M_PI / width) * (std::cos(M_PI * j / height) - std::cos(M_PI * (j + 1) / height));
+        double omega = (2.0 * M_PI / width) *
+                       (std::cos(M_PI * j / height) - std::cos(M_PI * (j + 1) / height));
         for (int i = 0; i < width; ++i) histogram.at(i, j)[0] /= float(double(f.count()) * omega);
     }
     if (const auto density = methodUnit(bake.method).ndfDensity)
         for (int j = 0; j < height; ++j)
             for (int i = 0; i < width; ++i)
-                reconstructed.at(i, j)[0] = float(density(bake, x, y, latLongDirection(i, j, width, height)));
+                reconstructed.at(i, j)[0] =
+                    float(density(bake, x, y, latLongDirection(i, j, width, height)));
     Image both(2 * width + 2, height, 1);
     float peak = 0.f;
     for (int j = 0; j < height; ++j)
@@ -106,7 +110,8 @@ void runInspect(const InspectArgs& a) {
     if (!text) throw Failure(text.error().message);
     nlohmann::json out = nlohmann::json::parse(text.value());
     if (!a.ndf.empty()) {
-        writeNdfImage(a, bake, x, y, footprintOf(bake.source.width, bake.source.height, a.level, x, y));
+        writeNdfImage(a, bake, x, y,
+                      footprintOf(bake.source.width, bake.source.height, a.level, x, y));
         out["ndf_image"] = a.ndf;
     }
     std::printf("%s\n", out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
@@ -123,7 +128,8 @@ void addInspectCommand(CLI::App& app) {
     c->add_option("--exponent", args->exponent, "Blinn-Phong exponent s, for toksvig_factor")
         ->check(CLI::Range(1e-3f, 1e6f));
     c->add_option("--ndf", args->ndf,
-                  "write the texel's NDF as lat-long PNG: SH or vMF reconstruction | histogram of its normals");
+                  "write the texel's NDF as lat-long PNG: SH or vMF reconstruction | histogram of "
+                  "its normals");
     c->callback([args] { runInspect(*args); });
 }
 

@@ -14,14 +14,18 @@ void addLutCommand(CLI::App& app) {
     CLI::App* c = app.add_subcommand(
         "lut", "write Toksvig's lookup table: columns Na.H, rows Na.Na (row 0 = 0, top)");
     c->add_option("--exponent", options->exponent, "Blinn-Phong exponent s")
-        ->required()->check(CLI::Range(1e-3f, 1e5f));
+        ->required()
+        ->check(CLI::Range(1e-3f, 1e5f));
     c->add_option("--size", options->size, "N: the table is N x N")
-        ->check(CLI::Range(2, 8192))->capture_default_str();
+        ->check(CLI::Range(2, 8192))
+        ->capture_default_str();
     c->add_option("--bits", options->bitDepth,
                   "phase the filtering out where b-bit normals make |Na| imprecise (0: off)")
-        ->check(CLI::Range(0, 16) & !CLI::IsMember({1}))->capture_default_str();
+        ->check(CLI::Range(0, 16) & !CLI::IsMember({1}))
+        ->capture_default_str();
     c->add_option("--threshold", options->threshold, "largest tolerated relative intensity error")
-        ->check(CLI::Range(1e-6f, 1e3f))->capture_default_str();
+        ->check(CLI::Range(1e-6f, 1e3f))
+        ->capture_default_str();
     c->add_option("-o,--output", *output, "output .exr (float) or .png (16-bit)")->required();
     c->callback([options, output] {
         Image lut = toksvigLut(*options);

@@ -1,12 +1,12 @@
 // ndfmip render SCENE.json: draws a scene with a baked method or as the supersampled ground
 // truth; writes a float EXR and a tone-mapped PNG beside it.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <algorithm>
-#include <limits>
-#include <optional>
 #include <filesystem>
+#include <limits>
 #include <memory>
+#include <optional>
 
 #include <unistd.h>
 
@@ -52,21 +52,26 @@ void warnAboutShTruncation(const Material& m, int order) {
     if (m.brdf == Brdf::Lambert) return;
     Result<int> needed = brdfOrderNeeded(m.brdf, m.exponent, m.roughness, 0.01);
     if (!needed || needed.value() <= order) return;
-    Result<std::vector<double>> A = brdfCoefficients(m.brdf, m.exponent, m.roughness, std::max(4 * needed.value(), 64));
+    Result<std::vector<double>> A =
+        brdfCoefficients(m.brdf, m.exponent, m.roughness, std::max(4 * needed.value(), 64));
     if (!A) return;
     const std::string advice = needed.value() <= kMaxShOrder
                                    ? "bake with --order " + std::to_string(needed.value())
-                                   : "beyond the largest order, " + std::to_string(kMaxShOrder) + "; a vMF method suits it";
-    std::fprintf(stderr, "ndfmip: warning: the %s lobe needs l* = %d to keep 99%% of its energy; the bake has "
-                 "l* = %d and drops %.1f%% of it (%s)\n",
-                 brdfName(m.brdf), needed.value(), order, 100.0 * truncationEnergyLoss(A.value(), order),
-                 advice.c_str());
+                                   : "beyond the largest order, " + std::to_string(kMaxShOrder) +
+                                         "; a vMF method suits it";
+    std::fprintf(
+        stderr,
+        "ndfmip: warning: the %s lobe needs l* = %d to keep 99%% of its energy; the bake has "
+        "l* = %d and drops %.1f%% of it (%s)\n",
+        brdfName(m.brdf), needed.value(), order, 100.0 * truncationEnergyLoss(A.value(), order),
+        advice.c_str());
 }
 
 // The EXR and its PNG preview (none when `png` is empty) as a pair: both are written to
 // temporaries beside their names (PATH.tmp-TAG-render, which the next render removes after a
 // kill) and renamed only once both are written, so a failure leaves the earlier pair.
-void writePairOrFail(const std::string& exr, const Image& image, const std::string& png, const Image& preview) {
+void writePairOrFail(const std::string& exr, const Image& image, const std::string& png,
+                     const Image& preview) {
     // What a killed earlier run left beside either name (the temporaries below included).
     removeStaleTemporaries(exr);
     if (!png.empty()) removeStaleTemporaries(png);
@@ -90,12 +95,14 @@ void writePairOrFail(const std::string& exr, const Image& image, const std::stri
     // The preview first: the EXR, the data, is replaced last.
     if (!png.empty() && (std::filesystem::rename(pngTemp, png, ec), ec))
         fail(png + ": cannot write (" + ec.message() + ")", "", "");
-    if (std::filesystem::rename(exrTemp, exr, ec), ec) fail(exr + ": cannot write (" + ec.message() + ")", "", "");
+    if (std::filesystem::rename(exrTemp, exr, ec), ec)
+        fail(exr + ": cannot write (" + ec.message() + ")", "", "");
 }
 
 void runRender(const RenderArgs& a) {
     if (std::filesystem::path(a.output).extension() != ".exr")
-        throw Failure(a.output + ": the output must be an .exr file (the PNG is written beside it)");
+        throw Failure(a.output +
+                      ": the output must be an .exr file (the PNG is written beside it)");
     Result<Scene> scene = loadScene(a.scene);
     if (!scene) throw Failure(scene.error().message);
     a.environment.apply(scene.value());
@@ -103,10 +110,12 @@ void runRender(const RenderArgs& a) {
     // Faceted spheres (interpolated normals) have their own methods and no textures.
     const bool interpolated = scene->geometry.type == GeometryType::FacetedSphere;
     const bool bakeless = method == kGroundTruth || method == kExact || interpolated;
-    // The bake a shader reads (toksvig-lut: toksvig's; roughness-mips: naive's), from the method table.
+    // The bake a shader reads (toksvig-lut: toksvig's; roughness-mips: naive's), from the method
+    // table.
     const MethodShader* shader = findShader(method);
     if (!bakeless && !shader)
-        throw Failure("unknown method " + quote(method) + " (expected " + renderMethodNames() + ")");
+        throw Failure("unknown method " + quote(method) + " (expected " + renderMethodNames() +
+                      ")");
     RenderOptions options;
     options.spp = a.spp > 0 ? a.spp : (method == kGroundTruth ? 64 : 1);
     options.seed = a.seed;
@@ -115,13 +124,17 @@ void runRender(const RenderArgs& a) {
     if (a.nearest) options.truth = TruthFilter::Box;
     options.anisotropy = a.anisotropy;
     options.roughnessMapping = roughnessMappingOrFail(a.mapping);
-    if (!a.quiet) options.progress = [](int done, int total) { showProgress("render", done, total); };
+    if (!a.quiet)
+        options.progress = [](int done, int total) { showProgress("render", done, total); };
 
     const long long start = nowNanoseconds();
     SceneTextureOptions load;
     load.bakeDir = a.bake;
     load.bakeParameters = a.methodParameters.given();
-    if (!a.quiet) load.decoded = [&](const DecodeReport& report) { warnAboutDecode(scene->normalMap.path, report); };
+    if (!a.quiet)
+        load.decoded = [&](const DecodeReport& report) {
+            warnAboutDecode(scene->normalMap.path, report);
+        };
     Result<RenderTextures> loaded = loadSceneTextures(scene.value(), method, load);
     if (!loaded) throw Failure(loaded.error().message);
     const RenderTextures& textures = loaded.value();
@@ -136,7 +149,8 @@ void runRender(const RenderArgs& a) {
     };
     const long long renderStart = nowNanoseconds();
     RenderNoise noise;
-    Result<Image> image = a.gpu ? draw(options, &gpuStats, a.gpuFrames) : render(scene.value(), textures, method, options, &noise);
+    Result<Image> image = a.gpu ? draw(options, &gpuStats, a.gpuFrames)
+                                : render(scene.value(), textures, method, options, &noise);
     if (!image) throw Failure(a.scene + ": " + image.error().message);
     const double renderMs = millisecondsSince(renderStart);
 
@@ -152,7 +166,8 @@ void runRender(const RenderArgs& a) {
             frames.push_back(std::move(frame.value()));
         }
         flicker = temporalFlicker(frames);
-        if (interpolated && method != kGroundTruth) { // the error's flicker needs the truth's frames
+        if (interpolated &&
+            method != kGroundTruth) { // the error's flicker needs the truth's frames
             std::vector<Image> truthFrames;
             quiet.spp = a.truthSpp;
             for (glm::vec2 shift : flickerShifts(a.frames)) {
@@ -168,25 +183,30 @@ void runRender(const RenderArgs& a) {
     std::string png;
     if (!a.noPng) png = std::filesystem::path(a.output).replace_extension(".png").string();
     const float stops = std::isnan(a.exposure) ? autoExposure(image.value()) : a.exposure;
-    writePairOrFail(a.output, image.value(), png, png.empty() ? Image{} : toneMap(image.value(), stops));
-    std::printf("render: %s, %dx%d, %d spp: load %.0f ms, render %.0f ms -> %s%s%s\n", method.c_str(),
-                image->width, image->height, options.spp, loadMs, renderMs, a.output.c_str(),
-                png.empty() ? "" : ", ", png.c_str());
+    writePairOrFail(a.output, image.value(), png,
+                    png.empty() ? Image{} : toneMap(image.value(), stops));
+    std::printf("render: %s, %dx%d, %d spp: load %.0f ms, render %.0f ms -> %s%s%s\n",
+                method.c_str(), image->width, image->height, options.spp, loadMs, renderMs,
+                a.output.c_str(), png.empty() ? "" : ", ", png.c_str());
     if (method == kGroundTruth && textures.environment)
-        std::printf("noise: relative standard error %.3f%% (mean per-pixel standard error / mean luminance over %zu "
-                    "covered pixels)\n", 100. * noise.relativeStandardError, noise.coveredPixels);
+        std::printf("noise: relative standard error %.3f%% (mean per-pixel standard error / mean "
+                    "luminance over %zu "
+                    "covered pixels)\n",
+                    100. * noise.relativeStandardError, noise.coveredPixels);
     if (flicker >= 0.0) std::printf("flicker (%d frames): %.5f\n", a.frames, flicker);
     if (errorFlicker >= 0.0)
-        std::printf("error flicker (%d frames, truth %d spp): %.5f\n", a.frames, a.truthSpp, errorFlicker);
+        std::printf("error flicker (%d frames, truth %d spp): %.5f\n", a.frames, a.truthSpp,
+                    errorFlicker);
     if (a.gpu && !gpuStats.frameMs.empty()) {
         auto median = [](std::vector<double> ms) {
             std::sort(ms.begin(), ms.end());
             return ms[ms.size() / 2];
         };
-        std::printf("gpu: %s: frame %.3f ms GL timer query, %.3f ms draw to glFinish (medians of %zu), "
-                    "setup %.0f ms\n",
-                    gpuStats.device.c_str(), median(gpuStats.frameMs), median(gpuStats.frameWallMs),
-                    gpuStats.frameMs.size(), gpuStats.compileMs);
+        std::printf(
+            "gpu: %s: frame %.3f ms GL timer query, %.3f ms draw to glFinish (medians of %zu), "
+            "setup %.0f ms\n",
+            gpuStats.device.c_str(), median(gpuStats.frameMs), median(gpuStats.frameWallMs),
+            gpuStats.frameMs.size(), gpuStats.compileMs);
     }
 }
 
@@ -194,10 +214,12 @@ void runRender(const RenderArgs& a) {
 
 void addRenderCommand(CLI::App& app) {
     auto a = std::make_shared<RenderArgs>();
-    CLI::App* c = app.add_subcommand("render", "render a scene (docs/SCENES.md) with a method or the ground truth");
+    CLI::App* c = app.add_subcommand(
+        "render", "render a scene (docs/SCENES.md) with a method or the ground truth");
     c->add_option("scene", a->scene, "scene file (JSON)")->required();
     c->add_option("--method", a->method,
-                  renderMethodNames() + "; faceted-sphere scenes: " + interpolatedMethodNames() + " (default: the scene's)");
+                  renderMethodNames() + "; faceted-sphere scenes: " + interpolatedMethodNames() +
+                      " (default: the scene's)");
     c->add_option("--spp", a->spp, "samples per pixel, stratified (default 1; ground truth 64)")
         ->check(CLI::Range(1, 1 << 20));
     c->add_option("--seed", a->seed, "jitter seed")->capture_default_str();
@@ -205,25 +227,35 @@ void addRenderCommand(CLI::App& app) {
     addEnvironmentOptions(c, a->environment);
     addEnvironmentShadingOptions(c, a->environmentShading);
     c->add_flag("--nearest", a->nearest, "the same as --truth box");
-    c->add_option("--aniso", a->anisotropy, "methods: anisotropic probes along the footprint (1 = trilinear)")
-        ->check(CLI::Range(1, 64))->capture_default_str();
+    c->add_option("--aniso", a->anisotropy,
+                  "methods: anisotropic probes along the footprint (1 = trilinear)")
+        ->check(CLI::Range(1, 64))
+        ->capture_default_str();
     addMethodParameterOptions(c, kParameterRender, a->methodParameters);
     c->add_option("--bake", a->bake, "use this bake directory instead of baking the scene's map");
     c->add_option("--roughness-mapping", a->mapping,
                   "toksvig with beckmann/ggx: ours, hdrp, filament, godot or unreal")
         ->capture_default_str();
-    c->add_option("--frames", a->frames, "also render F sub-pixel-shifted frames and print the flicker")
+    c->add_option("--frames", a->frames,
+                  "also render F sub-pixel-shifted frames and print the flicker")
         ->check(CLI::Range(0, 1024));
     c->add_option("--truth-spp", a->truthSpp,
-                  "faceted-sphere scenes with --frames: samples per pixel of the truth frames the error flicker needs")
-        ->check(CLI::Range(1, 1 << 16))->capture_default_str();
+                  "faceted-sphere scenes with --frames: samples per pixel of the truth frames the "
+                  "error flicker needs")
+        ->check(CLI::Range(1, 1 << 16))
+        ->capture_default_str();
     c->add_option("--exposure", a->exposure, "PNG exposure in stops (default: automatic)");
     c->add_flag("--no-png", a->noPng, "write the EXR only");
     c->add_flag("-q,--quiet", a->quiet, "no progress or warnings");
-    c->add_flag("--gpu", a->gpu, "methods: render with OpenGL 4.5 (headless EGL; the GLSL of shaders/) instead of the CPU");
-    c->add_option("--gpu-frames", a->gpuFrames, "--gpu: draw the frame N times and print the median GPU time")
-        ->check(CLI::Range(1, 10000))->capture_default_str();
-    c->add_option("-o,--output", a->output, "output .exr (float RGB); the PNG goes beside it")->required();
+    c->add_flag(
+        "--gpu", a->gpu,
+        "methods: render with OpenGL 4.5 (headless EGL; the GLSL of shaders/) instead of the CPU");
+    c->add_option("--gpu-frames", a->gpuFrames,
+                  "--gpu: draw the frame N times and print the median GPU time")
+        ->check(CLI::Range(1, 10000))
+        ->capture_default_str();
+    c->add_option("-o,--output", a->output, "output .exr (float RGB); the PNG goes beside it")
+        ->required();
     c->callback([a] { runRender(*a); });
 }
 

@@ -26,17 +26,19 @@ namespace {
 struct ViewArgs {
     std::string scene, bake;
     MethodParameterArgs methodParameters; // --order, --lobes: the bakes made on start
-    std::string method; // at start (default: the scene's)
+    std::string method;                   // at start (default: the scene's)
     bool split = false, levels = false;
-    int frames = 0;     // quit after this many frames (0: when the window closes)
+    int frames = 0; // quit after this many frames (0: when the window closes)
     FilteringArgs filtering;
 };
 
 #if defined(NDFMIP_HAS_GPU) && defined(NDFMIP_HAS_GLFW)
 
-const char* kHelp = "ndfmip view: Tab / Shift+Tab method, +/- vMF lobes, S split screen (left: the method, right: "
-                    "toksvig), F mip level as false colour, left drag orbit, right drag light, wheel zoom, R reset, "
-                    "Esc quit";
+const char* kHelp =
+    "ndfmip view: Tab / Shift+Tab method, +/- vMF lobes, S split screen (left: the method, right: "
+    "toksvig), F mip level as false colour, left drag orbit, right drag light, wheel zoom, R "
+    "reset, "
+    "Esc quit";
 
 // What the window shows and how the camera and light sit, in spherical coordinates about the
 // scene's target.
@@ -52,7 +54,8 @@ struct ViewState {
 };
 
 glm::vec3 fromSpherical(float azimuth, float elevation) {
-    return {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
+    return {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+            std::sin(elevation)};
 }
 
 struct Viewer {
@@ -62,8 +65,8 @@ struct Viewer {
     ViewArgs args;
     RenderOptions options;
     ViewState state;
-    std::map<std::string, Bake> bakes;           // by bake key ("vmf:4", "sh", ...)
-    std::map<std::string, GpuMethod> programs;   // by shader and bake key
+    std::map<std::string, Bake> bakes;         // by bake key ("vmf:4", "sh", ...)
+    std::map<std::string, GpuMethod> programs; // by shader and bake key
 
     std::string bakeKey(const std::string& shader) const {
         const MethodShader* s = findShader(shader);
@@ -89,7 +92,8 @@ struct Viewer {
         Scene s = scene;
         s.camera.width = width;
         s.camera.height = height;
-        s.camera.eye = scene.camera.target + state.distance * fromSpherical(state.azimuth, state.elevation);
+        s.camera.eye =
+            scene.camera.target + state.distance * fromSpherical(state.azimuth, state.elevation);
         if (!s.lights.empty() && s.lights.front().type == LightType::Directional)
             s.lights.front().direction = fromSpherical(state.lightAzimuth, state.lightElevation);
         RenderTextures t = base;
@@ -107,15 +111,19 @@ struct Viewer {
     }
 };
 
-Viewer* viewerOf(GLFWwindow* window) { return static_cast<Viewer*>(glfwGetWindowUserPointer(window)); }
+Viewer* viewerOf(GLFWwindow* window) {
+    return static_cast<Viewer*>(glfwGetWindowUserPointer(window));
+}
 
 void onKey(GLFWwindow* window, int key, int, int action, int mods) {
     if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
     ViewState& s = viewerOf(window)->state;
     const size_t n = s.methods.size();
     if (key == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(window, GLFW_TRUE);
-    if (key == GLFW_KEY_TAB) s.method = (mods & GLFW_MOD_SHIFT) ? (s.method + n - 1) % n : (s.method + 1) % n;
-    if (key == GLFW_KEY_EQUAL || key == GLFW_KEY_KP_ADD) s.lobes = std::min(s.lobes + 1, kMaxVmfBakeLobes);
+    if (key == GLFW_KEY_TAB)
+        s.method = (mods & GLFW_MOD_SHIFT) ? (s.method + n - 1) % n : (s.method + 1) % n;
+    if (key == GLFW_KEY_EQUAL || key == GLFW_KEY_KP_ADD)
+        s.lobes = std::min(s.lobes + 1, kMaxVmfBakeLobes);
     if (key == GLFW_KEY_MINUS || key == GLFW_KEY_KP_SUBTRACT) s.lobes = std::max(s.lobes - 1, 1);
     if (key == GLFW_KEY_S) s.split = !s.split;
     if (key == GLFW_KEY_F) s.levels = !s.levels;
@@ -179,7 +187,8 @@ void runView(const ViewArgs& a) {
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-    GLFWwindow* window = glfwCreateWindow(scene->camera.width, scene->camera.height, "ndfmip view", nullptr, nullptr);
+    GLFWwindow* window = glfwCreateWindow(scene->camera.width, scene->camera.height, "ndfmip view",
+                                          nullptr, nullptr);
     if (!window) throw Failure("view: OpenGL 4.5 core window refused by the display's driver");
     glfwMakeContextCurrent(window);
     glfwSwapInterval(0);
@@ -188,17 +197,21 @@ void runView(const ViewArgs& a) {
     v.scene = scene.value();
     v.args = a;
     a.filtering.apply(v.options);
-    v.base.normals = std::make_shared<const Image>(loadNormalsOrFail(scene->normalMap.path, scene->normalMap.decode, true));
+    v.base.normals = std::make_shared<const Image>(
+        loadNormalsOrFail(scene->normalMap.path, scene->normalMap.decode, true));
     v.pyramid = buildPyramid(v.base.normals);
     if (!a.bake.empty()) {
         Result<Bake> bake = loadBake(a.bake);
         if (!bake) throw Failure(bake.error().message);
-        v.bakes[methodName(bake->method) + (bake->method == Method::Vmf ? ":" + std::to_string(bakeVmfLobes(bake.value())) : "")] =
-            bake.value();
+        v.bakes[methodName(bake->method) + (bake->method == Method::Vmf
+                                                ? ":" + std::to_string(bakeVmfLobes(bake.value()))
+                                                : "")] = bake.value();
     }
     for (const MethodShader& shader : methodShaders()) {
-        if (std::string(shader.name) == kRoughnessMips) continue; // needs an engine's roughness mips
-        if (std::string(shader.name) == kToksvigLut && scene->material.brdf != Brdf::BlinnPhong) continue;
+        if (std::string(shader.name) == kRoughnessMips)
+            continue; // needs an engine's roughness mips
+        if (std::string(shader.name) == kToksvigLut && scene->material.brdf != Brdf::BlinnPhong)
+            continue;
         v.state.methods.push_back(shader.name);
     }
     glfwSetWindowUserPointer(window, &v);
@@ -208,7 +221,8 @@ void runView(const ViewArgs& a) {
     for (size_t i = 0; i < v.state.methods.size(); ++i)
         if (v.state.methods[i] == first) v.state.method = i, known = true;
     if (!known && !a.method.empty())
-        throw Failure("view: unknown method " + quote(a.method) + " (the window shows the GPU renderer's methods)");
+        throw Failure("view: unknown method " + quote(a.method) +
+                      " (the window shows the GPU renderer's methods)");
     v.state.split = a.split;
     v.state.levels = a.levels;
     glfwSetKeyCallback(window, onKey);
@@ -254,7 +268,8 @@ void runView(const ViewArgs& a) {
     if (a.frames > 0 && !frameMs.empty()) {
         std::sort(frameMs.begin(), frameMs.end());
         std::printf("view: %d frames of %s on %s, median %.1f ms\n", int(frameMs.size()),
-                    v.state.methods[v.state.method].c_str(), reinterpret_cast<const char*>(glGetString(GL_RENDERER)),
+                    v.state.methods[v.state.method].c_str(),
+                    reinterpret_cast<const char*>(glGetString(GL_RENDERER)),
                     frameMs[frameMs.size() / 2]);
     }
 }
@@ -262,7 +277,8 @@ void runView(const ViewArgs& a) {
 #else
 
 void runView(const ViewArgs&) {
-    throw Failure("view: this ndfmip was built without a window system (GLFW: libglfw3-dev, and the OpenGL path)");
+    throw Failure("view: this ndfmip was built without a window system (GLFW: libglfw3-dev, and "
+                  "the OpenGL path)");
 }
 
 #endif
@@ -271,10 +287,12 @@ void runView(const ViewArgs&) {
 
 void addViewCommand(CLI::App& app) {
     auto a = std::make_shared<ViewArgs>();
-    CLI::App* c = app.add_subcommand("view", "draw a scene in a window with the GPU renderer, interactively");
+    CLI::App* c =
+        app.add_subcommand("view", "draw a scene in a window with the GPU renderer, interactively");
     c->add_option("scene", a->scene, "scene file (JSON)")->required();
     c->add_option("--bake", a->bake, "use this bake directory for its method");
-    addMethodParameterOptions(c, kParameterView, a->methodParameters); // vmf's lobes at start; +/- change them
+    addMethodParameterOptions(c, kParameterView,
+                              a->methodParameters); // vmf's lobes at start; +/- change them
     c->add_option("--method", a->method, "method at start (default: the scene's)");
     c->add_flag("--split", a->split, "start in split screen (right: toksvig)");
     c->add_flag("--mip-levels", a->levels, "start with the mip level as false colour");

@@ -15,8 +15,10 @@ Bake bakeLean(const Pyramid& pyramid, const BakeOptions& options) {
     bake.method = Method::Lean;
     bake.parameters["min_z"] = kLeanMinZ;
     bake.planes = {
-        {"lean_moments", {"E[bx]", "E[by]", "E[bx^2]", "E[by^2]"},
-         "slope moments, b = (n.x, n.y) / max(n.z, min_z): first and second", true},
+        {"lean_moments",
+         {"E[bx]", "E[by]", "E[bx^2]", "E[by^2]"},
+         "slope moments, b = (n.x, n.y) / max(n.z, min_z): first and second",
+         true},
         {"lean_cross", {"E[bx by]"}, "slope cross moment", true},
     };
     const int count = int(pyramid.levels.size());
@@ -49,9 +51,9 @@ Bake bakeLean(const Pyramid& pyramid, const BakeOptions& options) {
     return bake;
 }
 
-
 float leanLobe(const Material& m, const float* p, glm::vec3 h) {
-    if (m.brdf == Brdf::Tabulated) // no widening rule, as for toksvig: the table about the mean slope's normal
+    if (m.brdf == Brdf::Tabulated) // no widening rule, as for toksvig: the table about the mean
+                                   // slope's normal
         return materialLobe(m, glm::dot(glm::normalize(glm::vec3(p[0], p[1], 1.f)), h), 0.f, 0.f);
     return glsl().ndfmipLeanLobe(glslMaterial(m), glm::vec4(p[0], p[1], p[2], p[3]), p[4], h);
 }
@@ -59,7 +61,8 @@ float leanLobe(const Material& m, const float* p, glm::vec3 h) {
 glm::vec3 shadeLean(const Material& m, glm::vec3 albedo, const float* p, glm::vec3 l, glm::vec3 v) {
     const glm::vec3 h = glm::normalize(l + v);
     return glsl().ndfmipShadeLeanLobe(glslMaterial(m, specularFactor(m, l, h)), albedo,
-                                      glm::vec4(p[0], p[1], p[2], p[3]), p[4], l, v, leanLobe(m, p, h));
+                                      glm::vec4(p[0], p[1], p[2], p[3]), p[4], l, v,
+                                      leanLobe(m, p, h));
 }
 
 } // namespace ndfmip

@@ -11,13 +11,14 @@ void inspectLean(nlohmann::json& out, const LoadedBake& bake, int x, int y, cons
     const float* m = bake.level[requirePlane(bake, "lean_moments")].at(x, y);
     const float cross = bake.level[requirePlane(bake, "lean_cross")].at(x, y)[0];
     out["mean_slope"] = {m[0], m[1]};
-    out["slope_covariance"] = {{m[2] - m[0] * m[0], cross - m[0] * m[1]}, {cross - m[0] * m[1], m[3] - m[1] * m[1]}};
+    out["slope_covariance"] = {{m[2] - m[0] * m[0], cross - m[0] * m[1]},
+                               {cross - m[0] * m[1], m[3] - m[1] * m[1]}};
     const glm::vec3 n = glm::normalize(glm::vec3(m[0], m[1], 1.f));
     out["mean_normal"] = {n.x, n.y, n.z};
 }
 
-glm::vec3 shadeLeanParams(const ShaderSetup&, const Material& m, const float* p, glm::vec3 albedo, glm::vec3 l,
-                          glm::vec3 v) {
+glm::vec3 shadeLeanParams(const ShaderSetup&, const Material& m, const float* p, glm::vec3 albedo,
+                          glm::vec3 l, glm::vec3 v) {
     return shadeLean(m, albedo, p, l, v);
 }
 
@@ -30,13 +31,16 @@ MethodUnit leanUnit() {
     u.summary = "slope moments: one anisotropic Beckmann lobe (LEAN mapping, Olano and Baker)";
     u.bake = bakeLean;
     u.planes = [](const BakeParameters&, bool) {
-        return std::vector<PlaneInfo>{planeOf("lean_moments", 4, true), planeOf("lean_cross", 1, true)};
+        return std::vector<PlaneInfo>{planeOf("lean_moments", 4, true),
+                                      planeOf("lean_cross", 1, true)};
     };
     // The five slope moments being averaged (20 bytes), then the two planes (20 bytes).
     u.bakeBytesPerTexel = [](const BakeOptions&) { return 20.0 + 20.0 * 4.0 / 3.0; };
     u.describe = [](const BakeParameters&) { return std::string("lean bake"); };
     u.inspect = inspectLean;
-    u.levelZeroNormal = [](const float* p) { return glm::vec3(p[0], p[1], 1.f); }; // the slope's normal
+    u.levelZeroNormal = [](const float* p) {
+        return glm::vec3(p[0], p[1], 1.f);
+    }; // the slope's normal
     u.ndfDensity = nullptr;
     return u;
 }
@@ -45,9 +49,11 @@ std::vector<MethodShader> leanShaders() {
     auto none = [](const Material&, const RenderTextures&, const RenderOptions&, ShaderSetup&) {
         return Status::success();
     };
-    auto lobe = [](const ShaderSetup&, const Material& m, const float* p, glm::vec3 h) { return leanLobe(m, p, h); };
-    return {{"lean", Method::Lean, "render/lean.glsl", none, shadeLeanParams, lobe, nullptr, nullptr, nullptr, nullptr,
-             false}};
+    auto lobe = [](const ShaderSetup&, const Material& m, const float* p, glm::vec3 h) {
+        return leanLobe(m, p, h);
+    };
+    return {{"lean", Method::Lean, "render/lean.glsl", none, shadeLeanParams, lobe, nullptr,
+             nullptr, nullptr, nullptr, false}};
 }
 
 } // namespace ndfmip

@@ -7,7 +7,8 @@ namespace ndfmip {
 Bake bakeNaive(const Pyramid& pyramid, const BakeOptions& options) {
     Bake bake;
     bake.method = Method::Naive;
-    bake.planes = {{"normal", {"n.x", "n.y", "n.z"}, "mean normal renormalised to unit length", true}};
+    bake.planes = {
+        {"normal", {"n.x", "n.y", "n.z"}, "mean normal renormalised to unit length", true}};
     const int count = int(pyramid.levels.size());
     bake.levels.resize(count);
     for (int k = 0; k < count; ++k) {

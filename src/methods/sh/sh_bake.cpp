@@ -10,7 +10,9 @@
 
 namespace ndfmip {
 
-int shPlaneCount(int order) { return (shCount(order) + 3) / 4; }
+int shPlaneCount(int order) {
+    return (shCount(order) + 3) / 4;
+}
 
 Bake bakeSh(const Pyramid& pyramid, const BakeOptions& options) {
     const int order = int(parameterValue(Method::Sh, options.parameters, "order"));
@@ -29,7 +31,8 @@ Bake bakeSh(const Pyramid& pyramid, const BakeOptions& options) {
             }
             int l = 0;
             while (shIndex(l, l) < i) ++l;
-            plane.channels.push_back("g(" + std::to_string(l) + "," + std::to_string(i - shIndex(l, 0)) + ")");
+            plane.channels.push_back("g(" + std::to_string(l) + "," +
+                                     std::to_string(i - shIndex(l, 0)) + ")");
         }
         plane.description = "NDF spherical-harmonic coefficients g_lm, real orthonormal basis";
         plane.linear = true;
@@ -54,7 +57,8 @@ Bake bakeSh(const Pyramid& pyramid, const BakeOptions& options) {
                 for (int c = 0; c < 4; ++c) level0[p].pixels[4 * i + c] = float(y[4 * p + c]);
         }
     }
-    for (Image& plane : level0) bake.levels[0].push_back(std::make_shared<const Image>(std::move(plane)));
+    for (Image& plane : level0)
+        bake.levels[0].push_back(std::make_shared<const Image>(std::move(plane)));
     if (options.progress) options.progress(1, levelCount);
     for (int k = 1; k < levelCount; ++k) {
         for (int p = 0; p < planeCount; ++p)

@@ -45,7 +45,8 @@ double shDensity(const LoadedBake& bake, int x, int y, glm::dvec3 w) {
     return sum;
 }
 
-Status prepareSh(const Material& m, const RenderTextures& textures, const RenderOptions& options, ShaderSetup& setup) {
+Status prepareSh(const Material& m, const RenderTextures& textures, const RenderOptions& options,
+                 ShaderSetup& setup) {
     Result<ShShading> sh = shShadingFor(m, bakeShOrder(textures.bake));
     if (!sh) return Status::failure(sh.error().message);
     setup.sh = std::move(sh.value());
@@ -53,13 +54,15 @@ Status prepareSh(const Material& m, const RenderTextures& textures, const Render
 }
 
 // Under an environment: Han et al. eqs. 35 and 37, the lighting rotated into the tangent frame.
-glm::vec3 shadeShEnvironmentParams(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo,
-                                   glm::vec3 v, const glm::mat3& toEnvironment, const EnvironmentLighting&) {
-    return shadeShEnvironment(m, albedo, p, setup.sh, v, toEnvironment, shLightingAt(setup, v, toEnvironment));
+glm::vec3 shadeShEnvironmentParams(const ShaderSetup& setup, const Material& m, const float* p,
+                                   glm::vec3 albedo, glm::vec3 v, const glm::mat3& toEnvironment,
+                                   const EnvironmentLighting&) {
+    return shadeShEnvironment(m, albedo, p, setup.sh, v, toEnvironment,
+                              shLightingAt(setup, v, toEnvironment));
 }
 
-glm::vec3 shadeShParams(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo, glm::vec3 l,
-                        glm::vec3 v) {
+glm::vec3 shadeShParams(const ShaderSetup& setup, const Material& m, const float* p,
+                        glm::vec3 albedo, glm::vec3 l, glm::vec3 v) {
     return shadeSh(m, albedo, p, setup.sh, l, v);
 }
 
@@ -73,14 +76,23 @@ MethodUnit shUnit() {
     u.bake = bakeSh;
     u.planes = [](const BakeParameters& parameters, bool) {
         std::vector<PlaneInfo> planes;
-        for (int p = 0; p < shPlaneCount(orderOf(parameters)); ++p) planes.push_back(planeOf("sh" + std::to_string(p), 4, true));
+        for (int p = 0; p < shPlaneCount(orderOf(parameters)); ++p)
+            planes.push_back(planeOf("sh" + std::to_string(p), 4, true));
         return planes;
     };
     // The highest band, for bakes of its own, bakes made on the fly and eval's sh:ORDER.
-    u.parameters = {{.key = "order", .flag = "--order", .type = ParameterType::Integer, .min = 1,
-                     .max = kMaxShOrder, .defaultValue = 7, .help = "highest band l* ((l*+1)^2 coefficients)",
-                     .commands = kParameterBake | kParameterRender | kParameterView | kParameterEval,
-                     .recorded = true, .specPosition = 0, .keyedZeroWhenUnset = true}};
+    u.parameters = {
+        {.key = "order",
+         .flag = "--order",
+         .type = ParameterType::Integer,
+         .min = 1,
+         .max = kMaxShOrder,
+         .defaultValue = 7,
+         .help = "highest band l* ((l*+1)^2 coefficients)",
+         .commands = kParameterBake | kParameterRender | kParameterView | kParameterEval,
+         .recorded = true,
+         .specPosition = 0,
+         .keyedZeroWhenUnset = true}};
     u.bakeBytesPerTexel = [](const BakeOptions& o) {
         const int order = int(parameterValue(Method::Sh, o.parameters, "order"));
         return 16.0 * ((shCount(std::clamp(order, 0, kMaxShOrder)) + 3) / 4) * 4.0 / 3.0;
@@ -89,7 +101,9 @@ MethodUnit shUnit() {
         return "sh bake of order " + std::to_string(orderOf(parameters));
     };
     u.inspect = inspectSh;
-    u.levelZeroNormal = [](const float* p) { return glm::vec3(p[3], p[1], p[2]); }; // band 1: (y, z, x)
+    u.levelZeroNormal = [](const float* p) {
+        return glm::vec3(p[3], p[1], p[2]);
+    }; // band 1: (y, z, x)
     u.ndfDensity = shDensity;
     return u;
 }
@@ -98,15 +112,19 @@ std::vector<MethodShader> shShaders() {
     auto lobe = [](const ShaderSetup& setup, const Material&, const float* p, glm::vec3 h) {
         return shLobe(p, setup.sh, h);
     };
-    auto defines = [](const ShaderSetup&, int layers) { return "#define NDFMIP_LAYERS " + std::to_string(layers) + "\n"; };
+    auto defines = [](const ShaderSetup&, int layers) {
+        return "#define NDFMIP_LAYERS " + std::to_string(layers) + "\n";
+    };
     // The BRDF's A_l per band (eq. 17) beside the coefficients, up to the GLSL arrays' size.
     auto uniforms = [](const ShaderSetup& setup, std::vector<UniformValue>& u) {
         if (setup.sh.order > kGpuMaxShOrder)
-            return Status::failure("render --gpu: sh bakes up to order " + std::to_string(kGpuMaxShOrder) +
-                                   " (this one is " + std::to_string(setup.sh.order) + ")");
+            return Status::failure("render --gpu: sh bakes up to order " +
+                                   std::to_string(kGpuMaxShOrder) + " (this one is " +
+                                   std::to_string(setup.sh.order) + ")");
         addUniform(u, "ndfmipShOrder", setup.sh.order);
         for (int l = 0; l <= setup.sh.order; ++l) {
-            std::string index = "["; // appended, not "[" + ...: GCC 12 warns falsely (-Wrestrict) on that at -O3
+            std::string index =
+                "["; // appended, not "[" + ...: GCC 12 warns falsely (-Wrestrict) on that at -O3
             index += std::to_string(l);
             index += "]";
             addUniform(u, "ndfmipShDiffuse" + index, float(setup.sh.diffuse[size_t(l)]));
@@ -114,8 +132,8 @@ std::vector<MethodShader> shShaders() {
         }
         return Status::success();
     };
-    return {{"sh", Method::Sh, "render/sh.glsl", prepareSh, shadeShParams, lobe, shadeShEnvironmentParams, nullptr,
-             defines, uniforms, true}};
+    return {{"sh", Method::Sh, "render/sh.glsl", prepareSh, shadeShParams, lobe,
+             shadeShEnvironmentParams, nullptr, defines, uniforms, true}};
 }
 
 } // namespace ndfmip

@@ -14,10 +14,15 @@ Bake bakeToksvig(const Pyramid& pyramid, const BakeOptions& options) {
     bake.method = Method::Toksvig;
     bake.parameters["base_roughness"] = options.baseRoughness;
     bake.planes = {
-        {"mean", {"Na.x", "Na.y", "Na.z"}, "unnormalised mean normal Na (first moment of the NDF)",
+        {"mean",
+         {"Na.x", "Na.y", "Na.z"},
+         "unnormalised mean normal Na (first moment of the NDF)",
          true},
-        {"roughness_beckmann", {"alpha"},
-         "Beckmann alpha: sqrt(alpha0^2 + sigma^2), sigma^2 = (1-|Na|)/|Na| (calibrated on GGX truth)", false},
+        {"roughness_beckmann",
+         {"alpha"},
+         "Beckmann alpha: sqrt(alpha0^2 + sigma^2), sigma^2 = (1-|Na|)/|Na| (calibrated on GGX "
+         "truth)",
+         false},
         {"roughness_ggx", {"alpha"}, "GGX alpha, same mapping as Beckmann", false},
     };
     const int count = int(pyramid.levels.size());
@@ -28,7 +33,8 @@ Bake bakeToksvig(const Pyramid& pyramid, const BakeOptions& options) {
         bake.parameters["roughness_map"] = 1.0;
         alpha2 = Image(options.roughnessMap->width, options.roughnessMap->height, 1);
         for (size_t i = 0; i < alpha2->texelCount(); ++i) {
-            const float a = options.roughnessMap->pixels[i * size_t(options.roughnessMap->channels)];
+            const float a =
+                options.roughnessMap->pixels[i * size_t(options.roughnessMap->channels)];
             alpha2->pixels[i] = a * a;
         }
     }

@@ -30,7 +30,8 @@ float toksvigLutEntry(float naDotH, float naDotNa, const ToksvigLutOptions& opti
     float antialiased = toksvigLutValue(naDotH, naDotNa, s);
     if (options.bitDepth <= 0) return antialiased;
     float length = std::sqrt(std::clamp(naDotNa, 0.f, 1.f));
-    float error = lengthQuantisationError(options.bitDepth) * toksvigIntensitySensitivity(length, s);
+    float error =
+        lengthQuantisationError(options.bitDepth) * toksvigIntensitySensitivity(length, s);
     if (error <= options.threshold) return antialiased;
     // Eq. (11): fall back towards the traditional lookup (Na.H/|Na|)^s as the error grows.
     float cosine = length > 0.f ? std::clamp(naDotH, 0.f, length) / length : 1.f;
@@ -44,7 +45,8 @@ Image toksvigLut(const ToksvigLutOptions& options) {
     Image lut(n, n, 1);
     for (int j = 0; j < n; ++j) {
         float naDotNa = (j + 0.5f) / n;
-        for (int i = 0; i < n; ++i) lut.at(i, j)[0] = toksvigLutEntry((i + 0.5f) / n, naDotNa, options);
+        for (int i = 0; i < n; ++i)
+            lut.at(i, j)[0] = toksvigLutEntry((i + 0.5f) / n, naDotNa, options);
     }
     return lut;
 }
@@ -70,8 +72,8 @@ float toksvigLutLobe(const Material& m, glm::vec3 na, const Image& lut, glm::vec
     return glsl().ndfmipToksvigLutLobe(m.exponent, sampleTable(lut, uv.x, uv.y));
 }
 
-glm::vec3 shadeToksvigLut(const Material& m, glm::vec3 albedo, glm::vec3 na, const Image& lut, glm::vec3 l,
-                          glm::vec3 v) {
+glm::vec3 shadeToksvigLut(const Material& m, glm::vec3 albedo, glm::vec3 na, const Image& lut,
+                          glm::vec3 l, glm::vec3 v) {
     return shadeToksvigLobe(m, albedo, na, l, v, toksvigLutLobe(m, na, lut, glm::normalize(l + v)));
 }
 

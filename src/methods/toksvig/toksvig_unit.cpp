@@ -9,13 +9,14 @@ namespace ndfmip {
 
 namespace {
 
-glm::vec3 shadeClosedForm(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo, glm::vec3 l,
-                          glm::vec3 v) {
-    return shadeToksvig(m, albedo, glm::vec3(p[0], p[1], p[2]), l, v, setup.mapping, setup.varianceScale);
+glm::vec3 shadeClosedForm(const ShaderSetup& setup, const Material& m, const float* p,
+                          glm::vec3 albedo, glm::vec3 l, glm::vec3 v) {
+    return shadeToksvig(m, albedo, glm::vec3(p[0], p[1], p[2]), l, v, setup.mapping,
+                        setup.varianceScale);
 }
 
-Status prepareClosedForm(const Material& m, const RenderTextures& textures, const RenderOptions& options,
-                         ShaderSetup& setup) {
+Status prepareClosedForm(const Material& m, const RenderTextures& textures,
+                         const RenderOptions& options, ShaderSetup& setup) {
     setup.mapping = options.roughnessMapping;
     setup.varianceScale = options.varianceScale;
     return prepareSplitSumSetup(m, textures, options, setup);
@@ -23,16 +24,21 @@ Status prepareClosedForm(const Material& m, const RenderTextures& textures, cons
 
 // Under an environment: the lobe widened by |Na| as under point lights, read from the prefiltered
 // levels at the rule's level (log2 sigma: Toksvig's own, on the plain mip chain).
-glm::vec3 shadeClosedFormEnvironment(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo,
-                                     glm::vec3 v, const glm::mat3& toEnvironment, const EnvironmentLighting&) {
-    return shadeToksvigSplitSum(m, albedo, glm::vec3(p[0], p[1], p[2]), v, toEnvironment, *setup.splitSum,
-                                setup.environmentLod, setup.mapping, setup.varianceScale);
+glm::vec3 shadeClosedFormEnvironment(const ShaderSetup& setup, const Material& m, const float* p,
+                                     glm::vec3 albedo, glm::vec3 v, const glm::mat3& toEnvironment,
+                                     const EnvironmentLighting&) {
+    return shadeToksvigSplitSum(m, albedo, glm::vec3(p[0], p[1], p[2]), v, toEnvironment,
+                                *setup.splitSum, setup.environmentLod, setup.mapping,
+                                setup.varianceScale);
 }
 
-Status prepareLut(const Material& m, const RenderTextures&, const RenderOptions&, ShaderSetup& setup) {
+Status prepareLut(const Material& m, const RenderTextures&, const RenderOptions&,
+                  ShaderSetup& setup) {
     if (m.brdf != Brdf::BlinnPhong)
-        return Status::failure(std::string("render: toksvig-lut is Toksvig's table for Blinn-Phong materials, the "
-                                           "material is ") + brdfName(m.brdf));
+        return Status::failure(
+            std::string("render: toksvig-lut is Toksvig's table for Blinn-Phong materials, the "
+                        "material is ") +
+            brdfName(m.brdf));
     ToksvigLutOptions lut;
     lut.exponent = m.exponent;
     lut.size = kToksvigLutSize;
@@ -41,12 +47,13 @@ Status prepareLut(const Material& m, const RenderTextures&, const RenderOptions&
     return Status::success();
 }
 
-glm::vec3 shadeLut(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo, glm::vec3 l,
-                   glm::vec3 v) {
+glm::vec3 shadeLut(const ShaderSetup& setup, const Material& m, const float* p, glm::vec3 albedo,
+                   glm::vec3 l, glm::vec3 v) {
     return shadeToksvigLut(m, albedo, glm::vec3(p[0], p[1], p[2]), setup.lut, l, v);
 }
 
-void inspectToksvig(nlohmann::json& out, const LoadedBake& bake, int x, int y, const InspectOptions& options) {
+void inspectToksvig(nlohmann::json& out, const LoadedBake& bake, int x, int y,
+                    const InspectOptions& options) {
     const float* na = bake.level[requirePlane(bake, "mean")].at(x, y);
     const float length = length3(na);
     out["mean_normal"] = jsonVec3(na);
@@ -66,16 +73,25 @@ MethodUnit toksvigUnit() {
     u.summary = "the mean normal kept unnormalised; its length widens the lobe (Toksvig)";
     u.bake = bakeToksvig;
     u.planes = [](const BakeParameters&, bool) {
-        return std::vector<PlaneInfo>{planeOf("mean", 3, true), planeOf("roughness_beckmann", 1, false),
+        return std::vector<PlaneInfo>{planeOf("mean", 3, true),
+                                      planeOf("roughness_beckmann", 1, false),
                                       planeOf("roughness_ggx", 1, false)};
     };
     // The material's roughness is an option of every bake (BakeOptions::baseRoughness), not one of
     // toksvig's own: no command takes it from this table, but a manifest must record it.
-    u.parameters = {{.key = "base_roughness", .flag = "--base-roughness", .type = ParameterType::Float, .min = 0,
-                     .max = 1, .defaultValue = 0, .help = "GGX/Beckmann alpha of the material before filtering",
-                     .commands = 0, .recorded = true}};
+    u.parameters = {{.key = "base_roughness",
+                     .flag = "--base-roughness",
+                     .type = ParameterType::Float,
+                     .min = 0,
+                     .max = 1,
+                     .defaultValue = 0,
+                     .help = "GGX/Beckmann alpha of the material before filtering",
+                     .commands = 0,
+                     .recorded = true}};
     // Roughness planes, and with a roughness map its alpha^2 chain being averaged.
-    u.bakeBytesPerTexel = [](const BakeOptions& o) { return 4.0 * 4.0 / 3.0 + (o.roughnessMap ? 8.0 : 0.0); };
+    u.bakeBytesPerTexel = [](const BakeOptions& o) {
+        return 4.0 * 4.0 / 3.0 + (o.roughnessMap ? 8.0 : 0.0);
+    };
     u.describe = [](const BakeParameters&) { return std::string("toksvig bake"); };
     u.inspect = inspectToksvig;
     u.levelZeroNormal = [](const float* p) { return glm::vec3(p[0], p[1], p[2]); };
@@ -99,10 +115,10 @@ std::vector<MethodShader> toksvigShaders() {
         addUniform(u, "ndfmipLut", 1); // the table's texture unit
         return Status::success();
     };
-    return {{"toksvig", Method::Toksvig, "render/toksvig.glsl", prepareClosedForm, shadeClosedForm, lobe,
-             shadeClosedFormEnvironment, nullptr, nullptr, closedFormUniforms, false},
-            {kToksvigLut, Method::Toksvig, "render/toksvig_lut.glsl", prepareLut, shadeLut, lutLobe, nullptr, nullptr,
-             nullptr, lutUniforms, false}};
+    return {{"toksvig", Method::Toksvig, "render/toksvig.glsl", prepareClosedForm, shadeClosedForm,
+             lobe, shadeClosedFormEnvironment, nullptr, nullptr, closedFormUniforms, false},
+            {kToksvigLut, Method::Toksvig, "render/toksvig_lut.glsl", prepareLut, shadeLut, lutLobe,
+             nullptr, nullptr, nullptr, lutUniforms, false}};
 }
 
 } // namespace ndfmip

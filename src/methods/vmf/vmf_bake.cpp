@@ -10,9 +10,12 @@
 namespace ndfmip {
 
 Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
-    auto parameter = [&](const char* key) { return parameterValue(Method::Vmf, options.parameters, key); };
+    auto parameter = [&](const char* key) {
+        return parameterValue(Method::Vmf, options.parameters, key);
+    };
     const int lobes = int(parameter("lobes"));
-    const float coherence = float(parameter("coherent")), lobeBudget = float(parameter("lobe_budget"));
+    const float coherence = float(parameter("coherent")),
+                lobeBudget = float(parameter("lobe_budget"));
     VmfFitOptions fit;
     fit.maxIterations = int(parameter("max_iterations"));
     fit.tolerance = parameter("tolerance");
@@ -41,7 +44,8 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
     bake.parameters["mean_lobes"] = stats.texels ? double(stats.lobes) / double(stats.texels) : 0.0;
     bake.parameters["coherence"] = coherence;
     bake.parameters["lobe_mismatch_degrees"] = lobeMismatch(levels);
-    const std::string slot = coherence > 0.f ? " (coherent slot, eq. 32)" : " (slot by decreasing alpha)";
+    const std::string slot =
+        coherence > 0.f ? " (coherent slot, eq. 32)" : " (slot by decreasing alpha)";
     for (int j = 0; j < lobes; ++j)
         bake.planes.push_back({"lobe" + std::to_string(j),
                                {"alpha", "alpha r mu.x", "alpha r mu.y", "alpha r mu.z"},
@@ -50,11 +54,14 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
                                true});
     if (colors)
         for (int j = 0; j < lobes; ++j)
-            bake.planes.push_back({"color" + std::to_string(j), {"alpha c.r", "alpha c.g", "alpha c.b"},
-                                   "vMF lobe " + std::to_string(j) +
-                                       ": amplitude times the lobe's mean albedo (eq. 31); divide by "
-                                       "the filtered alpha of lobe plane " + std::to_string(j),
-                                   true});
+            bake.planes.push_back(
+                {"color" + std::to_string(j),
+                 {"alpha c.r", "alpha c.g", "alpha c.b"},
+                 "vMF lobe " + std::to_string(j) +
+                     ": amplitude times the lobe's mean albedo (eq. 31); divide by "
+                     "the filtered alpha of lobe plane " +
+                     std::to_string(j),
+                 true});
 
     const int count = int(levels.size());
     bake.levels.resize(count);
@@ -78,7 +85,8 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
                     }
                 }
             }
-        for (Image& plane : planes) bake.levels[k].push_back(std::make_shared<const Image>(std::move(plane)));
+        for (Image& plane : planes)
+            bake.levels[k].push_back(std::make_shared<const Image>(std::move(plane)));
         if (options.progress) options.progress(k + 1, count);
     }
     return bake;

@@ -62,7 +62,8 @@ vmf::LobeSet matchSlots(std::span<const VmfLobe> lobes, const VmfLobe* reference
         if (reference[j].alpha > 0)
             for (int i = 0; i < int(lobes.size()); ++i)
                 pairs.push_back({glm::dot(reference[j].mu, lobes[size_t(i)].mu), j, i});
-    std::stable_sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.cosine > b.cosine; });
+    std::stable_sort(pairs.begin(), pairs.end(),
+                     [](const Pair& a, const Pair& b) { return a.cosine > b.cosine; });
     std::vector<bool> slotUsed(size_t(J), false), lobeUsed(lobes.size(), false);
     for (const Pair& p : pairs) {
         if (slotUsed[size_t(p.slot)] || lobeUsed[size_t(p.lobe)]) continue;

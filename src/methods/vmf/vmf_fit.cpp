@@ -189,9 +189,10 @@ bool indistinguishable(const VmfLobe& a, const VmfLobe& b) {
 // kappa from the sum (other fields, such as the colour, stay `into`'s).
 VmfLobe mergedLobe(VmfLobe into, const VmfLobe& other, const VmfFitOptions& options) {
     double alpha = double(into.alpha) + double(other.alpha);
-    glm::dvec3 mean = (double(into.alpha) * meanLengthOf(into.kappa, options) * glm::dvec3(into.mu) +
-                       double(other.alpha) * meanLengthOf(other.kappa, options) * glm::dvec3(other.mu)) /
-                      alpha;
+    glm::dvec3 mean =
+        (double(into.alpha) * meanLengthOf(into.kappa, options) * glm::dvec3(into.mu) +
+         double(other.alpha) * meanLengthOf(other.kappa, options) * glm::dvec3(other.mu)) /
+        alpha;
     double length = glm::length(mean);
     into.alpha = float(alpha);
     if (length > 0) into.mu = glm::vec3(mean / length);

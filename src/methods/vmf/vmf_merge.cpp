@@ -18,7 +18,9 @@ struct Cluster {
     bool live = false;
 };
 
-double smoothedKappa(double kappa, double s) { return std::max(kappa * s / (kappa + s), 1e-12); }
+double smoothedKappa(double kappa, double s) {
+    return std::max(kappa * s / (kappa + s), 1e-12);
+}
 
 // The lobe of a cluster's moments.
 void settle(Cluster& c, const VmfFitOptions& options, double s) {
@@ -33,7 +35,8 @@ void settle(Cluster& c, const VmfFitOptions& options, double s) {
 double mergeLoss(const Cluster& a, const Cluster& b, const VmfFitOptions& options, double s) {
     const double alpha = a.alpha + b.alpha;
     const double kappa = kappaOf(glm::length(a.mean + b.mean) / alpha, options);
-    return alpha * -std::log(smoothedKappa(kappa, s)) + a.alpha * a.logSmoothed + b.alpha * b.logSmoothed;
+    return alpha * -std::log(smoothedKappa(kappa, s)) + a.alpha * a.logSmoothed +
+           b.alpha * b.logSmoothed;
 }
 
 } // namespace
@@ -54,7 +57,8 @@ void mergeCandidates(const VmfLobe* candidates, size_t count, int J, const VmfFi
         const double length = glm::length(glm::dvec3(lobe.mu));
         const glm::dvec3 mu = length > 0 ? glm::dvec3(lobe.mu) / length : glm::dvec3(0, 0, 1);
         c.lobe.mu = glm::vec3(mu);
-        c.lobe.kappa = std::clamp(std::isnan(lobe.kappa) ? 0.f : lobe.kappa, 0.f, std::max(options.kappaMax, 0.f));
+        c.lobe.kappa = std::clamp(std::isnan(lobe.kappa) ? 0.f : lobe.kappa, 0.f,
+                                  std::max(options.kappaMax, 0.f));
         c.mean = c.alpha * meanLengthOf(c.lobe.kappa, options) * mu;
         c.logSmoothed = std::log(smoothedKappa(c.lobe.kappa, s));
         c.live = true;
@@ -65,16 +69,18 @@ void mergeCandidates(const VmfLobe* candidates, size_t count, int J, const VmfFi
     if (live > size_t(J) || (live > 1 && maxLoss >= 0)) {
         loss.assign(n * n, 0.0);
         for (size_t i = 0; i < n; ++i)
-            for (size_t j = i + 1; j < n; ++j) loss[i * n + j] = mergeLoss(clusters[i], clusters[j], options, s);
+            for (size_t j = i + 1; j < n; ++j)
+                loss[i * n + j] = mergeLoss(clusters[i], clusters[j], options, s);
         while (live > 1) {
             size_t bi = 0, bj = 0;
             double best = INFINITY;
             for (size_t i = 0; i < n; ++i) {
                 if (!clusters[i].live) continue;
                 for (size_t j = i + 1; j < n; ++j)
-                    if (clusters[j].live && loss[i * n + j] < best) best = loss[i * n + j], bi = i, bj = j;
+                    if (clusters[j].live && loss[i * n + j] < best)
+                        best = loss[i * n + j], bi = i, bj = j;
             }
-            if (bi == bj) break; // only NaN losses left
+            if (bi == bj) break;                                // only NaN losses left
             if (live <= size_t(J) && !(best <= maxLoss)) break; // J reached, the rest cost too much
             Cluster& into = clusters[bi];
             into.alpha += clusters[bj].alpha;
@@ -105,7 +111,8 @@ void mergeCandidates(const VmfLobe* candidates, size_t count, int J, const VmfFi
 
 } // namespace vmf
 
-std::vector<VmfLobe> mergedLobes(const std::vector<VmfLobe>& candidates, int J, const VmfFitOptions& options) {
+std::vector<VmfLobe> mergedLobes(const std::vector<VmfLobe>& candidates, int J,
+                                 const VmfFitOptions& options) {
     vmf::LobeSet merged;
     vmf::mergeCandidates(candidates.data(), candidates.size(), J, options, merged);
     return {merged.lobe, merged.lobe + merged.count};

@@ -12,11 +12,14 @@ double productIntegral(glm::dvec3 mu1, double k1, glm::dvec3 mu2, double k2) {
     return std::exp(vmfLogNormalizer(k1) + vmfLogNormalizer(k2) - vmfLogNormalizer(k3));
 }
 
-double seenThrough(double kappa, double s) { return kappa > 0 ? kappa * s / (kappa + s) : 0.0; }
+double seenThrough(double kappa, double s) {
+    return kappa > 0 ? kappa * s / (kappa + s) : 0.0;
+}
 
 } // namespace
 
-double smoothedNdfError(const glm::vec3* normals, size_t count, std::span<const VmfLobe> lobes, double s) {
+double smoothedNdfError(const glm::vec3* normals, size_t count, std::span<const VmfLobe> lobes,
+                        double s) {
     if (count == 0) return 0;
     std::vector<glm::dvec3> n(count);
     for (size_t i = 0; i < count; ++i) n[i] = glm::normalize(glm::dvec3(normals[i]));
@@ -38,7 +41,8 @@ double smoothedNdfError(const glm::vec3* normals, size_t count, std::span<const 
         for (const VmfLobe& b : lobes)
             if (b.alpha > 0)
                 fit += double(a.alpha) * b.alpha *
-                       productIntegral(mu, ka, glm::normalize(glm::dvec3(b.mu)), seenThrough(b.kappa, s));
+                       productIntegral(mu, ka, glm::normalize(glm::dvec3(b.mu)),
+                                       seenThrough(b.kappa, s));
     }
     return std::sqrt(std::max(data - 2 * cross + fit, 0.0) / data);
 }

@@ -135,7 +135,8 @@ TexelFit fitTexel(const Pyramid& pyramid, int k, int x, int y, const ChildRanges
     vmf::EmOutcome outcome = vmf::runEm(samples, lobes, options, parallel, nullptr);
     if (options.lobeBudget > 0.f) {
         vmf::LobeSet fitted = lobes;
-        vmf::mergeCandidates(fitted.lobe, size_t(fitted.count), fitted.count, options, lobes, options.lobeBudget);
+        vmf::mergeCandidates(fitted.lobe, size_t(fitted.count), fitted.count, options, lobes,
+                             options.lobeBudget);
     }
     std::copy(lobes.lobe, lobes.lobe + lobes.count, out);
     return {lobes.count, outcome.iterations, outcome.converged};

@@ -17,7 +17,9 @@ float widenedLobe(const Material& m, glm::vec3 mu, float kappa, glm::vec3 h) {
 }
 
 // The GLSL's unpacking (float), as the GPU does it.
-GlslLibrary::NdfmipLobe unpacked(const float* p) { return glsl().ndfmipUnpackLobe(glm::vec4(p[0], p[1], p[2], p[3])); }
+GlslLibrary::NdfmipLobe unpacked(const float* p) {
+    return glsl().ndfmipUnpackLobe(glm::vec4(p[0], p[1], p[2], p[3]));
+}
 
 } // namespace
 
@@ -30,8 +32,8 @@ float vmfLobe(const Material& m, const float* lobes, int count, glm::vec3 h) {
     return sum;
 }
 
-glm::vec3 shadeVmf(const Material& m, glm::vec3 baseAlbedo, const float* lobes, int count, const glm::vec3* colors,
-                   glm::vec3 l, glm::vec3 v) {
+glm::vec3 shadeVmf(const Material& m, glm::vec3 baseAlbedo, const float* lobes, int count,
+                   const glm::vec3* colors, glm::vec3 l, glm::vec3 v) {
     const glm::vec3 h = glm::normalize(l + v);
     const GlslMaterial material = glslMaterial(m, specularFactor(m, l, h));
     glm::vec3 out(0.f);
@@ -39,7 +41,8 @@ glm::vec3 shadeVmf(const Material& m, glm::vec3 baseAlbedo, const float* lobes, 
         const GlslLibrary::NdfmipLobe lobe = unpacked(lobes + 4 * j);
         if (!(lobe.alpha > 0.f)) continue;
         const glm::vec3 albedo = colors ? colors[j] * m.albedo : baseAlbedo;
-        out += glsl().ndfmipVmfLobeTerm(material, albedo, lobe, widenedLobe(m, lobe.mu, lobe.kappa, h), l, v);
+        out += glsl().ndfmipVmfLobeTerm(material, albedo, lobe,
+                                        widenedLobe(m, lobe.mu, lobe.kappa, h), l, v);
     }
     return out;
 }

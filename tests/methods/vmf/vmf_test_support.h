@@ -50,7 +50,7 @@ inline glm::vec3 sampleVmf(glm::vec3 mu, double kappa, std::mt19937_64& rng) {
 }
 
 inline std::vector<glm::vec3> sampleMixture(const std::vector<VmfLobe>& lobes, size_t count,
-                                     uint64_t seed) {
+                                            uint64_t seed) {
     std::mt19937_64 rng(seed);
     std::vector<double> alphas;
     for (const VmfLobe& l : lobes) alphas.push_back(l.alpha);

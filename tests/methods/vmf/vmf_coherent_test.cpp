@@ -18,7 +18,6 @@ namespace {
 
 using namespace vmftest;
 
-
 glm::dvec3 meanOf(const std::vector<glm::vec3>& normals) {
     glm::dvec3 mean(0);
     for (glm::vec3 n : normals) mean += glm::dvec3(n);
@@ -504,7 +503,8 @@ TEST(VmfCoherent, AlignedLobesMatchAcrossTexelsAtLittleCost) {
         double perNormalStarted = levelLogLikelihood(pyramid, started[size_t(k)], k) / normals;
         double perNormalPulled = levelLogLikelihood(pyramid, pulled[size_t(k)], k) / normals;
         double perNormalAligned = levelLogLikelihood(pyramid, aligned[size_t(k)], k) / normals;
-        EXPECT_NEAR(perNormalStarted, perNormalPlain, 1e-4) << k; // the same lobes, permuted, EM run on
+        EXPECT_NEAR(perNormalStarted, perNormalPlain, 1e-4)
+            << k;     // the same lobes, permuted, EM run on
         if (k >= 5) { // 1024 normals per texel and up
             EXPECT_GT(perNormalAligned, perNormalPlain - 0.1) << k;
         } else {

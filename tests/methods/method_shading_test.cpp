@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "filter/vmf_test_support.h"
+#include "methods/vmf/vmf_test_support.h"
 #include "ndfmip/method_shading.h"
 #include "ndfmip/toksvig.h"
 
@@ -42,9 +42,11 @@ TEST(MethodShading, SpecularCosineMatchesTheTruthsMeanOfLobeTimesCosine) {
                 if (truth < 1e-3 * double(n.size())) continue; // nothing reflects here
                 const double predicted = lobe * specularCosine(mu, kappa, s, h, l);
                 const double old = lobe * std::max(0.f, glm::dot(na, l));
-                const double error = std::abs(predicted / truth - 1), oldError = std::abs(old / truth - 1);
+                const double error = std::abs(predicted / truth - 1),
+                             oldError = std::abs(old / truth - 1);
                 EXPECT_LT(error, 0.1) << "kappa " << kappa << " s " << s << " l.z " << l.z;
-                EXPECT_LE(error, oldError + 1e-3) << "kappa " << kappa << " s " << s << " l.z " << l.z;
+                EXPECT_LE(error, oldError + 1e-3)
+                    << "kappa " << kappa << " s " << s << " l.z " << l.z;
                 errorSum += error;
                 oldSum += oldError;
                 ++cases;
@@ -59,7 +61,8 @@ TEST(MethodShading, SpecularCosineMatchesTheTruthsMeanOfLobeTimesCosine) {
     const glm::vec3 mu = direction(20, 0), h = direction(10, 90), l = direction(40, 120);
     EXPECT_NEAR(specularCosine(mu, 1e30f, 100.f, h, l), glm::dot(mu, l), 1e-6);
     EXPECT_NEAR(specularCosine(mu, 1e30f, 0.f, h, l), glm::dot(mu, l), 1e-6);
-    EXPECT_NEAR(specularCosine(mu, 0.f, 100.f, h, l), (1 / std::tanh(100.0) - 0.01) * glm::dot(h, l), 1e-6);
+    EXPECT_NEAR(specularCosine(mu, 0.f, 100.f, h, l),
+                (1 / std::tanh(100.0) - 0.01) * glm::dot(h, l), 1e-6);
 }
 
 TEST(MethodShading, ToksvigLutMatchesTheClosedFormWhereThePhaseOutIsOff) {
@@ -78,7 +81,8 @@ TEST(MethodShading, ToksvigLutMatchesTheClosedFormWhereThePhaseOutIsOff) {
     const Image lut = toksvigLut(o);
     const glm::vec3 l = direction(30, 10), v(0.f, 0.f, 1.f);
     for (float length : {0.7f, 0.8f, 0.9f}) {
-        ASSERT_LT(lengthQuantisationError(8) * toksvigIntensitySensitivity(length, m.exponent), o.threshold);
+        ASSERT_LT(lengthQuantisationError(8) * toksvigIntensitySensitivity(length, m.exponent),
+                  o.threshold);
         double worst = 0, peak = 0;
         for (float tilt = 0.f; tilt < 40.f; tilt += 2.f) {
             const glm::vec3 na = length * direction(tilt, 10);

@@ -11,8 +11,7 @@ namespace ndfmip {
 namespace {
 
 // Integral over the upper hemisphere of f(direction), midpoint rule in (cos theta, phi).
-template <class F>
-double hemisphereIntegral(F f, int n = 1024) {
+template <class F> double hemisphereIntegral(F f, int n = 1024) {
     double sum = 0;
     for (int i = 0; i < n; ++i) {
         double z = (i + 0.5) / n;
@@ -92,7 +91,8 @@ TEST(Roughness, VarianceRoughnessClosedForm) {
     // Unreal's form keeps alpha' <= 1 and is alpha0 where the normals agree.
     EXPECT_NEAR(mappedRoughness(RoughnessMapping::Unreal, 1.f, 0.3f), 0.3f, 1e-6f);
     const float v = 0.1f / 0.9f, b = 2.f * v * (1.f - 0.09f);
-    EXPECT_NEAR(mappedRoughness(RoughnessMapping::Unreal, 0.9f, 0.3f), std::sqrt((0.09f + b) / (1.f + b)), 1e-6f);
+    EXPECT_NEAR(mappedRoughness(RoughnessMapping::Unreal, 0.9f, 0.3f),
+                std::sqrt((0.09f + b) / (1.f + b)), 1e-6f);
     EXPECT_LT(mappedRoughness(RoughnessMapping::Unreal, 0.01f, 0.9f), 1.f);
     EXPECT_FLOAT_EQ(varianceRoughness(0.1f, 0.5f), 1.f); // capped
     EXPECT_FLOAT_EQ(perceptualRoughness(0.25f), 0.5f);
@@ -106,7 +106,8 @@ TEST(ToksvigLut, RowNaNaOneIsThePlainTable) {
 
 TEST(ToksvigLut, RowZeroIsOneOverOnePlusS) {
     for (float s : {8.f, 32.f, 200.f})
-        for (float x : {0.f, 0.5f, 1.f}) EXPECT_NEAR(toksvigLutValue(x, 0.f, s), 1.f / (1.f + s), 1e-7f);
+        for (float x : {0.f, 0.5f, 1.f})
+            EXPECT_NEAR(toksvigLutValue(x, 0.f, s), 1.f / (1.f + s), 1e-7f);
 }
 
 TEST(ToksvigLut, TableSamplesEquationNineAtTexelCentres) {
@@ -131,8 +132,9 @@ TEST(ToksvigLut, SensitivityIsTheDerivativeOfRelativeIntensity) {
         double h = 1e-3, numeric = (intensity(l + h) - intensity(l - h)) / (2 * h);
         EXPECT_NEAR(toksvigIntensitySensitivity(l, s), numeric, 1e-3 * numeric);
     }
-    EXPECT_NEAR(toksvigIntensitySensitivity(1.f, s), s * s / (1 + s), 1e-4f); // eq. (10) at |Na| = 1
-    EXPECT_NEAR(lengthQuantisationError(8), 0.0068f, 5e-5f);                  // the paper's figure
+    EXPECT_NEAR(toksvigIntensitySensitivity(1.f, s), s * s / (1 + s),
+                1e-4f);                                      // eq. (10) at |Na| = 1
+    EXPECT_NEAR(lengthQuantisationError(8), 0.0068f, 5e-5f); // the paper's figure
 }
 
 TEST(ToksvigLut, PhaseOutBlendsTowardsTheAliasedValue) {

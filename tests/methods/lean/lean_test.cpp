@@ -41,7 +41,8 @@ TEST(Lean, MomentsAreFootprintMeansOfTheSlopes) {
                         const double sx = n[0] / n[2], sy = n[1] / n[2];
                         m[0] += sx, m[1] += sy, m[2] += sx * sx, m[3] += sy * sy, m[4] += sx * sy;
                     }
-                for (int c = 0; c < 4; ++c) EXPECT_NEAR(first.at(x, y)[c], m[c] / double(f.count()), 1e-6);
+                for (int c = 0; c < 4; ++c)
+                    EXPECT_NEAR(first.at(x, y)[c], m[c] / double(f.count()), 1e-6);
                 EXPECT_NEAR(cross.at(x, y)[0], m[4] / double(f.count()), 1e-6);
             }
     }
@@ -53,7 +54,8 @@ TEST(Lean, OneNormalAlongZIsTheBeckmannLobe) {
     for (float alpha : {0.1f, 0.3f})
         for (float t : {0.f, 0.1f, 0.3f}) {
             const glm::vec3 h(std::sin(t) * 0.6f, std::sin(t) * 0.8f, std::cos(t));
-            EXPECT_NEAR(leanLobe(beckmann(alpha), p, h), beckmannD(h.z, alpha), 1e-4f * beckmannD(1.f, alpha));
+            EXPECT_NEAR(leanLobe(beckmann(alpha), p, h), beckmannD(h.z, alpha),
+                        1e-4f * beckmannD(1.f, alpha));
         }
 }
 

@@ -32,7 +32,8 @@ TEST(RoughnessMap, CheckerOfTwoRoughnessesAveragesTheirSquares) {
     EXPECT_NEAR(bake.levels[0][ggx]->at(1, 0)[0], a, 1e-6f);
     EXPECT_NEAR(bake.levels[0][ggx]->at(0, 0)[0], b, 1e-6f);
     for (int k = 1; k < 4; ++k)
-        EXPECT_NEAR(bake.levels[k][ggx]->at(0, 0)[0], std::sqrt(0.5f * (a * a + b * b)), 1e-6f) << k;
+        EXPECT_NEAR(bake.levels[k][ggx]->at(0, 0)[0], std::sqrt(0.5f * (a * a + b * b)), 1e-6f)
+            << k;
     EXPECT_EQ(bake.parameters.at("roughness_map"), 1.0);
 }
 
@@ -41,7 +42,8 @@ TEST(RoughnessMap, ConstantMapEqualsBaseRoughnessAndVariancesAdd) {
     auto normals = std::make_shared<Image>(16, 16, 3);
     for (int y = 0; y < 16; ++y)
         for (int x = 0; x < 16; ++x) {
-            const glm::vec3 n = glm::normalize(glm::vec3(0.4f * std::sin(1.7f * float(x)), 0.3f * std::cos(2.3f * float(y)), 1.f));
+            const glm::vec3 n = glm::normalize(
+                glm::vec3(0.4f * std::sin(1.7f * float(x)), 0.3f * std::cos(2.3f * float(y)), 1.f));
             float* p = normals->at(x, y);
             p[0] = n.x, p[1] = n.y, p[2] = n.z;
         }
@@ -76,30 +78,38 @@ TEST(RoughnessMap, CliReadsChannelAndEncodingAndRefusesMismatches) {
     ASSERT_TRUE(savePng(dir.file("n.png"), normal, 16));
     ASSERT_TRUE(savePng(dir.file("r.png"), packed, 16));
     std::string output;
-    for (const std::string& options : {std::string("--roughness-channel g"),
-                                       std::string("--roughness-channel a --roughness-encoding smoothness")}) {
+    for (const std::string& options :
+         {std::string("--roughness-channel g"),
+          std::string("--roughness-channel a --roughness-encoding smoothness")}) {
         const std::string out = dir.file("bake");
-        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --roughness-map " + test::shellArg(dir.file("r.png")) +
-                                   " " + options + " -q -o " + test::shellArg(out),
+        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --roughness-map " +
+                                   test::shellArg(dir.file("r.png")) + " " + options + " -q -o " +
+                                   test::shellArg(out),
                                &output),
                   0)
             << output;
-        ASSERT_EQ(test::runCli("inspect " + test::shellArg(out) + " --level 1 --texel 0,0", &output), 0) << output;
-        EXPECT_NE(output.find("\"roughness_ggx\": 0.36"), std::string::npos) << options << ": " << output;
+        ASSERT_EQ(
+            test::runCli("inspect " + test::shellArg(out) + " --level 1 --texel 0,0", &output), 0)
+            << output;
+        EXPECT_NE(output.find("\"roughness_ggx\": 0.36"), std::string::npos)
+            << options << ": " << output;
     }
     Image small(2, 2, 1);
     ASSERT_TRUE(savePng(dir.file("small.png"), small, 8));
-    test::expectCliRefuses("bake " + test::shellArg(dir.file("n.png")) + " --roughness-map " + test::shellArg(dir.file("small.png")) +
-                               " -o " + test::shellArg(dir.file("x")),
+    test::expectCliRefuses("bake " + test::shellArg(dir.file("n.png")) + " --roughness-map " +
+                               test::shellArg(dir.file("small.png")) + " -o " +
+                               test::shellArg(dir.file("x")),
                            {"small.png", "2x2", "4x4"});
     Image grey(4, 4, 1);
     ASSERT_TRUE(savePng(dir.file("grey.png"), grey, 8));
-    test::expectCliRefuses("bake " + test::shellArg(dir.file("n.png")) + " --roughness-map " + test::shellArg(dir.file("grey.png")) +
-                               " --roughness-channel b -o " + test::shellArg(dir.file("x")),
+    test::expectCliRefuses("bake " + test::shellArg(dir.file("n.png")) + " --roughness-map " +
+                               test::shellArg(dir.file("grey.png")) + " --roughness-channel b -o " +
+                               test::shellArg(dir.file("x")),
                            {"--roughness-channel b", "1 channel"});
-    test::expectCliRefuses("bake " + test::shellArg(dir.file("n.png")) + " --method vmf --roughness-map " +
-                               test::shellArg(dir.file("r.png")) + " -o " + test::shellArg(dir.file("x")),
-                           {"--roughness-map", "toksvig"});
+    test::expectCliRefuses(
+        "bake " + test::shellArg(dir.file("n.png")) + " --method vmf --roughness-map " +
+            test::shellArg(dir.file("r.png")) + " -o " + test::shellArg(dir.file("x")),
+        {"--roughness-map", "toksvig"});
 }
 
 } // namespace

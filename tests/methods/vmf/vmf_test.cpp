@@ -17,7 +17,6 @@ namespace {
 
 using namespace vmftest;
 
-
 double alphaSum(std::span<const VmfLobe> lobes) {
     double sum = 0;
     for (const VmfLobe& l : lobes) sum += l.alpha;
@@ -684,8 +683,9 @@ TEST(Vmf, PyramidTexelIsTheFitOfItsFootprint) {
                     l.alpha *= 0.25f;
                     candidates.push_back(l);
                 }
-        const std::vector<VmfLobe> seeds = seeding == VmfSeeding::Merge ? mergedLobes(candidates, 3, options)
-                                                                         : farthestPointLobes(candidates, 3);
+        const std::vector<VmfLobe> seeds = seeding == VmfSeeding::Merge
+                                               ? mergedLobes(candidates, 3, options)
+                                               : farthestPointLobes(candidates, 3);
         VmfFitResult fit = fitVmfMixture(normals.data(), nullptr, normals.size(), seeds, options);
         std::span<const VmfLobe> top = levels[3].texel(0, 0);
         ASSERT_EQ(top.size(), fit.lobes.size());

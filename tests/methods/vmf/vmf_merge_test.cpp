@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "filter/vmf_test_support.h"
+#include "methods/vmf/vmf_test_support.h"
 #include "ndfmip/evaluate.h"
 #include "ndfmip/normal_map.h"
 #include "ndfmip/vmf.h"
@@ -14,8 +14,8 @@
 namespace ndfmip {
 namespace {
 
-using vmftest::direction;
 using vmftest::degrees;
+using vmftest::direction;
 
 glm::dvec3 packedSum(const std::vector<VmfLobe>& lobes) {
     glm::dvec3 sum(0.0);
@@ -62,10 +62,11 @@ TEST(VmfMerge, MergedLobesKeepTheMoments) {
 TEST(VmfMerge, ALightOutlierMergesBeforeHeavyLobesDo) {
     // Two heavy groups at +-20 degrees and one light spike at 70 degrees. Farthest points start a
     // lobe on the spike and leave one group without; merging keeps both groups.
-    std::vector<VmfLobe> candidates = {
-        {0.25f, direction(20.f, 0.f), 2000.f, {}},   {0.24f, direction(23.f, 5.f), 2000.f, {}},
-        {0.25f, direction(20.f, 180.f), 2000.f, {}}, {0.24f, direction(23.f, 175.f), 2000.f, {}},
-        {0.02f, direction(70.f, 0.f), 1e5f, {}}};
+    std::vector<VmfLobe> candidates = {{0.25f, direction(20.f, 0.f), 2000.f, {}},
+                                       {0.24f, direction(23.f, 5.f), 2000.f, {}},
+                                       {0.25f, direction(20.f, 180.f), 2000.f, {}},
+                                       {0.24f, direction(23.f, 175.f), 2000.f, {}},
+                                       {0.02f, direction(70.f, 0.f), 1e5f, {}}};
     const std::vector<VmfLobe> merged = mergedLobes(candidates, 2);
     ASSERT_EQ(merged.size(), 2u);
     for (const VmfLobe& l : merged) {
@@ -75,7 +76,8 @@ TEST(VmfMerge, ALightOutlierMergesBeforeHeavyLobesDo) {
     EXPECT_LT(glm::dot(merged[0].mu, merged[1].mu), 0.8f); // one lobe per group (43 degrees apart)
     const std::vector<VmfLobe> farthest = farthestPointLobes(candidates, 2);
     ASSERT_EQ(farthest.size(), 2u);
-    EXPECT_GT(std::max(glm::dot(farthest[0].mu, direction(70.f, 0.f)), glm::dot(farthest[1].mu, direction(70.f, 0.f))),
+    EXPECT_GT(std::max(glm::dot(farthest[0].mu, direction(70.f, 0.f)),
+                       glm::dot(farthest[1].mu, direction(70.f, 0.f))),
               0.999f);
 }
 
@@ -90,13 +92,15 @@ TEST(VmfMerge, SmoothedNdfErrorClosedForms) {
     // f_s / 2 where the two smoothed spikes barely overlap, so the error is sqrt(1/2).
     const glm::vec3 two[2] = {{0.f, 0.f, 1.f}, {1.f, 0.f, 0.f}};
     const VmfLobe half{0.5f, two[0], 1e9f, {}};
-    EXPECT_NEAR(smoothedNdfError(two, 2, std::span<const VmfLobe>(&half, 1), 128.0), std::sqrt(0.5), 1e-3);
+    EXPECT_NEAR(smoothedNdfError(two, 2, std::span<const VmfLobe>(&half, 1), 128.0), std::sqrt(0.5),
+                1e-3);
 }
 
 // The smoothed-NDF error over the exponents that matter (s = 32, 128, 512), as an RMS.
 double ndfError(const std::vector<glm::vec3>& n, std::span<const VmfLobe> lobes) {
     double sum = 0;
-    for (double s : {32.0, 128.0, 512.0}) sum += std::pow(smoothedNdfError(n.data(), n.size(), lobes, s), 2.0);
+    for (double s : {32.0, 128.0, 512.0})
+        sum += std::pow(smoothedNdfError(n.data(), n.size(), lobes, s), 2.0);
     return std::sqrt(sum / 3);
 }
 
@@ -138,8 +142,12 @@ TEST(VmfMerge, PyramidFitIsCloseToAMultiRestartReferenceOnRealMaps) {
     // independent EM, in smoothed-NDF error (ndfError). Farthest-point seeds are 1.2-2.2x off.
     auto dir = test::sharedNormalMaps();
     if (dir.empty()) GTEST_SKIP() << "../shared/data/normalmaps not present";
-    struct Case { const char* file; bool greenDown; };
-    for (const Case& c : {Case{"stktex_generic_rockA_Normal.png", false}, Case{"Ground010_1K_Normal.png", true}}) {
+    struct Case {
+        const char* file;
+        bool greenDown;
+    };
+    for (const Case& c :
+         {Case{"stktex_generic_rockA_Normal.png", false}, Case{"Ground010_1K_Normal.png", true}}) {
         DecodeOptions decode;
         decode.greenDown = c.greenDown;
         Result<Image> full = loadNormalMap((dir / c.file).string(), decode, nullptr);
@@ -177,11 +185,13 @@ TEST(VmfMerge, PyramidFitIsCloseToAMultiRestartReferenceOnRealMaps) {
                     ++texels;
                 }
             }
-            const double merge = std::exp(logRatio[0] / texels), farthest = std::exp(logRatio[1] / texels);
+            const double merge = std::exp(logRatio[0] / texels),
+                         farthest = std::exp(logRatio[1] / texels);
             EXPECT_LT(merge, 1.1) << c.file << " J = " << J;
             EXPECT_LT(merge, farthest) << c.file << " J = " << J;
-            std::printf("%s J=%d: pyramid / reference smoothed-NDF error: merge %.3f, farthest point %.3f\n", c.file,
-                        J, merge, farthest);
+            std::printf("%s J=%d: pyramid / reference smoothed-NDF error: merge %.3f, farthest "
+                        "point %.3f\n",
+                        c.file, J, merge, farthest);
         }
     }
 }
@@ -224,7 +234,8 @@ TEST(VmfMerge, ALobeBudgetKeepsFewerLobesAndTheMeanNormal) {
                     sum += glm::dvec3(p.y, p.z, p.w);
                 }
                 const float* m = na.at(x, y);
-                EXPECT_LT(glm::length(sum - glm::dvec3(m[0], m[1], m[2])), 2e-5) << k << " " << x << " " << y;
+                EXPECT_LT(glm::length(sum - glm::dvec3(m[0], m[1], m[2])), 2e-5)
+                    << k << " " << x << " " << y;
             }
     }
     // The two grooves stay apart: a texel of the top level keeps (at least) two lobes.
@@ -245,8 +256,8 @@ TEST(VmfMerge, TheTopTexelOfTheBundledWallKeepsABroadLobe) {
     // (alpha 0.09, kappa 8), and the pixel that covers the whole map stays close to the truth.
     DecodeOptions decode;
     decode.greenDown = true;
-    Result<Image> map = loadNormalMap(std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png",
-                                      decode, nullptr);
+    Result<Image> map = loadNormalMap(
+        std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png", decode, nullptr);
     ASSERT_TRUE(map.ok()) << map.error().message;
     const Pyramid pyramid = buildPyramid(map.value());
     BakeOptions options;
@@ -265,7 +276,8 @@ TEST(VmfMerge, TheTopTexelOfTheBundledWallKeepsABroadLobe) {
     EXPECT_LT(compareToTruth(shaded, truth).relativeRmse, 0.4); // measured 0.27
     const std::vector<VmfLevel> levels = fitVmfPyramid(pyramid, 4, {}, nullptr);
     bool broad = false;
-    for (const VmfLobe& l : levels.back().texel(0, 0)) broad = broad || (l.alpha > 0.05f && l.kappa < 20.f);
+    for (const VmfLobe& l : levels.back().texel(0, 0))
+        broad = broad || (l.alpha > 0.05f && l.kappa < 20.f);
     EXPECT_TRUE(broad);
 }
 
@@ -276,7 +288,8 @@ TEST(VmfMerge, PooledComparisonWeighsEveryPixelOnce) {
     b1.pixels = {1.f, 1.f};
     a2.pixels = {0.01f, 0.01f};
     b2.pixels = {1e-5f, 1e-5f};
-    const ErrorStats pooled = compareToTruth(std::vector<Image>{a1, a2}, std::vector<Image>{b1, b2});
+    const ErrorStats pooled =
+        compareToTruth(std::vector<Image>{a1, a2}, std::vector<Image>{b1, b2});
     EXPECT_NEAR(pooled.energyRatio, 2.02 / 2.00002, 1e-6);
     EXPECT_NEAR(compareToTruth(a2, b2).energyRatio, 1000.0, 1e-2); // one light alone
 }
