@@ -24,14 +24,18 @@ using glm::vec2;
 using glm::vec3;
 using glm::vec4;
 
+// The library's files in the order they depend on each other (a file's structs before the files
+// that take them as parameters), which the formatter's include sorting must not change.
 struct ShaderLibrary {
+// clang-format off
 #include "brdf.glsl"
-#include "lean.glsl"
 #include "naive.glsl"
-#include "sh.glsl"
 #include "toksvig.glsl"
 #include "toksvig_lut.glsl"
+#include "sh.glsl"
 #include "vmf.glsl"
+#include "lean.glsl"
+    // clang-format on
 };
 
 } // namespace glsl_detail
