@@ -63,6 +63,24 @@ void BM_RenderMethod(benchmark::State& state, ndfmip::Method method) {
     state.SetItemsProcessed(int64_t(state.iterations()) * state.range(0) * state.range(0));
 }
 
+// The plain lookup (an engine's one tap, parameters blended) under GGX alpha = 0.1: vmf's lobes
+// convolved with GGX (a 12-node mixture per lobe) against Toksvig's one widened lobe.
+void BM_RenderMethodGgx(benchmark::State& state, ndfmip::Method method) {
+    ndfmip::Scene scene = grazingPlane(int(state.range(0)));
+    scene.material.brdf = ndfmip::Brdf::Ggx;
+    scene.material.roughness = 0.1f;
+    const ndfmip::RenderTextures t = texturesFor(method);
+    ndfmip::RenderOptions o;
+    o.taps = 1;
+    o.lodBias = 0.f;
+    o.shadeFilter = ndfmip::ShadeFilter::Parameter;
+    for (auto _ : state) {
+        auto image = ndfmip::render(scene, t, ndfmip::methodName(method), o);
+        benchmark::DoNotOptimize(image.value().pixels.data());
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * state.range(0) * state.range(0));
+}
+
 } // namespace
 
 BENCHMARK(BM_RenderGroundTruth)->Args({512, 256})->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -84,5 +102,13 @@ BENCHMARK_CAPTURE(BM_RenderMethod, sh7, ndfmip::Method::Sh)
 BENCHMARK_CAPTURE(BM_RenderMethod, vmf4, ndfmip::Method::Vmf)
     ->Args({1024, 0})
     ->Args({1024, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_RenderMethodGgx, toksvig, ndfmip::Method::Toksvig)
+    ->Arg(1024)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_RenderMethodGgx, vmf4, ndfmip::Method::Vmf)
+    ->Arg(1024)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

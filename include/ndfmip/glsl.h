@@ -35,6 +35,7 @@ struct ShaderLibrary {
 #include "sh.glsl"
 #include "vmf.glsl"
 #include "lean.glsl"
+#include "sggx.glsl"
     // clang-format on
 };
 

@@ -131,6 +131,11 @@ float shLobe(const float* g, const ShShading& a,
 glm::vec3 shadeLean(const Material& m, glm::vec3 albedo, const float* p, glm::vec3 l, glm::vec3 v);
 float leanLobe(const Material& m, const float* p, glm::vec3 h); // its lobe alone, no cosine
 
+// sggx on the lean bake's planes: one anisotropic GGX lobe whose squared-roughness tensor is the
+// material's alpha^2 plus twice the slopes' covariance (shaders/sggx.glsl).
+glm::vec3 shadeSggx(const Material& m, glm::vec3 albedo, const float* p, glm::vec3 l, glm::vec3 v);
+float sggxLobe(const Material& m, const float* p, glm::vec3 h); // its lobe alone, no cosine
+
 // vMF mixture (Han et al. Sec. 7.2): `lobes` holds J filtered (alpha, alpha r mu) quadruples
 // (eq. 33); each lobe's mu and kappa come back by Algorithm 1 lines 12-13. Per lobe:
 //   Blinn-Phong    s' = kappa s / (kappa + s), (s' + 1)/(2 pi) (h.mu)^s'          (eq. 29)

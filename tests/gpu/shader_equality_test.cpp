@@ -101,7 +101,7 @@ void expectGpuMatchesCpu(const Inputs& in, const std::string& body, const std::s
     Result<ShaderSource> source =
         loadShaderFiles(NDFMIP_SOURCE_DIR "/shaders",
                         {"brdf.glsl", "naive.glsl", "toksvig.glsl", "toksvig_lut.glsl", "sh.glsl",
-                         "vmf.glsl", "lean.glsl"},
+                         "vmf.glsl", "lean.glsl", "sggx.glsl"},
                         computeShaderHead());
     ASSERT_TRUE(source) << source.error().message;
     std::string kernel = "#define STRIDE " + std::to_string(in.stride) + "\n" + kHead + body +
@@ -207,6 +207,21 @@ TEST(GpuShaders, LeanMatchesCpu) {
     }
     expectGpuMatchesCpu(in, "", "ndfmipShadeLean(m, albedo, p, q, l, v)", [](const float* x) {
         return shadeLean(materialOf(x), at3(x, 6), x + 15, at3(x, 9), at3(x, 12));
+    });
+}
+
+TEST(GpuShaders, SggxMatchesCpu) {
+    // Moments of a slope Gaussian, as LeanMatchesCpu.
+    Inputs in = randomInputs(7, 1);
+    for (int i = 0; i < kItems; ++i) {
+        float* x = in.item(i);
+        const float bx = 0.5f * x[15] / x[17], by = 0.5f * x[16] / x[17];
+        const float vx = 0.3f * x[18], vy = 0.3f * x[19],
+                    c = 0.5f * std::sqrt(vx * vy) * (x[3] - 0.5f);
+        x[15] = bx, x[16] = by, x[17] = bx * bx + vx, x[18] = by * by + vy, x[19] = bx * by + c;
+    }
+    expectGpuMatchesCpu(in, "", "ndfmipShadeSggx(m, albedo, p, q, l, v)", [](const float* x) {
+        return shadeSggx(materialOf(x), at3(x, 6), x + 15, at3(x, 9), at3(x, 12));
     });
 }
 

@@ -2,7 +2,7 @@
 # calls each method's shade function (so none is left out as unused). cmake -P with GLSLANG,
 # SHADERS (the shaders/ folder) and WORK (a scratch folder).
 set(source "#version 450 core\n")
-foreach(file brdf naive toksvig toksvig_lut sh vmf lean)
+foreach(file brdf naive toksvig toksvig_lut sh vmf lean sggx)
     file(READ ${SHADERS}/${file}.glsl text)
     string(APPEND source "#line 1\n${text}\n")
 endforeach()
@@ -25,7 +25,8 @@ void main() {
            + ndfmipShadeToksvig(m, vec3(0.5f), p.xyz, l, v, NDFMIP_MAPPING_OURS, 2.0f)
            + ndfmipShadeToksvigLut(m, vec3(0.5f), p.xyz, p.w, l, v)
            + ndfmipShadeSh(m, vec3(0.5f), g, a, a, 7, l, v)
-           + ndfmipShadeVmfLobe(m, vec3(0.5f), p, l, v) + ndfmipShadeLean(m, vec3(0.5f), p, p.x, l, v);
+           + ndfmipShadeVmfLobe(m, vec3(0.5f), p, l, v) + ndfmipShadeLean(m, vec3(0.5f), p, p.x, l, v)
+           + ndfmipShadeSggx(m, vec3(0.5f), p, p.x, l, v);
     colour = vec4(c, 1.0f);
 }
 ]])

@@ -52,7 +52,16 @@ std::vector<MethodShader> leanShaders() {
     auto lobe = [](const ShaderSetup&, const Material& m, const float* p, glm::vec3 h) {
         return leanLobe(m, p, h);
     };
+    auto shadeSggxParams = [](const ShaderSetup&, const Material& m, const float* p,
+                              glm::vec3 albedo, glm::vec3 l,
+                              glm::vec3 v) { return shadeSggx(m, albedo, p, l, v); };
+    auto sggx = [](const ShaderSetup&, const Material& m, const float* p, glm::vec3 h) {
+        return sggxLobe(m, p, h);
+    };
+    // sggx: the same moments read as one anisotropic GGX lobe (shaders/sggx.glsl).
     return {{"lean", Method::Lean, "render/lean.glsl", none, shadeLeanParams, lobe, nullptr,
+             nullptr, nullptr, nullptr, false},
+            {"sggx", Method::Lean, "render/sggx.glsl", none, shadeSggxParams, sggx, nullptr,
              nullptr, nullptr, nullptr, false}};
 }
 
