@@ -284,7 +284,10 @@ MethodSpec methodSpec(const std::string& label) {
 
 MethodSpec methodSpecOf(const std::string& label) {
     if (label == kExact) return {label, kExact, Method::Naive, {}, false, label, {}, {}};
-    if (label == kToksvigLut) return {label, kToksvigLut, Method::Toksvig, {}, true, label, {}, {}};
+    // A second shader of a bake (toksvig-lut, sggx) is a row of its own, over its own bake.
+    if (const MethodShader* shader = findShader(label);
+        shader && label != methodName(shader->bake) && label != kRoughnessMips)
+        return {label, shader->name, shader->bake, {}, true, label, {}, {}};
     MethodSpec spec{label, "", Method::Naive, {}, true, label, {}, {}};
     std::string name = label, order;
     if (size_t colon = label.find(':'); colon != std::string::npos) {
@@ -295,7 +298,7 @@ MethodSpec methodSpecOf(const std::string& label) {
     if (!method)
         fail("--methods: unknown method " + quote(label) +
              " (expected naive, toksvig, toksvig-lut, sh[:ORDER], vmf[:LOBES[:BUDGET]], lean, "
-             "exact)");
+             "sggx, exact)");
     spec.method = *method;
     spec.render = methodName(*method);
     if (!order.empty()) {
