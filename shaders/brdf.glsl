@@ -64,6 +64,22 @@ float ndfmipLobeConcentration(NdfmipMaterial m) {
     return 0.0f;
 }
 
+// Banerjee et al.'s concentration for a mean resultant length r (H Algorithm 1, line 13):
+// kappa = r (3 - r^2) / (1 - r^2); 0 for r <= 0 (or NaN), 1e30 (a single normal) for r >= 1.
+float ndfmipKappaFromLength(float r) {
+    if (!(r > 0.0f)) return 0.0f;
+    if (r >= 1.0f) return 1e30f;
+    return r * (3.0f - r * r) / ((1.0f - r) * (1.0f + r));
+}
+
+// Langevin's function A(k) = coth(k) - 1/k, the mean length of a vMF of concentration k: k/3
+// below 1e-3, where it cancels; coth is 1 to float precision beyond k = 20, and some GPUs' tanh
+// overflows to NaN there (exp(2k) / exp(2k)).
+float ndfmipLangevin(float k) {
+    if (k < 1e-3f) return k / 3.0f;
+    return (k > 20.0f ? 1.0f : 1.0f / tanh(k)) - 1.0f / k;
+}
+
 // The cosine of a filtered specular term: the mean n.l over the normals that reflect. An NDF
 // lobe of concentration kappa about mu times the BRDF lobe (lobeKappa about h) is a vMF of
 // natural parameter w = kappa mu + lobeKappa h, whose mean normal is A(|w|) w/|w| (Langevin's
@@ -73,9 +89,7 @@ float ndfmipSpecularCosine(vec3 mu, float kappa, float lobeKappa, vec3 h, vec3 l
     vec3 w = kappa * mu + lobeKappa * h;
     float k = sqrt(dot(w, w));
     if (!(k > 0.0f)) return 0.0f;
-    // coth(k) - 1/k; coth is 1 to float precision beyond k = 20, and some GPUs' tanh overflows
-    // to NaN there (exp(2k) / exp(2k)).
-    float meanLength = k < 1e-3f ? k / 3.0f : (k > 20.0f ? 1.0f : 1.0f / tanh(k)) - 1.0f / k;
+    float meanLength = ndfmipLangevin(k);
     return max(meanLength * dot(w, l) / k, 0.0f);
 }
 

@@ -90,7 +90,7 @@ vec3 ndfmipShadeShSums(NdfmipMaterial m, vec3 albedo, float diffuseSum, float sp
     vec3 h = normalize(l + v);
     float r = sqrt(dot(na, na));
     vec3 mu = r > 0.0f ? na / r : vec3(0.0f, 0.0f, 1.0f);
-    float kappa = r >= 1.0f ? 1e30f : (r > 0.0f ? r * (3.0f - r * r) / ((1.0f - r) * (1.0f + r)) : 0.0f);
+    float kappa = ndfmipKappaFromLength(r);
     float cosL = ndfmipSpecularCosine(mu, kappa, ndfmipLobeConcentration(m), h, l);
     return albedo * max(diffuseSum, 0.0f) + m.specular * (cosL * max(specularSum, 0.0f));
 }

@@ -22,20 +22,20 @@ float ndfmipToksvigFactor(float r, float s) {
     return denominator > 0.0f ? r / denominator : 1.0f;
 }
 
-// The vMF concentration whose mean length is r (Banerjee et al. 2005).
-float ndfmipKappaFromLength(float r) {
-    r = clamp(r, 0.0f, 0.999999f);
-    return (3.0f * r - r * r * r) / (1.0f - r * r);
+// The vMF concentration whose mean length is |Na| = r (ndfmipKappaFromLength), kept finite
+// (about 1e6) for r = 1, where the mappings divide by it.
+float ndfmipToksvigKappa(float r) {
+    return ndfmipKappaFromLength(min(r, 0.999999f));
 }
 
 // alpha' from |Na| = r and the material's alpha; c = varianceScale (2: calibrated on real maps).
 float ndfmipMappedRoughness(int mapping, float r, float alpha, float varianceScale) {
     float a2 = alpha * alpha;
     if (mapping == NDFMIP_MAPPING_OURS) a2 += varianceScale * ndfmipToksvigSigma2(r);
-    if (mapping == NDFMIP_MAPPING_HDRP) a2 += 0.5f / max(ndfmipKappaFromLength(r), 1e-6f);
-    if (mapping == NDFMIP_MAPPING_FILAMENT) a2 += 2.0f / max(ndfmipKappaFromLength(r), 1e-6f);
+    if (mapping == NDFMIP_MAPPING_HDRP) a2 += 0.5f / max(ndfmipToksvigKappa(r), 1e-6f);
+    if (mapping == NDFMIP_MAPPING_FILAMENT) a2 += 2.0f / max(ndfmipToksvigKappa(r), 1e-6f);
     if (mapping == NDFMIP_MAPPING_GODOT)
-        return min(alpha + min(0.75f / max(ndfmipKappaFromLength(r), 1e-6f), 0.16f), 1.0f); // alpha' = p'^2
+        return min(alpha + min(0.75f / max(ndfmipToksvigKappa(r), 1e-6f), 0.16f), 1.0f); // alpha' = p'^2
     if (mapping == NDFMIP_MAPPING_UNREAL) {
         float b = 2.0f * ndfmipToksvigSigma2(r) * (1.0f - a2);
         a2 = (a2 + b) / (1.0f + b);

@@ -48,7 +48,7 @@ enum class RoughnessMapping {
 };
 
 inline float vmfKappaFromLength(float r) {
-    return glsl().ndfmipKappaFromLength(r);
+    return glsl().ndfmipToksvigKappa(r);
 }
 
 // "ours", "hdrp", "filament", "godot", "unreal"; and back (false for any other name).

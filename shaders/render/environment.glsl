@@ -206,7 +206,7 @@ vec3 ndfmipIrradiance(vec3 n, vec3 band) {
 vec3 ndfmipVmfBandFactors(float kappa) {
     if (!(kappa < 1e30f)) return vec3(1.0f);
     if (kappa < 0.05f) return vec3(1.0f, kappa / 3.0f - kappa * kappa * kappa / 45.0f, kappa * kappa / 15.0f);
-    float a = (kappa > 20.0f ? 1.0f : 1.0f / tanh(kappa)) - 1.0f / kappa;
+    float a = ndfmipLangevin(kappa);
     return vec3(1.0f, a, 1.0f - 3.0f * a / kappa);
 }
 
@@ -264,7 +264,7 @@ vec3 ndfmipShadeToksvigEnvironment(NdfmipMaterial m, vec3 albedo, vec3 na, Ndfmi
     float len = min(length(na), 1.0f);
     vec3 n = ndfmipUnitOrFlat(na);
     vec3 band = vec3(1.0f);
-    if (ndfmipEnvBandFactors != 0 && len < 1.0f) band = ndfmipVmfBandFactors(ndfmipKappaFromLength(len));
+    if (ndfmipEnvBandFactors != 0 && len < 1.0f) band = ndfmipVmfBandFactors(ndfmipToksvigKappa(len));
     if (ndfmipEnvBandFactors != 0) band.y = len;
     vec3 out3 = ndfmipEnvDiffuse(hit, albedo, n, band);
     if (!ndfmipHasLobe(m)) return out3;
