@@ -415,12 +415,17 @@ double spreadTexelAlbedo(Brdf brdf, double perceptualRoughness, double kappa, gl
 // Toksvig, the roughness mips and a one-lobe vMF of a texel with a known spread keep the truth's
 // energy under a constant environment, where the answer is the mean of the texel's own lobes'
 // albedo: the albedo factor is the material's, at the root mean square of n.v over the normals.
-// The widened lobe's own albedo at the mean normal's n.v fell short by up to 28% here (GGX,
-// kappa = 10, normal incidence; 8% at kappa = 40).
+// Measured: at most 2.1% off (the albedo table's interpolation and the vMF estimate of the RMS
+// of n.v); the widened lobe's own albedo at the mean normal's n.v was 27% off (vmf 24%).
 TEST(SplitSum, SpreadTexelsKeepTheTruthsEnergyUnderAConstantEnvironment) {
     const SplitSumLighting lighting =
         prepareSplitSum(mapOf(128, [](glm::dvec3) { return glm::dvec3(1.); }), smallOptions());
     const glm::mat3 frame = tiltedFrame();
+    double worst[3] = {0., 0., 0.}; // toksvig, vmf, roughness mips
+    auto check = [&](int method, double value, double truth) {
+        worst[method] = std::max(worst[method], std::abs(value / truth - 1.));
+        return std::abs(value - truth) <= 0.03 * truth;
+    };
     for (Brdf brdf : {Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx}) {
         Material m = material(brdf);
         m.roughness = 0.2f;
@@ -440,14 +445,15 @@ TEST(SplitSum, SpreadTexelsKeepTheTruthsEnergyUnderAConstantEnvironment) {
                         shadeToksvigSplitSum(m, glm::vec3(0.f), na, v, frame, lighting, rule,
                                              RoughnessMapping::Ours)
                             .x;
-                    EXPECT_NEAR(toksvig, truth, 0.03 * truth)
-                        << "toksvig " << what << " " << environmentLodName(rule);
+                    EXPECT_TRUE(check(0, toksvig, truth))
+                        << toksvig << " against " << truth << ": toksvig " << what << " "
+                        << environmentLodName(rule);
                     const float lobe[4] = {1.f, na.x, na.y, na.z};
                     const float vmf = shadeVmfSplitSum(m, glm::vec3(0.f), lobe, 1, nullptr, v,
                                                        frame, lighting, rule)
                                           .x;
-                    EXPECT_NEAR(vmf, truth, 0.03 * truth)
-                        << "vmf " << what << " " << environmentLodName(rule);
+                    EXPECT_TRUE(check(1, vmf, truth)) << vmf << " against " << truth << ": vmf "
+                                                      << what << " " << environmentLodName(rule);
                     if (brdf == Brdf::BlinnPhong) continue; // roughness mips are GGX/Beckmann
                     const float stored =
                         mappedRoughness(RoughnessMapping::Ours, length, m.roughness);
@@ -455,11 +461,15 @@ TEST(SplitSum, SpreadTexelsKeepTheTruthsEnergyUnderAConstantEnvironment) {
                         shadeRoughnessMipsSplitSum(m, glm::vec3(0.f), glm::vec3(0.f, 0.f, 1.f),
                                                    stored, true, v, frame, lighting, rule)
                             .x;
-                    EXPECT_NEAR(mips, truth, 0.03 * truth)
-                        << "roughness-mips " << what << " " << environmentLodName(rule);
+                    EXPECT_TRUE(check(2, mips, truth))
+                        << mips << " against " << truth << ": roughness-mips " << what << " "
+                        << environmentLodName(rule);
                 }
             }
     }
+    std::printf("[ measured ] energy of a spread texel against the truth: worst relative error "
+                "toksvig %.4f, vmf %.4f, roughness mips %.4f\n",
+                worst[0], worst[1], worst[2]);
 }
 
 // A flat texel (|Na| = 1, the stored roughness the material's) reads the albedo factor exactly
