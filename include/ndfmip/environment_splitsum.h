@@ -159,24 +159,32 @@ glm::vec3 prefilteredRadiance(const SplitSumLighting& lighting, EnvironmentLod r
 // ---- each method ----------------------------------------------------------------------------
 // Arguments as the point-light functions of method_shading.h take them; `albedo` the material's
 // albedo times the filtered albedo map. Specular: m.specular x prefiltered radiance x albedo
-// factor; diffuse: albedo/pi x irradiance.
+// factor; diffuse: albedo/pi x irradiance. The radiance is read at the method's (widened)
+// roughness, the albedo factor at the material's own roughness and the root mean square of n.v
+// over the texel's normals, estimated from their mean length (|Na|, a vMF lobe's A(kappa), or the
+// stored roughness read back through the ours mapping): each normal of a filtered texel reflects
+// with the material's lobe, so the texel's energy is the mean of their albedos, which the widened
+// lobe's albedo about the mean normal underestimates (it loses what falls below its horizon).
 
 // Standard mipmap: the filtered normal renormalised, the material's own roughness.
 glm::vec3 shadeNaiveSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 filtered,
                              glm::vec3 view, const glm::mat3& tangentToEnvironment,
                              const SplitSumLighting& lighting, EnvironmentLod rule);
 
-// Toksvig: Na unnormalised; Blinn-Phong s' = ft s (eq. 6), Beckmann/GGX alpha' by `mapping`
-// (roughness.h), as shadeToksvig; Log2Sigma adds the normals' variance (1 - |Na|)/|Na| to the
-// material's lobe spread instead. Diffuse about Na/|Na|, band 1 scaled by |Na| with
-// vmfBandFactors (the mean of irradiance's linear band over the normals).
+// Toksvig: Na unnormalised; the radiance at Blinn-Phong s' = ft s (eq. 6), Beckmann/GGX alpha' by
+// `mapping` (roughness.h), as shadeToksvig; Log2Sigma adds the normals' variance (1 - |Na|)/|Na|
+// to the material's lobe spread instead. The albedo factor over normals of mean length |Na|.
+// Diffuse about Na/|Na|, band 1 scaled by |Na| with vmfBandFactors (the mean of irradiance's linear
+// band over the normals).
 glm::vec3 shadeToksvigSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 na, glm::vec3 view,
                                const glm::mat3& tangentToEnvironment,
                                const SplitSumLighting& lighting, EnvironmentLod rule,
                                RoughnessMapping mapping, float varianceScale = kVarianceScale);
 
-// Roughness mips: the filtered normal renormalised, alpha from `stored` (perceptual, alpha =
-// stored^2, unless isAlpha); Blinn-Phong materials keep their exponent.
+// Roughness mips: the filtered normal renormalised, the radiance at alpha from `stored`
+// (perceptual, alpha = stored^2, unless isAlpha); the albedo factor over normals of the mean length
+// 1/(1 + (alpha^2 - m.roughness^2)/kVarianceScale) that widens the material's alpha to the stored
+// one under the ours mapping. Blinn-Phong materials keep their exponent.
 glm::vec3 shadeRoughnessMipsSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 filtered,
                                      float stored, bool isAlpha, glm::vec3 view,
                                      const glm::mat3& tangentToEnvironment,
@@ -184,7 +192,8 @@ glm::vec3 shadeRoughnessMipsSplitSum(const Material& m, glm::vec3 albedo, glm::v
 
 // vMF mixture: `lobes` holds J (alpha, alpha r mu) quadruples, unpacked as shadeVmf; per lobe
 // Blinn-Phong s' = kappa s/(kappa + s), Beckmann/GGX alpha'^2 = alpha^2 + 2/kappa (Han et al.
-// eqs. 29-30), a prefiltered read along the reflection about mu_j; diffuse from the irradiance
+// eqs. 29-30), a prefiltered read along the reflection about mu_j, the albedo factor over the
+// lobe's normals (mean length A(kappa)); diffuse from the irradiance
 // at mu_j (band l scaled by the vMF's Legendre moment with vmfBandFactors: A(kappa),
 // 1 - 3 A(kappa)/kappa). Weights alpha_j; `colors` (J lobe colours) as shadeVmf.
 glm::vec3 shadeVmfSplitSum(const Material& m, glm::vec3 albedo, const float* lobes, int count,

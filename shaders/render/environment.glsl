@@ -228,14 +228,35 @@ vec3 ndfmipEnvDiffuse(NdfmipHit hit, vec3 albedo, vec3 n, vec3 band) {
     return albedo * (1.0f / NDFMIP_PI) * ndfmipIrradiance(ndfmipTangentToEnvironment(hit, n), band);
 }
 
-// specular LD(reflect(-v, n), r) E(n.v, r) about the unit tangent-frame normal n; `albedoR`
-// the roughness the table is read at (Toksvig's log2sigma reads the chain at the material's).
-vec3 ndfmipEnvSpecular(NdfmipMaterial m, NdfmipHit hit, vec3 n, vec3 view, float r, float albedoR,
+// rmsCosine: the root mean square of n.v over normals of mean length r (a vMF) about the unit
+// mean direction with n.v = mu, E[sin^2 t] = 2 (1 - r^2)/(3 - r^2); mu itself for r >= 1.
+float ndfmipRmsCosine(float mu, float r) {
+    mu = clamp(mu, 0.0f, 1.0f);
+    if (r >= 1.0f) return mu;
+    r = clamp(r, 0.0f, 1.0f);
+    float sin2 = 2.0f * (1.0f - r * r) / (3.0f - r * r);
+    return sqrt(max(mu * mu * (1.0f - sin2) + 0.5f * sin2 * (1.0f - mu * mu), 0.0f));
+}
+
+// lengthFromRoughness: eq. 1 inverted through the ours mapping, 1/(1 + (widened^2 - alpha^2)/c).
+float ndfmipLengthFromRoughness(float widened, float alpha) {
+    return 1.0f / (1.0f + max(widened * widened - alpha * alpha, 0.0f) / 2.0f); // kVarianceScale
+}
+
+// specularTerm: LD(reflect(-v, n), r) E(rms n.v, albedoR) about the unit tangent-frame normal
+// n, the albedo factor at the material's roughness albedoR and the root mean square of n.v over
+// normals of mean length `len` about n (ndfmipRmsCosine); r blurs the radiance only.
+vec3 ndfmipEnvSpecular(NdfmipMaterial m, NdfmipHit hit, vec3 n, vec3 view, float r, float albedoR, float len,
                        float normalVariance) {
     float mu = dot(n, view);
     vec3 reflected = 2.0f * mu * n - view;
     vec3 ld = ndfmipPrefilteredRadiance(ndfmipTangentToEnvironment(hit, reflected), r, normalVariance);
-    return m.specular * ld * ndfmipSpecularAlbedo(mu, albedoR);
+    return m.specular * ld * ndfmipSpecularAlbedo(ndfmipRmsCosine(mu, len), albedoR);
+}
+
+// basePerceptual: the material's own perceptual roughness.
+float ndfmipBasePerceptual(NdfmipMaterial m) {
+    return m.brdf == NDFMIP_BLINN_PHONG ? ndfmipBlinnPhongPerceptual(m.exponent) : ndfmipAlphaPerceptual(m.roughness);
 }
 
 // shadeNaiveSplitSum.
@@ -243,22 +264,29 @@ vec3 ndfmipShadeNaiveEnvironment(NdfmipMaterial m, vec3 albedo, vec3 filtered, N
     vec3 n = ndfmipUnitOrFlat(filtered);
     vec3 out3 = ndfmipEnvDiffuse(hit, albedo, n, vec3(1.0f));
     if (!ndfmipHasLobe(m)) return out3;
-    float r = m.brdf == NDFMIP_BLINN_PHONG ? ndfmipBlinnPhongPerceptual(m.exponent) : ndfmipAlphaPerceptual(m.roughness);
-    return out3 + ndfmipEnvSpecular(m, hit, n, view, r, r, 0.0f);
+    float r = ndfmipBasePerceptual(m);
+    return out3 + ndfmipEnvSpecular(m, hit, n, view, r, r, 1.0f, 0.0f);
 }
 
-// shadeRoughnessMipsSplitSum: the naive shading at the stored roughness.
+// shadeRoughnessMipsSplitSum: the radiance at the stored roughness, the albedo factor at the
+// material's over the spread that widened it (ndfmipLengthFromRoughness, the ours mapping).
 vec3 ndfmipShadeRoughnessMipsEnvironment(NdfmipMaterial m, vec3 albedo, vec3 filtered, float stored, bool isAlpha,
                                          NdfmipHit hit, vec3 view) {
+    vec3 n = ndfmipUnitOrFlat(filtered);
+    vec3 out3 = ndfmipEnvDiffuse(hit, albedo, n, vec3(1.0f));
+    if (!ndfmipHasLobe(m)) return out3;
+    float base = ndfmipBasePerceptual(m);
+    if (m.brdf == NDFMIP_BLINN_PHONG) return out3 + ndfmipEnvSpecular(m, hit, n, view, base, base, 1.0f, 0.0f);
     float s = clamp(stored, 0.0f, 1.0f);
-    NdfmipMaterial widened = m;
-    widened.roughness = max(isAlpha ? s : s * s, 1e-4f);
-    return ndfmipShadeNaiveEnvironment(widened, albedo, filtered, hit, view);
+    float alpha = max(isAlpha ? s : s * s, 1e-4f);
+    float len = ndfmipLengthFromRoughness(alpha, m.roughness);
+    return out3 + ndfmipEnvSpecular(m, hit, n, view, ndfmipAlphaPerceptual(alpha), base, len, 0.0f);
 }
 
 // shadeToksvigSplitSum: diffuse about Na/|Na| with band 1 scaled by |Na| (its exact mean) and
-// band 2 as a vMF of that mean length; the lobe widened as ndfmipShadeToksvig (eq. 6 or the
-// roughness mapping), or for log2sigma the normals' sigma^2 (eq. 1) added to the spread.
+// band 2 as a vMF of that mean length; the radiance of the lobe widened as ndfmipShadeToksvig
+// (eq. 6 or the roughness mapping), or for log2sigma with the normals' sigma^2 (eq. 1) added to
+// the spread; the albedo factor the material's over normals of mean length |Na|.
 vec3 ndfmipShadeToksvigEnvironment(NdfmipMaterial m, vec3 albedo, vec3 na, NdfmipHit hit, vec3 view, int mapping,
                                    float varianceScale) {
     float len = min(length(na), 1.0f);
@@ -271,9 +299,9 @@ vec3 ndfmipShadeToksvigEnvironment(NdfmipMaterial m, vec3 albedo, vec3 na, Ndfmi
     float r = m.brdf == NDFMIP_BLINN_PHONG
                   ? ndfmipBlinnPhongPerceptual(ndfmipToksvigFactor(len, m.exponent) * m.exponent)
                   : ndfmipAlphaPerceptual(ndfmipMappedRoughness(mapping, len, m.roughness, varianceScale));
-    if (ndfmipEnvRule != 0) return out3 + ndfmipEnvSpecular(m, hit, n, view, r, r, 0.0f);
-    float base = m.brdf == NDFMIP_BLINN_PHONG ? ndfmipBlinnPhongPerceptual(m.exponent) : ndfmipAlphaPerceptual(m.roughness);
-    return out3 + ndfmipEnvSpecular(m, hit, n, view, base, r, len > 0.0f ? ndfmipToksvigSigma2(len) : 1e6f);
+    float base = ndfmipBasePerceptual(m);
+    if (ndfmipEnvRule != 0) return out3 + ndfmipEnvSpecular(m, hit, n, view, r, base, len, 0.0f);
+    return out3 + ndfmipEnvSpecular(m, hit, n, view, base, base, len, len > 0.0f ? ndfmipToksvigSigma2(len) : 1e6f);
 }
 
 // One lobe of shadeVmfSplitSum, weight included: diffuse at mu band-attenuated by the vMF,
@@ -288,7 +316,8 @@ vec3 ndfmipShadeVmfLobeEnvironment(NdfmipMaterial m, vec3 albedo, vec4 lobeTexel
         float r = m.brdf == NDFMIP_BLINN_PHONG
                       ? ndfmipBlinnPhongPerceptual(kappa * m.exponent / (kappa + m.exponent))
                       : ndfmipAlphaPerceptual(min(sqrt(m.roughness * m.roughness + 2.0f / kappa), 1.0f));
-        term += ndfmipEnvSpecular(m, hit, lobe.mu, view, r, r, 0.0f);
+        // The albedo factor at the material's roughness over the lobe's normals, mean length A(kappa).
+        term += ndfmipEnvSpecular(m, hit, lobe.mu, view, r, ndfmipBasePerceptual(m), ndfmipVmfBandFactors(kappa).y, 0.0f);
     }
     return lobe.alpha * term;
 }

@@ -26,16 +26,53 @@ float alphaPerceptual(float alpha) {
     return std::sqrt(std::clamp(alpha, 0.f, 1.f));
 }
 
+// The root mean square of n.v over a texel's normals, read as a vMF of mean length r about the
+// unit mean direction m, mu = m.v: E[(n.v)^2] = E[cos^2 t] mu^2 + E[sin^2 t] (1 - mu^2)/2 (t the
+// angle to m, the spread even about m), with a vMF's E[sin^2 t] = 2 A(kappa)/kappa, A = r and
+// kappa by Banerjee's approximation (vmfKappaFromLength): 2 (1 - r^2)/(3 - r^2), about 2 (1 - r)
+// near r = 1 (twice eq. 1's sigma^2) and 2/3 (normals over the whole sphere) at r = 0. A lobe's
+// albedo grows as (n.v)^2 (4 (n.v)^2 when sharp), so one albedo read here stands for the mean of
+// the texel's own. One normal (r >= 1): mu itself, clamped to [0, 1].
+float rmsCosine(float mu, float r) {
+    mu = std::clamp(mu, 0.f, 1.f);
+    if (r >= 1.f) return mu;
+    r = std::clamp(r, 0.f, 1.f);
+    const float sin2 = 2.f * (1.f - r * r) / (3.f - r * r);
+    return std::sqrt(std::max(mu * mu * (1.f - sin2) + 0.5f * sin2 * (1.f - mu * mu), 0.f));
+}
+
+// The mean length |Na| whose Toksvig variance widens alpha to `widened` under the ours mapping
+// (roughness.h, c = kVarianceScale): eq. 1 inverted, 1/(1 + sigma^2), sigma^2 = (widened^2 -
+// alpha^2)/c; 1 where the stored roughness is not wider than the material's.
+float lengthFromRoughness(float widened, float alpha) {
+    return 1.f / (1.f + std::max(widened * widened - alpha * alpha, 0.f) / kVarianceScale);
+}
+
 // A unit normal n (tangent frame), seen from v: the specular term of a lobe of perceptual
-// roughness r, m.specular x LD(reflect(-v, n), r) x E(n.v, r).
+// roughness r about n, m.specular x LD(reflect(-v, n), r) x E(mu, base). The albedo factor is
+// the mean of the texel's own lobes, not the widened lobe's: every normal a filtered texel covers
+// carries the material's lobe (perceptual roughness `base`), whose albedo grows as (n.v)^2, so it
+// is read at the material's roughness and the root mean square of n.v over the normals, a vMF of
+// mean length `length` about n (rmsCosine). The widened lobe's own albedo at n.v of the
+// mean normal lost 13-15% of the truth's energy at large footprints (docs/RESULTS.md): a wide
+// lobe about the mean normal loses what falls below its horizon, the texel's narrow lobes do not.
+// The widened roughness r only blurs the radiance, LD. One normal (length 1, r = base): the plain
+// split sum.
 glm::vec3 specularTerm(const Material& m, glm::vec3 n, glm::vec3 view,
                        const glm::mat3& tangentToEnvironment, const SplitSumLighting& lighting,
-                       EnvironmentLod rule, float r, double normalVariance = 0.) {
+                       EnvironmentLod rule, float r, float base, float length = 1.f,
+                       double normalVariance = 0.) {
     const float mu = glm::dot(n, view);
     const glm::vec3 reflected = 2.f * mu * n - view;
     const glm::vec3 ld = prefilteredRadiance(
         lighting, rule, glm::dvec3(tangentToEnvironment * reflected), r, normalVariance);
-    return m.specular * ld * specularAlbedo(lighting, m.brdf, mu, r);
+    return m.specular * ld * specularAlbedo(lighting, m.brdf, rmsCosine(mu, length), base);
+}
+
+// The material's own perceptual roughness (a Blinn-Phong exponent's through Walter et al.).
+float basePerceptual(const Material& m) {
+    return m.brdf == Brdf::BlinnPhong ? blinnPhongPerceptual(m.exponent)
+                                      : alphaPerceptual(m.roughness);
 }
 
 glm::vec3 diffuseTerm(glm::vec3 albedo, glm::vec3 n, const glm::mat3& tangentToEnvironment,
@@ -67,9 +104,8 @@ glm::vec3 shadeNaiveSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 filt
     const glm::vec3 n = unitOrFlat(filtered);
     glm::vec3 out = diffuseTerm(albedo, n, tangentToEnvironment, lighting);
     if (!hasLobe(m)) return out;
-    const float r = m.brdf == Brdf::BlinnPhong ? blinnPhongPerceptual(m.exponent)
-                                               : alphaPerceptual(m.roughness);
-    return out + specularTerm(m, n, view, tangentToEnvironment, lighting, rule, r);
+    const float r = basePerceptual(m);
+    return out + specularTerm(m, n, view, tangentToEnvironment, lighting, rule, r, r);
 }
 
 glm::vec3 shadeToksvigSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 na, glm::vec3 view,
@@ -86,35 +122,41 @@ glm::vec3 shadeToksvigSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 na
     glm::vec3 out = diffuseTerm(albedo, n, tangentToEnvironment, lighting, band);
     if (!hasLobe(m)) return out;
 
-    // The widened lobe exactly as shadeToksvig: s' = ft s (eq. 6) or the roughness mapping.
+    // The widened lobe exactly as shadeToksvig: s' = ft s (eq. 6) or the roughness mapping; it
+    // blurs the radiance, the albedo factor stays the material's (specularTerm).
     const float r =
         m.brdf == Brdf::BlinnPhong
             ? blinnPhongPerceptual(toksvigFactor(length, m.exponent) * m.exponent)
             : alphaPerceptual(mappedRoughness(mapping, length, m.roughness, varianceScale));
+    const float base = basePerceptual(m);
     if (rule != EnvironmentLod::Log2Sigma)
-        return out + specularTerm(m, n, view, tangentToEnvironment, lighting, rule, r);
+        return out +
+               specularTerm(m, n, view, tangentToEnvironment, lighting, rule, r, base, length);
     // Toksvig's own rule: the material's spread plus the normals' sigma^2 = (1 - |Na|)/|Na|
     // (eq. 1), which for Blinn-Phong is eq. 5's 1/s' = 1/s + sigma^2 and for Beckmann/GGX the
-    // Ours mapping with c = 2; the albedo factor at the widened roughness.
-    const float base = m.brdf == Brdf::BlinnPhong ? blinnPhongPerceptual(m.exponent)
-                                                  : alphaPerceptual(m.roughness);
-    const float mu = glm::dot(n, view);
-    const glm::vec3 reflected = 2.f * mu * n - view;
-    const glm::vec3 ld =
-        prefilteredRadiance(lighting, rule, glm::dvec3(tangentToEnvironment * reflected), base,
-                            length > 0.f ? toksvigSigma2(length) : 1e6);
-    return out + m.specular * ld * specularAlbedo(lighting, m.brdf, mu, r);
+    // Ours mapping with c = 2.
+    return out + specularTerm(m, n, view, tangentToEnvironment, lighting, rule, base, base, length,
+                              length > 0.f ? toksvigSigma2(length) : 1e6);
 }
 
 glm::vec3 shadeRoughnessMipsSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 filtered,
                                      float stored, bool isAlpha, glm::vec3 view,
                                      const glm::mat3& tangentToEnvironment,
                                      const SplitSumLighting& lighting, EnvironmentLod rule) {
-    Material widened = m;
+    const glm::vec3 n = unitOrFlat(filtered);
+    glm::vec3 out = diffuseTerm(albedo, n, tangentToEnvironment, lighting);
+    if (!hasLobe(m)) return out;
+    if (m.brdf == Brdf::BlinnPhong) { // keeps its exponent
+        const float r = basePerceptual(m);
+        return out + specularTerm(m, n, view, tangentToEnvironment, lighting, rule, r, r);
+    }
     const float s = std::clamp(stored, 0.f, 1.f);
-    widened.roughness = std::max(isAlpha ? s : s * s, 1e-4f); // as ndfmipShadeRoughnessMips
-    return shadeNaiveSplitSum(widened, albedo, filtered, view, tangentToEnvironment, lighting,
-                              rule);
+    const float alpha = std::max(isAlpha ? s : s * s, 1e-4f); // as ndfmipShadeRoughnessMips
+    // The stored roughness blurs the radiance; the albedo factor is the material's at the normals'
+    // spread that widened it, read back through the ours mapping (specularTerm).
+    const float length = lengthFromRoughness(alpha, m.roughness);
+    return out + specularTerm(m, n, view, tangentToEnvironment, lighting, rule,
+                              alphaPerceptual(alpha), basePerceptual(m), length);
 }
 
 glm::vec3 shadeVmfSplitSum(const Material& m, glm::vec3 albedo, const float* lobes, int count,
@@ -138,7 +180,10 @@ glm::vec3 shadeVmfSplitSum(const Material& m, glm::vec3 albedo, const float* lob
                                 ? blinnPhongPerceptual(kappa * m.exponent / (kappa + m.exponent))
                                 : alphaPerceptual(std::min(
                                       std::sqrt(m.roughness * m.roughness + 2.f / kappa), 1.f));
-            term += specularTerm(m, lobe.mu, view, tangentToEnvironment, lighting, rule, r);
+            // The albedo factor at the material's roughness over the lobe's normals, whose mean
+            // length is A(kappa) (specularTerm).
+            term += specularTerm(m, lobe.mu, view, tangentToEnvironment, lighting, rule, r,
+                                 basePerceptual(m), float(vmfBandFactors(kappa).y));
         }
         out += lobe.alpha * term;
     }

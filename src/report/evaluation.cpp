@@ -677,6 +677,7 @@ EvalResult evaluateOrThrow(const EvalOptions& options) {
                     RenderTextures t;
                     t.normals = map.normals;
                     t.bake = map.bakes.at("naive (external roughness)");
+                    t.environment = lighting; // --environment: the rows are lit by it too
                     if (!map.roughness.count(key)) {
                         std::vector<std::pair<int, int>> sizes;
                         for (const auto& level : t.bake.levels)

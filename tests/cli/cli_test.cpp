@@ -959,6 +959,35 @@ TEST(Cli, RenderUnderAnEnvironmentWithEveryRuleAndWay) {
     EXPECT_FALSE(fs::exists(tmp.path / "x.exr"));
 }
 
+// An --external-roughness row under --environment is lit by it (it once failed: "environment ...
+// is not loaded"): on a flat map a chain holding the material's own roughness renders as naive.
+TEST(Cli, EvalExternalRoughnessUnderAnEnvironmentIsNaiveOnAFlatMap) {
+    TempDir tmp("eval-env-roughness");
+    writePng16(tmp.file("flat.png"), encodeNormals(flatNormals(16, 16)));
+    writeSky(tmp.file("sky.exr"));
+    for (int level = 0, size = 16; size >= 1; ++level, size /= 2) {
+        Image r(size, size, 1);
+        for (float& v : r.pixels) v = std::sqrt(0.3f); // perceptual roughness of alpha 0.3
+        writePng16(tmp.file("r_" + std::to_string(level) + ".png"), r);
+    }
+    CliRun run = cli("eval " + shellQuoted(tmp.file("flat.png")) + " --environment " +
+                     shellQuoted(tmp.file("sky.exr")) +
+                     " -q --methods naive --brdfs ggx --roughness 0.3 --footprints 4 --frames 0 "
+                     "--pixels 8 --spp 64 --external-roughness " +
+                     shellQuoted("const=" + tmp.file("r_{level}.png")) + " -o " +
+                     shellQuoted(tmp.file("r")));
+    ASSERT_EQ(run.status, 0) << run.output;
+    const json report = json::parse(fileBytes(tmp.path / "r" / "report.json"));
+    double naive = -1., external = -1.;
+    for (const json& c : report["cases"]) {
+        if (c["method"] == "naive") naive = c["rel_rmse"].get<double>();
+        if (c["method"] == "const") external = c["rel_rmse"].get<double>();
+    }
+    ASSERT_GE(naive, 0.);
+    ASSERT_GE(external, 0.);
+    EXPECT_NEAR(external, naive, 1e-3);
+}
+
 TEST(Cli, EvalUnderAnEnvironmentHasARowPerVariantAndSkipsTheRest) {
     TempDir tmp("eval-env");
     writePng16(tmp.file("flat.png"), encodeNormals(flatNormals(16, 16)));

@@ -389,6 +389,114 @@ TEST(SplitSum, RoughnessMipsAtTheMaterialsRoughnessIsNaive) {
     }
 }
 
+// ---- the albedo factor of a filtered texel --------------------------------------------------
+
+// The truth for a texel whose normals follow a vMF of concentration kappa about +z, seen from v,
+// under a constant environment of radiance 1: the mean over the normals of their own lobe's albedo
+// (each normal carries the material's lobe), integral vmf(n) lobeAlbedo(n.v) dn by the midpoint
+// rule over the upper hemisphere (the vMFs here put at most e^-10 of their weight below it).
+double spreadTexelAlbedo(Brdf brdf, double perceptualRoughness, double kappa, glm::dvec3 v) {
+    const int thetaSteps = 48, phiSteps = 48;
+    const double dt = 0.5 * M_PI / thetaSteps, dp = 2. * M_PI / phiSteps;
+    double sum = 0., weight = 0.;
+    for (int i = 0; i < thetaSteps; ++i) {
+        const double t = (i + 0.5) * dt, st = std::sin(t);
+        const double w = std::exp(kappa * (std::cos(t) - 1.)) * st * dt * dp;
+        for (int j = 0; j < phiSteps; ++j) {
+            const double p = (j + 0.5) * dp;
+            const glm::dvec3 n(st * std::cos(p), st * std::sin(p), std::cos(t));
+            sum += w * lobeAlbedo(brdf, std::max(glm::dot(n, v), 0.), perceptualRoughness, 256);
+            weight += w;
+        }
+    }
+    return sum / weight;
+}
+
+// Toksvig, the roughness mips and a one-lobe vMF of a texel with a known spread keep the truth's
+// energy under a constant environment, where the answer is the mean of the texel's own lobes'
+// albedo: the albedo factor is the material's, at the root mean square of n.v over the normals.
+// Measured: at most 2.1% off (the albedo table's interpolation and the vMF estimate of the RMS
+// of n.v); the widened lobe's own albedo at the mean normal's n.v was 27% off (vmf 24%).
+TEST(SplitSum, SpreadTexelsKeepTheTruthsEnergyUnderAConstantEnvironment) {
+    const SplitSumLighting lighting =
+        prepareSplitSum(mapOf(128, [](glm::dvec3) { return glm::dvec3(1.); }), smallOptions());
+    const glm::mat3 frame = tiltedFrame();
+    double worst[3] = {0., 0., 0.}; // toksvig, vmf, roughness mips
+    auto check = [&](int method, double value, double truth) {
+        worst[method] = std::max(worst[method], std::abs(value / truth - 1.));
+        return std::abs(value - truth) <= 0.03 * truth;
+    };
+    for (Brdf brdf : {Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx}) {
+        Material m = material(brdf);
+        m.roughness = 0.2f;
+        m.exponent = 32.f;
+        const double base = brdf == Brdf::BlinnPhong ? std::sqrt(blinnPhongAlpha(m.exponent))
+                                                     : std::sqrt(double(m.roughness));
+        for (double kappa : {10., 40., 200.})
+            for (float theta : {0.f, 0.6f}) {
+                const glm::vec3 v(std::sin(theta), 0.f, std::cos(theta));
+                const double truth = spreadTexelAlbedo(brdf, base, kappa, glm::dvec3(v));
+                const float length = float(1. / std::tanh(kappa) - 1. / kappa); // A(kappa)
+                const glm::vec3 na(0.f, 0.f, length);
+                std::string what = std::string(brdfName(brdf)) + " kappa " +
+                                   std::to_string(int(kappa)) + " theta " + std::to_string(theta);
+                for (EnvironmentLod rule : kRules) {
+                    const float toksvig =
+                        shadeToksvigSplitSum(m, glm::vec3(0.f), na, v, frame, lighting, rule,
+                                             RoughnessMapping::Ours)
+                            .x;
+                    EXPECT_TRUE(check(0, toksvig, truth))
+                        << toksvig << " against " << truth << ": toksvig " << what << " "
+                        << environmentLodName(rule);
+                    const float lobe[4] = {1.f, na.x, na.y, na.z};
+                    const float vmf = shadeVmfSplitSum(m, glm::vec3(0.f), lobe, 1, nullptr, v,
+                                                       frame, lighting, rule)
+                                          .x;
+                    EXPECT_TRUE(check(1, vmf, truth)) << vmf << " against " << truth << ": vmf "
+                                                      << what << " " << environmentLodName(rule);
+                    if (brdf == Brdf::BlinnPhong) continue; // roughness mips are GGX/Beckmann
+                    const float stored =
+                        mappedRoughness(RoughnessMapping::Ours, length, m.roughness);
+                    const float mips =
+                        shadeRoughnessMipsSplitSum(m, glm::vec3(0.f), glm::vec3(0.f, 0.f, 1.f),
+                                                   stored, true, v, frame, lighting, rule)
+                            .x;
+                    EXPECT_TRUE(check(2, mips, truth))
+                        << mips << " against " << truth << ": roughness-mips " << what << " "
+                        << environmentLodName(rule);
+                }
+            }
+    }
+    std::printf("[ measured ] energy of a spread texel against the truth: worst relative error "
+                "toksvig %.4f, vmf %.4f, roughness mips %.4f\n",
+                worst[0], worst[1], worst[2]);
+}
+
+// A flat texel (|Na| = 1, the stored roughness the material's) reads the albedo factor exactly
+// where naive does, under any environment and view: the change is only for spread texels.
+TEST(SplitSum, FlatTexelsAreNaiveExactly) {
+    const SplitSumLighting& lighting = smoothLighting();
+    const glm::mat3 frame = tiltedFrame();
+    const glm::vec3 n(0.f, 0.f, 1.f); // |n| = 1 exactly (the frame is tilted)
+    for (float theta : {0.f, 0.7f, 1.2f}) {
+        const glm::vec3 v(std::sin(theta) * 0.6f, std::sin(theta) * 0.8f, std::cos(theta));
+        for (EnvironmentLod rule : kRules) {
+            Material m = material(Brdf::Ggx);
+            m.roughness = 0.25f; // alpha^2 + 0 has an exact square root: the same level
+            const glm::vec3 naive =
+                shadeNaiveSplitSum(m, glm::vec3(0.3f), n, v, frame, lighting, rule);
+            const glm::vec3 toksvig = shadeToksvigSplitSum(m, glm::vec3(0.3f), n, v, frame,
+                                                           lighting, rule, RoughnessMapping::Ours);
+            const glm::vec3 mips = shadeRoughnessMipsSplitSum(m, glm::vec3(0.3f), n, 0.25f, true, v,
+                                                              frame, lighting, rule);
+            for (int i = 0; i < 3; ++i) {
+                EXPECT_EQ(toksvig[i], naive[i]) << environmentLodName(rule) << " " << theta;
+                EXPECT_EQ(mips[i], naive[i]) << environmentLodName(rule) << " " << theta;
+            }
+        }
+    }
+}
+
 // ---- frames ---------------------------------------------------------------------------------
 
 TEST(SplitSum, ReflectionGoesThroughTheTangentFrame) {

@@ -1,8 +1,9 @@
 // The GPU renderer under an environment against the CPU renderer: the split-sum methods (naive,
-// roughness-mips, toksvig, vmf prefiltered) for every level rule and the SH-lighting ones (vmf
-// with --vmf-environment sh; sh) give the CPU's image, on the plane and the sphere,
-// with parameter blending and texel shading; what the GPU cannot draw is refused in one line
-// naming the method.
+// roughness-mips, toksvig, vmf prefiltered; the radiance at the widened roughness, the albedo
+// factor at the material's over the texel's spread) for every level rule and the SH-lighting ones
+// (vmf with --vmf-environment sh; sh) give the CPU's image, on the plane and the sphere, with
+// parameter blending and texel shading; what the GPU cannot draw is refused in one line naming the
+// method.
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -150,6 +151,8 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"naive", Brdf::Ggx, EnvironmentLod::Filament},
         Case{"naive", Brdf::BlinnPhong, EnvironmentLod::Filament},
         Case{"roughness-mips", Brdf::Ggx, EnvironmentLod::Unity},
+        // The albedo factor over the spread read back from the stored roughness.
+        Case{"roughness-mips", Brdf::Beckmann, EnvironmentLod::Filament},
         Case{"toksvig", Brdf::BlinnPhong, EnvironmentLod::Unity},
         Case{"toksvig", Brdf::Ggx, EnvironmentLod::Unreal},
         Case{"toksvig", Brdf::Beckmann, EnvironmentLod::Filament},
