@@ -1,8 +1,9 @@
 // Loads ?glb= with three.js's GLTFLoader and KTX2Loader (the Basis transcoder served from the
-// local three package), finds the material with a normal map and reports what three made of
-// its normalMap and roughnessMap: where each came from, its mip levels, and every level read
-// back from the GPU (texelFetch of level k into an RGBA8 target, readPixels, rows from the top
-// of the file as in the KTX2). POSTs the report to /result (or the error to /fail).
+// local three package), once per transcode target in ?targets= (default `auto`), finds the
+// material with a normal map and reports what three made of its normalMap and roughnessMap:
+// where each came from, its mip levels, and every level read back from the GPU (texelFetch of
+// level k into an RGBA8 target, readPixels, rows from the top of the file as in the KTX2).
+// POSTs the report to /result (or the error to /fail).
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
@@ -27,20 +28,6 @@ async function main() {
     document.body.appendChild(canvas);
     const renderer = new THREE.WebGLRenderer({ canvas, antialias: false });
     const gl = renderer.getContext();
-    const ktx2 = new KTX2Loader()
-        .setTranscoderPath('/three/examples/jsm/libs/basis/')
-        .detectSupport(renderer);
-    const loader = new GLTFLoader().setKTX2Loader(ktx2);
-    const start = performance.now();
-    const gltf = await loader.loadAsync(params.get('glb'));
-    const loadMs = performance.now() - start;
-
-    let material = null;
-    gltf.scene.traverse(o => {
-        if (o.isMesh && o.material && o.material.normalMap && !material) material = o.material;
-    });
-    if (!material) throw new Error('no mesh with a normalMap in the GLB');
-
     // One level of a texture, exactly: texelFetch into an RGBA8 target of the level's size.
     const target = new THREE.WebGLRenderTarget(1, 1, {
         type: THREE.UnsignedByteType, format: THREE.RGBAFormat, depthBuffer: false,
@@ -97,23 +84,55 @@ void main() { color = texelFetch(map, ivec2(gl_FragCoord.xy), level); }`,
         return t;
     }
 
+    // Each transcode target three can pick: `auto` is what KTX2Loader.detectSupport picks on
+    // this browser; the others force one (as on a device that has only it), `rgba` the
+    // uncompressed fallback of a device with none.
+    const flags = {
+        astc: 'astcSupported', bptc: 'bptcSupported', etc2: 'etc2Supported',
+        dxt: 'dxtSupported', rgba: null,
+    };
+    const runs = [];
+    for (const target of (params.get('targets') || 'auto').split(',')) {
+        const ktx2 = new KTX2Loader()
+            .setTranscoderPath('/three/examples/jsm/libs/basis/')
+            .detectSupport(renderer);
+        if (target !== 'auto') {
+            if (!(target in flags)) throw new Error(`unknown transcode target ${target}`);
+            for (const key of Object.keys(ktx2.workerConfig)) ktx2.workerConfig[key] = false;
+            if (flags[target]) ktx2.workerConfig[flags[target]] = true;
+        }
+        const loader = new GLTFLoader().setKTX2Loader(ktx2);
+        const start = performance.now();
+        const gltf = await loader.loadAsync(params.get('glb'));
+        const loadMs = performance.now() - start;
+        let material = null;
+        gltf.scene.traverse(o => {
+            if (o.isMesh && o.material && o.material.normalMap && !material) material = o.material;
+        });
+        if (!material) throw new Error('no mesh with a normalMap in the GLB');
+        runs.push({
+            target,
+            loadMs,
+            material: material.name,
+            type: material.type,
+            metalnessIsRoughness: material.metalnessMap === material.roughnessMap,
+            normalMap: describe(material.normalMap),
+            roughnessMap: material.roughnessMap ? describe(material.roughnessMap) : null,
+            glError: gl.getError(),
+        });
+        for (const map of [material.normalMap, material.roughnessMap]) if (map) map.dispose();
+        ktx2.dispose();
+    }
+
     const extensions = ['WEBGL_compressed_texture_astc', 'EXT_texture_compression_bptc',
                         'WEBGL_compressed_texture_etc', 'WEBGL_compressed_texture_s3tc']
                            .filter(e => gl.getExtension(e));
-    const report = {
+    await post('/result', {
         three: THREE.REVISION,
         renderer: gl.getParameter(gl.getExtension('WEBGL_debug_renderer_info') ? 0x9246 : gl.RENDERER),
         extensions,
-        loadMs,
-        material: material.name,
-        type: material.type,
-        metalnessIsRoughness: material.metalnessMap === material.roughnessMap,
-        normalMap: describe(material.normalMap),
-        roughnessMap: material.roughnessMap ? describe(material.roughnessMap) : null,
-        glError: gl.getError(),
-    };
-    ktx2.dispose();
-    await post('/result', report);
+        runs,
+    });
 }
 
 main().catch(fail);
