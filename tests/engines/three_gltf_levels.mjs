@@ -13,6 +13,14 @@ const post = (where, value) =>
 const fail = error => post('/fail', String((error && error.stack) || error));
 window.addEventListener('error', e => fail(e.error || e.message));
 window.addEventListener('unhandledrejection', e => fail(e.reason));
+// What three and the browser warn of (shader logs, WebGL errors) goes to the test's log.
+for (const level of ['error', 'warn']) {
+    const original = console[level].bind(console);
+    console[level] = (...parts) => {
+        original(...parts);
+        post('/log', `console.${level}: ${parts.map(String).join(' ')}`);
+    };
+}
 
 function base64(bytes) {
     let text = '';
