@@ -46,12 +46,13 @@ void BM_RenderGroundTruth(benchmark::State& state) {
                             state.range(1));
 }
 
-// Args: image side, rule (0 the default, 1 the plain lookup).
-void BM_RenderMethod(benchmark::State& state, ndfmip::Method method) {
-    const ndfmip::Scene scene = grazingPlane(int(state.range(0)));
+// The scene rendered with `method` under the default rule or (`plain`) a GPU's one trilinear
+// lookup with the parameters blended.
+void renderMethod(benchmark::State& state, const ndfmip::Scene& scene, ndfmip::Method method,
+                  bool plain) {
     const ndfmip::RenderTextures t = texturesFor(method);
     ndfmip::RenderOptions o;
-    if (state.range(1) == 1) {
+    if (plain) {
         o.taps = 1;
         o.lodBias = 0.f;
         o.shadeFilter = ndfmip::ShadeFilter::Parameter;
@@ -63,22 +64,18 @@ void BM_RenderMethod(benchmark::State& state, ndfmip::Method method) {
     state.SetItemsProcessed(int64_t(state.iterations()) * state.range(0) * state.range(0));
 }
 
+// Args: image side, rule (0 the default, 1 the plain lookup).
+void BM_RenderMethod(benchmark::State& state, ndfmip::Method method) {
+    renderMethod(state, grazingPlane(int(state.range(0))), method, state.range(1) == 1);
+}
+
 // The plain lookup (an engine's one tap, parameters blended) under GGX alpha = 0.1: vmf's lobes
 // convolved with GGX (a 12-node mixture per lobe) against Toksvig's one widened lobe.
 void BM_RenderMethodGgx(benchmark::State& state, ndfmip::Method method) {
     ndfmip::Scene scene = grazingPlane(int(state.range(0)));
     scene.material.brdf = ndfmip::Brdf::Ggx;
     scene.material.roughness = 0.1f;
-    const ndfmip::RenderTextures t = texturesFor(method);
-    ndfmip::RenderOptions o;
-    o.taps = 1;
-    o.lodBias = 0.f;
-    o.shadeFilter = ndfmip::ShadeFilter::Parameter;
-    for (auto _ : state) {
-        auto image = ndfmip::render(scene, t, ndfmip::methodName(method), o);
-        benchmark::DoNotOptimize(image.value().pixels.data());
-    }
-    state.SetItemsProcessed(int64_t(state.iterations()) * state.range(0) * state.range(0));
+    renderMethod(state, scene, method, true);
 }
 
 } // namespace

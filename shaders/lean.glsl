@@ -9,14 +9,19 @@ vec3 ndfmipLeanCovariance(vec4 moments, float crossMoment) {
                 crossMoment - moments.x * moments.y);
 }
 
+// The material's squared roughness as the slope-moment lobes read it: Beckmann's and GGX's
+// alpha^2, Blinn-Phong's through alpha^2 = 2/(s + 2) (Walter et al.); -1 for no such lobe.
+float ndfmipSlopeLobeAlpha2(NdfmipMaterial m) {
+    if (m.brdf == NDFMIP_BLINN_PHONG) return 2.0f / (m.exponent + 2.0f);
+    if (m.brdf == NDFMIP_BECKMANN || m.brdf == NDFMIP_GGX) return m.roughness * m.roughness;
+    return -1.0f;
+}
+
 // The anisotropic Beckmann lobe of the slope Gaussian plus the material's slope variance
-// (Beckmann alpha^2/2 per axis; Blinn-Phong through alpha^2 = 2/(s + 2); GGX as Beckmann).
+// (Beckmann alpha^2/2 per axis; GGX as Beckmann).
 float ndfmipLeanLobe(NdfmipMaterial m, vec4 moments, float crossMoment, vec3 h) {
-    float alpha2 = 0.0f;
-    if (m.brdf == NDFMIP_BLINN_PHONG) alpha2 = 2.0f / (m.exponent + 2.0f);
-    else if (m.brdf == NDFMIP_BECKMANN || m.brdf == NDFMIP_GGX) alpha2 = m.roughness * m.roughness;
-    else return 0.0f;
-    if (h.z <= 0.0f) return 0.0f;
+    float alpha2 = ndfmipSlopeLobeAlpha2(m);
+    if (alpha2 < 0.0f || h.z <= 0.0f) return 0.0f;
     vec3 own = ndfmipLeanCovariance(moments, crossMoment);
     float sxx = own.x + 0.5f * alpha2;
     float syy = own.y + 0.5f * alpha2;

@@ -9,13 +9,10 @@
 
 // Anisotropic GGX over slopes s = (h.x, h.y)/h.z - mean slope with the tensor A:
 //   D(h) = 1 / (pi sqrt(det A) h.z^4 (1 + s^T A^-1 s)^2);
-// for A = alpha^2 I, ndfmipGgx. Blinn-Phong reads alpha^2 = 2/(s + 2) (Walter et al.).
+// for A = alpha^2 I, ndfmipGgx.
 float ndfmipSggxLobe(NdfmipMaterial m, vec4 moments, float crossMoment, vec3 h) {
-    float alpha2 = 0.0f;
-    if (m.brdf == NDFMIP_BLINN_PHONG) alpha2 = 2.0f / (m.exponent + 2.0f);
-    else if (m.brdf == NDFMIP_BECKMANN || m.brdf == NDFMIP_GGX) alpha2 = m.roughness * m.roughness;
-    else return 0.0f;
-    if (h.z <= 0.0f) return 0.0f;
+    float alpha2 = ndfmipSlopeLobeAlpha2(m);
+    if (alpha2 < 0.0f || h.z <= 0.0f) return 0.0f;
     vec3 own = ndfmipLeanCovariance(moments, crossMoment);
     float axx = alpha2 + 2.0f * own.x;
     float ayy = alpha2 + 2.0f * own.y;

@@ -195,9 +195,10 @@ TEST(GpuShaders, VmfMatchesCpu) {
     });
 }
 
-TEST(GpuShaders, LeanMatchesCpu) {
-    // Moments of a slope Gaussian: mean (p.x, p.y), variances and covariance from q and p.w.
-    Inputs in = randomInputs(6, 1);
+// Random items whose p, q hold the moments of a slope Gaussian (the lean bake's planes): mean
+// (p.x, p.y), variances and covariance from q and p.w.
+Inputs slopeMomentInputs(unsigned seed) {
+    Inputs in = randomInputs(seed, 1);
     for (int i = 0; i < kItems; ++i) {
         float* x = in.item(i);
         const float bx = 0.5f * x[15] / x[17], by = 0.5f * x[16] / x[17];
@@ -205,21 +206,18 @@ TEST(GpuShaders, LeanMatchesCpu) {
                     c = 0.5f * std::sqrt(vx * vy) * (x[3] - 0.5f);
         x[15] = bx, x[16] = by, x[17] = bx * bx + vx, x[18] = by * by + vy, x[19] = bx * by + c;
     }
+    return in;
+}
+
+TEST(GpuShaders, LeanMatchesCpu) {
+    const Inputs in = slopeMomentInputs(6);
     expectGpuMatchesCpu(in, "", "ndfmipShadeLean(m, albedo, p, q, l, v)", [](const float* x) {
         return shadeLean(materialOf(x), at3(x, 6), x + 15, at3(x, 9), at3(x, 12));
     });
 }
 
 TEST(GpuShaders, SggxMatchesCpu) {
-    // Moments of a slope Gaussian, as LeanMatchesCpu.
-    Inputs in = randomInputs(7, 1);
-    for (int i = 0; i < kItems; ++i) {
-        float* x = in.item(i);
-        const float bx = 0.5f * x[15] / x[17], by = 0.5f * x[16] / x[17];
-        const float vx = 0.3f * x[18], vy = 0.3f * x[19],
-                    c = 0.5f * std::sqrt(vx * vy) * (x[3] - 0.5f);
-        x[15] = bx, x[16] = by, x[17] = bx * bx + vx, x[18] = by * by + vy, x[19] = bx * by + c;
-    }
+    const Inputs in = slopeMomentInputs(7);
     expectGpuMatchesCpu(in, "", "ndfmipShadeSggx(m, albedo, p, q, l, v)", [](const float* x) {
         return shadeSggx(materialOf(x), at3(x, 6), x + 15, at3(x, 9), at3(x, 12));
     });

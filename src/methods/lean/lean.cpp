@@ -1,7 +1,8 @@
 // LEAN mapping (Olano and Baker, "LEAN Mapping", I3D 2010): per texel the first and second
 // moments of the normals' slopes b = (n.x/n.z, n.y/n.z), which mip-map linearly; a shader
 // turns them into the covariance of a 2D Gaussian of slopes, an anisotropic Beckmann lobe.
-// The anisotropic single-lobe peer of Toksvig (one isotropic lobe) and vMF (several).
+// The anisotropic single-lobe peer of Toksvig (one isotropic lobe) and vMF (several); sggx reads
+// the same moments as one anisotropic GGX lobe (shaders/sggx.glsl).
 #include <algorithm>
 #include <cmath>
 
@@ -51,18 +52,48 @@ Bake bakeLean(const Pyramid& pyramid, const BakeOptions& options) {
     return bake;
 }
 
-float leanLobe(const Material& m, const float* p, glm::vec3 h) {
-    if (m.brdf == Brdf::Tabulated) // no widening rule, as for toksvig: the table about the mean
-                                   // slope's normal
+namespace {
+
+// A lobe of the slope moments p at h: `glslLobe` (lean's Beckmann or sggx's GGX); tabulated lobes
+// have no widening rule, as for toksvig: the table about the mean slope's normal.
+template <class GlslLobe>
+float slopeMomentLobe(const Material& m, const float* p, glm::vec3 h, GlslLobe glslLobe) {
+    if (m.brdf == Brdf::Tabulated)
         return materialLobe(m, glm::dot(glm::normalize(glm::vec3(p[0], p[1], 1.f)), h), 0.f, 0.f);
-    return glsl().ndfmipLeanLobe(glslMaterial(m), glm::vec4(p[0], p[1], p[2], p[3]), p[4], h);
+    return glslLobe(glslMaterial(m), glm::vec4(p[0], p[1], p[2], p[3]), p[4], h);
+}
+
+// The cosines about the mean slope's normal (ndfmipShadeLeanLobe) with `lobe` at h.
+template <class Lobe>
+glm::vec3 shadeSlopeMoments(const Material& m, glm::vec3 albedo, const float* p, glm::vec3 l,
+                            glm::vec3 v, Lobe lobe) {
+    const glm::vec3 h = glm::normalize(l + v);
+    return glsl().ndfmipShadeLeanLobe(glslMaterial(m, specularFactor(m, l, h)), albedo,
+                                      glm::vec4(p[0], p[1], p[2], p[3]), p[4], l, v, lobe(m, p, h));
+}
+
+} // namespace
+
+float leanLobe(const Material& m, const float* p, glm::vec3 h) {
+    return slopeMomentLobe(m, p, h,
+                           [](GlslMaterial g, glm::vec4 moments, float cross, glm::vec3 w) {
+                               return glsl().ndfmipLeanLobe(g, moments, cross, w);
+                           });
+}
+
+float sggxLobe(const Material& m, const float* p, glm::vec3 h) {
+    return slopeMomentLobe(m, p, h,
+                           [](GlslMaterial g, glm::vec4 moments, float cross, glm::vec3 w) {
+                               return glsl().ndfmipSggxLobe(g, moments, cross, w);
+                           });
 }
 
 glm::vec3 shadeLean(const Material& m, glm::vec3 albedo, const float* p, glm::vec3 l, glm::vec3 v) {
-    const glm::vec3 h = glm::normalize(l + v);
-    return glsl().ndfmipShadeLeanLobe(glslMaterial(m, specularFactor(m, l, h)), albedo,
-                                      glm::vec4(p[0], p[1], p[2], p[3]), p[4], l, v,
-                                      leanLobe(m, p, h));
+    return shadeSlopeMoments(m, albedo, p, l, v, leanLobe);
+}
+
+glm::vec3 shadeSggx(const Material& m, glm::vec3 albedo, const float* p, glm::vec3 l, glm::vec3 v) {
+    return shadeSlopeMoments(m, albedo, p, l, v, sggxLobe);
 }
 
 } // namespace ndfmip
