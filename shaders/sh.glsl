@@ -82,7 +82,7 @@ vec3 ndfmipShMeanNormal(float g1m1, float g10, float g11) {
     return vec3(g11, g1m1, g10) / sqrt(3.0f / (4.0f * NDFMIP_PI));
 }
 
-// Eq. 17 from the two convolutions: diffuseSum over w = l with the clamped cosine's A_l (it
+// H eq. 17 from the two convolutions: diffuseSum over w = l with the clamped cosine's A_l (it
 // carries its own cosine), specularSum over w = h with the lobe's A_l; the lobe's cosine as
 // ndfmipSpecularCosine with the NDF read as a vMF of Banerjee's kappa for |Na|. Truncation
 // can ring below zero: each term is clamped at 0.

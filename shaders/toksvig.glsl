@@ -9,13 +9,13 @@
 #define NDFMIP_MAPPING_GODOT 3    // p'^2 = p^2 + min(0.75 / kappa, 0.16), p = sqrt(alpha)
 #define NDFMIP_MAPPING_UNREAL 4   // (alpha^2 + 2V (1 - alpha^2)) / (1 + 2V (1 - alpha^2)), V = (1 - r)/r
 
-// Eq. 1: sigma^2 = (1 - |Na|)/|Na|.
+// T eq. 1: sigma^2 = (1 - |Na|)/|Na|.
 float ndfmipToksvigSigma2(float r) {
     r = clamp(r, 1e-6f, 1.0f);
     return (1.0f - r) / r;
 }
 
-// Eq. 6: the factor that scales the exponent, ft = |Na| / (|Na| + s (1 - |Na|)).
+// T eq. 6: the factor that scales the exponent, ft = |Na| / (|Na| + s (1 - |Na|)).
 float ndfmipToksvigFactor(float r, float s) {
     r = clamp(r, 0.0f, 1.0f);
     float denominator = r + s * (1.0f - r);
@@ -43,7 +43,7 @@ float ndfmipMappedRoughness(int mapping, float r, float alpha, float varianceSca
     return min(sqrt(a2), 1.0f);
 }
 
-// The widened lobe alone about Na/|Na|: Blinn-Phong with exponent ft s (eq. 8, normalised);
+// The widened lobe alone about Na/|Na|: Blinn-Phong with exponent ft s (T eq. 8, normalised);
 // Beckmann and GGX at the mapped alpha.
 float ndfmipToksvigLobe(NdfmipMaterial m, vec3 na, vec3 h, int mapping, float varianceScale) {
     float r = sqrt(dot(na, na));
@@ -55,7 +55,7 @@ float ndfmipToksvigLobe(NdfmipMaterial m, vec3 na, vec3 h, int mapping, float va
 }
 
 // Diffuse with the exact mean cosine Na.l (Lambert is linear in n); the lobe with
-// ndfmipSpecularCosine, the NDF read as a vMF of kappa = |Na|/(1 - |Na|) (eq. 1).
+// ndfmipSpecularCosine, the NDF read as a vMF of kappa = |Na|/(1 - |Na|) (T eq. 1).
 vec3 ndfmipShadeToksvigLobe(NdfmipMaterial m, vec3 albedo, vec3 na, vec3 l, vec3 v, float lobe) {
     float r = sqrt(dot(na, na));
     vec3 h = normalize(l + v);

@@ -1,4 +1,4 @@
-// ndfmip shading library: Toksvig's 2D lookup table (eq. 9, phase-out eqs. 10-11; needs
+// ndfmip shading library: Toksvig's 2D lookup table (T eq. 9, phase-out T eqs. 10-11; needs
 // brdf.glsl and toksvig.glsl).
 //
 // Textures: the toksvig bake's "mean" plane (Na, not renormalised) and the table written by

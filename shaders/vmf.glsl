@@ -2,7 +2,7 @@
 // brdf.glsl).
 //
 // Textures: the vmf bake's planes "lobe0" .. "lobe<J-1>" (RGBA, mipmapped, trilinear), each
-// (alpha, alpha r mu) (eq. 33), and, with --albedo, "color0" .. (RGB, the lobe's colour times
+// (alpha, alpha r mu) (H eq. 33), and, with --albedo, "color0" .. (RGB, the lobe's colour times
 // alpha). Shade each lobe with ndfmipShadeVmfLobe and add the results.
 
 #define NDFMIP_KAPPA_MAX 1e5f
@@ -94,7 +94,7 @@ float ndfmipVmfWidenedLobe(NdfmipMaterial m, vec3 mu, float kappa, vec3 h) {
 }
 
 // One lobe's share, given its specular lobe value: alpha (albedo D_diffuse + specular lobe
-// cosine), the diffuse term eq. 29 with s = 1 over l (footnote 9), which carries its cosine.
+// cosine), the diffuse term H eq. 29 with s = 1 over l (footnote 9), which carries its cosine.
 vec3 ndfmipVmfLobeTerm(NdfmipMaterial m, vec3 albedo, NdfmipLobe lobe, float specular, vec3 l, vec3 v) {
     if (!(lobe.alpha > 0.0f)) return vec3(0.0f);
     float sd = lobe.kappa / (lobe.kappa + 1.0f);

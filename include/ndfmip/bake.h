@@ -57,7 +57,7 @@ struct BakeOptions {
     // baseRoughness: level k's roughness is sqrt(mean alpha0^2 + c sigma^2) over the texel's
     // footprint (variances add: the material's lobe widths and the normals' spread).
     SharedImage roughnessMap;
-    SharedImage albedo; // vmf: colour per lobe (eq. 31) from this map, level-0 sized
+    SharedImage albedo; // vmf: colour per lobe (H eq. 31) from this map, level-0 sized
     // Called after each level is done: (levels done, levels in all).
     std::function<void(int, int)> progress;
 };

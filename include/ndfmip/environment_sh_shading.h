@@ -4,11 +4,11 @@
 //
 // What is computed, per unit of the point-light shade functions (method_shading.h: radiance per
 // unit irradiance, so the environment's radiance in, reflected radiance out):
-//   diffuse   albedo Integral L(w) Sum_n NDF(n) max(n.w, 0)/pi dw                      (eq. 34)
-//             = albedo Sum_lm A_l^diffuse g_lm L_lm                                     (eq. 35)
+//   diffuse   albedo Integral L(w) Sum_n NDF(n) max(n.w, 0)/pi dw                      (H eq. 34)
+//             = albedo Sum_lm A_l^diffuse g_lm L_lm                                     (H eq. 35)
 //   specular  specular Integral L(w_i) Sum_n NDF(n) D(n.h) cos dw_i
-//             = specular Integral L'(h) Sum_n NDF(n) D(n.h) dh                         (eq. 36)
-//             = specular Sum_lm A_l^specular g_lm L'_lm                                 (eq. 37)
+//             = specular Integral L'(h) Sum_n NDF(n) D(n.h) dh                         (H eq. 36)
+//             = specular Sum_lm A_l^specular g_lm L'_lm                                 (H eq. 37)
 // with w_i = 2 (w_o.h) h - w_o, dw_i = 4 (w_i.h) dh and the reparameterised lighting
 //     L'(h) = L(w_i(h, w_o)) 4 (w_i.h) c(h),   h.w_o > 0 (0 on the other half).
 // c is the cosine of the specular term, which the paper multiplies in per lobe or from the
@@ -24,7 +24,7 @@
 //               Exact for one normal where no light below its horizon reaches the lobe; the
 //               paper's own choice for point lights (footnote 5) and the default: the closest
 //               to the truth of the three (docs/ENVIRONMENT.md has the measured gaps).
-//   None        c = 1: eq. 36 as printed, no cosine.
+//   None        c = 1: H eq. 36 as printed, no cosine.
 // The fixed-view approximation: L' depends on w_o, and one w_o (environment frame) serves the
 // whole image. Lighting prepared for the pixel's own view (prepareShLighting with w_o = the
 // pixel's view in the environment frame) is the exact per-view variant; docs/ENVIRONMENT.md has
@@ -85,7 +85,7 @@ ShLighting prepareShLighting(const RadianceFunction& radiance, int order, glm::d
 // The sh bake's coefficients g (tangent frame, shCount(a.order) values) under the lighting: L and
 // L' are rotated into the tangent frame (sh_rotation.h, with the transpose of
 // tangentToEnvironment, whose columns are the hit's tangent, bitangent and normal in the
-// environment frame and must be orthonormal), then eqs. 35 and 37 with ShShading's A_l, up to
+// environment frame and must be orthonormal), then H eqs. 35 and 37 with ShShading's A_l, up to
 // min(a.order, lighting.order). Each sum is clamped at 0 per channel as shadeSh clamps its sums.
 // `v` (tangent frame) is not read: the fixed view is the lighting's. The factor g(theta_d) of a
 // factored tabulated BRDF is not applied (it would need w_i per h).
@@ -106,17 +106,17 @@ void vmfBandFactors(double kappa, int order, double* out);
 
 // How a lobe's specular transfer r_eff is formed.
 enum class VmfSpecularTransfer {
-    Widened,   // the widened lobe of shadeVmf (eq. 29 Blinn-Phong, eq. 30 Beckmann and GGX, a table
-               // unwidened), projected per lobe: Blinn-Phong in closed form, Beckmann and GGX by
-               // projectTransfer (slow: for reference renders)
+    Widened, // the widened lobe of shadeVmf (H eq. 29 Blinn-Phong, H eq. 30 Beckmann and GGX, a
+             // table unwidened), projected per lobe: Blinn-Phong in closed form, Beckmann and GGX
+             // by projectTransfer (slow: for reference renders)
     Convolved, // the exact convolution in SH: vmfBandFactors(kappa) times the material's A_l
 };
 
 // Han et al.'s vMF lobes (as shadeVmf receives them: J packed (alpha, alpha r mu) quadruples,
 // tangent frame, optional lobe colours that multiply the material's albedo in place of
 // `albedo`) under the lighting. Per lobe, with mu mapped to the environment frame:
-//   diffuse   alpha Sum_l A_l^vMF(kappa) A_l^Lambert Sum_m L_lm Y_lm(mu)               (eq. 35)
-//   specular  alpha Sum_l A_l^eff Sum_m L'_lm Y_lm(mu)                                 (eq. 37)
+//   diffuse   alpha Sum_l A_l^vMF(kappa) A_l^Lambert Sum_m L_lm Y_lm(mu)               (H eq. 35)
+//   specular  alpha Sum_l A_l^eff Sum_m L'_lm Y_lm(mu)                                 (H eq. 37)
 // with A^eff from `transfer`; sums clamped at 0 per lobe and channel. `a` is the material's
 // shShadingFor at the lighting's order or above (its specular A_l for Convolved and tabulated
 // lobes). Lobes are unpacked as shadeVmf does (Banerjee's kappa, at most 1e5).

@@ -1,10 +1,10 @@
 // The paper's sparse set of prepared views (Han et al. 2007, Sec. 8: "to interactively rotate
 // the lighting, we precompute a sparse set of rotated lighting coefficients and interpolate the
-// shading"). The reparameterised lighting L' of eq. 36 depends on the view w_o
+// shading"). The reparameterised lighting L' of H eq. 36 depends on the view w_o
 // (environment_sh_shading.h); one prepared view serves a whole image only approximately
 // (docs/ENVIRONMENT.md, "the fixed-view approximation"). Here L' is prepared for a set of views
 // spread over the sphere, and the lighting for any other view is the weighted sum of its
-// neighbours' coefficients. The shading is linear in L' (eq. 37, and Sum_k Na_k L'_k for the
+// neighbours' coefficients. The shading is linear in L' (H eq. 37, and Sum_k Na_k L'_k for the
 // MeanNormal cosine), so interpolating the coefficients is interpolating the shading.
 //
 // The set: the points of a geodesic grid on the octahedron, normalised. Frequency f cuts each of

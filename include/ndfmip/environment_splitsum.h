@@ -171,7 +171,7 @@ glm::vec3 shadeNaiveSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 filt
                              glm::vec3 view, const glm::mat3& tangentToEnvironment,
                              const SplitSumLighting& lighting, EnvironmentLod rule);
 
-// Toksvig: Na unnormalised; the radiance at Blinn-Phong s' = ft s (eq. 6), Beckmann/GGX alpha' by
+// Toksvig: Na unnormalised; the radiance at Blinn-Phong s' = ft s (T eq. 6), Beckmann/GGX alpha' by
 // `mapping` (roughness.h), as shadeToksvig; Log2Sigma adds the normals' variance (1 - |Na|)/|Na|
 // to the material's lobe spread instead. The albedo factor over normals of mean length |Na|.
 // Diffuse about Na/|Na|, band 1 scaled by |Na| with vmfBandFactors (the mean of irradiance's linear

@@ -42,7 +42,7 @@ ErrorStats compareToTruth(const std::vector<Image>& images, const std::vector<Im
 // Every map rendered from straight above at each footprint (texels per pixel side), with every
 // method and as the ground truth, for every material setting; docs/RENDERING.md. The defaults
 // are the command's (its option names in brackets).
-// vmf's C of eq. 32 in eval's engine view: lobe slots that match across texels and levels, so
+// vmf's C of H eq. 32 in eval's engine view: lobe slots that match across texels and levels, so
 // that blending their parameters blends like lobes.
 constexpr float kEngineViewCoherence = 1.f;
 
@@ -72,9 +72,9 @@ struct EvalOptions {
     // parameters blended, vmf baked with coherent lobes) or aligned (as `aligned`). It is a
     // name for the options below that are left unset; those that are set win.
     std::string view = "lab";
-    std::optional<float>
-        coherence; // vmf methods: C of eq. 32; unset: 0, or kEngineViewCoherence in the engine view
-    bool aligned = false; // each pixel exactly one texel of a level
+    std::optional<float> coherence; // vmf methods: C of H eq. 32; unset: 0, or kEngineViewCoherence
+                                    // in the engine view
+    bool aligned = false;           // each pixel exactly one texel of a level
     // The camera's elevation above the plane in degrees (--elevation): 90 looks straight down;
     // lower tilts it about the texel grid's x axis (a pixel covers footprint / sin(elevation)
     // texels along the view), the light near the view's mirror direction. 5 .. 90.

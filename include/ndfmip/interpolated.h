@@ -122,7 +122,7 @@ struct InterpolatedOptions {
 // Renders a faceted-sphere scene (no textures): RGB radiance, 3 channels. Methods shade each of
 // the options.spp pixel samples once (1: the pixel centre, as a GPU does); taps, lodBias (the
 // cube map has its own, InterpolatedOptions), anisotropy and the truth/exact settings do not
-// apply. cubemap-toksvig shades with shadeToksvig (Blinn-Phong: eq. 6; Beckmann/GGX:
+// apply. cubemap-toksvig shades with shadeToksvig (Blinn-Phong: T eq. 6; Beckmann/GGX:
 // options.roughnessMapping).
 Result<Image> renderInterpolated(const Scene& scene, const std::string& method,
                                  const RenderOptions& options,

@@ -54,7 +54,7 @@ inline float lobeConcentration(const Material& m) {
 // The cosine of a filtered specular term. The truth averages lobe(n.h) (n.l) over the normals;
 // where the NDF is a lobe of concentration kappa about mu, NDF x lobe is (as vMFs) a vMF with
 // natural parameter w = kappa mu + lobeKappa h, whose mean normal is A(|w|) w/|w| (Langevin's
-// A, eq. 23): the normals that reflect, on average. Its dot with l is the mean n.l, so the
+// A, H eq. 23): the normals that reflect, on average. Its dot with l is the mean n.l, so the
 // cosine is max(A(|w|) l.w/|w|, 0): mu.l for a sharp NDF, h.l for a sharp lobe. kappa may be
 // infinite (a single normal).
 inline float specularCosine(glm::vec3 mu, float kappa, float lobeKappa, glm::vec3 h, glm::vec3 l) {
@@ -62,10 +62,10 @@ inline float specularCosine(glm::vec3 mu, float kappa, float lobeKappa, glm::vec
 }
 
 // Toksvig: Na is kept unnormalised. Its length widens the specular lobe (Blinn-Phong: the
-// exponent times the Toksvig factor, eq. 6; Beckmann/GGX: alpha from the roughness mapping).
+// exponent times the Toksvig factor, T eq. 6; Beckmann/GGX: alpha from the roughness mapping).
 // The diffuse cosine is Na.l, the exact mean of the covered normals' cosines where none of them
 // faces away from the light (Lambertian reflection is linear in n); the specular cosine is
-// specularCosine with the NDF read as a vMF of kappa = 1/sigma^2 = |Na|/(1 - |Na|) (eq. 1).
+// specularCosine with the NDF read as a vMF of kappa = 1/sigma^2 = |Na|/(1 - |Na|) (T eq. 1).
 inline glm::vec3 shadeToksvigLobe(const Material& m, glm::vec3 albedo, glm::vec3 na, glm::vec3 l,
                                   glm::vec3 v, float lobe) {
     const glm::vec3 h = glm::normalize(l + v);
@@ -94,7 +94,7 @@ inline glm::vec3 shadeToksvig(const Material& m, glm::vec3 na, glm::vec3 l, glm:
     return shadeToksvig(m, m.albedo, na, l, v, mapping, varianceScale);
 }
 
-// Toksvig through his lookup table (eq. 9; kToksvigLut in render.h): `lut` is toksvigLut(...)
+// Toksvig through his lookup table (T eq. 9; kToksvigLut in render.h): `lut` is toksvigLut(...)
 // of the material's exponent, read bilinearly at (Na.H, Na.Na) with clamped edges, and turned
 // from relative to absolute by the unfiltered lobe's peak (s + 1)/(2 pi). Cosines as
 // shadeToksvig. Blinn-Phong materials only.
@@ -137,16 +137,16 @@ glm::vec3 shadeSggx(const Material& m, glm::vec3 albedo, const float* p, glm::ve
 float sggxLobe(const Material& m, const float* p, glm::vec3 h); // its lobe alone, no cosine
 
 // vMF mixture (Han et al. Sec. 7.2): `lobes` holds J filtered (alpha, alpha r mu) quadruples
-// (eq. 33); each lobe's mu and kappa come back by Algorithm 1 lines 12-13. Per lobe:
-//   Blinn-Phong    s' = kappa s / (kappa + s), (s' + 1)/(2 pi) (h.mu)^s'          (eq. 29)
+// (H eq. 33); each lobe's mu and kappa come back by Algorithm 1 lines 12-13. Per lobe:
+//   Blinn-Phong    s' = kappa s / (kappa + s), (s' + 1)/(2 pi) (h.mu)^s'          (H eq. 29)
 //   Beckmann       alpha'^2 = alpha^2 + 2/kappa: Torrance-Sparrow's sigma'^2 = sigma^2 + 1/(2
 //   kappa)
-//                  (eq. 30) with sigma^2 = alpha^2/4 (the same per-axis spread)
+//                  (H eq. 30) with sigma^2 = alpha^2/4 (the same per-axis spread)
 //   GGX            the same alpha' (an equivalent-roughness mapping; its error is measured)
 //   tabulated      the table about mu, unwidened
 //   diffuse        the Blinn-Phong rule with s = 1 and w = l, which carries the cosine (footnote 9)
 // summed with weights alpha_j; each lobe's specular cosine is specularCosine(mu_j, kappa_j, ...).
-// `colors`, when not null, holds J lobe colours (eq. 31) that
+// `colors`, when not null, holds J lobe colours (H eq. 31) that
 // multiply the material's albedo in place of `albedo`.
 glm::vec3 shadeVmf(const Material& m, glm::vec3 albedo, const float* lobes, int count,
                    const glm::vec3* colors, glm::vec3 l, glm::vec3 v);

@@ -27,8 +27,8 @@ constexpr const char* kGroundTruth = "groundtruth";
 // the same filtering; needs constant light and view directions (an orthographic view of a
 // plane under directional lights), where that mean is a linear mip chain of shaded normals.
 constexpr const char* kExact = "exact";
-// Toksvig's own way to shade: the toksvig bake looked up through the 2D table of eq. 9,
-// indexed by (Na.H, Na.Na), with the 8-bit phase-out of eqs. 10-11. Blinn-Phong only.
+// Toksvig's own way to shade: the toksvig bake looked up through the 2D table of T eq. 9,
+// indexed by (Na.H, Na.Na), with the 8-bit phase-out of T eqs. 10-11. Blinn-Phong only.
 constexpr const char* kToksvigLut = "toksvig-lut";
 // An engine's usual inputs, from any tool: the standard normal mipmap (a naive bake) with a mip
 // chain of roughness (RenderTextures::roughness: perceptual p, alpha = p^2, or alpha itself),

@@ -1,7 +1,7 @@
 // Roughness for today's microfacet engines, from the normal variance that Toksvig's |Na|
 // measures. A Blinn-Phong exponent s matches Beckmann roughness alpha by s = 2/alpha^2 - 2
 // (Walter et al. 2007, sec. 5.2), so 1/s ~ alpha^2/2; Toksvig widens a lobe by
-// 1/s' = 1/s + sigma^2 (eq. 5). Together alpha'^2 = alpha0^2 + 2 sigma^2 with
+// 1/s' = 1/s + sigma^2 (T eq. 5). Together alpha'^2 = alpha0^2 + 2 sigma^2 with
 // sigma^2 = (1 - |Na|)/|Na| (Toksvig eq. 1). Measured against GGX ground truth on real maps
 // (ndfmip eval --calibrate, docs/RESULTS.md), with the truth the pyramid averages (the box
 // surface, integrated exactly), the derived constant 2 is also the closest, so

@@ -4,13 +4,13 @@
 //
 // Convention. A transfer function r(t) of t = w.n (w is the light direction for the diffuse
 // term, the half vector for a specular lobe) is described by
-//     A_l = sqrt(4 pi / (2l + 1)) r_l = 2 pi Integral_{-1}^{1} r(t) P_l(t) dt          (eq. 16)
-// where r_l are its coefficients on Y_l0 about the pole (eq. 14) and P_l the Legendre polynomial.
+//     A_l = sqrt(4 pi / (2l + 1)) r_l = 2 pi Integral_{-1}^{1} r(t) P_l(t) dt          (H eq. 16)
+// where r_l are its coefficients on Y_l0 about the pole (H eq. 14) and P_l the Legendre polynomial.
 // By the addition theorem, P_l(w.n) = 4 pi / (2l + 1) Sum_m Y_lm(w) Y_lm(n), so
 //     r(w.n) = Sum_l A_l Sum_m Y_lm(w) Y_lm(n)
 // with the Y_lm of spherical_harmonics.h, and a texel whose NDF has coefficients g_lm (one normal
 // n: g_lm = Y_lm(n); a mip texel: the average over the normals it covers) has the effective BRDF
-//     r_eff(w) = Sum_{l <= l*} A_l Sum_m g_lm Y_lm(w)                                   (eq. 17).
+//     r_eff(w) = Sum_{l <= l*} A_l Sum_m g_lm Y_lm(w)                                   (H eq. 17).
 // A_0 is the integral of the lobe over the sphere; A_1 is its integral against cos.
 // docs/SPHERICAL_HARMONICS.md has the derivations, the measured accuracies and the table format.
 #pragma once
@@ -111,7 +111,7 @@ int orderNeeded(const std::vector<double>& A, double tolerance);
 Result<int> brdfOrderNeeded(Brdf brdf, float exponent, float alpha, double tolerance);
 
 // ---- tabulated lobes -------------------------------------------------------------------------
-// A factored BRDF f(theta_h) g(theta_d) (eq. 6, Lawrence et al. 2006): f is a lobe about n
+// A factored BRDF f(theta_h) g(theta_d) (H eq. 6, Lawrence et al. 2006): f is a lobe about n
 // (t = cos theta_h), filtered like any other; g depends on the light and view only and multiplies
 // the filtered result at shading time, unfiltered.
 //
@@ -142,7 +142,7 @@ Result<TabulatedTransfer> parseTabulatedTransfer(const std::string& text, const 
 // The table at acos(t) (t clamped to [-1, 1]): f(theta_h) for t = n.h.
 double evaluate(const TabulatedTransfer& table, double t);
 
-// g(theta_d) with theta_d in radians, the factor of eq. 6 applied after the convolution.
+// g(theta_d) with theta_d in radians, the factor of H eq. 6 applied after the convolution.
 double tabulatedFactor(const TabulatedTransfer& g, double thetaD);
 
 // A_0 ... A_order of an f table as r(t) = evaluate(f, t), projected with its rows as panel ends

@@ -2,7 +2,7 @@
 // Domain Normal Map Filtering" (SIGGRAPH 2007), Sec. 7 and the appendix. Each texel's NDF is
 //     g(n) = Sum_j alpha_j gamma(n; mu_j, kappa_j),  gamma = kappa / (4 pi sinh kappa) exp(kappa
 //     mu.n)
-// (eqs. 21-22), fitted by spherical EM (Algorithm 1) to every level-0 normal the texel covers,
+// (H eqs. 21-22), fitted by spherical EM (Algorithm 1) to every level-0 normal the texel covers,
 // initialised from the finer level's lobes by farthest-point clustering (Sec. 7.1).
 // Equation numbers refer to that paper.
 //
@@ -10,7 +10,7 @@
 // throughout, Banerjee et al.'s closed form kappa = (3r - r^3)/(1 - r^2) (Algorithm 1, line 12),
 // and its exact inverse: the fit computes kappa from r with it, packLobe stores the r it came
 // from, and a shader recovers kappa from an interpolated r with the same formula. The true mean
-// length of a vMF is Langevin's A(kappa) = coth kappa - 1/kappa (eq. 23); Banerjee's kappa is
+// length of a vMF is Langevin's A(kappa) = coth kappa - 1/kappa (H eq. 23); Banerjee's kappa is
 // within 0.5 of A^-1(r) (exact as r -> 0, +0.5 as r -> 1). VmfFitOptions::exactKappa fits with
 // A^-1 instead.
 #pragma once
@@ -42,7 +42,7 @@ struct VmfLobe {
     float alpha = 0.f;     // amplitude; a texel's alphas sum to 1
     glm::vec3 mu{0, 0, 1}; // central direction, unit length
     float kappa = 0.f;     // concentration (inverse width), 0 = uniform over the sphere
-    glm::vec3 color{0.f};  // per-lobe feature (eq. 31); the fit leaves it 0
+    glm::vec3 color{0.f};  // per-lobe feature (H eq. 31); the fit leaves it 0
 };
 
 // ---- one lobe ------------------------------------------------------------------------------
@@ -59,7 +59,7 @@ double vmfLogDensity(glm::vec3 n, glm::vec3 mu, double kappa);
 // log-sum-exp: finite wherever one alpha > 0 (-infinity where none is).
 double vmfMixtureLogDensity(glm::vec3 n, std::span<const VmfLobe> lobes);
 
-// Langevin's A(kappa) = coth kappa - 1/kappa (eq. 23): the mean resultant length of a vMF,
+// Langevin's A(kappa) = coth kappa - 1/kappa (H eq. 23): the mean resultant length of a vMF,
 // by series below kappa = 0.1 and 1 - 1/kappa above 20 (coth = 1 to double precision).
 double langevin(double kappa);
 
@@ -83,7 +83,7 @@ double meanLengthFromKappa(double kappa);
 // Every b of practice exceeds kDefaultKappaMax; the fit caps it there.
 float quantisationKappa(int bits);
 
-// ---- storage for linear filtering (eq. 33) ------------------------------------------------
+// ---- storage for linear filtering (H eq. 33) ------------------------------------------------
 // A lobe is stored as (alpha, alpha r mu), r = meanLengthFromKappa(kappa): both are means over
 // the texel's normals (alpha r mu = Sum_i z_ij n_i / N), so trilinear filtering of the four
 // channels averages them as the pyramid does, and unpacking the filtered value gives the lobe of
@@ -132,7 +132,7 @@ struct VmfFitOptions {
     // can then dip by ~1e-7 relative, which ends the fit); true = the exact maximum-likelihood
     // A^-1(r), which makes each iteration an exact EM step (the log-likelihood never decreases).
     bool exactKappa = false;
-    // Coherent lobes (Sec. 7.3): C of eq. 32, the strength of the pull of each lobe's direction
+    // Coherent lobes (Sec. 7.3): C of H eq. 32, the strength of the pull of each lobe's direction
     // toward the same lobe of its neighbours; 0 = none. Used by fitVmfMixture with an
     // `alignment` and by fitVmfPyramidCoherent; fitVmfPyramid hands the pyramid to the latter
     // when it is > 0.
@@ -189,11 +189,11 @@ struct VmfFitResult {
 // Coherent fit (Sec. 7.3): `alignment` non-null holds one vector per initial lobe (slot),
 // align_j = Sum_k alpha_jk mu_jk over the lobes j of already fitted neighbouring texels, and
 // line 13 of the M-step becomes mu_j = normalize(r_j + C align_j), C = options.coherence
-// (eq. 32). r_j is, as in the paper's line 11, the mean resultant vector of the lobe's normals,
+// (H eq. 32). r_j is, as in the paper's line 11, the mean resultant vector of the lobe's normals,
 // Sum_i w_i z_ij n_i / Sum_i w_i z_ij (length <= 1; A(kappa) mu for a vMF), so C weighs align_j
 // against a vector no longer than 1, whatever the texel's size. kappa_j still comes from
 // |r_j| (or r_j . mu_j: alignedKappa). (The appendix's prior Sum_k C' alpha_jk mu_j . mu_jk gives
-// mu_j ~ kappa_j Sum_i z_ij n_i + C' align_j: eq. 32 with C = C' / (kappa_j Sum_i z_ij); read
+// mu_j ~ kappa_j Sum_i z_ij n_i + C' align_j: H eq. 32 with C = C' / (kappa_j Sum_i z_ij); read
 // with r_j the sum Sum_i z_ij n_i, as the paper's C = C' / kappa_j suggests, the pull would
 // weaken with the number of normals instead.) C <= 0 pulls nothing. A coherent fit keeps the
 // lobes in their slots: result.lobes has the first kMaxVmfLobes entries of `initial`, in that
@@ -222,14 +222,14 @@ VmfFitResult fitVmfMixture(const glm::vec3* normals, const float* weights, size_
 std::vector<VmfLobe> farthestPointLobes(const std::vector<VmfLobe>& candidates, int J);
 
 // Seeds by agglomeration: the candidates (alpha > 0 only) are merged two at a time until J are
-// left, each time the pair whose merge loses least. A merge preserves the moments eq. 33
+// left, each time the pair whose merge loses least. A merge preserves the moments H eq. 33
 // filters: alphas add, the mean vectors alpha r mu add, and mu and kappa come from the sum
 // (kappa by Banerjee's map, or A^-1 with options.exactKappa). The loss of merging a and b into
 // c is Runnalls' bound on the Kullback-Leibler divergence for Gaussian mixtures, read for vMF
 // lobes as 2D Gaussians of variance 1/kappa per axis,
 //     B = alpha_a log(k_a / k_c) + alpha_b log(k_b / k_c),
 // with each kappa first seen through a lobe of concentration s = options.mergeSmoothing,
-// k = kappa s / (kappa + s) (eq. 29's convolution). Unsmoothed, spikes (kappa ~ 1e5, one normal
+// k = kappa s / (kappa + s) (H eq. 29's convolution). Unsmoothed, spikes (kappa ~ 1e5, one normal
 // each) would look as costly to merge as anything; smoothed, a light outlier merges cheaply and
 // the lobes go to where the texel's mass is. Alphas of the result sum to 1, heaviest first; no
 // candidates give an empty result. 1 <= J <= kMaxVmfLobes (clamped).
@@ -238,7 +238,7 @@ std::vector<VmfLobe> mergedLobes(const std::vector<VmfLobe>& candidates, int J,
 
 // How well lobes stand for a set of normals, judged where shading sees the NDF: both seen through
 // a Blinn-Phong-like lobe of concentration s (the normals each as a vMF of kappa s, the lobes by
-// eq. 29's kappa s / (kappa + s)), the relative L2 distance over the sphere,
+// H eq. 29's kappa s / (kappa + s)), the relative L2 distance over the sphere,
 //     sqrt( Integral (f_s - g_s)^2 / Integral f_s^2 ),
 // in closed form (Integral gamma_1 gamma_2 = C(k_1) C(k_2) / C(|k_1 mu_1 + k_2 mu_2|)). Unlike the
 // likelihood, which a lobe on one normal raises without end, this is the shading error a mixture
@@ -283,7 +283,7 @@ std::vector<VmfLevel> fitVmfPyramid(const Pyramid& pyramid, int J, const VmfFitO
                                     VmfFitStats* stats);
 
 // Coherent lobes for hardware interpolation (Sec. 7.3): slot j holds corresponding lobes in
-// every texel of every level, so that filtering the packed slots (eq. 33) across texels and
+// every texel of every level, so that filtering the packed slots (H eq. 33) across texels and
 // levels blends lobes that belong together. Built top-down as the paper does:
 // - the top (1x1) texel: farthest-point seeds over all its level-0 normals (there is no finer
 //   fit to start from): the normal nearest the mean direction first, then repeatedly the normal
@@ -292,7 +292,7 @@ std::vector<VmfLevel> fitVmfPyramid(const Pyramid& pyramid, int J, const VmfFitO
 // - every level below it, texels in scanline order: slot j starts as slot j of the parent, and
 //   coherent EM over all level-0 normals of the footprint pulls mu_j toward
 //   align_j = Sum_k alpha_jk mu_jk over the texels fitted before it: the parent and the left,
-//   upper-left, upper and upper-right texels of its level (eq. 32, C = options.coherence;
+//   upper-left, upper and upper-right texels of its level (H eq. 32, C = options.coherence;
 //   C = 0 gives the slot-coherent start alone, and then the packed lobes add up to Na as in
 //   fitVmfPyramid).
 // - level 0: one lobe, alpha 1, mu = n, kappa = min(levelZeroKappa, kappaMax), in the slot
@@ -328,7 +328,7 @@ double lobeMismatch(const std::vector<VmfLevel>& levels, int firstLevel = 1);
 
 } // namespace ndfmip
 
-// ---- colour per lobe (Sec. 7.3, eq. 31) ----------------------------------------------------
+// ---- colour per lobe (Sec. 7.3, H eq. 31) ----------------------------------------------------
 // A texel whose normals come from differently coloured surfaces keeps one colour per lobe: the
 // mean colour of the normals each lobe explains, y_j = Sum_i z_ij y_i / Sum_i z_ij. A colour
 // does not change which lobe explains a normal, so this runs after the fit, on its final lobes.
@@ -339,7 +339,7 @@ double lobeMismatch(const std::vector<VmfLevel>& levels, int firstLevel = 1);
 
 namespace ndfmip {
 
-// Sets `color` of every lobe of every level of `levels` (fitVmfPyramid of `pyramid`) to eq. 31
+// Sets `color` of every lobe of every level of `levels` (fitVmfPyramid of `pyramid`) to H eq. 31
 // over all level-0 texels i of the texel's footprint, with y_i the RGB of `albedo` (level 0's
 // size, 3 or 4 channels, linear; a fourth channel is ignored) and z_ij the E-step
 // responsibilities of the texel's lobes, alpha_j gamma_j(n_i) / Sum_k alpha_k gamma_k(n_i), in

@@ -238,7 +238,7 @@ float ndfmipRmsCosine(float mu, float r) {
     return sqrt(max(mu * mu * (1.0f - sin2) + 0.5f * sin2 * (1.0f - mu * mu), 0.0f));
 }
 
-// lengthFromRoughness: eq. 1 inverted through the ours mapping, 1/(1 + (widened^2 - alpha^2)/c).
+// lengthFromRoughness: T eq. 1 inverted through the ours mapping, 1/(1 + (widened^2 - alpha^2)/c).
 float ndfmipLengthFromRoughness(float widened, float alpha) {
     return 1.0f / (1.0f + max(widened * widened - alpha * alpha, 0.0f) / 2.0f); // kVarianceScale
 }
@@ -285,7 +285,7 @@ vec3 ndfmipShadeRoughnessMipsEnvironment(NdfmipMaterial m, vec3 albedo, vec3 fil
 
 // shadeToksvigSplitSum: diffuse about Na/|Na| with band 1 scaled by |Na| (its exact mean) and
 // band 2 as a vMF of that mean length; the radiance of the lobe widened as ndfmipShadeToksvig
-// (eq. 6 or the roughness mapping), or for log2sigma with the normals' sigma^2 (eq. 1) added to
+// (T eq. 6 or the roughness mapping), or for log2sigma with the normals' sigma^2 (T eq. 1) added to
 // the spread; the albedo factor the material's over normals of mean length |Na|.
 vec3 ndfmipShadeToksvigEnvironment(NdfmipMaterial m, vec3 albedo, vec3 na, NdfmipHit hit, vec3 view, int mapping,
                                    float varianceScale) {
@@ -305,7 +305,7 @@ vec3 ndfmipShadeToksvigEnvironment(NdfmipMaterial m, vec3 albedo, vec3 na, Ndfmi
 }
 
 // One lobe of shadeVmfSplitSum, weight included: diffuse at mu band-attenuated by the vMF,
-// specular along the reflection about mu at the widened lobe's roughness (eqs. 29-30).
+// specular along the reflection about mu at the widened lobe's roughness (H eqs. 29-30).
 vec3 ndfmipShadeVmfLobeEnvironment(NdfmipMaterial m, vec3 albedo, vec4 lobeTexel, NdfmipHit hit, vec3 view) {
     NdfmipLobe lobe = ndfmipUnpackLobe(lobeTexel);
     if (!(lobe.alpha > 0.0f)) return vec3(0.0f);
@@ -449,8 +449,8 @@ NdfmipShSums ndfmipEnvShSums(float aD[NDFMIP_SH_MAX_ORDER + 1], float aS[NDFMIP_
 }
 
 // shadeShEnvironment: the lighting in the hit's tangent frame, where g is (the plane's from the
-// CPU, a sphere's rotated per hit above). Diffuse Sum A_l^diffuse g_lm L_lm (eq. 35), specular
-// Sum A_l^specular g_lm L'_lm (eq. 37) with the cosine from footnote 5's mipmapped normal, each
+// CPU, a sphere's rotated per hit above). Diffuse Sum A_l^diffuse g_lm L_lm (H eq. 35), specular
+// Sum A_l^specular g_lm L'_lm (H eq. 37) with the cosine from footnote 5's mipmapped normal, each
 // clamped at 0. Bands up to NDFMIP_ENV_SH_ORDER (at most the bake's order).
 // On a sphere (NDFMIP_ENVIRONMENT_SH_PER_HIT) the caller has rotated the lighting into hit's frame
 // (ndfmipEnvShRotate, once per hit in main.frag's ndfmipLookup).
@@ -513,9 +513,9 @@ NdfmipVmfBands ndfmipVmfBands(float kappa, int order) {
 }
 
 // One lobe of shadeVmfEnvironmentSh, weight included: no rotation, only Y_lm(mu) in the
-// environment frame (footnote 10). Diffuse Sum A_l^vMF A_l^diffuse Sum_m L_lm Y_lm(mu) (eq. 35);
-// specular Sum A_l^eff Sum_m L'_lm Y_lm(mu) (eq. 37), A^eff the widened Blinn-Phong lobe of
-// eq. 29 or, for Beckmann and GGX, the exact convolution A_l^vMF A_l^specular.
+// environment frame (footnote 10). Diffuse Sum A_l^vMF A_l^diffuse Sum_m L_lm Y_lm(mu) (H eq. 35);
+// specular Sum A_l^eff Sum_m L'_lm Y_lm(mu) (H eq. 37), A^eff the widened Blinn-Phong lobe of
+// H eq. 29 or, for Beckmann and GGX, the exact convolution A_l^vMF A_l^specular.
 vec3 ndfmipShadeVmfLobeEnvironmentSh(NdfmipMaterial m, vec3 albedo, vec4 lobeTexel, NdfmipHit hit) {
     NdfmipLobe lobe = ndfmipUnpackLobe(lobeTexel);
     if (!(lobe.alpha > 0.0f)) return vec3(0.0f);

@@ -4,7 +4,7 @@
 // (Toksvig, "Anti-aliasing Specular Highlights from Interpolated Normals") looks the
 // interpolated normal up in the normalisation cube map mipmapped without renormalisation, at
 // the LOD of the normal's change to the neighbouring pixels, and shades the shortened result
-// as Na: |Na| widens the lobe (eqs. 1 and 6). Needs the library, raycast.glsl and faceted.glsl.
+// as Na: |Na| widens the lobe (T eqs. 1 and 6). Needs the library, raycast.glsl and faceted.glsl.
 
 #define NDFMIP_MAX_LIGHTS 16
 #define NDFMIP_INTERPOLATED_RENORMALIZED 0

@@ -1,5 +1,5 @@
 // The lighting of the paper's environment shading (environment_sh_shading.h): the radiance's SH
-// coefficients and the reparameterised lighting L' of eq. 36 for one view.
+// coefficients and the reparameterised lighting L' of H eq. 36 for one view.
 #include <atomic>
 #include <cassert>
 #include <cmath>

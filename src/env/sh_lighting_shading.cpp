@@ -112,10 +112,10 @@ glm::vec3 shadeShEnvironment(const Material& m, glm::vec3 albedo, const float* g
         coefficients[i] = double(g[i]);
     }
     const glm::vec3 diffuse =
-        clampedColour(weightedDot(a.diffuse, order, coefficients, radiance)); // eq. 35
+        clampedColour(weightedDot(a.diffuse, order, coefficients, radiance)); // H eq. 35
     if (m.brdf == Brdf::Lambert) return albedo * diffuse;
     const glm::vec3 specular =
-        clampedColour(weightedDot(a.specular, order, coefficients, reparameterised)); // eq. 37
+        clampedColour(weightedDot(a.specular, order, coefficients, reparameterised)); // H eq. 37
     return albedo * diffuse + m.specular * specular;
 }
 
@@ -180,7 +180,7 @@ glm::vec3 shadeVmfEnvironmentSh(const Material& m, glm::vec3 baseAlbedo, const f
             glm::dvec3 sum(0.);
             for (int i = shIndex(l, -l); i <= shIndex(l, l); ++i)
                 sum += lighting.radiance[size_t(i)] * basis[i];
-            diffuse += band[l] * a.diffuse[size_t(l)] * sum; // eq. 35
+            diffuse += band[l] * a.diffuse[size_t(l)] * sum; // H eq. 35
         }
         if (m.brdf != Brdf::Lambert) {
             if (transfer == VmfSpecularTransfer::Convolved || m.brdf == Brdf::Tabulated) {
@@ -192,9 +192,9 @@ glm::vec3 shadeVmfEnvironmentSh(const Material& m, glm::vec3 baseAlbedo, const f
                              : band[l]);
             } else if (m.brdf == Brdf::BlinnPhong) {
                 const double s = double(m.exponent);
-                specularA = blinnPhongCoefficients(kappa * s / (kappa + s), order); // eq. 29
+                specularA = blinnPhongCoefficients(kappa * s / (kappa + s), order); // H eq. 29
             } else {
-                // eq. 30 and its GGX analogue, as shadeVmf (the same floor on kappa).
+                // H eq. 30 and its GGX analogue, as shadeVmf (the same floor on kappa).
                 const double alpha = std::sqrt(double(m.roughness) * double(m.roughness) +
                                                2. / std::max(kappa, 1e-6));
                 const bool beckmann = m.brdf == Brdf::Beckmann;
@@ -208,7 +208,7 @@ glm::vec3 shadeVmfEnvironmentSh(const Material& m, glm::vec3 baseAlbedo, const f
                 glm::dvec3 sum(0.);
                 for (int i = shIndex(l, -l); i <= shIndex(l, l); ++i)
                     sum += reparameterisedAt(lighting, i, meanNormal) * basis[i];
-                specular += specularA[size_t(l)] * sum; // eq. 37
+                specular += specularA[size_t(l)] * sum; // H eq. 37
             }
         }
         const glm::vec3 albedo = colors ? colors[j] * m.albedo : baseAlbedo;

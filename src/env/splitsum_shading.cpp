@@ -30,7 +30,7 @@ float alphaPerceptual(float alpha) {
 // unit mean direction m, mu = m.v: E[(n.v)^2] = E[cos^2 t] mu^2 + E[sin^2 t] (1 - mu^2)/2 (t the
 // angle to m, the spread even about m), with a vMF's E[sin^2 t] = 2 A(kappa)/kappa, A = r and
 // kappa by Banerjee's approximation (vmfKappaFromLength): 2 (1 - r^2)/(3 - r^2), about 2 (1 - r)
-// near r = 1 (twice eq. 1's sigma^2) and 2/3 (normals over the whole sphere) at r = 0. A lobe's
+// near r = 1 (twice T eq. 1's sigma^2) and 2/3 (normals over the whole sphere) at r = 0. A lobe's
 // albedo grows as (n.v)^2 (4 (n.v)^2 when sharp), so one albedo read here stands for the mean of
 // the texel's own. One normal (r >= 1): mu itself, clamped to [0, 1].
 float rmsCosine(float mu, float r) {
@@ -42,7 +42,7 @@ float rmsCosine(float mu, float r) {
 }
 
 // The mean length |Na| whose Toksvig variance widens alpha to `widened` under the ours mapping
-// (roughness.h, c = kVarianceScale): eq. 1 inverted, 1/(1 + sigma^2), sigma^2 = (widened^2 -
+// (roughness.h, c = kVarianceScale): T eq. 1 inverted, 1/(1 + sigma^2), sigma^2 = (widened^2 -
 // alpha^2)/c; 1 where the stored roughness is not wider than the material's.
 float lengthFromRoughness(float widened, float alpha) {
     return 1.f / (1.f + std::max(widened * widened - alpha * alpha, 0.f) / kVarianceScale);
@@ -122,7 +122,7 @@ glm::vec3 shadeToksvigSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 na
     glm::vec3 out = diffuseTerm(albedo, n, tangentToEnvironment, lighting, band);
     if (!hasLobe(m)) return out;
 
-    // The widened lobe exactly as shadeToksvig: s' = ft s (eq. 6) or the roughness mapping; it
+    // The widened lobe exactly as shadeToksvig: s' = ft s (T eq. 6) or the roughness mapping; it
     // blurs the radiance, the albedo factor stays the material's (specularTerm).
     const float r =
         m.brdf == Brdf::BlinnPhong
@@ -133,7 +133,7 @@ glm::vec3 shadeToksvigSplitSum(const Material& m, glm::vec3 albedo, glm::vec3 na
         return out +
                specularTerm(m, n, view, tangentToEnvironment, lighting, rule, r, base, length);
     // Toksvig's own rule: the material's spread plus the normals' sigma^2 = (1 - |Na|)/|Na|
-    // (eq. 1), which for Blinn-Phong is eq. 5's 1/s' = 1/s + sigma^2 and for Beckmann/GGX the
+    // (T eq. 1), which for Blinn-Phong is T eq. 5's 1/s' = 1/s + sigma^2 and for Beckmann/GGX the
     // Ours mapping with c = 2.
     return out + specularTerm(m, n, view, tangentToEnvironment, lighting, rule, base, base, length,
                               length > 0.f ? toksvigSigma2(length) : 1e6);
@@ -174,7 +174,7 @@ glm::vec3 shadeVmfSplitSum(const Material& m, glm::vec3 albedo, const float* lob
             lighting.vmfBandFactors ? vmfBandFactors(lobe.kappa) : glm::dvec3(1.);
         glm::vec3 term = diffuseTerm(lobeAlbedo, lobe.mu, tangentToEnvironment, lighting, band);
         if (hasLobe(m)) {
-            // Eqs. 29-30 as ndfmipVmfWidenedLobe: the material's lobe convolved with the vMF.
+            // H eqs. 29-30 as ndfmipVmfWidenedLobe: the material's lobe convolved with the vMF.
             const float kappa = std::max(lobe.kappa, 1e-6f);
             const float r = m.brdf == Brdf::BlinnPhong
                                 ? blinnPhongPerceptual(kappa * m.exponent / (kappa + m.exponent))

@@ -414,7 +414,7 @@ std::vector<ExternalRoughness> externalRows(const std::vector<std::string>& spec
 }
 
 // The options with the view's rule where they leave it open: lab (the renderer's default rule),
-// engine (one trilinear lookup, parameters blended, vmf's lobes coherent: eq. 32, what hardware
+// engine (one trilinear lookup, parameters blended, vmf's lobes coherent: H eq. 32, what hardware
 // filtering needs) or aligned (one texel per pixel).
 EvalOptions withView(EvalOptions a) {
     if (a.view != "lab" && a.view != "engine" && a.view != "aligned")

@@ -1,4 +1,4 @@
-// ndfmip lut: Toksvig's 2D lookup table (eq. 9), optionally with the phase-out of eq. (11).
+// ndfmip lut: Toksvig's 2D lookup table (T eq. 9), optionally with the phase-out of T eq. 11.
 #include <cstdio>
 #include <memory>
 

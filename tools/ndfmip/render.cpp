@@ -46,7 +46,7 @@ struct RenderArgs {
     int truthSpp = 256; // faceted spheres: the truth frames of the error flicker
 };
 
-// Eq. 17 keeps bands l <= l*: say so when the material's lobe holds more than 1% of its energy
+// H eq. 17 keeps bands l <= l*: say so when the material's lobe holds more than 1% of its energy
 // above the bake's order.
 void warnAboutShTruncation(const Material& m, int order) {
     if (m.brdf == Brdf::Lambert) return;

@@ -1,6 +1,6 @@
 // Spherical-harmonic NDF bake (Han et al. Sec. 5): at level 0 each texel's NDF is a delta at
 // its normal, so g_lm = Y_lm(n) (footnote 6: real SH); the coefficients are linear in the NDF,
-// so every coarser level is the plain mean over the covered block (eq. 14 onward).
+// so every coarser level is the plain mean over the covered block (H eq. 14 onward).
 // Stored four coefficients per plane, band by band (shIndex order), the last plane padded.
 #include <string>
 

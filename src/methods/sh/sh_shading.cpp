@@ -54,7 +54,7 @@ float shLobe(const float* g, const ShShading& a, glm::vec3 h) {
 glm::vec3 shadeSh(const Material& m, glm::vec3 albedo, const float* g, const ShShading& a,
                   glm::vec3 l, glm::vec3 v) {
     // The convolutions in double to any order (the GPU's ndfmipShConvolve: float, order <= 10),
-    // eq. 17 from them by the GLSL.
+    // H eq. 17 from them by the GLSL.
     const glm::vec3 h = glm::normalize(l + v);
     const float diffuse = float(convolve(g, a.diffuse, a.order, l));
     const float specular =

@@ -1,4 +1,4 @@
-// Spherical-harmonic NDFs (Han et al. Sec. 5) as a unit, and their shader (eq. 17).
+// Spherical-harmonic NDFs (Han et al. Sec. 5) as a unit, and their shader (H eq. 17).
 #include <algorithm>
 #include <cmath>
 
@@ -115,7 +115,7 @@ std::vector<MethodShader> shShaders() {
     auto defines = [](const ShaderSetup&, int layers) {
         return "#define NDFMIP_LAYERS " + std::to_string(layers) + "\n";
     };
-    // The BRDF's A_l per band (eq. 17) beside the coefficients, up to the GLSL arrays' size.
+    // The BRDF's A_l per band (H eq. 17) beside the coefficients, up to the GLSL arrays' size.
     auto uniforms = [](const ShaderSetup& setup, std::vector<UniformValue>& u) {
         if (setup.sh.order > kGpuMaxShOrder)
             return Status::failure("render --gpu: sh bakes up to order " +

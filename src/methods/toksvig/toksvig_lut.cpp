@@ -1,5 +1,5 @@
-// Toksvig's 2D lookup table (eq. 9), indexed by Na.H and Na.Na, with the optional phase-out
-// of eqs. (10)-(11) where 8- or 16-bit normals make |Na| too imprecise for the Toksvig factor.
+// Toksvig's 2D lookup table (T eq. 9), indexed by Na.H and Na.Na, with the optional phase-out
+// of T eqs. 10-11 where 8- or 16-bit normals make |Na| too imprecise for the Toksvig factor.
 #include <algorithm>
 #include <cmath>
 
@@ -33,7 +33,7 @@ float toksvigLutEntry(float naDotH, float naDotNa, const ToksvigLutOptions& opti
     float error =
         lengthQuantisationError(options.bitDepth) * toksvigIntensitySensitivity(length, s);
     if (error <= options.threshold) return antialiased;
-    // Eq. (11): fall back towards the traditional lookup (Na.H/|Na|)^s as the error grows.
+    // T eq. 11: fall back towards the traditional lookup (Na.H/|Na|)^s as the error grows.
     float cosine = length > 0.f ? std::clamp(naDotH, 0.f, length) / length : 1.f;
     float aliased = std::pow(cosine, s);
     float w = options.threshold / error;

@@ -1,5 +1,5 @@
-// Toksvig's method as a unit, and its two shaders: the closed form (eq. 6 and the roughness
-// mapping) and his 2D lookup table with the 8-bit phase-out (eqs. 9-11).
+// Toksvig's method as a unit, and its two shaders: the closed form (T eq. 6 and the roughness
+// mapping) and his 2D lookup table with the 8-bit phase-out (T eqs. 9-11).
 #include <nlohmann/json.hpp>
 
 #include "methods/method_unit.h"

@@ -1,5 +1,5 @@
 // vMF bake (Han et al. Sec. 7): the lobes fitted at every level, stored as one plane per lobe
-// slot with (alpha, alpha r mu) (eq. 33), which filters linearly; the shader recovers mu and
+// slot with (alpha, alpha r mu) (H eq. 33), which filters linearly; the shader recovers mu and
 // kappa from the filtered values (Algorithm 1, lines 12-13).
 #include <string>
 
@@ -19,7 +19,7 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
     VmfFitOptions fit;
     fit.maxIterations = int(parameter("max_iterations"));
     fit.tolerance = parameter("tolerance");
-    // Coherent lobes (eq. 32) take kappa from r_j . mu_j, the exact M-step of the alignment
+    // Coherent lobes (H eq. 32) take kappa from r_j . mu_j, the exact M-step of the alignment
     // objective: with kappa from |r_j| the pull costs the sharp lobes of the fine levels much
     // of their likelihood.
     fit.coherence = coherence;

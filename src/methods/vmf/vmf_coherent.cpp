@@ -1,7 +1,7 @@
 // Coherent vMF lobes for a whole pyramid (Han et al. 2007, Sec. 7.3): fitted top-down, each
 // texel started from its own plain fit's lobes put into its parent's slots, and its directions
-// pulled toward the same slot of the texels fitted before it (eq. 32), so that hardware
-// filtering of the packed slots (eq. 33) blends lobes that belong together.
+// pulled toward the same slot of the texels fitted before it (H eq. 32), so that hardware
+// filtering of the packed slots (H eq. 33) blends lobes that belong together.
 //
 // A texel depends on its parent and on its left, upper-left, upper and upper-right neighbours:
 // every texel of the anti-diagonal x + 2y = d depends only on earlier anti-diagonals, so each
@@ -48,7 +48,7 @@ TexelFit fitSlots(const vmf::Samples& samples, vmf::LobeSet& lobes, const vmf::A
 // The plain fit's lobes of a texel put into the slots of `reference` (its parent): greedily the
 // pair of (reference slot, lobe) with the closest directions first; lobes left over take the
 // empty slots. The mixture is unchanged, only its slot order, so the fit's accuracy is kept and
-// eq. 32 starts from lobes that already match their neighbours.
+// H eq. 32 starts from lobes that already match their neighbours.
 vmf::LobeSet matchSlots(std::span<const VmfLobe> lobes, const VmfLobe* reference, int J) {
     vmf::LobeSet out;
     out.count = J;

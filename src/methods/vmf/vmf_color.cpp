@@ -94,7 +94,7 @@ ColorSums sumRow(const ColorTerms& terms, const Image& normals, const Image& alb
     return sums;
 }
 
-// Eq. 31 for the lobes of one texel of a level >= 1. parallelRows: split its rows across the
+// H eq. 31 for the lobes of one texel of a level >= 1. parallelRows: split its rows across the
 // threads (the sums are added in row order either way, so the bits do not change).
 void colorTexel(const Pyramid& pyramid, const Image& albedo, int level, int x, int y,
                 std::span<VmfLobe> lobes, bool parallelRows) {

@@ -1,6 +1,6 @@
 // Spherical EM for mixtures of vMF lobes (Han et al. 2007, Sec. 7.1, Algorithm 1), the map
 // between kappa and the mean resultant length, farthest-point initialisation and the storage of
-// lobes for linear filtering (eq. 33). The E-step kernel is in vmf_estep.cpp.
+// lobes for linear filtering (H eq. 33). The E-step kernel is in vmf_estep.cpp.
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -176,7 +176,7 @@ void removeLobe(LobeSet& set, int j) {
 }
 
 // Two lobes that no normal can tell apart: centres closer than 1e-3 of the width 1/sqrt(kappa)
-// and kappas within 0.1%. Merged by adding their means alpha r mu (what eq. 33 filters).
+// and kappas within 0.1%. Merged by adding their means alpha r mu (what H eq. 33 filters).
 bool indistinguishable(const VmfLobe& a, const VmfLobe& b) {
     double kappa = std::max(a.kappa, b.kappa);
     if (std::abs(double(a.kappa) - double(b.kappa)) > 1e-3 * kappa) return false;
@@ -373,7 +373,7 @@ void sanitiseSlots(LobeSet& set, const VmfFitOptions& options) {
 }
 
 // mStep for slots: `moments` holds the live slots in slot order (slotOf maps them back). Line 13
-// becomes eq. 32, mu_j = normalize(r_j + C align_j); kappa_j comes from |r_j| or, with
+// becomes H eq. 32, mu_j = normalize(r_j + C align_j); kappa_j comes from |r_j| or, with
 // alignedKappa, from r_j . mu_j.
 LobeSet mStepSlots(const Moments& moments, const int* slotOf, int live, const LobeSet& current,
                    const Alignment& alignment, double totalWeight, const VmfFitOptions& options) {

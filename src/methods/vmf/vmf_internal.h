@@ -103,7 +103,7 @@ struct EmOutcome {
 EmOutcome runEm(const Samples& samples, LobeSet& lobes, const VmfFitOptions& options, bool parallel,
                 std::vector<double>* trace);
 
-// What a coherent fit pulls each slot's direction toward (eq. 32): C align_j, already scaled by
+// What a coherent fit pulls each slot's direction toward (H eq. 32): C align_j, already scaled by
 // C = options.coherence. Zero for slots with no neighbour lobe.
 struct Alignment {
     glm::dvec3 pull[kMaxVmfLobes] = {};

@@ -1,5 +1,5 @@
 // How well the lobes of adjacent texels correspond slot by slot (Han et al. 2007, Sec. 7.3):
-// hardware filtering of packed lobes (eq. 33) blends slot j of neighbouring texels, which only
+// hardware filtering of packed lobes (H eq. 33) blends slot j of neighbouring texels, which only
 // makes sense where slot j holds lobes pointing alike.
 #include <algorithm>
 #include <cmath>

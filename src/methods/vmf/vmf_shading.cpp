@@ -9,7 +9,7 @@ namespace ndfmip {
 
 namespace {
 
-// Lobe j's specular lobe about mu with the material's lobe widened by kappa (eqs. 29-30);
+// Lobe j's specular lobe about mu with the material's lobe widened by kappa (H eqs. 29-30);
 // tabulated lobes have no widening rule and are read about mu.
 float widenedLobe(const Material& m, glm::vec3 mu, float kappa, glm::vec3 h) {
     if (m.brdf == Brdf::Tabulated) return materialLobe(m, glm::dot(mu, h), 0.f, 0.f);

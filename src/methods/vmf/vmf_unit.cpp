@@ -1,4 +1,4 @@
-// vMF mixtures (Han et al. Sec. 7) as a unit, and their shader (eqs. 29-31).
+// vMF mixtures (Han et al. Sec. 7) as a unit, and their shader (H eqs. 29-31).
 #include <algorithm>
 #include <cmath>
 
@@ -83,9 +83,9 @@ glm::vec3 shadeVmfParams(const ShaderSetup& setup, const Material& m, const floa
 }
 
 // Under an environment: per lobe, the prefiltered level of its equivalent roughness along the
-// reflection about mu_j (the engine way), or eqs. 35 and 37 with SH lighting (the paper's: Blinn-
-// Phong's widened lobe of eq. 29; Beckmann and GGX by the lobe convolved exactly, as fast and
-// without eq. 30's equivalent-roughness step).
+// reflection about mu_j (the engine way), or H eqs. 35 and 37 with SH lighting (the paper's: Blinn-
+// Phong's widened lobe of H eq. 29; Beckmann and GGX by the lobe convolved exactly, as fast and
+// without H eq. 30's equivalent-roughness step).
 glm::vec3 shadeVmfEnvironment(const ShaderSetup& setup, const Material& m, const float* p,
                               glm::vec3 albedo, glm::vec3 v, const glm::mat3& toEnvironment,
                               const EnvironmentLighting&) {
