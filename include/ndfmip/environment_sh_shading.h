@@ -106,9 +106,9 @@ void vmfBandFactors(double kappa, int order, double* out);
 
 // How a lobe's specular transfer r_eff is formed.
 enum class VmfSpecularTransfer {
-    Widened, // the widened lobe of shadeVmf (H eq. 29 Blinn-Phong, H eq. 30 Beckmann and GGX, a
-             // table unwidened), projected per lobe: Blinn-Phong in closed form, Beckmann and GGX
-             // by projectTransfer (slow: for reference renders)
+    Widened,   // the widened lobe of shadeVmf (H eq. 29 Blinn-Phong, H eq. 30 Beckmann and GGX, a
+               // table unwidened), projected per lobe: Blinn-Phong in closed form, Beckmann and GGX
+               // by projectTransfer (slow: for reference renders)
     Convolved, // the exact convolution in SH: vmfBandFactors(kappa) times the material's A_l
 };
 
