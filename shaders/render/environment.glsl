@@ -272,11 +272,11 @@ vec3 ndfmipShadeNaiveEnvironment(NdfmipMaterial m, vec3 albedo, vec3 filtered, N
 // material's over the spread that widened it (ndfmipLengthFromRoughness, the ours mapping).
 vec3 ndfmipShadeRoughnessMipsEnvironment(NdfmipMaterial m, vec3 albedo, vec3 filtered, float stored, bool isAlpha,
                                          NdfmipHit hit, vec3 view) {
+    // Blinn-Phong keeps its exponent: the naive shading.
+    if (!ndfmipHasLobe(m) || m.brdf == NDFMIP_BLINN_PHONG) return ndfmipShadeNaiveEnvironment(m, albedo, filtered, hit, view);
     vec3 n = ndfmipUnitOrFlat(filtered);
     vec3 out3 = ndfmipEnvDiffuse(hit, albedo, n, vec3(1.0f));
-    if (!ndfmipHasLobe(m)) return out3;
     float base = ndfmipBasePerceptual(m);
-    if (m.brdf == NDFMIP_BLINN_PHONG) return out3 + ndfmipEnvSpecular(m, hit, n, view, base, base, 1.0f, 0.0f);
     float s = clamp(stored, 0.0f, 1.0f);
     float alpha = max(isAlpha ? s : s * s, 1e-4f);
     float len = ndfmipLengthFromRoughness(alpha, m.roughness);

@@ -143,13 +143,11 @@ glm::vec3 shadeRoughnessMipsSplitSum(const Material& m, glm::vec3 albedo, glm::v
                                      float stored, bool isAlpha, glm::vec3 view,
                                      const glm::mat3& tangentToEnvironment,
                                      const SplitSumLighting& lighting, EnvironmentLod rule) {
+    // Blinn-Phong keeps its exponent: the naive shading.
+    if (!hasLobe(m) || m.brdf == Brdf::BlinnPhong)
+        return shadeNaiveSplitSum(m, albedo, filtered, view, tangentToEnvironment, lighting, rule);
     const glm::vec3 n = unitOrFlat(filtered);
-    glm::vec3 out = diffuseTerm(albedo, n, tangentToEnvironment, lighting);
-    if (!hasLobe(m)) return out;
-    if (m.brdf == Brdf::BlinnPhong) { // keeps its exponent
-        const float r = basePerceptual(m);
-        return out + specularTerm(m, n, view, tangentToEnvironment, lighting, rule, r, r);
-    }
+    const glm::vec3 out = diffuseTerm(albedo, n, tangentToEnvironment, lighting);
     const float s = std::clamp(stored, 0.f, 1.f);
     const float alpha = std::max(isAlpha ? s : s * s, 1e-4f); // as ndfmipShadeRoughnessMips
     // The stored roughness blurs the radiance; the albedo factor is the material's at the normals'
