@@ -160,6 +160,15 @@ int addGltfImage(GltfAsset& asset, std::string bytes, const std::string& mimeTyp
     return int(images.size() - 1);
 }
 
+void setGltfImageBytes(GltfAsset& asset, int index, std::string bytes) {
+    json& view =
+        asset.json["bufferViews"][asset.json["images"][size_t(index)]["bufferView"].get<size_t>()];
+    const size_t buffer = view["buffer"].get<size_t>();
+    view["byteLength"] = bytes.size();
+    asset.json["buffers"][buffer]["byteLength"] = bytes.size();
+    asset.buffers[buffer] = std::move(bytes);
+}
+
 Result<std::string> glbFile(const GltfAsset& asset) {
     json out = asset.json;
     // Every buffer into one, each at a 16-byte boundary (accessors need at most 4).

@@ -35,6 +35,10 @@ Result<std::string> gltfImageBytes(const GltfAsset& asset, int index);
 int addGltfImage(GltfAsset& asset, std::string bytes, const std::string& mimeType,
                  const std::string& name);
 
+// Gives an image that addGltfImage added (its own buffer, one view over all of it) its bytes,
+// for an image added before they were ready.
+void setGltfImageBytes(GltfAsset& asset, int index, std::string bytes);
+
 // The asset as GLB: every buffer in the one binary chunk (each at a 16-byte boundary, the
 // bufferViews' offsets moved with it, buffer 0's other properties kept), JSON padded with
 // spaces and the binary chunk with zeros as the GLB format requires.

@@ -9,6 +9,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <deque>
+#include <future>
 #include <limits>
 #include <map>
 #include <memory>
@@ -252,6 +254,7 @@ class Filter {
                 if (jobs[j].normalImage == job.normalImage) group.push_back(j);
             filterGroup(jobs, group, reports);
         }
+        while (!uastcInFlight_.empty()) finishOldestUastc();
         for (std::optional<GltfMaterialReport>& report : reports)
             result_.materials.push_back(std::move(*report));
         assignTextures();
@@ -555,7 +558,7 @@ class Filter {
     // The levels as a DDS in `ddsFormat` and/or a UASTC KTX2 of their first three channels
     // (RGB: the normal's x, y, z; the material map's occlusion, roughness, metallic), as
     // --texture-format asks; `about` says in the KTX2 what the channels hold.
-    AddedLevels addLevels(const std::vector<Image>& levels, TextureFormat ddsFormat,
+    AddedLevels addLevels(std::vector<Image> levels, TextureFormat ddsFormat,
                           const std::string& name, const std::string& role, const json& about) {
         AddedLevels out;
         if (dds_) {
@@ -568,19 +571,37 @@ class Filter {
         }
         if (basisu_) {
             std::vector<LevelRows> rows;
-            for (const Image& level : levels) rows.push_back(rowsOf(level, 3));
-            Result<EncodedTexture> texture = encodeTexture(rows, TextureFormat::Uastc);
-            if (!texture) refuse(path_ + ": " + texture.error().message);
-            const Ktx2KeyValues keys = {
+            for (Image& level : levels)
+                rows.push_back(rowsOf(std::make_shared<const Image>(std::move(level)), 3));
+            Ktx2KeyValues keys = {
                 {"KTXswizzle", "rgb1"},
                 {"ndfmip", about.dump(-1, ' ', false, json::error_handler_t::replace)}};
-            Result<std::string> ktx2 = ktx2File(texture.value(), kUastcZstdLevel, keys);
-            if (!ktx2) refuse(path_ + ": " + ktx2.error().message);
-            out.ktx2 = addGltfImage(asset_, std::move(ktx2.value()), kKtx2MimeType,
-                                    name + " (UASTC KTX2)");
+            out.ktx2 = addGltfImage(asset_, std::string(), kKtx2MimeType, name + " (UASTC KTX2)");
             markOurs(asset_.json["images"][size_t(out.ktx2)], role + " (UASTC)");
+            encodeUastcLater(out.ktx2, std::move(rows), std::move(keys));
         }
         return out;
+    }
+
+    // The UASTC encoder, most of the run's time, works while the next texture is baked and
+    // encoded: one texture's encode leaves a core idle once its small levels are done. At most
+    // two textures are in flight, so memory does not grow with the texture count.
+    void encodeUastcLater(int image, std::vector<LevelRows> rows, Ktx2KeyValues keys) {
+        if (uastcInFlight_.size() >= 2) finishOldestUastc();
+        auto encode = [rows = std::move(rows), keys = std::move(keys)]() -> Result<std::string> {
+            Result<EncodedTexture> texture = encodeTexture(rows, TextureFormat::Uastc);
+            if (!texture) return texture.error();
+            return ktx2File(texture.value(), kUastcZstdLevel, keys);
+        };
+        uastcInFlight_.push_back({image, std::async(std::launch::async, std::move(encode))});
+    }
+
+    void finishOldestUastc() {
+        PendingUastc oldest = std::move(uastcInFlight_.front());
+        uastcInFlight_.pop_front();
+        Result<std::string> bytes = oldest.bytes.get();
+        if (!bytes) refuse(path_ + ": " + bytes.error().message);
+        setGltfImageBytes(asset_, oldest.image, std::move(bytes.value()));
     }
 
     // --max-memory against the size the normal image's header declares, before it is decoded:
@@ -631,7 +652,7 @@ class Filter {
             encoded.push_back(std::move(e));
         }
         const AddedLevels normalDds =
-            addLevels(encoded, TextureFormat::Bc5Unorm,
+            addLevels(std::move(encoded), TextureFormat::Bc5Unorm,
                       "ndfmip BC5 mips of " + asset_.imageLabels[size_t(first.normalImage)],
                       "BC5 normal mips",
                       {{"content", "normal"},
@@ -639,7 +660,6 @@ class Filter {
                        {"encoding", "(n+1)/2"},
                        {"green", "up"},
                        {"channels", {{"r", "x"}, {"g", "y"}, {"b", "z"}}}});
-        encoded.clear();
         const double normalMilliseconds = elapsedMs(start);
 
         std::map<int, std::shared_ptr<const Image>> maps; // material image -> RGBA, for this group
@@ -751,7 +771,8 @@ class Filter {
         }
         const std::string label =
             job.roughnessImage >= 0 ? asset_.imageLabels[size_t(job.roughnessImage)] : "no image";
-        out.dds = addLevels(material, TextureFormat::Rgba8Unorm,
+        if (job.makeMap) out.level0 = material.front();
+        out.dds = addLevels(std::move(material), TextureFormat::Rgba8Unorm,
                             "ndfmip RGBA8 metallicRoughness mips of material " +
                                 std::to_string(job.material) + " (" + label + ")",
                             "RGBA8 metallicRoughness mips",
@@ -760,7 +781,6 @@ class Filter {
                               {{"r", "R averaged (occlusion where packed)"},
                                {"g", "perceptual roughness, Toksvig-filtered"},
                                {"b", "metallic averaged"}}}});
-        if (job.makeMap) out.level0 = std::move(material.front());
         return out;
     }
 
@@ -863,6 +883,11 @@ class Filter {
     size_t originalTextures_ = 0;
     std::map<std::string, AddedLevels> wants_; // slot (JSON pointer) -> the levels it should read
     bool dds_ = false, basisu_ = true;
+    struct PendingUastc {
+        int image = -1;                         // added with no bytes yet
+        std::future<Result<std::string>> bytes; // its KTX2 file
+    };
+    std::deque<PendingUastc> uastcInFlight_;
 };
 
 } // namespace
