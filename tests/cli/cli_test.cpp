@@ -798,7 +798,7 @@ TEST(Cli, DemoRefusesABadMap) {
     EXPECT_FALSE(fs::exists(dir)) << "a failed demo left its output folder";
 }
 
-// ---- gloss maps (eq. 12) ------------------------------------------------------------------------
+// ---- gloss maps (T eq. 12) ----------------------------------------------------------------------
 
 TEST(Cli, GlossMapRoundTripsThroughToksvigFactor) {
     TempDir tmp("cli_gloss");
@@ -1257,7 +1257,7 @@ TEST(Cli, MethodOptionsComeFromTheParameterTables) {
     EXPECT_EQ(render.output.find("--max-iterations"), std::string::npos); // bake only
 }
 
-// Coherent lobes (eq. 32): slot j of neighbouring texels matches far better, and the rendered
+// Coherent lobes (H eq. 32): slot j of neighbouring texels matches far better, and the rendered
 // error against the truth does not grow by more than 5% (geometric mean over the cases) where
 // lookups blend the lobes' parameters, as hardware filtering does (with texel filtering the
 // slots never meet, and the plain lobes fit better).

@@ -73,7 +73,7 @@ double zonal(const std::vector<double>& A, double t) {
     return sum;
 }
 
-// The reparameterised lighting of eq. 36 at h for the view o; `meanNormal` for the MeanNormal
+// The reparameterised lighting of H eq. 36 at h for the view o; `meanNormal` for the MeanNormal
 // cosine.
 glm::dvec3 reparameterised(const envtest::Radiance& radiance, glm::dvec3 o, glm::dvec3 h,
                            SpecularCosine cosine, glm::dvec3 meanNormal = glm::dvec3(0.)) {
@@ -207,7 +207,7 @@ TEST(ShLighting, ConstantEnvironmentFlatNdfGivesAlbedoTimesRadiance) {
     }
 }
 
-// The diffuse dot product of eq. 35 against Integral gamma(n.mu) Integral L(w) max(n.w, 0)/pi dw
+// The diffuse dot product of H eq. 35 against Integral gamma(n.mu) Integral L(w) max(n.w, 0)/pi dw
 // dn, the vMF of kappa convolved with the clamped cosine, integrated numerically. The SH method
 // with the vMF's own coefficients g_lm = A_l^vMF Y_lm(mu) (tangent frame) must give the same.
 TEST(ShLighting, DiffuseMatchesBruteForceConvolution) {
@@ -251,7 +251,7 @@ TEST(ShLighting, DiffuseMatchesBruteForceConvolution) {
 
 // ---- shading: specular -------------------------------------------------------------------------
 
-// With L' prepared for the pixel's own view, eq. 37 equals the integral over h of
+// With L' prepared for the pixel's own view, H eq. 37 equals the integral over h of
 // L(w_i) 4 (w_i.h) c times the lobe truncated to the order (the sum of its A_l P_l), computed
 // directly: this checks L', the rotation into the tangent frame and the dot product.
 TEST(ShLighting, SpecularForTheTrueViewMatchesBruteForce) {
@@ -414,7 +414,7 @@ TEST(ShLighting, FixedViewErrorOnSharedMaps) {
 // split here into the cosine (the same integral over h with the lobe untruncated and the cosine
 // c of L') and the truncation of the lobe at order 8 (the rest). Printed for
 // docs/ENVIRONMENT.md, for the smooth sky (order 8 holds it: no truncation) and for a sky with a
-// small sun (truncation shows); the mean-normal cosine must be the closest, eq. 36 as printed the
+// small sun (truncation shows); the mean-normal cosine must be the closest, H eq. 36 as printed the
 // farthest.
 TEST(ShLighting, GapToTheTruthForASharpNdf) {
     const int order = 8;

@@ -241,7 +241,7 @@ TEST(GpuEnvironmentSh, OrderEightOnTheSphereWithMoreTapsMatchesTheCpu) {
 }
 
 // An albedo map: its filtered chain multiplies the albedo (toksvig), or the vmf bake's lobe
-// colours replace it (eq. 31), under both ways of shading vmf.
+// colours replace it (H eq. 31), under both ways of shading vmf.
 TEST(GpuEnvironmentAlbedo, AlbedoChainsAndLobeColoursMatchTheCpu) {
     NDFMIP_GL_OR_SKIP(gl);
     const auto lighting = skyLighting();

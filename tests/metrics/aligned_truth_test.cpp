@@ -34,7 +34,7 @@ TEST(AlignedTruth, FlatMapEveryMethodEqualsTheTruth) {
         for (int k = 0; k < int(p.levels.size()); ++k) {
             ErrorStats e =
                 compareToTruth(shadeLevel(bake, k, context(s)), groundTruthLevel(p, k, context(s)));
-            // vmf: identical normals give kappa = 1e5 (the cap), which eq. 29 turns into
+            // vmf: identical normals give kappa = 1e5 (the cap), which H eq. 29 turns into
             // s' = s / (1 + s / kappa): 0.06% narrower at s = 64. lean: its lobe is Beckmann's
             // of alpha^2 = 2/(s + 2), which stands for Blinn-Phong s to 6% (tilted 13 degrees,
             // where the slope-space lobe narrows along the tilt).

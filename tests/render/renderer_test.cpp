@@ -146,7 +146,7 @@ TEST(Renderer, FlatMapEveryMethodEqualsGroundTruth) {
     }
 }
 
-// On a flat map g_lm = Y_lm(z), so eq. 17 collapses by the addition theorem to the Legendre
+// On a flat map g_lm = Y_lm(z), so H eq. 17 collapses by the addition theorem to the Legendre
 // series Sum_l A_l (2l + 1)/(4 pi) P_l(w.z): an independent check of the SH path, truncation
 // included.
 double legendreSeries(const std::vector<double>& A, double t) {

@@ -463,7 +463,7 @@ void addBakeCommand(CLI::App& app) {
     c->add_option("--occlusion-channel", args->occlusionChannel,
                   "--engine: ambient occlusion from this channel of --roughness-map")
         ->check(CLI::IsMember({"r", "g", "b", "a"}));
-    c->add_option("--gloss", args->gloss, "gloss map in [0,1]: s = gloss * S0 (Toksvig eq. 12)");
+    c->add_option("--gloss", args->gloss, "gloss map in [0,1]: s = gloss * S0 (T eq. 12)");
     c->add_option("--max-exponent", args->maxExponent, "S0, the exponent of gloss 1.0")
         ->check(CLI::Range(1e-3f, 1e6f));
     c->add_option("--base-roughness", args->baseRoughness,

@@ -111,7 +111,7 @@ void addEvalCommand(CLI::App& app) {
     c->add_flag("--calibrate", a->calibrate, "also compare engines' roughness mappings on GGX");
     c->add_option_function<float>(
          "--coherent", [a](float value) { a->coherence = value; },
-         "vmf methods: coherent lobes with alignment strength C (eq. 32); default 0, " +
+         "vmf methods: coherent lobes with alignment strength C (H eq. 32); default 0, " +
              std::to_string(int(kEngineViewCoherence)) + " in the engine view")
         ->check(CLI::Range(0.f, 1e6f));
     c->add_option(

@@ -45,20 +45,21 @@ Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options) {
     bake.parameters["coherence"] = coherence;
     bake.parameters["lobe_mismatch_degrees"] = lobeMismatch(levels);
     const std::string slot =
-        coherence > 0.f ? " (coherent slot, eq. 32)" : " (slot by decreasing alpha)";
+        coherence > 0.f ? " (coherent slot, H eq. 32)" : " (slot by decreasing alpha)";
     for (int j = 0; j < lobes; ++j)
-        bake.planes.push_back({"lobe" + std::to_string(j),
-                               {"alpha", "alpha r mu.x", "alpha r mu.y", "alpha r mu.z"},
-                               "vMF lobe " + std::to_string(j) + slot +
-                                   ": amplitude and amplitude times mean resultant vector (eq. 33)",
-                               true});
+        bake.planes.push_back(
+            {"lobe" + std::to_string(j),
+             {"alpha", "alpha r mu.x", "alpha r mu.y", "alpha r mu.z"},
+             "vMF lobe " + std::to_string(j) + slot +
+                 ": amplitude and amplitude times mean resultant vector (H eq. 33)",
+             true});
     if (colors)
         for (int j = 0; j < lobes; ++j)
             bake.planes.push_back(
                 {"color" + std::to_string(j),
                  {"alpha c.r", "alpha c.g", "alpha c.b"},
                  "vMF lobe " + std::to_string(j) +
-                     ": amplitude times the lobe's mean albedo (eq. 31); divide by "
+                     ": amplitude times the lobe's mean albedo (H eq. 31); divide by "
                      "the filtered alpha of lobe plane " +
                      std::to_string(j),
                  true});

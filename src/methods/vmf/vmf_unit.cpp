@@ -122,7 +122,7 @@ std::vector<MethodParameter> vmfParameters() {
              .min = 0,
              .max = 1e6,
              .defaultValue = 0,
-             .help = "C of the alignment term (eq. 32): lobes fitted top-down, slot j matched "
+             .help = "C of the alignment term (H eq. 32): lobes fitted top-down, slot j matched "
                      "across texels",
              .commands = kParameterBake},
             {.key = "lobe_budget",

@@ -1,5 +1,5 @@
 // Legendre coefficients of BRDF lobes: quadrature against closed forms and its own refinement,
-// the convolution identity of eq. 17 through the SH basis, truncation, and the table format.
+// the convolution identity of H eq. 17 through the SH basis, truncation, and the table format.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -205,7 +205,7 @@ TEST(ShBrdf, BlinnPhongApproximationErrorIsAsDocumented) {
     EXPECT_GT(worst, 0.08); // the bound above is not loose
 }
 
-// ---- eq. 17 through the SH basis -------------------------------------------------------------
+// ---- H eq. 17 through the SH basis -----------------------------------------------------------
 
 // For random texels of 20 normals and random w: Sum_l A_l Sum_m Y_lm(w) mean_i Y_lm(n_i) equals
 // mean_i r_{l*}(w.n_i) (the addition theorem, to rounding), and differs from mean_i r(w.n_i) by

@@ -1,4 +1,4 @@
-// Coherent vMF lobes (Han et al. 2007, Sec. 7.3): the aligned M-step (eq. 32), fits that keep
+// Coherent vMF lobes (Han et al. 2007, Sec. 7.3): the aligned M-step (H eq. 32), fits that keep
 // their slots, the top-down pyramid and the lobe-mismatch metric.
 #include <algorithm>
 #include <cmath>
@@ -37,7 +37,7 @@ bool sameBits(const VmfLobe& a, const VmfLobe& b) {
     return a.alpha == b.alpha && a.mu == b.mu && a.kappa == b.kappa && a.color == b.color;
 }
 
-// ---- eq. 32 in one fit ---------------------------------------------------------------------
+// ---- H eq. 32 in one fit -------------------------------------------------------------------
 
 TEST(VmfCoherent, OneLobeMovesToTheMeanPlusThePull) {
     // One lobe owns every normal (z_i1 = 1), so r_1 is the normals' mean r whatever the lobe:

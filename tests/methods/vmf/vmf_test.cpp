@@ -163,7 +163,7 @@ TEST(Vmf, QuantisationKappaMatchesTheAngularErrorOfQuantisedNormals) {
     }
 }
 
-// ---- storage (eq. 33) ----------------------------------------------------------------------
+// ---- storage (H eq. 33) --------------------------------------------------------------------
 
 TEST(Vmf, PackUnpackRoundTrip) {
     std::mt19937_64 rng(3);
