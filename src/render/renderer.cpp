@@ -97,6 +97,7 @@ struct Context {
     ShaderSetup setup;                    // what it prepared for this material and bake
     MipChain albedo;                      // empty without an albedo map
     const EnvironmentLighting* lighting = nullptr; // the environment, if any
+    std::vector<SharedImage> exactChain; // kExact: owns the shaded chain the planes point into
 };
 
 glm::mat3 hitToEnvironment(const SurfaceHit& hit) {
@@ -363,6 +364,196 @@ std::vector<SharedImage> shadedChain(const Scene& scene, const RenderTextures& t
     return chain;
 }
 
+// A roughness-mips render's roughness: one image per level of the bake, the levels' sizes,
+// filtered like the planes (its channels after theirs).
+Status addRoughnessChain(Context& ctx, const RenderTextures& textures, const Bake& bake) {
+    if (textures.roughness.size() != bake.levels.size())
+        return Status::failure("render: roughness-mips needs a roughness image per level (" +
+                               std::to_string(bake.levels.size()) + "), got " +
+                               std::to_string(textures.roughness.size()));
+    MipChain chain;
+    for (size_t k = 0; k < textures.roughness.size(); ++k) {
+        const Image& r = *textures.roughness[k];
+        const Image& level = *bake.levels[k].front();
+        if (r.width != level.width || r.height != level.height || r.channels < 1)
+            return Status::failure("render: roughness level " + std::to_string(k) + " is " +
+                                   std::to_string(r.width) + "x" + std::to_string(r.height) +
+                                   ", the mip level " + std::to_string(level.width) + "x" +
+                                   std::to_string(level.height));
+        chain.levels.push_back(&r);
+    }
+    chain.channels = textures.roughness.front()->channels;
+    ctx.planes.channels += chain.channels;
+    ctx.planes.chains.push_back(std::move(chain));
+    return Status::success();
+}
+
+// What render() is asked that no scene can do: the options out of range (checkRenderOptions),
+// no normal map, an empty image, an environment the textures lack.
+Status checkRenderInputs(const Scene& scene, const RenderTextures& textures,
+                         const RenderOptions& options) {
+    if (!textures.normals || textures.normals->channels != 3 || textures.normals->empty())
+        return Status::failure("render: no normal map (3 channels) to render with");
+    if (Status s = checkRenderOptions(options); !s) return Status::failure("render: " + s.error);
+    if (scene.camera.width < 1 || scene.camera.height < 1)
+        return Status::failure("render: the camera's image is empty");
+    if (options.environmentSamples < 1 || options.environmentSamples > 4096)
+        return Status::failure("render: environment samples must be in 1 .. 4096, got " +
+                               std::to_string(options.environmentSamples));
+    if (!scene.environment.path.empty() && !textures.environment)
+        return Status::failure("render: the scene's environment " + quote(scene.environment.path) +
+                               " is not loaded");
+    if (options.shViews < 0 || options.shViews > kMaxShViews)
+        return Status::failure("render: SH views must be in 0 .. " + std::to_string(kMaxShViews) +
+                               ", got " + std::to_string(options.shViews));
+    return Status::success();
+}
+
+// The context every pixel reads: the camera, the albedo map's levels and, in an exactBoxView,
+// the view and the lights in the plane's tangent frame.
+Status prepareContext(Context& ctx, const Scene& scene, const RenderTextures& textures,
+                      const RenderOptions& options) {
+    ctx.scene = &scene;
+    ctx.camera = cameraFrame(scene.camera);
+    ctx.textures = &textures;
+    ctx.options = &options;
+    ctx.lighting = textures.environment.get();
+    if (!textures.albedo.empty()) {
+        const Image& a = *textures.albedo.front();
+        if (a.width != textures.normals->width || a.height != textures.normals->height ||
+            a.channels < 3)
+            return Status::failure("render: the albedo map must be RGB and the normal map's size");
+        for (const SharedImage& level : textures.albedo) ctx.albedo.levels.push_back(level.get());
+        ctx.albedo.channels = a.channels;
+    }
+    if (exactBoxView(scene) && !ctx.lighting) {
+        // The plane's tangent frame, as intersect() builds it, and what is fixed in it.
+        const Geometry& g = scene.geometry;
+        SurfaceHit frame;
+        frame.normal = g.normal;
+        frame.tangent = g.tangent;
+        frame.bitangent = glm::cross(g.normal, g.tangent);
+        ctx.fixedView = toTangent(frame, -ctx.camera.forward);
+        for (const Light& light : scene.lights) {
+            const glm::vec3 l = toTangent(frame, light.direction);
+            if (l.z > 0.f && ctx.fixedView.z > 0.f) ctx.fixedLights.push_back({l, light.color});
+        }
+    }
+    return Status::success();
+}
+
+// A method's shading: its shader's setup for the material and bake, the bake's linear planes
+// (and roughness-mips' roughness) as the chains the pixels filter.
+Result<bool> prepareMethod(Context& ctx, const std::string& methodName, const Scene& scene,
+                           const RenderTextures& textures, const RenderOptions& options) {
+    ctx.method = findShader(methodName);
+    if (!ctx.method)
+        return Error{"render: unknown method " + quote(methodName) + " (expected " +
+                     renderMethodNames() + ")"};
+    ctx.shader = Shader::Method;
+    if (ctx.lighting && !ctx.method->shadeEnvironment)
+        return Error{"render: method " + quote(methodName) + " cannot shade under an environment"};
+    const Bake& bake = textures.bake;
+    if (bake.levels.empty() || bake.method != ctx.method->bake)
+        return Error{"render: no bake of method '" +
+                     std::string(ndfmip::methodName(ctx.method->bake)) + "' to render with"};
+    const Image& level0 = *bake.levels.front().front();
+    if (level0.width != textures.normals->width || level0.height != textures.normals->height)
+        return Error{"render: the bake's level 0 is " + std::to_string(level0.width) + "x" +
+                     std::to_string(level0.height) + " but the normal map is " +
+                     std::to_string(textures.normals->width) + "x" +
+                     std::to_string(textures.normals->height)};
+    if (ctx.lighting)
+        ctx.setup.environmentView = worldToEnvironment(glm::dvec3(-ctx.camera.forward));
+    if (Status ready = ctx.method->prepare(scene.material, textures, options, ctx.setup); !ready)
+        return Error{ready.error};
+    ctx.planes = linearPlanes(bake);
+    if (methodName == kRoughnessMips) // an engine's roughness mips, filtered like the planes
+        if (Status s = addRoughnessChain(ctx, textures, bake); !s) return Error{s.error};
+    if (ctx.planes.channels < 3 || ctx.planes.channels > kMaxFilteredChannels)
+        return Error{"render: method " + quote(methodName) + " has no filterable planes"};
+    return true;
+}
+
+// What the pixels shade: the truth, the exact reference's shaded chain, or a method's planes.
+Result<bool> prepareShading(Context& ctx, const std::string& methodName) {
+    const Scene& scene = *ctx.scene;
+    const RenderTextures& textures = *ctx.textures;
+    if (methodName == kGroundTruth) {
+        ctx.shader = Shader::Truth;
+        ctx.exactTruth = ctx.options->exact && exactBoxView(scene) && !ctx.lighting;
+    } else if (methodName == kExact) {
+        if (ctx.lighting) return Error{"render: 'exact' cannot shade under an environment"};
+        if (!exactBoxView(scene))
+            return Error{
+                "render: 'exact' needs constant light and view directions: an orthographic view "
+                "straight down on a plane, directional lights"};
+        ctx.shader = Shader::Exact;
+        ctx.exactChain = shadedChain(scene, textures, ctx);
+        MipChain chain;
+        for (const SharedImage& level : ctx.exactChain) chain.levels.push_back(level.get());
+        chain.channels = 3;
+        ctx.planes.chains.push_back(std::move(chain));
+        ctx.planes.channels = 3;
+    } else if (Result<bool> ready = prepareMethod(ctx, methodName, scene, textures, *ctx.options);
+               !ready) {
+        return ready.error();
+    }
+    if (!ctx.planes.chains.empty()) ctx.sizes = levelSizes(ctx.planes.chains.front());
+    if (!ctx.albedo.levels.empty() && ctx.shader != Shader::Truth &&
+        ctx.albedo.levels.size() < ctx.sizes.size())
+        return Error{"render: the albedo map has fewer mip levels than the bake"};
+    return true;
+}
+
+struct PixelValue {
+    glm::vec3 mean{0.f};
+    double standardError = 0.; // of the mean's luminance (0 with one sample)
+    bool covered = false;      // some sample hit the surface
+};
+
+// One pixel: one exact integral, or options.spp stratified samples and their standard error.
+PixelValue renderPixel(const Context& ctx, int x, int y, int gx, int gy) {
+    PixelRandom random{ctx.options->seed * 0x2545F4914F6CDD1Dull +
+                       uint64_t(y) * uint64_t(ctx.scene->camera.width) + uint64_t(x)};
+    // The environment's samples draw from a stream of their own, so the jitter (and the
+    // lights' part of the image) is the same with or without an environment.
+    PixelRandom lightingRandom{random.state ^ 0xD1B54A32D192ED03ull};
+    glm::vec3 mean(0.f);
+    double standardError = 0.;
+    bool covered = false;
+    if (ctx.exactTruth) { // one exact integral over the whole pixel
+        mean = exactPixel(ctx, float(x) + ctx.options->pixelShift.x,
+                          float(y) + ctx.options->pixelShift.y, lightingRandom);
+        covered = true;
+    } else {
+        double sumY = 0., sumY2 = 0.; // the per-sample luminances, for the noise
+        for (int sy = 0; sy < gy; ++sy) {
+            for (int sx = 0; sx < gx; ++sx) {
+                float jx = 0.5f, jy = 0.5f;
+                if (ctx.options->spp > 1) {
+                    jx = (float(sx) + random.uniform()) / float(gx);
+                    jy = (float(sy) + random.uniform()) / float(gy);
+                }
+                bool seen = false;
+                const glm::vec3 r =
+                    shadeSample(ctx, float(x) + jx + ctx.options->pixelShift.x,
+                                float(y) + jy + ctx.options->pixelShift.y, lightingRandom, seen);
+                mean += r;
+                covered = covered || seen;
+                const double lum = rec709Luminance(glm::dvec3(r));
+                sumY += lum;
+                sumY2 += lum * lum;
+            }
+        }
+        mean /= float(ctx.options->spp);
+        const double n = double(ctx.options->spp);
+        if (ctx.options->spp > 1)
+            standardError = std::sqrt(std::max(0., (sumY2 - sumY * sumY / n) / (n - 1.)) / n);
+    }
+    return {mean, standardError, covered};
+}
+
 } // namespace
 
 Result<Image> render(const Scene& scene, const RenderTextures& textures,
@@ -380,126 +571,10 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures,
                 "render: faceted-sphere scenes are lit by point lights only, not an environment"};
         return renderInterpolated(scene, methodName, options);
     }
-    if (!textures.normals || textures.normals->channels != 3 || textures.normals->empty())
-        return Error{"render: no normal map (3 channels) to render with"};
-    if (options.spp < 1 || options.spp > (1 << 20))
-        return Error{"render: spp must be in 1 .. 1048576, got " + std::to_string(options.spp)};
-    if (options.anisotropy < 1 || options.anisotropy > 64)
-        return Error{"render: anisotropy must be in 1 .. 64, got " +
-                     std::to_string(options.anisotropy)};
-    if (scene.camera.width < 1 || scene.camera.height < 1)
-        return Error{"render: the camera's image is empty"};
-
-    if (options.taps < 1 || options.taps > 16)
-        return Error{"render: taps must be in 1 .. 16, got " + std::to_string(options.taps)};
-    if (!std::isfinite(options.lodBias) || std::abs(options.lodBias) > 16.f)
-        return Error{"render: the LOD bias must be finite and within +-16"};
-    if (options.environmentSamples < 1 || options.environmentSamples > 4096)
-        return Error{"render: environment samples must be in 1 .. 4096, got " +
-                     std::to_string(options.environmentSamples)};
-    if (!scene.environment.path.empty() && !textures.environment)
-        return Error{"render: the scene's environment " + quote(scene.environment.path) +
-                     " is not loaded"};
-    if (options.shViews < 0 || options.shViews > kMaxShViews)
-        return Error{"render: SH views must be in 0 .. " + std::to_string(kMaxShViews) + ", got " +
-                     std::to_string(options.shViews)};
-
+    if (Status s = checkRenderInputs(scene, textures, options); !s) return Error{s.error};
     Context ctx;
-    ctx.scene = &scene;
-    ctx.camera = cameraFrame(scene.camera);
-    ctx.textures = &textures;
-    ctx.options = &options;
-    ctx.lighting = textures.environment.get();
-    if (!textures.albedo.empty()) {
-        const Image& a = *textures.albedo.front();
-        if (a.width != textures.normals->width || a.height != textures.normals->height ||
-            a.channels < 3)
-            return Error{"render: the albedo map must be RGB and the normal map's size"};
-        for (const SharedImage& level : textures.albedo) ctx.albedo.levels.push_back(level.get());
-        ctx.albedo.channels = a.channels;
-    }
-    if (exactBoxView(scene) && !ctx.lighting) {
-        // The plane's tangent frame, as intersect() builds it, and what is fixed in it.
-        const Geometry& g = scene.geometry;
-        SurfaceHit frame;
-        frame.normal = g.normal;
-        frame.tangent = g.tangent;
-        frame.bitangent = glm::cross(g.normal, g.tangent);
-        ctx.fixedView = toTangent(frame, -ctx.camera.forward);
-        for (const Light& light : scene.lights) {
-            const glm::vec3 l = toTangent(frame, light.direction);
-            if (l.z > 0.f && ctx.fixedView.z > 0.f) ctx.fixedLights.push_back({l, light.color});
-        }
-    }
-    std::vector<SharedImage> exactChain; // kExact: owns the shaded chain the planes point into
-    if (methodName == kGroundTruth) {
-        ctx.shader = Shader::Truth;
-        ctx.exactTruth = options.exact && exactBoxView(scene) && !ctx.lighting;
-    } else if (methodName == kExact) {
-        if (ctx.lighting) return Error{"render: 'exact' cannot shade under an environment"};
-        if (!exactBoxView(scene))
-            return Error{
-                "render: 'exact' needs constant light and view directions: an orthographic view "
-                "straight down on a plane, directional lights"};
-        ctx.shader = Shader::Exact;
-        exactChain = shadedChain(scene, textures, ctx);
-        MipChain chain;
-        for (const SharedImage& level : exactChain) chain.levels.push_back(level.get());
-        chain.channels = 3;
-        ctx.planes.chains.push_back(std::move(chain));
-        ctx.planes.channels = 3;
-    } else {
-        ctx.method = findShader(methodName);
-        if (!ctx.method)
-            return Error{"render: unknown method " + quote(methodName) + " (expected " +
-                         renderMethodNames() + ")"};
-        ctx.shader = Shader::Method;
-        if (ctx.lighting && !ctx.method->shadeEnvironment)
-            return Error{"render: method " + quote(methodName) +
-                         " cannot shade under an environment"};
-        const Bake& bake = textures.bake;
-        if (bake.levels.empty() || bake.method != ctx.method->bake)
-            return Error{"render: no bake of method '" +
-                         std::string(ndfmip::methodName(ctx.method->bake)) + "' to render with"};
-        const Image& level0 = *bake.levels.front().front();
-        if (level0.width != textures.normals->width || level0.height != textures.normals->height)
-            return Error{"render: the bake's level 0 is " + std::to_string(level0.width) + "x" +
-                         std::to_string(level0.height) + " but the normal map is " +
-                         std::to_string(textures.normals->width) + "x" +
-                         std::to_string(textures.normals->height)};
-        if (ctx.lighting)
-            ctx.setup.environmentView = worldToEnvironment(glm::dvec3(-ctx.camera.forward));
-        if (Status ready = ctx.method->prepare(scene.material, textures, options, ctx.setup);
-            !ready)
-            return Error{ready.error};
-        ctx.planes = linearPlanes(bake);
-        if (methodName == kRoughnessMips) { // an engine's roughness mips, filtered like the planes
-            if (textures.roughness.size() != bake.levels.size())
-                return Error{"render: roughness-mips needs a roughness image per level (" +
-                             std::to_string(bake.levels.size()) + "), got " +
-                             std::to_string(textures.roughness.size())};
-            MipChain chain;
-            for (size_t k = 0; k < textures.roughness.size(); ++k) {
-                const Image& r = *textures.roughness[k];
-                const Image& level = *bake.levels[k].front();
-                if (r.width != level.width || r.height != level.height || r.channels < 1)
-                    return Error{"render: roughness level " + std::to_string(k) + " is " +
-                                 std::to_string(r.width) + "x" + std::to_string(r.height) +
-                                 ", the mip level " + std::to_string(level.width) + "x" +
-                                 std::to_string(level.height)};
-                chain.levels.push_back(&r);
-            }
-            chain.channels = textures.roughness.front()->channels;
-            ctx.planes.channels += chain.channels;
-            ctx.planes.chains.push_back(std::move(chain));
-        }
-        if (ctx.planes.channels < 3 || ctx.planes.channels > kMaxFilteredChannels)
-            return Error{"render: method " + quote(methodName) + " has no filterable planes"};
-    }
-    if (!ctx.planes.chains.empty()) ctx.sizes = levelSizes(ctx.planes.chains.front());
-    if (!ctx.albedo.levels.empty() && ctx.shader != Shader::Truth &&
-        ctx.albedo.levels.size() < ctx.sizes.size())
-        return Error{"render: the albedo map has fewer mip levels than the bake"};
+    if (Status s = prepareContext(ctx, scene, textures, options); !s) return Error{s.error};
+    if (Result<bool> ready = prepareShading(ctx, methodName); !ready) return ready.error();
 
     const Camera& camera = scene.camera;
     Image out(camera.width, camera.height, 3);
@@ -513,54 +588,17 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures,
 #pragma omp parallel for schedule(dynamic, 1)
     for (int y = 0; y < camera.height; ++y) {
         for (int x = 0; x < camera.width; ++x) {
-            PixelRandom random{options.seed * 0x2545F4914F6CDD1Dull +
-                               uint64_t(y) * uint64_t(camera.width) + uint64_t(x)};
-            // The environment's samples draw from a stream of their own, so the jitter (and the
-            // lights' part of the image) is the same with or without an environment.
-            PixelRandom lightingRandom{random.state ^ 0xD1B54A32D192ED03ull};
-            glm::vec3 mean(0.f);
-            double standardError = 0.;
-            bool covered = false;
-            if (ctx.exactTruth) { // one exact integral over the whole pixel
-                mean = exactPixel(ctx, float(x) + options.pixelShift.x,
-                                  float(y) + options.pixelShift.y, lightingRandom);
-                covered = true;
-            } else {
-                double sumY = 0., sumY2 = 0.; // the per-sample luminances, for the noise
-                for (int sy = 0; sy < gy; ++sy) {
-                    for (int sx = 0; sx < gx; ++sx) {
-                        float jx = 0.5f, jy = 0.5f;
-                        if (options.spp > 1) {
-                            jx = (float(sx) + random.uniform()) / float(gx);
-                            jy = (float(sy) + random.uniform()) / float(gy);
-                        }
-                        bool seen = false;
-                        const glm::vec3 r =
-                            shadeSample(ctx, float(x) + jx + options.pixelShift.x,
-                                        float(y) + jy + options.pixelShift.y, lightingRandom, seen);
-                        mean += r;
-                        covered = covered || seen;
-                        const double lum = rec709Luminance(glm::dvec3(r));
-                        sumY += lum;
-                        sumY2 += lum * lum;
-                    }
-                }
-                mean /= float(options.spp);
-                const double n = double(options.spp);
-                if (options.spp > 1)
-                    standardError =
-                        std::sqrt(std::max(0., (sumY2 - sumY * sumY / n) / (n - 1.)) / n);
-            }
+            const PixelValue p = renderPixel(ctx, x, y, gx, gy);
             if (noise) {
-                noise->standardError.at(x, y)[0] = float(standardError);
-                if (covered)
+                noise->standardError.at(x, y)[0] = float(p.standardError);
+                if (p.covered)
                     rowNoise[size_t(y)] +=
-                        glm::dvec3(standardError, rec709Luminance(glm::dvec3(mean)), 1.);
+                        glm::dvec3(p.standardError, rec709Luminance(glm::dvec3(p.mean)), 1.);
             }
             float* px = out.at(x, y);
-            px[0] = mean.x;
-            px[1] = mean.y;
-            px[2] = mean.z;
+            px[0] = p.mean.x;
+            px[1] = p.mean.y;
+            px[2] = p.mean.z;
         }
         int done = ++rowsDone;
         if (options.progress) {

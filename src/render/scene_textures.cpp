@@ -124,7 +124,7 @@ Result<RenderTextures> loadSceneTextures(const Scene& scene, const std::string& 
 Status checkRenderOptions(const RenderOptions& o) {
     auto outside = [](const char* name, double value, double lo, double hi) {
         char text[160];
-        std::snprintf(text, sizeof text, "%s %g: expected %g .. %g", name, value, lo, hi);
+        std::snprintf(text, sizeof text, "%s %.10g: expected %.10g .. %.10g", name, value, lo, hi);
         return Status::failure(text);
     };
     if (!(o.spp >= 1 && o.spp <= (1 << 20))) return outside("spp", o.spp, 1, 1 << 20);

@@ -97,8 +97,8 @@ json reportJson(const Plan& plan, const Lighting& lighting, const Gathered& gath
     return root;
 }
 
-std::vector<std::string> reportNotes(const Plan& plan, const Lighting& lighting,
-                                     double truthNoise, const std::string& calibrationBest) {
+std::vector<std::string> reportNotes(const Plan& plan, const Lighting& lighting, double truthNoise,
+                                     const std::string& calibrationBest) {
     const EvalOptions& a = plan.options;
     const RenderOptions& filtering = plan.filtering;
     const glm::vec2 shift = plan.shift;
@@ -126,7 +126,8 @@ std::vector<std::string> reportNotes(const Plan& plan, const Lighting& lighting,
         char noiseText[128];
         std::snprintf(noiseText, sizeof noiseText, "%.3f%%", 100. * truthNoise);
         std::string left;
-        for (const auto& [method, reason] : lighting.skipped) left += (left.empty() ? "" : ", ") + method;
+        for (const auto& [method, reason] : lighting.skipped)
+            left += (left.empty() ? "" : ", ") + method;
         notes.insert(
             notes.begin(),
             "Lit by the environment " + a.environment +
@@ -138,18 +139,18 @@ std::vector<std::string> reportNotes(const Plan& plan, const Lighting& lighting,
                      : "; left out (they cannot shade under an environment): " + left + "."));
     }
     notes.insert(notes.begin(),
-                        "Each case: a top-down orthographic view of the map tiled on a plane, one "
-                        "pixel covering footprint x "
-                        "footprint texels, " +
-                            std::string(view) +
-                            "; one directional light 25 degrees off the normal. Ground "
-                            "truth: " +
-                            truthText + ". Methods: trilinear filtering, " + filter +
-                            "; 'exact' shades each texel "
-                            "read as the exact mean over its normals (the floor of any per-texel "
-                            "NDF). Flicker: mean over pixels "
-                            "of temporal std / mean over " +
-                            std::to_string(a.frames) + " sub-pixel-shifted frames.");
+                 "Each case: a top-down orthographic view of the map tiled on a plane, one "
+                 "pixel covering footprint x "
+                 "footprint texels, " +
+                     std::string(view) +
+                     "; one directional light 25 degrees off the normal. Ground "
+                     "truth: " +
+                     truthText + ". Methods: trilinear filtering, " + filter +
+                     "; 'exact' shades each texel "
+                     "read as the exact mean over its normals (the floor of any per-texel "
+                     "NDF). Flicker: mean over pixels "
+                     "of temporal std / mean over " +
+                     std::to_string(a.frames) + " sub-pixel-shifted frames.");
     EvalResult result;
     return notes;
 }

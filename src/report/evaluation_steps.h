@@ -80,7 +80,7 @@ struct Plan {
 Plan planEvaluation(const EvalOptions& options);
 
 struct Lighting {
-    std::shared_ptr<const EnvironmentLighting> environment; // null: the directional light
+    std::shared_ptr<const EnvironmentLighting> environment;   // null: the directional light
     std::vector<std::pair<std::string, std::string>> skipped; // rows left out, and why
     bool externalRows = false; // the --external-roughness rows are drawn
 };
@@ -96,8 +96,7 @@ struct MapData {
 };
 MapData loadAndBake(const Plan& plan, size_t mapIndex, const Lighting& lighting);
 
-Scene footprintScene(const Plan& plan, const MapData& map, int footprint,
-                     const Lighting& lighting);
+Scene footprintScene(const Plan& plan, const MapData& map, int footprint, const Lighting& lighting);
 
 // What the steps gather for the report.
 struct Gathered {
@@ -111,8 +110,8 @@ struct Gathered {
 
 void evaluateSetting(const Plan& plan, const Lighting& lighting, MapData& map, Scene scene,
                      int footprint, const Setting& setting, Gathered& out);
-void calibrateFootprint(const Plan& plan, const Lighting& lighting, const MapData& map,
-                        Scene scene, int footprint, Gathered& out);
+void calibrateFootprint(const Plan& plan, const Lighting& lighting, const MapData& map, Scene scene,
+                        int footprint, Gathered& out);
 
 // The report's WebGL2 view of the first map (empty when nothing can be drawn).
 std::string liveViewOf(const Plan& plan, const MapData& map);
@@ -121,8 +120,8 @@ std::string liveViewOf(const Plan& plan, const MapData& map);
 nlohmann::json reportJson(const Plan& plan, const Lighting& lighting, const Gathered& gathered,
                           std::string& calibrationBest);
 // The paragraphs under the report's title, in order.
-std::vector<std::string> reportNotes(const Plan& plan, const Lighting& lighting,
-                                     double truthNoise, const std::string& calibrationBest);
+std::vector<std::string> reportNotes(const Plan& plan, const Lighting& lighting, double truthNoise,
+                                     const std::string& calibrationBest);
 
 // A case as report.json writes it; a number that is not finite as null.
 nlohmann::json caseJson(const ReportCase& c);

@@ -471,7 +471,18 @@ TEST(Renderer, RejectsWrongMethodsAndBakes) {
     EXPECT_NE(r.error().message.find("no bake of method 'toksvig'"), std::string::npos);
     RenderOptions o;
     o.spp = 0;
-    EXPECT_FALSE(render(scene, t, kGroundTruth, o).ok());
+    r = render(scene, t, kGroundTruth, o);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, "render: spp 0: expected 1 .. 1048576");
+    // render() holds the options to checkRenderOptions' ranges, those Python's render() checks.
+    RenderOptions scale;
+    scale.varianceScale = 0.f;
+    r = render(scene, t, "naive", scale);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, checkRenderOptions(scale).error.insert(0, "render: "));
+    RenderOptions shift;
+    shift.pixelShift.x = std::nanf("");
+    EXPECT_FALSE(render(scene, t, "naive", shift).ok());
 }
 
 TEST(Flicker, ConstantFramesDoNotFlickerAndAlternatingOnesDo) {

@@ -77,11 +77,13 @@ TEST(EvaluationPlan, AlignedIsOnTheGridAndRefusesFootprintsThatAreNoLevel) {
 
 TEST(EvaluationPlan, RefusesWhatNoRunCanDo) {
     EvalOptions variant = optionsFor({"toksvig@filament"});
-    EXPECT_NE(problemOf([&] { evaluation::planEvaluation(variant); })
-                  .find("a variant after @ applies under --environment only"),
+    EXPECT_NE(problemOf([&] {
+                  evaluation::planEvaluation(variant);
+              }).find("a variant after @ applies under --environment only"),
               std::string::npos);
-    EXPECT_NE(problemOf([&] { evaluation::planEvaluation(optionsFor({"bogus"})); })
-                  .find("unknown method 'bogus'"),
+    EXPECT_NE(problemOf([&] {
+                  evaluation::planEvaluation(optionsFor({"bogus"}));
+              }).find("unknown method 'bogus'"),
               std::string::npos);
     EvalOptions view = optionsFor({"naive"});
     view.view = "orbit";
