@@ -242,56 +242,50 @@ Result<RenderProgram> interpolatedProgram(const Scene& scene, const std::string&
     return program;
 }
 
-} // namespace
-
-Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& textures,
-                                    const std::string& method, const RenderOptions& options) {
-    if (scene.geometry.type == GeometryType::FacetedSphere)
-        return interpolatedProgram(scene, method, options);
-    RenderProgram program;
-    if (method == kGroundTruth || method == kExact)
-        return Error{"render --gpu: '" + method + "' is rendered on the CPU only"};
-    program.shader = findShader(method);
-    if (!program.shader)
-        return Error{"render --gpu: unknown method " + quote(method) + " (expected " +
-                     renderMethodNames() + ")"};
-    const MethodShader& shader = *program.shader;
+// What the GPU renderer cannot draw of this scene, method and options: one line each.
+Status checkProgramInputs(const Scene& scene, const RenderTextures& textures,
+                          const std::string& method, const MethodShader& shader,
+                          const RenderOptions& options) {
     const Material& m = scene.material;
     if (m.brdf == Brdf::Tabulated || m.factor)
-        return Error{"render --gpu: tabulated BRDFs are rendered on the CPU only"};
+        return Status::failure("render --gpu: tabulated BRDFs are rendered on the CPU only");
     const bool environment = !scene.environment.path.empty();
     if (environment) {
         if (const std::string refusal = environmentRefusal(shader, method); !refusal.empty())
-            return Error{refusal};
+            return Status::failure(refusal);
         if (!textures.environment)
-            return Error{"render --gpu: the scene's environment " + quote(scene.environment.path) +
-                         " is not loaded"};
+            return Status::failure("render --gpu: the scene's environment " +
+                                   quote(scene.environment.path) + " is not loaded");
         if (options.shViews != 0)
-            return Error{"render --gpu: --sh-views is rendered on the CPU only"};
+            return Status::failure("render --gpu: --sh-views is rendered on the CPU only");
     }
     if (scene.lights.size() > size_t(kGpuMaxLights))
-        return Error{"render --gpu: at most " + std::to_string(kGpuMaxLights) +
-                     " lights, the scene has " + std::to_string(scene.lights.size())};
+        return Status::failure("render --gpu: at most " + std::to_string(kGpuMaxLights) +
+                               " lights, the scene has " + std::to_string(scene.lights.size()));
     if (options.spp != 1)
-        return Error{
-            "render --gpu: methods take one sample per pixel (--spp is the ground truth's)"};
+        return Status::failure(
+            "render --gpu: methods take one sample per pixel (--spp is the ground truth's)");
     if (options.taps < 1 || options.taps > 16)
-        return Error{"render --gpu: taps must be in 1 .. 16"};
+        return Status::failure("render --gpu: taps must be in 1 .. 16");
     if (options.anisotropy < 1 || options.anisotropy > 64)
-        return Error{"render --gpu: anisotropy must be in 1 .. 64"};
+        return Status::failure("render --gpu: anisotropy must be in 1 .. 64");
     if (scene.camera.width < 1 || scene.camera.height < 1)
-        return Error{"render --gpu: the camera's image is empty"};
+        return Status::failure("render --gpu: the camera's image is empty");
     const Bake& bake = textures.bake;
     if (bake.levels.empty() || bake.method != shader.bake)
-        return Error{"render --gpu: no bake of method '" + std::string(methodName(shader.bake)) +
-                     "' to render with"};
-    const CameraFrame camera = cameraFrame(scene.camera);
-    // As the CPU renderer: the view towards the camera (environment frame) before prepare.
-    if (environment)
-        program.setup.environmentView = worldToEnvironment(glm::dvec3(-camera.forward));
-    if (Status ready = shader.prepare(m, textures, options, program.setup); !ready)
-        return Error{ready.error};
+        return Status::failure("render --gpu: no bake of method '" +
+                               std::string(methodName(shader.bake)) + "' to render with");
+    return Status::success();
+}
+
+// Under an environment: the SH lighting's rows (returns their order) or the prefiltered levels
+// the program reads; 0 without SH lighting.
+Result<int> addEnvironmentLighting(RenderProgram& program, const Scene& scene,
+                                   const RenderTextures& textures, const std::string& method) {
+    const MethodShader& shader = *program.shader;
     const ShaderSetup& setup = program.setup;
+    const Material& m = scene.material;
+    const bool environment = !scene.environment.path.empty();
     const bool shLighting = environment && setup.shLighting;
     int environmentShOrder = 0;
     if (shLighting) {
@@ -336,6 +330,14 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
         program.environment = textures.environment;
         program.environmentVisible = scene.environment.visible;
     }
+    return environmentShOrder;
+}
+
+// The textures' layers: the linear planes, then the method's own (roughness-mips' roughness),
+// then the albedo map; returns how many are the method's.
+Result<int> addLayers(RenderProgram& program, const RenderTextures& textures) {
+    const MethodShader& shader = *program.shader;
+    const Bake& bake = textures.bake;
     // Layers: the linear planes, then the roughness mips (roughness-mips), then the albedo map.
     auto& layers = program.layers;
     for (size_t p = 0; p < bake.planes.size(); ++p) {
@@ -364,8 +366,17 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
                 chain[k]->height != bake.levels[k].front()->height)
                 return Error{"render --gpu: level " + std::to_string(k) +
                              " of a texture differs in size from the bake's"};
+    return methodLayers;
+}
 
-    // The fragment shader: defines, the library, the ray caster, the method's glue, the main.
+// The fragment shader's parts: defines, the library, the ray caster, the method's glue, the
+// main.
+Status addFragmentParts(RenderProgram& program, const Scene& scene, int methodLayers,
+                        int environmentShOrder) {
+    const MethodShader& shader = *program.shader;
+    const ShaderSetup& setup = program.setup;
+    const bool environment = !scene.environment.path.empty();
+    const bool shLighting = environment && setup.shLighting;
     std::string defines = shader.gpuDefines ? shader.gpuDefines(setup, methodLayers) : "";
     if (environment) defines += "#define NDFMIP_ENVIRONMENT\n";
     if (shLighting) defines += "#define NDFMIP_ENVIRONMENT_SH\n";
@@ -390,11 +401,22 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     files.push_back("render/main.frag");
     for (const std::string& file : files) {
         Result<std::string> text = embedded(file);
-        if (!text) return text.error();
+        if (!text) return Status::failure(text.error().message);
         program.fragmentParts.emplace_back(file, std::move(text.value()));
     }
+    return Status::success();
+}
 
-    // Uniforms: camera, object, material, lights, filtering rule, method.
+// The uniforms: camera, object, material, lights, filtering rule, method, environment.
+Status addUniforms(RenderProgram& program, const Scene& scene, const RenderTextures& textures,
+                   const RenderOptions& options, const CameraFrame& camera,
+                   int environmentShOrder) {
+    const MethodShader& shader = *program.shader;
+    const ShaderSetup& setup = program.setup;
+    const Bake& bake = textures.bake;
+    const bool environment = !scene.environment.path.empty();
+    const bool shLighting = environment && setup.shLighting;
+    const bool albedoMap = !textures.albedo.empty();
     auto& u = program.uniforms;
     addSceneUniforms(u, scene, camera);
     add(u, "ndfmipTaps", options.taps);
@@ -406,7 +428,7 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     add(u, "ndfmipLevelCount", int(bake.levels.size()));
     add(u, "ndfmipPlanes", 0);
     if (shader.gpuUniforms)
-        if (Status s = shader.gpuUniforms(setup, u); !s) return Error{s.error};
+        if (Status s = shader.gpuUniforms(setup, u); !s) return s;
     if (environment) {
         // Every sampler on its unit, used or not: two of different types on one unit (0, the
         // planes' array) make the draw invalid.
@@ -422,9 +444,10 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
     }
     if (shLighting) {
         for (int l = 0; l <= environmentShOrder; ++l) {
-            const std::string index = "[" + std::to_string(l) + "]";
-            add(u, "ndfmipEnvShDiffuse" + index, float(setup.sh.diffuse[size_t(l)]));
-            add(u, "ndfmipEnvShSpecular" + index, float(setup.sh.specular[size_t(l)]));
+            add(u, "ndfmipEnvShDiffuse[" + std::to_string(l) + "]",
+                float(setup.sh.diffuse[size_t(l)]));
+            add(u, "ndfmipEnvShSpecular[" + std::to_string(l) + "]",
+                float(setup.sh.specular[size_t(l)]));
         }
     } else if (environment) {
         const SplitSumLighting& lighting = *setup.splitSum;
@@ -436,6 +459,39 @@ Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& te
                 glm::vec3(lighting.irradiance[k]));
         add(u, "ndfmipEnvBandFactors", lighting.vmfBandFactors ? 1 : 0);
     }
+    return Status::success();
+}
+
+} // namespace
+
+Result<RenderProgram> renderProgram(const Scene& scene, const RenderTextures& textures,
+                                    const std::string& method, const RenderOptions& options) {
+    if (scene.geometry.type == GeometryType::FacetedSphere)
+        return interpolatedProgram(scene, method, options);
+    RenderProgram program;
+    if (method == kGroundTruth || method == kExact)
+        return Error{"render --gpu: '" + method + "' is rendered on the CPU only"};
+    program.shader = findShader(method);
+    if (!program.shader)
+        return Error{"render --gpu: unknown method " + quote(method) + " (expected " +
+                     renderMethodNames() + ")"};
+    if (Status s = checkProgramInputs(scene, textures, method, *program.shader, options); !s)
+        return Error{s.error};
+    const CameraFrame camera = cameraFrame(scene.camera);
+    // As the CPU renderer: the view towards the camera (environment frame) before prepare.
+    if (!scene.environment.path.empty())
+        program.setup.environmentView = worldToEnvironment(glm::dvec3(-camera.forward));
+    if (Status ready = program.shader->prepare(scene.material, textures, options, program.setup);
+        !ready)
+        return Error{ready.error};
+    const Result<int> shOrder = addEnvironmentLighting(program, scene, textures, method);
+    if (!shOrder) return shOrder.error();
+    const Result<int> methodLayers = addLayers(program, textures);
+    if (!methodLayers) return methodLayers.error();
+    if (Status s = addFragmentParts(program, scene, methodLayers.value(), shOrder.value()); !s)
+        return Error{s.error};
+    if (Status s = addUniforms(program, scene, textures, options, camera, shOrder.value()); !s)
+        return Error{s.error};
     return program;
 }
 
