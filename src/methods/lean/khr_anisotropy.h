@@ -1,0 +1,21 @@
+// One anisotropic GGX lobe as glTF's KHR_materials_anisotropy stores it: the roughness in
+// metallicRoughness G (alpha_b = roughness^2), a direction in the tangent frame and a strength
+// s with alpha_t = mix(alpha_b, 1, s^2), the extension's own definition.
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace ndfmip {
+
+struct KhrAnisotropy {
+    float roughness = 0.f; // perceptual: sqrt(alpha_b)
+    glm::vec2 direction{1.f, 0.f}; // unit, the axis of alpha_t; x >= 0 (a lobe has no sign)
+    float strength = 0.f;          // s in [0, 1]
+};
+
+// The lobe of squared-roughness tensor A = [[axx, axy], [axy, ayy]] (slope space, as sggx.glsl
+// shades it): alpha_t^2 and alpha_b^2 its eigenvalues, each alpha at most 1 (the extension
+// cannot store a wider lobe).
+KhrAnisotropy khrAnisotropy(float axx, float ayy, float axy);
+
+} // namespace ndfmip
