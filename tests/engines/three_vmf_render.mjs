@@ -4,10 +4,13 @@
 // into a float target read back as linear RGB, as `ndfmip render --gpu` writes its EXR. Then
 // times ?frames= frames of it and of a stock MeshStandardMaterial with the map (?normal=, a PNG
 // three mipmaps itself) as its normalMap, each frame drawn to the canvas and waited for
-// (readPixels of one pixel). POSTs {three, renderer, width, height, pixels (base64 float32 RGBA,
-// bottom row first), frameMs: {vmf, standard}} to /result, or the error to /fail.
+// (readPixels of one pixel). Last, the module under an environment (three's RoomEnvironment): the
+// mean radiance without and with it. POSTs {three, renderer, width, height, pixels (base64
+// float32 RGBA, bottom row first), frameMs: {vmf, standard}, environment} to /result, or the
+// error to /fail.
 import * as THREE from 'three';
 import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
+import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
 import { loadVmfLobes, useVmfLobes } from '/ndfmip/ndfmip_vmf.js';
 
 const post = (where, value) =>
@@ -148,7 +151,30 @@ async function main() {
         frameMs.standard = time();
     }
 
+    // Under an environment (three's RoomEnvironment through PMREM) the module's other path: it
+    // must compile and add light (no reference image: ndfmip's renderer lights differently).
+    mesh.material = material;
+    const meanOf = () => {
+        renderer.setRenderTarget(target);
+        renderer.render(scene, camera);
+        const p = new Float32Array(4 * width * height);
+        renderer.readRenderTargetPixels(target, 0, 0, width, height, p);
+        renderer.setRenderTarget(null);
+        let sum = 0;
+        for (let i = 0; i < p.length; i += 4) sum += (p[i] + p[i + 1] + p[i + 2]) / 3;
+        return sum / (width * height);
+    };
+    const direct = meanOf();
+    scene.environment = new THREE.PMREMGenerator(renderer).fromScene(new RoomEnvironment(), 0.04).texture;
+    const withEnvironment = meanOf();
+    const environment = {
+        meanDirect: direct, meanWithEnvironment: withEnvironment,
+        programsRunnable: renderer.info.programs.every(p => !p.diagnostics || p.diagnostics.runnable),
+        glError: gl.getError(),
+    };
+
     await post('/result', {
+        environment,
         three: THREE.REVISION,
         renderer: gl.getParameter(gl.getExtension('WEBGL_debug_renderer_info') ? 0x9246 : gl.RENDERER),
         width, height, glError, frameMs,

@@ -203,6 +203,17 @@ TEST(EngineClients, ThreeVmfRender) {
     EXPECT_LT(c->relativeRmse, 0.02);
     EXPECT_NEAR(c->energyRatio, 1.0, 0.02);
 
+    // The environment path (PMREM, per lobe about its mean normal) compiles and adds light.
+    const json& environment = report["environment"];
+    std::printf("under RoomEnvironment: mean radiance %.4f (lights alone %.4f)\n",
+                environment["meanWithEnvironment"].get<double>(),
+                environment["meanDirect"].get<double>());
+    EXPECT_TRUE(environment["programsRunnable"].get<bool>());
+    EXPECT_EQ(environment["glError"], 0);
+    EXPECT_GT(environment["meanWithEnvironment"].get<double>(),
+              environment["meanDirect"].get<double>() * 1.01);
+    EXPECT_TRUE(std::isfinite(environment["meanWithEnvironment"].get<double>()));
+
     const json& frames = report["frameMs"];
     for (const char* material : {"vmf", "standard"})
         if (frames.contains(material)) {
