@@ -36,8 +36,9 @@ export function prepareLobeTexture(texture) {
     return texture;
 }
 
-// Loads the lobe textures (KTX2 RGBA16F or RGBA32F) with a KTX2Loader on which detectSupport was
-// called; rejects, naming the file, when one cannot be read.
+// Loads the lobe textures (KTX2 RGBA16F, `bake --half`; RGBA32F filters only where the browser
+// has OES_texture_float_linear) with a KTX2Loader on which detectSupport was called; rejects,
+// naming the file, when one cannot be read.
 export async function loadVmfLobes(ktx2Loader, urls) {
     return Promise.all(urls.map(url => ktx2Loader.loadAsync(url).then(prepareLobeTexture, error => {
         throw new Error(`ndfmip_vmf: cannot load ${url}: ${error && error.message ? error.message : error}`);
@@ -120,7 +121,7 @@ function setup(count) {
 }
 
 // The environment: per lobe, irradiance and prefiltered radiance about its mean normal.
-function environment(count) {
+function environment() {
     return /* glsl */ `
 #if defined( RE_IndirectDiffuse ) && defined( USE_LIGHTMAP )
     irradiance += texture2D( lightMap, vLightMapUv ).rgb * lightMapIntensity;
@@ -165,7 +166,7 @@ export function useVmfLobes(material, options) {
         fs = replace(fs, '#include <lights_physical_pars_fragment>',
                      '#include <lights_physical_pars_fragment>\n' + declarations(lobes.length));
         fs = replace(fs, '#include <normal_fragment_maps>', '#include <normal_fragment_maps>\n' + setup(lobes.length));
-        fs = replace(fs, '#include <lights_fragment_maps>', environment(lobes.length));
+        fs = replace(fs, '#include <lights_fragment_maps>', environment());
         shader.fragmentShader = fs;
     };
     material.customProgramCacheKey = () => `ndfmip-vmf-${lobes.length}`;
