@@ -93,6 +93,13 @@ float ndfmipVmfWidenedLobe(NdfmipMaterial m, vec3 mu, float kappa, vec3 h) {
     return 0.0f;
 }
 
+// The GGX or Beckmann alpha of the material's lobe (alpha) widened by a vMF lobe of concentration
+// kappa, alpha'^2 = alpha^2 + 2/kappa (H eq. 30), at most 1: the roughness an engine's
+// prefiltered environment is read at for that lobe.
+float ndfmipVmfWidenedAlpha(float alpha, float kappa) {
+    return min(sqrt(alpha * alpha + 2.0f / max(kappa, 1e-6f)), 1.0f);
+}
+
 // One lobe's share, given its specular lobe value: alpha (albedo D_diffuse + specular lobe
 // cosine), the diffuse term H eq. 29 with s = 1 over l (footnote 9), which carries its cosine.
 vec3 ndfmipVmfLobeTerm(NdfmipMaterial m, vec3 albedo, NdfmipLobe lobe, float specular, vec3 l, vec3 v) {

@@ -315,7 +315,7 @@ vec3 ndfmipShadeVmfLobeEnvironment(NdfmipMaterial m, vec3 albedo, vec4 lobeTexel
         float kappa = max(lobe.kappa, 1e-6f);
         float r = m.brdf == NDFMIP_BLINN_PHONG
                       ? ndfmipBlinnPhongPerceptual(kappa * m.exponent / (kappa + m.exponent))
-                      : ndfmipAlphaPerceptual(min(sqrt(m.roughness * m.roughness + 2.0f / kappa), 1.0f));
+                      : ndfmipAlphaPerceptual(ndfmipVmfWidenedAlpha(m.roughness, kappa));
         // The albedo factor at the material's roughness over the lobe's normals, mean length A(kappa).
         term += ndfmipEnvSpecular(m, hit, lobe.mu, view, r, ndfmipBasePerceptual(m), ndfmipVmfBandFactors(kappa).y, 0.0f);
     }
