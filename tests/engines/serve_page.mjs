@@ -4,7 +4,7 @@
 //
 //   node serve_page.mjs --chromium /usr/bin/chromium --out result.json --timeout 90 \
 //       --mount /three/=node_modules/three --mount /engines/=tests/engines --mount /asset/=DIR \
-//       --page '/engines/three_gltf_levels.html?glb=/asset/out.glb'
+//       --page '/engines/three_page.html?script=three_gltf_levels.mjs&glb=/asset/out.glb'
 //
 // The page POSTs /result (the JSON to write: exit 0) or /fail (a message: exit 1); anything it
 // POSTs to /log is printed. Exit 2: the deadline passed; exit 3: the browser ended first.

@@ -8,26 +8,7 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 
-const post = (where, value) =>
-    fetch(where, { method: 'POST', body: typeof value === 'string' ? value : JSON.stringify(value) });
-const fail = error => post('/fail', String((error && error.stack) || error));
-window.addEventListener('error', e => fail(e.error || e.message));
-window.addEventListener('unhandledrejection', e => fail(e.reason));
-// What three and the browser warn of (shader logs, WebGL errors) goes to the test's log.
-for (const level of ['error', 'warn']) {
-    const original = console[level].bind(console);
-    console[level] = (...parts) => {
-        original(...parts);
-        post('/log', `console.${level}: ${parts.map(String).join(' ')}`);
-    };
-}
-
-function base64(bytes) {
-    let text = '';
-    for (let i = 0; i < bytes.length; i += 0x8000)
-        text += String.fromCharCode.apply(null, bytes.subarray(i, i + 0x8000));
-    return btoa(text);
-}
+import { base64, fail, post } from './page_report.mjs';
 
 async function main() {
     const params = new URLSearchParams(location.search);

@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "engines/engine_client.h"
 #include "gltf_test_asset.h"
 #include "ndfmip/io.h"
 #include "ndfmip/pyramid.h"
@@ -32,57 +33,18 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 const std::string kMap = std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png";
-const std::string kPages = std::string(NDFMIP_SOURCE_DIR) + "/tests/engines";
-
-std::string findProgram(const char* name) {
-    for (const char* dir : {"/usr/bin/", "/usr/local/bin/", "/bin/"}) {
-        const std::string path = std::string(dir) + name;
-        if (fs::exists(path)) return path;
-    }
-    return "";
-}
-
-std::string nodeModules() {
-    const char* modules = std::getenv("NDFMIP_NODE_MODULES");
-    return modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules";
-}
 
 // Why the test cannot run here, or "" when everything it needs is installed.
 std::string missingPrerequisite(std::string* chromium, std::string* node) {
-    *chromium = findProgram("chromium");
-    *node = findProgram("node");
-    const std::string three = nodeModules() + "/three";
-    if (chromium->empty()) return "chromium not installed (scripts/setup installs it)";
-    if (node->empty()) return "node not installed (scripts/setup installs nodejs)";
-    for (const char* file :
-         {"/build/three.module.js", "/examples/jsm/loaders/GLTFLoader.js",
-          "/examples/jsm/loaders/KTX2Loader.js", "/examples/jsm/libs/basis/basis_transcoder.wasm"})
-        if (!fs::exists(three + file))
-            return "npm package three not installed (" + three + file +
-                   " missing; scripts/setup installs three@0.187.0 into .npm/)";
+    if (std::string missing =
+            test::missingThreePage({"/build/three.module.js", "/examples/jsm/loaders/GLTFLoader.js",
+                                    "/examples/jsm/loaders/KTX2Loader.js",
+                                    "/examples/jsm/libs/basis/basis_transcoder.wasm"},
+                                   chromium, node);
+        !missing.empty())
+        return missing;
     if (Result<std::string> encoder = basisuEncoder(); !encoder) return encoder.error().message;
     return "";
-}
-
-std::vector<unsigned char> fromBase64(const std::string& text) {
-    std::vector<unsigned char> out;
-    uint32_t bits = 0;
-    int count = 0;
-    for (char c : text) {
-        int v = c >= 'A' && c <= 'Z'   ? c - 'A'
-                : c >= 'a' && c <= 'z' ? c - 'a' + 26
-                : c >= '0' && c <= '9' ? c - '0' + 52
-                : c == '+'             ? 62
-                : c == '/'             ? 63
-                                       : -1;
-        if (v < 0) continue; // '=' padding
-        bits = (bits << 6) | uint32_t(v);
-        if ((count += 6) >= 8) {
-            count -= 8;
-            out.push_back(static_cast<unsigned char>((bits >> count) & 0xFF));
-        }
-    }
-    return out;
 }
 
 // Mean absolute error, in units of 1/255, of the RGBA8 texels `read` against `expected`: for
@@ -191,17 +153,9 @@ TEST(EngineClients, ThreeGltfLevels) {
         targets += target.name;
     }
     const auto browserStart = std::chrono::steady_clock::now();
-    const std::string command =
-        "timeout 150 " + test::shellArg(node) + " " + test::shellArg(kPages + "/serve_page.mjs") +
-        " --chromium " + test::shellArg(chromium) + " --timeout 90 --out " +
-        test::shellArg(result) + " --mount " +
-        test::shellArg("/three/=" + nodeModules() + "/three") + " --mount " +
-        test::shellArg("/engines/=" + kPages) + " --mount " +
-        test::shellArg("/asset/=" + dir.path.string()) + " --page " +
-        test::shellArg("/engines/three_gltf_levels.html?glb=/asset/plane_filtered.glb&targets=" +
-                       targets) +
-        " > " + test::shellArg(log) + " 2>&1";
-    const int status = std::system(command.c_str());
+    const int status = test::runThreePage(node, chromium, "three_gltf_levels.mjs",
+                                          "glb=/asset/plane_filtered.glb&targets=" + targets,
+                                          {{"/asset/", dir.path.string()}}, result, log);
     const double browserSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - browserStart).count();
     ASSERT_EQ(status, 0) << test::fileBytes(log);
@@ -256,7 +210,7 @@ TEST(EngineClients, ThreeGltfLevels) {
                 EXPECT_EQ(t["mipmaps"][size_t(k)], json::array({e.width, e.height}))
                     << "level " << k;
                 const std::vector<unsigned char> read =
-                    fromBase64(t["levels"][size_t(k)].get<std::string>());
+                    test::fromBase64(t["levels"][size_t(k)].get<std::string>());
                 ASSERT_EQ(read.size(), 4 * e.texelCount()) << "level " << k;
                 double worst = 0.0;
                 const double mean = meanError255(read, e, map.channels, &worst);

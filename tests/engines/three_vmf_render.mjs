@@ -13,25 +13,7 @@ import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
 import { loadVmfLobes, useVmfLobes } from '/ndfmip/ndfmip_vmf.js';
 
-const post = (where, value) =>
-    fetch(where, { method: 'POST', body: typeof value === 'string' ? value : JSON.stringify(value) });
-const fail = error => post('/fail', String((error && error.stack) || error));
-window.addEventListener('error', e => fail(e.error || e.message));
-window.addEventListener('unhandledrejection', e => fail(e.reason));
-for (const level of ['error', 'warn']) {
-    const original = console[level].bind(console);
-    console[level] = (...parts) => {
-        original(...parts);
-        post('/log', `console.${level}: ${parts.map(String).join(' ')}`);
-    };
-}
-
-function base64(bytes) {
-    let text = '';
-    for (let i = 0; i < bytes.length; i += 0x8000)
-        text += String.fromCharCode.apply(null, bytes.subarray(i, i + 0x8000));
-    return btoa(text);
-}
+import { base64, fail, post } from './page_report.mjs';
 
 const colour = (value, fallback) =>
     value === undefined ? fallback : Array.isArray(value) ? value : [value, value, value];

@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "engines/engine_client.h"
 #include "ndfmip/compare.h"
 #include "ndfmip/io.h"
 #include "test_support.h"
@@ -33,35 +34,16 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 const std::string kMap = std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png";
-const std::string kPages = std::string(NDFMIP_SOURCE_DIR) + "/tests/engines";
 const std::string kModule = std::string(NDFMIP_BINARY_DIR) + "/integrations/three";
 constexpr int kLobes = 4;
 constexpr int kFrames = 10; // timed frames per material
 
-std::string findProgram(const char* name) {
-    for (const char* dir : {"/usr/bin/", "/usr/local/bin/", "/bin/"}) {
-        const std::string path = std::string(dir) + name;
-        if (fs::exists(path)) return path;
-    }
-    return "";
-}
-
-std::string nodeModules() {
-    const char* modules = std::getenv("NDFMIP_NODE_MODULES");
-    return modules ? modules : std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules";
-}
-
 // Why the test cannot run here, or "" when everything it needs is installed.
 std::string missingPrerequisite(std::string* chromium, std::string* node) {
-    *chromium = findProgram("chromium");
-    *node = findProgram("node");
-    const std::string three = nodeModules() + "/three";
-    if (chromium->empty()) return "chromium not installed (scripts/setup installs it)";
-    if (node->empty()) return "node not installed (scripts/setup installs nodejs)";
-    for (const char* file : {"/build/three.module.js", "/examples/jsm/loaders/KTX2Loader.js"})
-        if (!fs::exists(three + file))
-            return "npm package three not installed (" + three + file +
-                   " missing; scripts/setup installs three@0.187.0 into .npm/)";
+    if (std::string missing = test::missingThreePage(
+            {"/build/three.module.js", "/examples/jsm/loaders/KTX2Loader.js"}, chromium, node);
+        !missing.empty())
+        return missing;
     if (!fs::exists(kModule + "/ndfmip_vmf_glsl.js") || !fs::exists(kModule + "/ndfmip_vmf.js"))
         return "the three.js module was not built (" + kModule +
                "; glslangValidator or spirv-cross missing when configured)";
@@ -75,23 +57,7 @@ std::string missingPrerequisite(std::string* chromium, std::string* node) {
 
 // Float32 RGBA pixels, bottom row first (readPixels), from base64, as an RGB image top row first.
 Image fromReadPixels(const std::string& base64, int width, int height) {
-    std::vector<unsigned char> bytes;
-    uint32_t bits = 0;
-    int count = 0;
-    for (char c : base64) {
-        int v = c >= 'A' && c <= 'Z'   ? c - 'A'
-                : c >= 'a' && c <= 'z' ? c - 'a' + 26
-                : c >= '0' && c <= '9' ? c - '0' + 52
-                : c == '+'             ? 62
-                : c == '/'             ? 63
-                                       : -1;
-        if (v < 0) continue; // '=' padding
-        bits = (bits << 6) | uint32_t(v);
-        if ((count += 6) >= 8) {
-            count -= 8;
-            bytes.push_back(static_cast<unsigned char>((bits >> count) & 0xFF));
-        }
-    }
+    const std::vector<unsigned char> bytes = test::fromBase64(base64);
     Image image(width, height, 3);
     if (bytes.size() != size_t(width) * size_t(height) * 16) return Image();
     for (int y = 0; y < height; ++y)
@@ -171,20 +137,16 @@ TEST(EngineClients, ThreeVmfRender) {
     for (int j = 0; j < kLobes; ++j)
         lobes += (j ? ",/bake/ktx2/lobe" : "/bake/ktx2/lobe") + std::to_string(j) + ".ktx2";
     const std::string result = dir.file("three.json"), log = dir.file("three.log");
-    const std::string command =
-        "timeout 150 " + test::shellArg(node) + " " + test::shellArg(kPages + "/serve_page.mjs") +
-        " --chromium " + test::shellArg(chromium) + " --timeout 90 --out " +
-        test::shellArg(result) + " --mount " +
-        test::shellArg("/three/=" + nodeModules() + "/three") + " --mount " +
-        test::shellArg("/engines/=" + kPages) + " --mount " +
-        test::shellArg("/ndfmip/=" + kModule) + " --mount " + test::shellArg("/bake/=" + bake) +
-        " --mount " + test::shellArg("/asset/=" + dir.path.string()) + " --mount " +
-        test::shellArg("/data/=" + std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps") +
-        " --page " +
-        test::shellArg("/engines/three_vmf_render.html?scene=/asset/scene.json&lobes=" + lobes +
-                       "&frames=" + std::to_string(kFrames) + "&normal=/data/pyramidwall_256.png") +
-        " > " + test::shellArg(log) + " 2>&1";
-    ASSERT_EQ(std::system(command.c_str()), 0) << test::fileBytes(log);
+    ASSERT_EQ(test::runThreePage(node, chromium, "three_vmf_render.mjs",
+                                 "scene=/asset/scene.json&lobes=" + lobes + "&frames=" +
+                                     std::to_string(kFrames) + "&normal=/data/pyramidwall_256.png",
+                                 {{"/ndfmip/", kModule},
+                                  {"/bake/", bake},
+                                  {"/asset/", dir.path.string()},
+                                  {"/data/", std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps"}},
+                                 result, log),
+              0)
+        << test::fileBytes(log);
     const json report = json::parse(test::fileBytes(result));
     std::printf("three r%s on %s\n", report["three"].get<std::string>().c_str(),
                 report["renderer"].get<std::string>().c_str());

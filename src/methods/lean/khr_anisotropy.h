@@ -8,7 +8,7 @@
 namespace ndfmip {
 
 struct KhrAnisotropy {
-    float roughness = 0.f; // perceptual: sqrt(alpha_b)
+    float roughness = 0.f;         // perceptual: sqrt(alpha_b)
     glm::vec2 direction{1.f, 0.f}; // unit, the axis of alpha_t; x >= 0 (a lobe has no sign)
     float strength = 0.f;          // s in [0, 1]
 };

@@ -32,17 +32,15 @@ TEST(KhrAnisotropy, TheWideAxisIsTheDirectionAndAlphaTRoundTrips) {
     EXPECT_NEAR(alphaT(y), 0.3f, 1e-6);
     // The same lobe turned 30 degrees: R diag(0.09, 0.01) R^T.
     const float c = std::cos(glm::radians(30.f)), s = std::sin(glm::radians(30.f));
-    const KhrAnisotropy turned =
-        khrAnisotropy(0.09f * c * c + 0.01f * s * s, 0.09f * s * s + 0.01f * c * c,
-                      (0.09f - 0.01f) * c * s);
+    const KhrAnisotropy turned = khrAnisotropy(
+        0.09f * c * c + 0.01f * s * s, 0.09f * s * s + 0.01f * c * c, (0.09f - 0.01f) * c * s);
     EXPECT_NEAR(turned.direction.x, c, 1e-5);
     EXPECT_NEAR(turned.direction.y, s, 1e-5);
     EXPECT_NEAR(alphaT(turned), 0.3f, 1e-5);
     EXPECT_NEAR(turned.roughness, x.roughness, 1e-5);
     // -30 degrees: x stays positive, the axis has no sign.
-    const KhrAnisotropy back =
-        khrAnisotropy(0.09f * c * c + 0.01f * s * s, 0.09f * s * s + 0.01f * c * c,
-                      -(0.09f - 0.01f) * c * s);
+    const KhrAnisotropy back = khrAnisotropy(
+        0.09f * c * c + 0.01f * s * s, 0.09f * s * s + 0.01f * c * c, -(0.09f - 0.01f) * c * s);
     EXPECT_NEAR(back.direction.x, c, 1e-5);
     EXPECT_NEAR(back.direction.y, -s, 1e-5);
 }
