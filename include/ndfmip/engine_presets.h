@@ -16,6 +16,9 @@ struct EnginePreset {
     const char* normalFile;    // file stem of the BC5 normal map
     const char* packedFile;    // file stem of the packed material map (RGBA8)
     MaterialChannel packed[4]; // R, G, B, A of the packed map
+    // Reads glTF's KHR_materials_anisotropy (an anisotropyTexture: RG direction, B strength;
+    // roughness alpha_b): what a lean bake's engine files are written for.
+    bool anisotropy = false;
 };
 
 const std::vector<EnginePreset>& enginePresets();

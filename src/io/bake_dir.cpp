@@ -15,6 +15,7 @@
 #include "io/basisu_encoder.h"
 #include "io/crash_recovery.h"
 #include "io/input_file.h"
+#include "methods/lean/khr_anisotropy.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/engine_presets.h"
 #include "ndfmip/io.h"
@@ -310,6 +311,67 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
                                      packedKeyValues(*engine));
                 !s)
                 return Error{s.error};
+    }
+    const int moments = findPlane(bake.planes, "lean_moments"),
+              cross = findPlane(bake.planes, "lean_cross");
+    if (const EnginePreset* engine = options.engine;
+        engine && engine->anisotropy && moments >= 0 && cross >= 0) {
+        // One anisotropic GGX lobe per texel from the slope moments (sggx.glsl) as
+        // KHR_materials_anisotropy stores it: the mean slope's normal, sqrt(alpha_b) in the
+        // packed map, the anisotropyTexture (RG direction (d + 1)/2, B strength).
+        const std::string prefix = std::string(engine->name) + "_";
+        const float alpha2 = options.baseRoughness * options.baseRoughness;
+        std::vector<Image> normal, roughness, anisotropy;
+        for (const auto& level : bake.levels) {
+            const Image& m = *level[size_t(moments)];
+            const Image& c = *level[size_t(cross)];
+            Image n(m.width, m.height, 3), r(m.width, m.height, 1), a(m.width, m.height, 4);
+            for (size_t i = 0; i < m.texelCount(); ++i) {
+                const float* mi = &m.pixels[4 * i];
+                const KhrAnisotropy lobe = khrAnisotropyOfMoments(mi, c.pixels[i], alpha2);
+                n.pixels[3 * i] = mi[0], n.pixels[3 * i + 1] = mi[1], n.pixels[3 * i + 2] = 1.f;
+                r.pixels[i] = lobe.roughness;
+                float* t = &a.pixels[4 * i];
+                t[0] = 0.5f * (lobe.direction.x + 1.f), t[1] = 0.5f * (lobe.direction.y + 1.f);
+                t[2] = lobe.strength, t[3] = 1.f;
+            }
+            normal.push_back(std::move(n));
+            roughness.push_back(std::move(r));
+            anisotropy.push_back(std::move(a));
+        }
+        if (Status s = writeMade(
+                prefix + engine->normalFile,
+                [&](size_t k) {
+                    return normalRows(normal[k], engine->greenDown,
+                                      options.normalFormat == TextureFormat::Rgba8Unorm ? 4
+                                      : options.normalFormat == TextureFormat::Uastc    ? 3
+                                                                                        : 2);
+                },
+                options.normalFormat, normalKeyValues(options.normalFormat, engine->greenDown));
+            !s)
+            return Error{s.error};
+        auto packed = [&](size_t k) {
+            return rowsOf(std::make_shared<const Image>(packedMaterial(
+                *engine, roughness[k],
+                k < options.metallic.size() ? options.metallic[k].get() : nullptr,
+                k < options.occlusion.size() ? options.occlusion[k].get() : nullptr)));
+        };
+        if (Status s = writeMade(prefix + engine->packedFile, packed, TextureFormat::Rgba8Unorm,
+                                 packedKeyValues(*engine));
+            !s)
+            return Error{s.error};
+        if (Status s = writeMade(
+                prefix + "anisotropy", [&](size_t k) { return rowsOf(anisotropy[k]); },
+                TextureFormat::Rgba8Unorm,
+                {{"ndfmip", aboutText({{"content", "KHR_materials_anisotropy anisotropyTexture"},
+                                       {"engine", engine->name},
+                                       {"channels",
+                                        {{"r", "direction of alpha_t, tangent x, (d + 1)/2"},
+                                         {"g", "direction of alpha_t, bitangent y, (d + 1)/2"},
+                                         {"b", "strength s: alpha_t = mix(alpha_b, 1, s^2)"},
+                                         {"a", "1"}}}})}});
+            !s)
+            return Error{s.error};
     }
     // A container asked for but given nothing (a method without normal or roughness, planes not
     // asked for) is a mistake, not an empty folder.

@@ -120,8 +120,14 @@ void checkFileOptions(const BakeFileOptions& a) {
     if (!a.engine.empty()) {
         if (!findEnginePreset(a.engine))
             fail("--engine " + quote(a.engine) + ": expected " + enginePresetNames());
-        if (*method != Method::Toksvig && *method != Method::Naive)
-            fail("--engine writes a normal map and a roughness map: --method toksvig (or naive)");
+        const EnginePreset& preset = *findEnginePreset(a.engine);
+        if (*method == Method::Lean && !preset.anisotropy)
+            fail("--engine " + a.engine +
+                 " --method lean: the lean bake's engine files are KHR_materials_anisotropy's, "
+                 "which gltf, three, filament and bevy read");
+        if (*method != Method::Toksvig && *method != Method::Naive && *method != Method::Lean)
+            fail("--engine writes a normal map and a roughness map: --method toksvig (or naive), "
+                 "or lean (one anisotropic lobe per texel, KHR_materials_anisotropy)");
         if (!exports.count("ktx2") && !exports.count("dds")) exports.insert("ktx2");
     }
     if (exports.count("png16") &&
@@ -151,6 +157,7 @@ BakeWriteOptions writeOptionsOf(const BakeFileOptions& a) {
     write.ktx2 = exports.count("ktx2") > 0;
     write.dds = exports.count("dds") > 0;
     write.engine = a.engine.empty() ? nullptr : findEnginePreset(a.engine);
+    write.baseRoughness = a.baseRoughness;
     write.half = a.half;
     return write;
 }

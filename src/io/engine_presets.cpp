@@ -12,7 +12,8 @@ const std::vector<EnginePreset>& enginePresets() {
          false,
          "normal",
          "occlusion_roughness_metallic",
-         {C::Occlusion, C::Roughness, C::Metallic, C::One}},
+         {C::Occlusion, C::Roughness, C::Metallic, C::One},
+         true},
         // Unreal: DirectX (-Y) normals; ORM packing R AO, G roughness, B metallic.
         {"unreal",
          true,
@@ -28,19 +29,22 @@ const std::vector<EnginePreset>& enginePresets() {
          false,
          "normal",
          "occlusion_roughness_metallic",
-         {C::Occlusion, C::Roughness, C::Metallic, C::One}},
+         {C::Occlusion, C::Roughness, C::Metallic, C::One},
+         true},
         // Bevy: glTF's conventions (StandardMaterial metallic_roughness_texture, occlusion R).
         {"bevy",
          false,
          "normal",
          "occlusion_roughness_metallic",
-         {C::Occlusion, C::Roughness, C::Metallic, C::One}},
+         {C::Occlusion, C::Roughness, C::Metallic, C::One},
+         true},
         // three.js: glTF's conventions (roughnessMap G, metalnessMap B, aoMap R).
         {"three",
          false,
          "normal",
          "occlusion_roughness_metallic",
-         {C::Occlusion, C::Roughness, C::Metallic, C::One}},
+         {C::Occlusion, C::Roughness, C::Metallic, C::One},
+         true},
     };
     return presets;
 }

@@ -785,12 +785,8 @@ class Filter {
             Image level = *averaged[size_t(k)];
             Image texture(level.width, level.height, 4);
             for (size_t i = 0; i < level.texelCount(); ++i) {
-                const float* m = &moments.pixels[4 * i];
-                const float sxx = std::max(m[2] - m[0] * m[0], 0.f);
-                const float syy = std::max(m[3] - m[1] * m[1], 0.f);
-                const float sxy = cross.pixels[i] - m[0] * m[1];
-                const float a2 = alpha2.pixels[i];
-                const KhrAnisotropy lobe = khrAnisotropy(a2 + 2.f * sxx, a2 + 2.f * syy, 2.f * sxy);
+                const KhrAnisotropy lobe = khrAnisotropyOfMoments(
+                    &moments.pixels[4 * i], cross.pixels[i], alpha2.pixels[i]);
                 level.pixels[4 * i + 1] = roughnessG(lobe.roughness);
                 float* t = &texture.pixels[4 * i];
                 t[0] = 0.5f * (lobe.direction.x + 1.f);

@@ -155,6 +155,58 @@ TEST(EngineCli, GltfLayoutPackedMapHoldsThePerceptualRoughnessInG) {
     }
 }
 
+// --method lean: one anisotropic GGX lobe per texel from the slope moments, as
+// KHR_materials_anisotropy stores it. Columns at +-theta with sin theta = 0.28 (slopes +-7/24
+// along x): level 0 has no spread, every coarser texel a slope variance of (7/24)^2 along x
+// only, so with --base-roughness 0.2 alpha_b = 0.2 (G = sqrt 0.2 in the packed map at every
+// level) and alpha_t^2 = 0.04 + 2 (7/24)^2 along x: direction (1, 0), strength s^2 = (alpha_t -
+// alpha_b) / (1 - alpha_b). Engines without the extension refuse.
+TEST(EngineCli, LeanBakeWritesKhrMaterialsAnisotropyFiles) {
+    test::TempDir dir("ndfmip_engine_lean");
+    saveColumns(dir.file("n.png"), 0.28f, 0.f, 0.96f);
+    for (const char* engine : {"gltf", "three", "bevy", "filament"}) {
+        const std::string out = dir.file(engine);
+        std::string output;
+        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --engine " + engine +
+                                   " --method lean --base-roughness 0.2 --export ktx2 -q -o " +
+                                   test::shellArg(out),
+                               &output),
+                  0)
+            << output;
+        const std::string anisotropy = slurp(out + "/ktx2/" + engine + "_anisotropy.ktx2");
+        const std::string packed =
+            slurp(out + "/ktx2/" + engine + "_occlusion_roughness_metallic.ktx2");
+        ASSERT_GT(anisotropy.size(), 80u);
+        ASSERT_GT(packed.size(), 80u);
+        EXPECT_EQ(u32(anisotropy, 12), 37u); // VK_FORMAT_R8G8B8A8_UNORM
+        ASSERT_EQ(u32(anisotropy, 40), 4u);
+        const double slope = 7.0 / 24.0;
+        const double alphaT = std::sqrt(0.04 + 2.0 * slope * slope);
+        const double strength = std::sqrt((alphaT - 0.2) / 0.8);
+        for (uint32_t k = 0; k < 4; ++k) {
+            const std::string a = ktx2Level(anisotropy, k), g = ktx2Level(packed, k);
+            ASSERT_EQ(a.size(), size_t(4 * (8 >> k) * (8 >> k)));
+            for (size_t i = 0; i < a.size(); i += 4) {
+                EXPECT_EQ((unsigned char)a[i], 255) << engine << " level " << k;
+                EXPECT_NEAR((unsigned char)a[i + 1], 127.5, 0.6) << engine << " level " << k;
+                EXPECT_NEAR((unsigned char)a[i + 2], k == 0 ? 0.0 : 255.0 * strength, 0.6)
+                    << engine << " level " << k;
+                EXPECT_NEAR((unsigned char)g[i + 1], 255.0 * std::sqrt(0.2), 0.6)
+                    << engine << " level " << k;
+            }
+        }
+        EXPECT_EQ(aboutOf(anisotropy)["content"], "KHR_materials_anisotropy anisotropyTexture");
+    }
+    std::string output;
+    test::expectOneLineError(test::runCli("bake " + test::shellArg(dir.file("n.png")) +
+                                              " --engine unreal --method lean --export ktx2 -o " +
+                                              test::shellArg(dir.file("unreal")),
+                                          &output),
+                             output,
+                             {"KHR_materials_anisotropy", "gltf, three, filament and bevy"});
+    EXPECT_FALSE(std::filesystem::exists(dir.file("unreal")));
+}
+
 // Runs the CLI with stdout and stderr kept apart; returns the status.
 int runApart(const test::TempDir& dir, const std::string& args, std::string* err) {
     const std::string errFile = dir.file("stderr.txt");

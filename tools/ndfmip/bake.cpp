@@ -452,11 +452,12 @@ void addBakeCommand(CLI::App& app) {
                   "(1 - value)^2)")
         ->check(CLI::IsMember({"perceptual", "alpha", "smoothness"}))
         ->capture_default_str();
-    c->add_option("--engine", args->engine,
-                  "also write an engine's own files (ktx2/dds): its normal map (green convention) "
-                  "and packed material "
-                  "map: " +
-                      enginePresetNames() + " (docs/ENGINES.md)");
+    c->add_option(
+        "--engine", args->engine,
+        "also write an engine's own files (ktx2/dds): its normal map (green convention) "
+        "and packed material map; with --method lean (gltf, three, filament, bevy) one "
+        "anisotropic lobe per texel and its KHR_materials_anisotropy anisotropyTexture: " +
+            enginePresetNames() + " (docs/ENGINES.md)");
     c->add_option("--metallic-channel", args->metallicChannel,
                   "--engine: metallic from this channel of --roughness-map")
         ->check(CLI::IsMember({"r", "g", "b", "a"}));

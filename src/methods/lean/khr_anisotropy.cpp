@@ -23,4 +23,11 @@ KhrAnisotropy khrAnisotropy(float axx, float ayy, float axy) {
     return out;
 }
 
+KhrAnisotropy khrAnisotropyOfMoments(const float* m, float cross, float alpha2) {
+    const float sxx = std::max(m[2] - m[0] * m[0], 0.f);
+    const float syy = std::max(m[3] - m[1] * m[1], 0.f);
+    const float sxy = cross - m[0] * m[1];
+    return khrAnisotropy(alpha2 + 2.f * sxx, alpha2 + 2.f * syy, 2.f * sxy);
+}
+
 } // namespace ndfmip

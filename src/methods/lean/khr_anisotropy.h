@@ -18,4 +18,9 @@ struct KhrAnisotropy {
 // cannot store a wider lobe).
 KhrAnisotropy khrAnisotropy(float axx, float ayy, float axy);
 
+// The lobe of one texel of a lean bake (sggx.glsl): `moments` its lean_moments (E[bx], E[by],
+// E[bx^2], E[by^2]), `cross` its lean_cross (E[bx by]), `alpha2` the material's mean alpha^2;
+// the tensor alpha2 I + 2 Sigma, Sigma the slopes' covariance.
+KhrAnisotropy khrAnisotropyOfMoments(const float* moments, float cross, float alpha2);
+
 } // namespace ndfmip
