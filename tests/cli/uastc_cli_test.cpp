@@ -366,6 +366,58 @@ TEST(GltfBasisu, DefaultWritesKhrTextureBasisuWithNdfmipsLevels) {
     EXPECT_FALSE(d.json["textures"][0]["extensions"].contains("KHR_texture_basisu"));
 }
 
+// glTF-Transform (npm @gltf-transform/cli, which scripts/setup installs) run after ndfmip gltf:
+// `copy` and `dedup` keep KHR_texture_basisu and every KTX2 byte for byte (ndfmip's levels and
+// marks), but write the textures without their core source (the PNG fallback left as an unused
+// image), and `prune` then deletes those PNGs. A later ndfmip gltf refuses such a file in one line.
+TEST(GltfBasisu, GltfTransformStepsKeepTheLevelsButDropTheFallback) {
+    SKIP_WITHOUT_ENCODER();
+    const std::string cli =
+        std::string(NDFMIP_SOURCE_DIR) + "/.npm/node_modules/@gltf-transform/cli/bin/cli.js";
+    if (!std::filesystem::exists(cli) || !std::filesystem::exists("/usr/bin/node"))
+        GTEST_SKIP() << "node and npm @gltf-transform/cli (scripts/setup installs it) not found";
+    test::TempDir dir("gltf_transform");
+    const std::string input = quadGltf(dir), out = dir.file("out.glb");
+    std::string output;
+    ASSERT_EQ(test::runCli("gltf " + test::shellArg(input) + " -o " + test::shellArg(out) + " -q",
+                           &output),
+              0)
+        << output;
+    const test::Glb ours = test::parseGlb(test::fileBytes(out));
+    ASSERT_TRUE(ours.ok);
+    auto ktx2Of = [](const test::Glb& glb, size_t t) {
+        const OrderedJson& texture = glb.json["textures"][t];
+        return test::glbImage(glb,
+                              texture["extensions"]["KHR_texture_basisu"]["source"].get<size_t>());
+    };
+    for (const char* step : {"copy", "dedup", "prune"}) {
+        SCOPED_TRACE(step);
+        const std::string after = dir.file(std::string(step) + ".glb"), log = dir.file("gt.log");
+        const std::string command = "node " + test::shellArg(cli) + " " + step + " " +
+                                    test::shellArg(out) + " " + test::shellArg(after) + " > " +
+                                    test::shellArg(log) + " 2>&1";
+        ASSERT_EQ(std::system(command.c_str()), 0) << test::fileBytes(log);
+        const test::Glb glb = test::parseGlb(test::fileBytes(after));
+        ASSERT_TRUE(glb.ok);
+        const OrderedJson& used = glb.json["extensionsUsed"];
+        EXPECT_NE(std::find(used.begin(), used.end(), "KHR_texture_basisu"), used.end());
+        for (size_t t : {0u, 1u}) {
+            EXPECT_EQ(ktx2Of(glb, t), ktx2Of(ours, t)) << "texture " << t;
+            EXPECT_FALSE(glb.json["textures"][t].contains("source")) << "texture " << t;
+        }
+        auto pngsOf = [](const test::Glb& g) {
+            size_t n = 0;
+            for (const OrderedJson& image : g.json["images"]) n += image["mimeType"] == "image/png";
+            return n;
+        };
+        EXPECT_EQ(pngsOf(glb), std::string(step) == "prune" ? 0u : pngsOf(ours));
+        test::expectOneLineError(test::runCli("gltf " + test::shellArg(after) + " -o " +
+                                                  test::shellArg(dir.file("x.glb")),
+                                              &output),
+                                 output, {"has no core source image"});
+    }
+}
+
 TEST(GltfBasisu, ForeignBasisuTextureAndMissingEncoderAreOneLine) {
     test::TempDir dir("gltf_basisu_bad");
     const std::string input = quadGltf(dir), out = dir.file("out.glb");
