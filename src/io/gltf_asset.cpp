@@ -22,17 +22,6 @@ using json = nlohmann::ordered_json;
 namespace ndfmip {
 namespace {
 
-constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
-constexpr uint32_t kJsonChunk = 0x4E4F534A; // "JSON"
-constexpr uint32_t kBinChunk = 0x004E4942;  // "BIN\0"
-
-std::string oneLine(std::string text) {
-    std::replace(text.begin(), text.end(), '\n', ' ');
-    std::replace(text.begin(), text.end(), '\r', ' ');
-    while (!text.empty() && (text.back() == ' ' || text.back() == '.')) text.pop_back();
-    return text;
-}
-
 void appendU32(std::string& out, uint32_t v) {
     char b[4];
     std::memcpy(b, &v, sizeof b);

@@ -20,11 +20,6 @@ namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
 namespace ndfmip {
-namespace {
-
-constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
-constexpr uint32_t kJsonChunk = 0x4E4F534A; // "JSON"
-constexpr uint32_t kBinChunk = 0x004E4942;  // "BIN\0"
 
 std::string oneLine(std::string text) {
     std::replace(text.begin(), text.end(), '\n', ' ');
@@ -32,6 +27,8 @@ std::string oneLine(std::string text) {
     while (!text.empty() && (text.back() == ' ' || text.back() == '.')) text.pop_back();
     return text;
 }
+
+namespace {
 
 uint32_t readU32(std::string_view bytes, size_t at) {
     uint32_t v = 0;
