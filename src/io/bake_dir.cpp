@@ -321,38 +321,52 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
         // packed map, the anisotropyTexture (RG direction (d + 1)/2, B strength).
         const std::string prefix = std::string(engine->name) + "_";
         const float alpha2 = options.baseRoughness * options.baseRoughness;
-        std::vector<Image> normal, roughness, anisotropy;
-        for (const auto& level : bake.levels) {
-            const Image& m = *level[size_t(moments)];
-            const Image& c = *level[size_t(cross)];
-            Image n(m.width, m.height, 3), r(m.width, m.height, 1), a(m.width, m.height, 4);
-            for (size_t i = 0; i < m.texelCount(); ++i) {
-                const float* mi = &m.pixels[4 * i];
-                const KhrAnisotropy lobe = khrAnisotropyOfMoments(mi, c.pixels[i], alpha2);
-                n.pixels[3 * i] = mi[0], n.pixels[3 * i + 1] = mi[1], n.pixels[3 * i + 2] = 1.f;
-                r.pixels[i] = lobe.roughness;
-                float* t = &a.pixels[4 * i];
-                t[0] = 0.5f * (lobe.direction.x + 1.f), t[1] = 0.5f * (lobe.direction.y + 1.f);
-                t[2] = lobe.strength, t[3] = 1.f;
-            }
-            normal.push_back(std::move(n));
-            roughness.push_back(std::move(r));
-            anisotropy.push_back(std::move(a));
-        }
-        if (Status s = writeMade(
-                prefix + engine->normalFile,
-                [&](size_t k) {
-                    return normalRows(normal[k], engine->greenDown,
-                                      options.normalFormat == TextureFormat::Rgba8Unorm ? 4
-                                      : options.normalFormat == TextureFormat::Uastc    ? 3
-                                                                                        : 2);
-                },
-                options.normalFormat, normalKeyValues(options.normalFormat, engine->greenDown));
+        // Level k's rows computed as the encoder asks for them: `texel` writes one texel's
+        // `channels` values from its moments and its lobe.
+        auto lobeRows = [&](size_t k, int channels, auto texel) {
+            const Image& m = *bake.levels[k][size_t(moments)];
+            const Image& c = *bake.levels[k][size_t(cross)];
+            return LevelRows{m.width, m.height, channels,
+                             [&m, &c, alpha2, channels, texel](int y, float* out) {
+                                 for (int x = 0; x < m.width; ++x) {
+                                     const size_t i = size_t(y) * size_t(m.width) + size_t(x);
+                                     const float* mi = &m.pixels[4 * i];
+                                     texel(mi, khrAnisotropyOfMoments(mi, c.pixels[i], alpha2),
+                                           out + size_t(x) * size_t(channels));
+                                 }
+                             }};
+        };
+        const int normalChannels = options.normalFormat == TextureFormat::Rgba8Unorm ? 4
+                                   : options.normalFormat == TextureFormat::Uastc    ? 3
+                                                                                     : 2;
+        const bool down = engine->greenDown;
+        // The lobe's axis is the mean slope's normal, (E[bx], E[by], 1).
+        auto normal = [&](size_t k) {
+            const Image& m = *bake.levels[k][size_t(moments)];
+            return LevelRows{m.width, m.height, normalChannels,
+                             [&m, down, normalChannels](int y, float* out) {
+                                 for (int x = 0; x < m.width; ++x) {
+                                     const float* mi = m.at(x, y);
+                                     const float slopeNormal[3] = {mi[0], mi[1], 1.f};
+                                     encodeNormal(slopeNormal, down, normalChannels,
+                                                  out + size_t(x) * size_t(normalChannels));
+                                 }
+                             }};
+        };
+        if (Status s = writeMade(prefix + engine->normalFile, normal, options.normalFormat,
+                                 normalKeyValues(options.normalFormat, down));
             !s)
             return Error{s.error};
         auto packed = [&](size_t k) {
+            const Image& m = *bake.levels[k][size_t(moments)];
+            Image roughness(m.width, m.height, 1);
+            const LevelRows rows =
+                lobeRows(k, 1, [](const float*, const KhrAnisotropy& lobe, float* out) {
+                    out[0] = lobe.roughness;
+                });
+            for (int y = 0; y < m.height; ++y) rows.row(y, roughness.at(0, y));
             return rowsOf(std::make_shared<const Image>(packedMaterial(
-                *engine, roughness[k],
+                *engine, roughness,
                 k < options.metallic.size() ? options.metallic[k].get() : nullptr,
                 k < options.occlusion.size() ? options.occlusion[k].get() : nullptr)));
         };
@@ -360,9 +374,14 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
                                  packedKeyValues(*engine));
             !s)
             return Error{s.error};
+        auto anisotropy = [&](size_t k) {
+            return lobeRows(k, 4, [](const float*, const KhrAnisotropy& lobe, float* out) {
+                out[0] = 0.5f * (lobe.direction.x + 1.f), out[1] = 0.5f * (lobe.direction.y + 1.f);
+                out[2] = lobe.strength, out[3] = 1.f;
+            });
+        };
         if (Status s = writeMade(
-                prefix + "anisotropy", [&](size_t k) { return rowsOf(anisotropy[k]); },
-                TextureFormat::Rgba8Unorm,
+                prefix + "anisotropy", anisotropy, TextureFormat::Rgba8Unorm,
                 {{"ndfmip", aboutText({{"content", "KHR_materials_anisotropy anisotropyTexture"},
                                        {"engine", engine->name},
                                        {"channels",
