@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "ndfmip/texture_container.h"
 #include "test_support.h"
 
 namespace ndfmip::test {
@@ -35,6 +36,18 @@ std::string missingThreePage(const std::vector<std::string>& threeFiles, std::st
         if (!fs::exists(three + file))
             return "npm package three not installed (" + three + file +
                    " missing; scripts/setup installs three@0.187.0 into .npm/)";
+    return "";
+}
+
+std::string missingGltfPage(std::string* chromium, std::string* node) {
+    if (std::string missing =
+            missingThreePage({"/build/three.module.js", "/examples/jsm/loaders/GLTFLoader.js",
+                              "/examples/jsm/loaders/KTX2Loader.js",
+                              "/examples/jsm/libs/basis/basis_transcoder.wasm"},
+                             chromium, node);
+        !missing.empty())
+        return missing;
+    if (Result<std::string> encoder = basisuEncoder(); !encoder) return encoder.error().message;
     return "";
 }
 

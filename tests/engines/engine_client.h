@@ -20,6 +20,10 @@ std::string nodeModules();
 std::string missingThreePage(const std::vector<std::string>& threeFiles, std::string* chromium,
                              std::string* node);
 
+// missingThreePage for a page that loads a GLB of ndfmip gltf: three's GLTFLoader, KTX2Loader and
+// Basis transcoder, and the Basis encoder that writes the GLB's KTX2.
+std::string missingGltfPage(std::string* chromium, std::string* node);
+
 // Runs the test script `script` (a module of tests/engines, e.g. "three_gltf_levels.mjs") in
 // headless chromium through three_page.html with `query` ("glb=/asset/x.glb&..."), npm's three
 // served at /three/, tests/engines at /engines/ and each (url prefix, folder) of `mounts`; the

@@ -8,7 +8,7 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 
-import { fail, post } from './page_report.mjs';
+import { fail, levelFetchQuad, post } from './page_report.mjs';
 
 const kSize = 64; // the rendered images, kSize²
 
@@ -16,22 +16,8 @@ const kSize = 64; // the rendered images, kSize²
 function readLevel(renderer, texture, level) {
     const { width, height } = texture.mipmaps[level];
     const target = new THREE.WebGLRenderTarget(width, height, { depthBuffer: false });
-    const fetchLevel = new THREE.RawShaderMaterial({
-        glslVersion: THREE.GLSL3,
-        uniforms: { map: { value: texture }, level: { value: level } },
-        vertexShader: `in vec3 position;
-void main() { gl_Position = vec4(position.xy, 0.0, 1.0); }`,
-        fragmentShader: `precision highp float;
-uniform sampler2D map;
-uniform int level;
-out vec4 color;
-void main() { color = texelFetch(map, ivec2(gl_FragCoord.xy), level); }`,
-        depthTest: false, depthWrite: false,
-    });
     const scene = new THREE.Scene();
-    const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), fetchLevel);
-    quad.frustumCulled = false;
-    scene.add(quad);
+    scene.add(levelFetchQuad(texture, level));
     renderer.setRenderTarget(target);
     renderer.render(scene, new THREE.OrthographicCamera());
     const pixels = new Uint8Array(4 * width * height);

@@ -26,22 +26,9 @@ namespace {
 
 using nlohmann::json;
 
-// Why the test cannot run here, or "" when everything it needs is installed.
-std::string missingPrerequisite(std::string* chromium, std::string* node) {
-    if (std::string missing =
-            test::missingThreePage({"/build/three.module.js", "/examples/jsm/loaders/GLTFLoader.js",
-                                    "/examples/jsm/loaders/KTX2Loader.js",
-                                    "/examples/jsm/libs/basis/basis_transcoder.wasm"},
-                                   chromium, node);
-        !missing.empty())
-        return missing;
-    if (Result<std::string> encoder = basisuEncoder(); !encoder) return encoder.error().message;
-    return "";
-}
-
 TEST(EngineClients, ThreeGltfAnisotropy) {
     std::string chromium, node;
-    if (const std::string missing = missingPrerequisite(&chromium, &node); !missing.empty()) {
+    if (const std::string missing = test::missingGltfPage(&chromium, &node); !missing.empty()) {
         if (const char* v = std::getenv("NDFMIP_REQUIRE_BROWSER"); v && std::string(v) == "1")
             FAIL() << missing;
         GTEST_SKIP() << missing;

@@ -8,7 +8,7 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 
-import { base64, fail, post } from './page_report.mjs';
+import { base64, fail, levelFetchQuad, post } from './page_report.mjs';
 
 async function main() {
     const params = new URLSearchParams(location.search);
@@ -22,20 +22,8 @@ async function main() {
         type: THREE.UnsignedByteType, format: THREE.RGBAFormat, depthBuffer: false,
         minFilter: THREE.NearestFilter, magFilter: THREE.NearestFilter, generateMipmaps: false,
     });
-    const fetchLevel = new THREE.RawShaderMaterial({
-        glslVersion: THREE.GLSL3,
-        uniforms: { map: { value: null }, level: { value: 0 } },
-        vertexShader: `in vec3 position;
-void main() { gl_Position = vec4(position.xy, 0.0, 1.0); }`,
-        fragmentShader: `precision highp float;
-uniform sampler2D map;
-uniform int level;
-out vec4 color;
-void main() { color = texelFetch(map, ivec2(gl_FragCoord.xy), level); }`,
-        depthTest: false, depthWrite: false,
-    });
-    const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), fetchLevel);
-    quad.frustumCulled = false;
+    const quad = levelFetchQuad(null, 0);
+    const fetchLevel = quad.material;
     const scene = new THREE.Scene();
     scene.add(quad);
     const camera = new THREE.OrthographicCamera();

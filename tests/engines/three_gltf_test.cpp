@@ -34,19 +34,6 @@ using nlohmann::json;
 
 const std::string kMap = std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png";
 
-// Why the test cannot run here, or "" when everything it needs is installed.
-std::string missingPrerequisite(std::string* chromium, std::string* node) {
-    if (std::string missing =
-            test::missingThreePage({"/build/three.module.js", "/examples/jsm/loaders/GLTFLoader.js",
-                                    "/examples/jsm/loaders/KTX2Loader.js",
-                                    "/examples/jsm/libs/basis/basis_transcoder.wasm"},
-                                   chromium, node);
-        !missing.empty())
-        return missing;
-    if (Result<std::string> encoder = basisuEncoder(); !encoder) return encoder.error().message;
-    return "";
-}
-
 // Mean absolute error, in units of 1/255, of the RGBA8 texels `read` against `expected`: for
 // each pair (c, e) of `channels`, channel c of `read` against channel e of `expected` (e = -1:
 // against 1.0).
@@ -87,7 +74,7 @@ const std::vector<Target> kTargets = {{"auto", nullptr, 3.0},
 
 TEST(EngineClients, ThreeGltfLevels) {
     std::string chromium, node;
-    if (const std::string missing = missingPrerequisite(&chromium, &node); !missing.empty()) {
+    if (const std::string missing = test::missingGltfPage(&chromium, &node); !missing.empty()) {
         if (const char* v = std::getenv("NDFMIP_REQUIRE_BROWSER"); v && std::string(v) == "1")
             FAIL() << missing;
         GTEST_SKIP() << missing;
