@@ -260,11 +260,12 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
         return write(stem, levels, format, keyValues);
     };
     const int dirPlane = directionPlane(bake), ggx = findPlane(bake.planes, "roughness_ggx");
+    // BC5 and RG16 keep x and y; UASTC x, y, z as glTF normal textures do (RGB).
+    auto normalChannels = [](TextureFormat format) {
+        return format == TextureFormat::Rgba8Unorm ? 4 : format == TextureFormat::Uastc ? 3 : 2;
+    };
     auto normals = [&](bool down, TextureFormat format) {
-        // BC5 and RG16 keep x and y; UASTC x, y, z as glTF normal textures do (RGB)
-        const int channels = format == TextureFormat::Rgba8Unorm ? 4
-                             : format == TextureFormat::Uastc    ? 3
-                                                                 : 2;
+        const int channels = normalChannels(format);
         return [&bake, dirPlane, down, channels](size_t k) {
             return normalRows(*bake.levels[k][dirPlane], down, channels);
         };
@@ -336,20 +337,17 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
                                  }
                              }};
         };
-        const int normalChannels = options.normalFormat == TextureFormat::Rgba8Unorm ? 4
-                                   : options.normalFormat == TextureFormat::Uastc    ? 3
-                                                                                     : 2;
+        const int channels = normalChannels(options.normalFormat);
         const bool down = engine->greenDown;
         // The lobe's axis is the mean slope's normal, (E[bx], E[by], 1).
         auto normal = [&](size_t k) {
             const Image& m = *bake.levels[k][size_t(moments)];
-            return LevelRows{m.width, m.height, normalChannels,
-                             [&m, down, normalChannels](int y, float* out) {
+            return LevelRows{m.width, m.height, channels, [&m, down, channels](int y, float* out) {
                                  for (int x = 0; x < m.width; ++x) {
                                      const float* mi = m.at(x, y);
                                      const float slopeNormal[3] = {mi[0], mi[1], 1.f};
-                                     encodeNormal(slopeNormal, down, normalChannels,
-                                                  out + size_t(x) * size_t(normalChannels));
+                                     encodeNormal(slopeNormal, down, channels,
+                                                  out + size_t(x) * size_t(channels));
                                  }
                              }};
         };
@@ -376,8 +374,7 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
             return Error{s.error};
         auto anisotropy = [&](size_t k) {
             return lobeRows(k, 4, [](const float*, const KhrAnisotropy& lobe, float* out) {
-                out[0] = 0.5f * (lobe.direction.x + 1.f), out[1] = 0.5f * (lobe.direction.y + 1.f);
-                out[2] = lobe.strength, out[3] = 1.f;
+                khrAnisotropyTexel(lobe, out);
             });
         };
         if (Status s = writeMade(
@@ -385,9 +382,9 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
                 {{"ndfmip", aboutText({{"content", "KHR_materials_anisotropy anisotropyTexture"},
                                        {"engine", engine->name},
                                        {"channels",
-                                        {{"r", "direction of alpha_t, tangent x, (d + 1)/2"},
-                                         {"g", "direction of alpha_t, bitangent y, (d + 1)/2"},
-                                         {"b", "strength s: alpha_t = mix(alpha_b, 1, s^2)"},
+                                        {{"r", kKhrAnisotropyChannels[0]},
+                                         {"g", kKhrAnisotropyChannels[1]},
+                                         {"b", kKhrAnisotropyChannels[2]},
                                          {"a", "1"}}}})}});
             !s)
             return Error{s.error};

@@ -788,11 +788,7 @@ class Filter {
                 const KhrAnisotropy lobe = khrAnisotropyOfMoments(
                     &moments.pixels[4 * i], cross.pixels[i], alpha2.pixels[i]);
                 level.pixels[4 * i + 1] = roughnessG(lobe.roughness);
-                float* t = &texture.pixels[4 * i];
-                t[0] = 0.5f * (lobe.direction.x + 1.f);
-                t[1] = 0.5f * (lobe.direction.y + 1.f);
-                t[2] = lobe.strength;
-                t[3] = 1.f;
+                khrAnisotropyTexel(lobe, &texture.pixels[4 * i]);
             }
             material.push_back(std::move(level));
             anisotropy.push_back(std::move(texture));
@@ -851,9 +847,9 @@ class Filter {
                                        "RGBA8 anisotropy mips",
                                        {{"content", "KHR_materials_anisotropy anisotropyTexture"},
                                         {"channels",
-                                         {{"r", "direction of alpha_t, tangent x, (d + 1)/2"},
-                                          {"g", "direction of alpha_t, bitangent y, (d + 1)/2"},
-                                          {"b", "strength s: alpha_t = mix(alpha_b, 1, s^2)"}}}});
+                                         {{"r", kKhrAnisotropyChannels[0]},
+                                          {"g", kKhrAnisotropyChannels[1]},
+                                          {"b", kKhrAnisotropyChannels[2]}}}});
         } else {
             for (int k = 0; k < levels; ++k) {
                 Image level = *averaged[size_t(k)];

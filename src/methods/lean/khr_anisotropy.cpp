@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ndfmip/method_shading.h"
+
 namespace ndfmip {
 
 KhrAnisotropy khrAnisotropy(float axx, float ayy, float axy) {
@@ -24,10 +26,15 @@ KhrAnisotropy khrAnisotropy(float axx, float ayy, float axy) {
 }
 
 KhrAnisotropy khrAnisotropyOfMoments(const float* m, float cross, float alpha2) {
-    const float sxx = std::max(m[2] - m[0] * m[0], 0.f);
-    const float syy = std::max(m[3] - m[1] * m[1], 0.f);
-    const float sxy = cross - m[0] * m[1];
-    return khrAnisotropy(alpha2 + 2.f * sxx, alpha2 + 2.f * syy, 2.f * sxy);
+    const glm::vec3 own = glsl().ndfmipLeanCovariance(glm::vec4(m[0], m[1], m[2], m[3]), cross);
+    return khrAnisotropy(alpha2 + 2.f * own.x, alpha2 + 2.f * own.y, 2.f * own.z);
+}
+
+void khrAnisotropyTexel(const KhrAnisotropy& lobe, float* rgba) {
+    rgba[0] = 0.5f * (lobe.direction.x + 1.f);
+    rgba[1] = 0.5f * (lobe.direction.y + 1.f);
+    rgba[2] = lobe.strength;
+    rgba[3] = 1.f;
 }
 
 } // namespace ndfmip

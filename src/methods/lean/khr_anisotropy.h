@@ -20,7 +20,15 @@ KhrAnisotropy khrAnisotropy(float axx, float ayy, float axy);
 
 // The lobe of one texel of a lean bake (sggx.glsl): `moments` its lean_moments (E[bx], E[by],
 // E[bx^2], E[by^2]), `cross` its lean_cross (E[bx by]), `alpha2` the material's mean alpha^2;
-// the tensor alpha2 I + 2 Sigma, Sigma the slopes' covariance.
+// the tensor alpha2 I + 2 Sigma, Sigma the slopes' covariance (lean.glsl's).
 KhrAnisotropy khrAnisotropyOfMoments(const float* moments, float cross, float alpha2);
+
+// The lobe's anisotropyTexture texel (RGBA): the direction as (d + 1)/2, the strength, 1.
+void khrAnisotropyTexel(const KhrAnisotropy& lobe, float* rgba);
+
+// What the anisotropyTexture's R, G, B hold, for the files' own descriptions.
+constexpr const char* kKhrAnisotropyChannels[3] = {"direction of alpha_t, tangent x, (d + 1)/2",
+                                                   "direction of alpha_t, bitangent y, (d + 1)/2",
+                                                   "strength s: alpha_t = mix(alpha_b, 1, s^2)"};
 
 } // namespace ndfmip
