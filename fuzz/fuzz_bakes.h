@@ -28,7 +28,7 @@ inline bool writeFuzzBakes(const std::filesystem::path& dir) {
             }
         }
     const Pyramid pyramid = buildPyramid(std::make_shared<const Image>(normals));
-    BakeSource source{"map.png", std::string(64, '0'), w, h, {}, ""};
+    BakeSource source{.path = "map.png", .sha256 = std::string(64, '0'), .width = w, .height = h};
     struct Case {
         const char* name;
         Method method;

@@ -41,9 +41,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         std::ofstream out(path, std::ios::binary | std::ios::trunc);
         out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
     }
-    ndfmip::Result<ndfmip::GltfFiltered> filtered = ndfmip::filterGltf(
-        path.string(), ndfmip::GltfOptions{ndfmip::GltfTextureFormat::Dds,
-                                           false});      // no encoder processes per input
+    ndfmip::GltfOptions options;
+    options.textureFormat = ndfmip::GltfTextureFormat::Dds; // no encoder processes per input
+    ndfmip::Result<ndfmip::GltfFiltered> filtered = ndfmip::filterGltf(path.string(), options);
     if (filtered && filtered->glb.empty()) std::abort(); // success always has a file to write
     return 0;
 }

@@ -77,9 +77,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         std::ofstream out(path, std::ios::binary | std::ios::trunc);
         out.write(text.data(), std::streamsize(text.size()));
     }
-    ndfmip::Result<ndfmip::GltfFiltered> filtered = ndfmip::filterGltf(
-        path.string(), ndfmip::GltfOptions{ndfmip::GltfTextureFormat::Dds,
-                                           false}); // no encoder processes per input
+    ndfmip::GltfOptions options;
+    options.textureFormat = ndfmip::GltfTextureFormat::Dds; // no encoder processes per input
+    ndfmip::Result<ndfmip::GltfFiltered> filtered = ndfmip::filterGltf(path.string(), options);
     if (!filtered) {
         const std::string& message = filtered.error().message;
         FUZZ_CHECK(!message.empty() && message.find('\n') == std::string::npos);
