@@ -16,8 +16,10 @@
 #include <pybind11/stl.h>
 
 #include "ndfmip/bake.h"
+#include "ndfmip/bake_batch.h"
 #include "ndfmip/bake_file.h"
 #include "ndfmip/compare.h"
+#include "ndfmip/environment_file.h"
 #include "ndfmip/evaluate.h"
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
@@ -376,9 +378,10 @@ void writeBakeDir(const PyBake& b, const std::string& dir, py::object exports, b
     check(writeBake(dir, b.bake, b.source, write));
 }
 
-py::dict bakeTo(const std::string& input, const std::string& output, const std::string& method,
-                const py::dict& parameters, const std::string& albedo, bool half,
-                const std::string& gloss, float maxExponent, float baseRoughness,
+// bake_to's and bake_many's options, as `ndfmip bake` takes them (bake_file.h).
+BakeFileOptions
+bakeFileOptions(const std::string& method, const py::dict& parameters, const std::string& albedo,
+                bool half, const std::string& gloss, float maxExponent, float baseRoughness,
                 const std::string& roughnessMap, const std::string& roughnessChannel,
                 const std::string& roughnessEncoding, const std::string& engine,
                 const std::string& metallicChannel, const std::string& occlusionChannel,
@@ -386,8 +389,7 @@ py::dict bakeTo(const std::string& input, const std::string& output, const std::
                 const std::string& normalFormat, const std::string& roughnessFormat, int zstd,
                 bool force, bool greenDown, bool twoChannel, bool signedValues,
                 std::optional<float> height, bool clamp) {
-    for (const std::string* path : {&input, &output, &albedo, &gloss, &roughnessMap})
-        checkedPath(*path);
+    for (const std::string* path : {&albedo, &gloss, &roughnessMap}) checkedPath(*path);
     BakeFileOptions o = exportOptions(method, exports, exportTextures, normalFormat,
                                       roughnessFormat, zstd, engine, half);
     o.decode = decodeOptions(greenDown, twoChannel, signedValues, height, clamp);
@@ -402,10 +404,16 @@ py::dict bakeTo(const std::string& input, const std::string& output, const std::
     o.metallicChannel = metallicChannel;
     o.occlusionChannel = occlusionChannel;
     o.force = force;
+    return o;
+}
+
+py::dict bakeTo(const std::string& input, const std::string& output,
+                const BakeFileOptions& options) {
+    for (const std::string* path : {&input, &output}) checkedPath(*path);
     Result<BakeFileReport> result = Error{};
     {
         py::gil_scoped_release release;
-        result = bakeFile(input, output, o);
+        result = bakeFile(input, output, options);
     }
     const BakeFileReport r = take(std::move(result));
     py::dict d;
@@ -424,6 +432,73 @@ py::dict bakeTo(const std::string& input, const std::string& output, const std::
         d["facing_down"] = r.decode.facingDown;
         d["seconds"] = (r.decodeMs + r.bakeMs + r.writeMs) * 1e-3;
     }
+    return d;
+}
+
+// `ndfmip bake INPUTS... -o PATTERN --jobs J --shard I/N`: every map of the shard, each one's
+// status ("baked", "skipped", "failed" with its error) and seconds; a failed map never stops
+// the others, a bad plan (pattern, shard) raises before any bake.
+py::list bakeMany(const std::vector<std::string>& inputs, const std::string& pattern,
+                  const BakeFileOptions& options, int jobs, int shard, int shards) {
+    for (const std::string& input : inputs) checkedPath(input);
+    checkedPath(pattern);
+    check(checkBakeFileOptions(options));
+    if (jobs < 1 || jobs > 256)
+        throw NdfmipError("jobs " + std::to_string(jobs) + ": expected 1 to 256");
+    std::vector<BakeBatchMap> maps;
+    {
+        py::gil_scoped_release release;
+        const BakeInputs expanded = take(expandBakeInputs(inputs));
+        maps = take(planBakeBatch(expanded, pattern, shard, shards));
+        runBakeBatch(maps, options, jobs);
+    }
+    py::list out;
+    for (const BakeBatchMap& m : maps) {
+        py::dict d;
+        d["input"] = m.input;
+        d["output"] = m.output;
+        d["status"] = m.status;
+        d["seconds"] = m.seconds;
+        if (!m.error.empty()) d["error"] = m.error;
+        out.append(d);
+    }
+    return out;
+}
+
+// `ndfmip envmap INPUT -o OUTPUT` (environment_file.h): what was written and each step's time.
+py::dict envmapTo(const std::string& input, const std::string& output, float intensity,
+                  float rotation, int shOrder, int size, int levels, int samples,
+                  const std::string& layout, const std::string& lodMapping, int dfgSize,
+                  int dfgSamples, bool half, bool ktx2, bool dds) {
+    for (const std::string* path : {&input, &output}) checkedPath(*path);
+    EnvironmentFileOptions o;
+    o.environment.intensity = intensity;
+    o.environment.rotationDegrees = rotation;
+    o.shOrder = shOrder;
+    o.size = size;
+    o.levels = levels;
+    o.samples = samples;
+    o.layout = layout;
+    o.lodMapping = lodMapping;
+    o.dfgSize = dfgSize;
+    o.dfgSamples = dfgSamples;
+    o.half = half;
+    o.ktx2 = ktx2;
+    o.dds = dds;
+    Result<EnvironmentFileReport> result = Error{};
+    {
+        py::gil_scoped_release release;
+        result = environmentFile(input, output, o);
+    }
+    const EnvironmentFileReport r = take(std::move(result));
+    py::dict d;
+    d["input"] = input;
+    d["output"] = output;
+    d["width"] = r.width;
+    d["height"] = r.height;
+    d["negative_texels"] = r.negativeTexels;
+    d["perceptual_roughness"] = r.perceptualRoughness;
+    d["seconds"] = (r.loadMs + r.shMs + r.ggxMs + r.dfgMs + r.writeMs) * 1e-3;
     return d;
 }
 
@@ -645,12 +720,18 @@ PYBIND11_MODULE(_ndfmip, m) {
     m.def("bake", &bake, "normals"_a, "method"_a, "parameters"_a, "base_roughness"_a, "roughness"_a,
           "albedo"_a, "green_down"_a, "two_channel"_a, "signed"_a, "height"_a, "clamp"_a);
     m.def("read_bake", &readBakeDir, "dir"_a);
-    m.def("bake_to", &bakeTo, "input"_a, "output"_a, "method"_a, "parameters"_a, "albedo"_a,
-          "half"_a, "gloss"_a, "max_exponent"_a, "base_roughness"_a, "roughness_map"_a,
-          "roughness_channel"_a, "roughness_encoding"_a, "engine"_a, "metallic_channel"_a,
-          "occlusion_channel"_a, "exports"_a, "export_textures"_a, "normal_format"_a,
-          "roughness_format"_a, "zstd"_a, "force"_a, "green_down"_a, "two_channel"_a, "signed"_a,
-          "height"_a, "clamp"_a);
+    py::class_<BakeFileOptions>(m, "BakeFileOptions"); // opaque: bake_file_options() makes it
+    m.def("bake_file_options", &bakeFileOptions, "method"_a, "parameters"_a, "albedo"_a, "half"_a,
+          "gloss"_a, "max_exponent"_a, "base_roughness"_a, "roughness_map"_a, "roughness_channel"_a,
+          "roughness_encoding"_a, "engine"_a, "metallic_channel"_a, "occlusion_channel"_a,
+          "exports"_a, "export_textures"_a, "normal_format"_a, "roughness_format"_a, "zstd"_a,
+          "force"_a, "green_down"_a, "two_channel"_a, "signed"_a, "height"_a, "clamp"_a);
+    m.def("bake_to", &bakeTo, "input"_a, "output"_a, "options"_a);
+    m.def("bake_many", &bakeMany, "inputs"_a, "output"_a, "options"_a, "jobs"_a, "shard"_a,
+          "shards"_a);
+    m.def("envmap_to", &envmapTo, "input"_a, "output"_a, "intensity"_a, "rotation"_a, "sh_order"_a,
+          "size"_a, "levels"_a, "samples"_a, "layout"_a, "lod_mapping"_a, "dfg_size"_a,
+          "dfg_samples"_a, "half"_a, "ktx2"_a, "dds"_a);
     m.def("inspect", &inspect, "dir"_a, "level"_a, "x"_a, "y"_a, "exponent"_a);
     m.def("render", &renderScene, "scene"_a, "method"_a, "spp"_a, "bake"_a, "seed"_a, "truth"_a,
           "taps"_a, "lod_bias"_a, "lobe_filter"_a, "anisotropy"_a, "parameters"_a,

@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "ndfmip/image.h"
 #include "ndfmip/normal_map.h"
 #include "ndfmip/pyramid.h"
@@ -184,6 +186,15 @@ Result<LoadedBake> readBake(const std::string& dir, int level);
 // `exponent`, Toksvig's factor for that Blinn-Phong exponent). Errors start with `name`.
 Result<std::string> inspectTexel(const LoadedBake& bake, const std::string& name, int level, int x,
                                  int y, std::optional<float> exponent = std::nullopt);
+
+// The normal a level-0 texel of `method`'s bake stands for, from its planes' values in order
+// (LoadedBake::level's planes, each texel's channels one after another); not normalised.
+glm::vec3 bakeLevelZeroNormal(Method method, const float* planes);
+
+// The NDF a texel (x, y) of a bake's loaded level stores, as a density over the sphere (integrating
+// to 1) in direction w: the SH series (sh), the vMF mixture (vmf); nullopt for the methods that
+// store no NDF of their own (naive, toksvig, lean).
+std::optional<double> bakeNdfDensity(const LoadedBake& bake, int x, int y, glm::dvec3 w);
 
 // Every level of a bake, back in memory, with the same checks; refused before loading when the
 // planes of every level together would exceed the input limits' memory.

@@ -6,6 +6,7 @@
 // texels of the trilinear footprint shaded one by one (texel shading).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -33,5 +34,28 @@ struct GpuRenderStats {
 Result<Image> renderGpu(const Scene& scene, const RenderTextures& textures,
                         const std::string& method, const RenderOptions& options,
                         GpuRenderStats* stats = nullptr, int frames = 1);
+
+// Draws scenes into the framebuffer bound in the caller's current OpenGL 4.5 context (an
+// interactive viewer's window), with the renderer's programs: each is compiled once per
+// `programKey` (name the shader and its bake, e.g. "vmf/vmf:4") and kept for later frames, whose
+// camera, light and uniforms may change. Not thread-safe; the context must outlive the drawer.
+class GpuWindowDrawer {
+  public:
+    GpuWindowDrawer();
+    GpuWindowDrawer(GpuWindowDrawer&&) noexcept;
+    GpuWindowDrawer& operator=(GpuWindowDrawer&&) noexcept;
+    ~GpuWindowDrawer();
+
+    // Draws `scene` with `shader` (as renderGpu's method) into the viewport (x, y, width,
+    // height); showLevel paints the mip level read as false colour. Errors as renderGpu's, one
+    // line ("GPU: ..." in a build without the OpenGL path).
+    Status draw(const Scene& scene, const RenderTextures& textures, const std::string& shader,
+                const RenderOptions& options, const std::string& programKey, bool showLevel, int x,
+                int y, int width, int height);
+
+  private:
+    struct Programs;
+    std::unique_ptr<Programs> programs_;
+};
 
 } // namespace ndfmip

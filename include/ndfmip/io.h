@@ -42,6 +42,13 @@ Result<std::string> encodePng(const Image& image, int bitsPerChannel);
 // Writes encodePng's bytes to `path`; atomic as above.
 Status savePng(const std::string& path, const Image& image, int bitsPerChannel);
 
+// An EXR and its 8-bit PNG preview as a pair (no PNG when `pngPath` is empty): both are written to
+// temporaries beside their names (PATH.tmp-TAG-render, which a later call removes once their
+// writer is gone) and renamed only once both are written, the preview first and the EXR, the
+// data, last; a failure leaves the earlier pair and its message names the file asked for.
+Status saveExrWithPreview(const std::string& exrPath, const Image& image,
+                          const std::string& pngPath, const Image& preview);
+
 // Writes bytes to `path` through a temporary file and a rename.
 Status writeFileAtomic(const std::string& path, const std::string& bytes);
 

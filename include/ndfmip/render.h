@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,14 @@ constexpr int kToksvigLutBits = 8;   // bits of the normals whose |Na| the phase
 
 // Every name render() takes, for messages: "groundtruth, exact, naive, toksvig, ...".
 std::string renderMethodNames();
+
+// The shaders (render methods that read a bake), in the method table's order: naive, toksvig,
+// toksvig-lut, roughness-mips, sh, vmf, lean, ...
+std::vector<std::string> shaderNames();
+
+// The bake a shader reads (toksvig-lut: toksvig's; roughness-mips: naive's); nullopt for a name
+// that is no shader (groundtruth, exact, a typo).
+std::optional<Method> shaderBake(const std::string& shader);
 
 // The ground truth's finest normals. Box: each texel's normal over its whole square, the
 // surface the mip pyramid averages (so a level-k texel's NDF is exactly its footprint's

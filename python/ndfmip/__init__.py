@@ -24,7 +24,7 @@ __version__: str = _ndfmip.__version__
 PathLike = Union[str, "os.PathLike[str]"]
 
 __all__ = [
-    "Bake", "Error", "bake", "bake_to", "compare", "decode", "evaluate", "inspect", "load_image",
+    "Bake", "Error", "bake", "bake_many", "bake_to", "compare", "decode", "envmap_to", "evaluate", "inspect", "load_image",
     "method_parameters", "normals_from_array", "read_bake", "render", "set_limits", "__version__",
 ]
 
@@ -139,6 +139,35 @@ def read_bake(dir: PathLike) -> Bake:
     return Bake(_ndfmip.read_bake(os.fspath(dir)))
 
 
+def _path(p: Optional[PathLike]) -> str:
+    return "" if p is None else os.fspath(p)
+
+
+def _bake_file_options(method: str = "toksvig", *,
+                       albedo: Optional[PathLike] = None, half: bool = False,
+                       gloss: Optional[PathLike] = None, max_exponent: float = 0.0,
+                       base_roughness: float = 0.0, roughness_map: Optional[PathLike] = None,
+                       roughness_channel: str = "r", roughness_encoding: str = "perceptual",
+                       engine: Optional[str] = None, metallic_channel: Optional[str] = None,
+                       occlusion_channel: Optional[str] = None,
+                       exports: Union[None, str, Sequence[str]] = None,
+                       export_textures: str = "normal,roughness", normal_format: str = "bc5",
+                       roughness_format: str = "bc4", zstd: int = 0, force: bool = False,
+                       green_down: bool = False, two_channel: bool = False, signed: bool = False,
+                       height: Optional[float] = None, clamp: bool = False, stacklevel: int = 3,
+                       **parameters: float) -> Any:
+    if engine and base_roughness == 0.0 and roughness_map is None:
+        # As the tool warns: the engine files' level 0 roughness is the normals' spread alone.
+        warnings.warn(f"engine {engine!r} without base_roughness or roughness_map: level 0 roughness is ~0 "
+                      "(a mirror) where the map is flat; give the material's roughness", stacklevel=stacklevel)
+    return _ndfmip.bake_file_options(method, parameters, _path(albedo), half, _path(gloss), max_exponent,
+                                     base_roughness, _path(roughness_map), roughness_channel,
+                                     roughness_encoding, engine or "", metallic_channel or "",
+                                     occlusion_channel or "", exports, export_textures, normal_format,
+                                     roughness_format, zstd, force, green_down, two_channel, signed,
+                                     height, clamp)
+
+
 def bake_to(input: PathLike, output: PathLike, method: str = "toksvig", *,
             albedo: Optional[PathLike] = None, half: bool = False,
             gloss: Optional[PathLike] = None, max_exponent: float = 0.0, base_roughness: float = 0.0,
@@ -157,19 +186,47 @@ def bake_to(input: PathLike, output: PathLike, method: str = "toksvig", *,
     (the cache key in its manifest) unless force. Returns what happened: status ("baked" or
     "skipped"), cache_key, and for a bake its size, levels, parameters and seconds.
     """
-    def path(p: Optional[PathLike]) -> str:
-        return "" if p is None else os.fspath(p)
+    options = _bake_file_options(
+        method, albedo=albedo, half=half, gloss=gloss, max_exponent=max_exponent,
+        base_roughness=base_roughness, roughness_map=roughness_map, roughness_channel=roughness_channel,
+        roughness_encoding=roughness_encoding, engine=engine, metallic_channel=metallic_channel,
+        occlusion_channel=occlusion_channel, exports=exports, export_textures=export_textures,
+        normal_format=normal_format, roughness_format=roughness_format, zstd=zstd, force=force,
+        green_down=green_down, two_channel=two_channel, signed=signed, height=height, clamp=clamp,
+        **parameters)
+    return _ndfmip.bake_to(os.fspath(input), os.fspath(output), options)
 
-    if engine and base_roughness == 0.0 and roughness_map is None:
-        # As the tool warns: the engine files' level 0 roughness is the normals' spread alone.
-        warnings.warn(f"engine {engine!r} without base_roughness or roughness_map: level 0 roughness is ~0 "
-                      "(a mirror) where the map is flat; give the material's roughness", stacklevel=2)
-    return _ndfmip.bake_to(os.fspath(input), os.fspath(output), method, parameters, path(albedo),
-                           half, path(gloss), max_exponent,
-                           base_roughness, path(roughness_map), roughness_channel, roughness_encoding,
-                           engine or "", metallic_channel or "", occlusion_channel or "", exports,
-                           export_textures, normal_format, roughness_format, zstd, force, green_down,
-                           two_channel, signed, height, clamp)
+
+def bake_many(inputs: Union[PathLike, Sequence[PathLike]], output: str, method: str = "toksvig", *,
+              jobs: int = 1, shard: int = 0, shards: int = 1, **options: Any) -> List[Dict[str, Any]]:
+    """``ndfmip bake INPUTS... -o PATTERN --jobs J --shard SHARD/SHARDS``: many maps at once.
+
+    inputs are files, folders (their image files) or globs; output is a pattern with {stem},
+    {name} or {parent} (e.g. ``"out/{stem}.bake"``); jobs maps are baked at a time, sharing the
+    cores; only the maps of shard `shard` of `shards` are baked (the split the tool makes, the
+    same on every machine). options are bake_to's keywords. Returns, per map of the shard, its
+    input, output, status ("baked", "skipped" when up to date, "failed" with its "error") and
+    seconds: one map's failure does not stop the others and raises nothing; a bad pattern,
+    shard or option raises ndfmip.Error before any map is baked.
+    """
+    paths = [inputs] if isinstance(inputs, (str, os.PathLike)) else list(inputs)
+    file_options = _bake_file_options(method, **options)
+    return _ndfmip.bake_many([os.fspath(p) for p in paths], output, file_options, jobs, shard, shards)
+
+
+def envmap_to(input: PathLike, output: PathLike, *, intensity: float = 1.0, rotation: float = 0.0,
+              sh_order: int = 8, size: int = 0, levels: int = 0, samples: int = 1024,
+              layout: str = "equirect", lod_mapping: str = "filament", dfg_size: int = 128,
+              dfg_samples: int = 4096, half: bool = False, ktx2: bool = False,
+              dds: bool = False) -> Dict[str, Any]:
+    """``ndfmip envmap INPUT -o OUTPUT`` with the same options (--sh-order is sh_order and so on;
+    size and levels 0: the tool's defaults) and the same files, byte for byte: an
+    equirectangular .hdr or .exr map's SH, GGX-prefiltered levels and DFG table
+    (docs/ENVIRONMENT.md). Returns the map's size, the texels with negative values set to 0,
+    each GGX level's perceptual roughness and the seconds taken.
+    """
+    return _ndfmip.envmap_to(os.fspath(input), os.fspath(output), intensity, rotation, sh_order, size,
+                             levels, samples, layout, lod_mapping, dfg_size, dfg_samples, half, ktx2, dds)
 
 
 def inspect(dir: PathLike, level: int, x: int, y: int, exponent: Optional[float] = None) -> Dict[str, Any]:

@@ -2,6 +2,7 @@
 # numbers in memory; the cache key's skip; inspect against `ndfmip inspect`.
 import json
 import os
+import subprocess
 
 import numpy as np
 import pytest
@@ -129,3 +130,28 @@ def test_engine_without_the_materials_roughness_warns(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         ndfmip.bake_to(BUNDLED_MAP, tmp_path / "rough.bake", engine="three", exports="ktx2", base_roughness=0.3)
+
+
+def test_bake_many_writes_what_the_cli_batch_writes(cli, tmp_path):
+    maps = tmp_path / "maps"
+    maps.mkdir()
+    for name in ("a.png", "b.png"):
+        (maps / name).write_bytes(BUNDLED_MAP.read_bytes())
+    (maps / "c.png").write_bytes(b"not a png")
+    # The tool bakes the two good maps and exits 1 for the bad one.
+    done = subprocess.run([str(cli), "bake", str(maps), "--jobs", "2", "-o", str(tmp_path / "cli" / "{stem}.bake"),
+                           "-q"], capture_output=True, text=True)
+    assert done.returncode == 1, done.stderr
+    results = ndfmip.bake_many(maps, str(tmp_path / "py" / "{stem}.bake"), jobs=2)
+    assert [(os.path.basename(r["input"]), r["status"]) for r in results] == [
+        ("a.png", "baked"), ("b.png", "baked"), ("c.png", "failed")]
+    assert results[2]["error"].startswith(str(maps / "c.png"))
+    for stem in ("a", "b"):
+        assert_same_folders(tmp_path / "cli" / f"{stem}.bake", tmp_path / "py" / f"{stem}.bake")
+    # Up to date now; the shards split the maps between them and cover them all.
+    assert {r["status"] for r in ndfmip.bake_many(maps / "[ab].png", str(tmp_path / "py" / "{stem}.bake"))} == {
+        "skipped"}
+    halves = [ndfmip.bake_many(maps, str(tmp_path / "s" / "{stem}.bake"), shard=i, shards=2) for i in (0, 1)]
+    assert sorted(r["input"] for half in halves for r in half) == sorted(str(maps / n) for n in ("a.png", "b.png", "c.png"))
+    with pytest.raises(ndfmip.Error, match="needs {stem} or {name}"):
+        ndfmip.bake_many(maps, str(tmp_path / "one.bake"))

@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/clock.h"
+#include "ndfmip/clock.h"
 #include "io/input_file.h"
 #include "ndfmip/bake_file.h"
 #include "ndfmip/engine_presets.h"

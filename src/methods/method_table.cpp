@@ -46,6 +46,16 @@ const char* methodName(Method method) {
     return methodUnit(method).name;
 }
 
+glm::vec3 bakeLevelZeroNormal(Method method, const float* planes) {
+    return methodUnit(method).levelZeroNormal(planes);
+}
+
+std::optional<double> bakeNdfDensity(const LoadedBake& bake, int x, int y, glm::dvec3 w) {
+    const auto density = methodUnit(bake.method).ndfDensity;
+    if (!density) return std::nullopt;
+    return density(bake, x, y, w);
+}
+
 std::vector<Method> allMethods() {
     std::vector<Method> methods;
     for (const MethodUnit& unit : methodUnits()) methods.push_back(unit.method);

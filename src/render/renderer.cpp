@@ -622,6 +622,18 @@ std::string renderMethodNames() {
     return names;
 }
 
+std::vector<std::string> shaderNames() {
+    std::vector<std::string> names;
+    for (const MethodShader& shader : methodShaders()) names.emplace_back(shader.name);
+    return names;
+}
+
+std::optional<Method> shaderBake(const std::string& shader) {
+    const MethodShader* found = findShader(shader);
+    if (!found) return std::nullopt;
+    return found->bake;
+}
+
 const char* environmentWayName(EnvironmentWay way) {
     return way == EnvironmentWay::Prefiltered ? "prefiltered" : "sh";
 }

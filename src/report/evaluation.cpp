@@ -18,8 +18,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/clock.h"
 #include "methods/method_unit.h"
+#include "ndfmip/clock.h"
 #include "ndfmip/compare.h"
 #include "ndfmip/environment_lighting.h"
 #include "ndfmip/evaluate.h"

@@ -423,10 +423,11 @@ TEST(ShLighting, GapToTheTruthForASharpNdf) {
     const glm::mat3 frame = tangentFrame(n, {1., 0., 0.});
     const glm::vec3 viewTangent(glm::transpose(glm::dmat3(frame)) * view);
     const std::vector<float> g = shOf({{0., 0., 1.}}, order);
-    for (const auto& [skyName, sky] :
+    for (const auto& [skyName, skyRadiance] :
          {std::pair<const char*, envtest::Radiance>{"smooth sky", smoothSky},
           std::pair<const char*, envtest::Radiance>{"sun sky", sunSky}}) {
-        std::vector<ShLighting> lightings; // per cosine, for every material
+        const envtest::Radiance& sky = skyRadiance; // lambdas capture it (not a binding)
+        std::vector<ShLighting> lightings;          // per cosine, for every material
         for (SpecularCosine cosine :
              {SpecularCosine::HalfVector, SpecularCosine::MeanNormal, SpecularCosine::None})
             lightings.push_back(prepareShLighting(sky, order, view, cosine, 192));

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 #include <thread>
@@ -41,6 +43,11 @@ std::set<std::string> names(const fs::path& dir) {
     std::set<std::string> out;
     for (const auto& entry : fs::directory_iterator(dir)) out.insert(entry.path().filename());
     return out;
+}
+
+std::string readBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 void makeFolder(const fs::path& dir, const std::string& content) {
@@ -95,6 +102,36 @@ TEST(CrashRecovery, StaleTemporaryFilesAreRemoved) {
     EXPECT_EQ(names(tmp.path),
               (std::set<std::string>{"out.exr", "out.exr.tmp-" + alive + "-0123abcd",
                                      "out.png.tmp-" + dead + "-0123abcd"}));
+}
+
+// The render's EXR and PNG: both written, or on a failure the earlier pair kept as it was, the
+// message naming the file asked for (not its temporary) and no temporary left.
+TEST(CrashRecovery, ExrWithPreviewIsWrittenAsAPair) {
+    TempDir tmp("exr-pair");
+    Image image(4, 2, 3), preview(4, 2, 3);
+    image.at(1, 1)[0] = 7.5f;
+    preview.at(1, 1)[0] = 0.5f;
+    const std::string exr = tmp.file("out.exr"), png = tmp.file("out.png");
+    ASSERT_TRUE(saveExrWithPreview(exr, image, png, preview));
+    Result<SourceImage> readExr = loadImage(exr), readPng = loadImage(png);
+    ASSERT_TRUE(readExr && readPng);
+    EXPECT_EQ(readExr->image.at(1, 1)[0], 7.5f);
+    EXPECT_NEAR(readPng->image.at(1, 1)[0], 0.5f, 1.f / 255.f);
+    EXPECT_EQ(names(tmp.path), (std::set<std::string>{"out.exr", "out.png"}));
+
+    // A folder where the PNG goes: the earlier pair stays, byte for byte.
+    const std::string before = readBytes(exr);
+    fs::create_directory(tmp.path / "taken.png");
+    Status s = saveExrWithPreview(exr, Image(2, 2, 3), tmp.file("taken.png"), preview);
+    ASSERT_FALSE(s);
+    EXPECT_EQ(s.error.rfind(tmp.file("taken.png") + ": ", 0), 0u) << s.error;
+    EXPECT_EQ(readBytes(exr), before);
+    EXPECT_EQ(names(tmp.path), (std::set<std::string>{"out.exr", "out.png", "taken.png"}));
+
+    // No preview asked for: the EXR alone.
+    ASSERT_TRUE(saveExrWithPreview(tmp.file("alone.exr"), image, "", Image{}));
+    EXPECT_TRUE(fs::exists(tmp.path / "alone.exr"));
+    EXPECT_FALSE(fs::exists(tmp.path / "alone.png"));
 }
 
 TEST(CrashRecovery, ReplaceFolderWithAndWithoutExchange) {

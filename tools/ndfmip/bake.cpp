@@ -1,27 +1,22 @@
 // ndfmip bake IN --method M -o DIR: per-level parameter images and a manifest (bake_file.h),
 // for one map or many (folders, globs, --jobs, shards).
 #include <algorithm>
-#include <atomic>
-#include <cctype>
 #include <charconv>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
-#include <mutex>
 #include <new>
 #include <optional>
-#include <thread>
 
-#include <glob.h>
-#include <omp.h>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
 #include "ndfmip/bake.h"
+#include "ndfmip/bake_batch.h"
 #include "ndfmip/bake_file.h"
 #include "ndfmip/engine_presets.h"
 #include "ndfmip/limits.h"
@@ -124,84 +119,7 @@ MapStatus bakeOne(const BakeArgs& a) {
     return MapStatus::Baked;
 }
 
-// ---- many maps --------------------------------------------------------------------------------
-
-const char* kImageExtensions[] = {".png", ".jpg", ".jpeg", ".tga", ".bmp", ".exr"};
-
-bool isImageFile(const std::filesystem::path& path) {
-    std::string ext = path.extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    for (const char* known : kImageExtensions)
-        if (ext == known) return true;
-    return false;
-}
-
-// Files as given, the image files directly inside folders (sorted), and globs expanded by
-// glob(3) for callers whose shell did not (farm job specs, Python).
-std::vector<std::string> expandInputsOrFail(const std::vector<std::string>& inputs,
-                                            bool* expanded) {
-    std::vector<std::string> maps;
-    *expanded = false;
-    for (const std::string& input : inputs) {
-        std::error_code ec;
-        if (std::filesystem::is_directory(input, ec)) {
-            *expanded = true;
-            std::vector<std::string> inside;
-            for (const auto& entry : std::filesystem::directory_iterator(input, ec))
-                if (entry.is_regular_file(ec) && isImageFile(entry.path()))
-                    inside.push_back(entry.path().string());
-            if (ec) throw Failure(input + ": cannot list the folder (" + ec.message() + ")");
-            if (inside.empty())
-                throw Failure(input +
-                              ": the folder holds no image files (png, jpg, tga, bmp, exr)");
-            std::sort(inside.begin(), inside.end());
-            maps.insert(maps.end(), inside.begin(), inside.end());
-        } else if (input.find_first_of("*?[") != std::string::npos &&
-                   !std::filesystem::exists(input, ec)) {
-            *expanded = true;
-            glob_t found{};
-            const int rc = ::glob(input.c_str(), 0, nullptr, &found);
-            for (size_t i = 0; rc == 0 && i < found.gl_pathc; ++i)
-                maps.emplace_back(found.gl_pathv[i]);
-            ::globfree(&found);
-            if (rc != 0) throw Failure(quote(input) + ": no file matches");
-        } else {
-            maps.push_back(input);
-        }
-    }
-    return maps;
-}
-
-// The output pattern with {stem} (file name without extension), {name} (with it) and {parent}
-// (the folder's name) of `input`.
-std::string outputFor(const std::string& pattern, const std::string& input) {
-    const std::filesystem::path path(input);
-    const std::pair<std::string, std::string> fields[] = {
-        {"{stem}", path.stem().string()},
-        {"{name}", path.filename().string()},
-        {"{parent}", path.parent_path().filename().string()}};
-    std::string out = pattern;
-    for (const auto& [field, value] : fields) {
-        // "..png" has the stem "." and "...png" the stem "..": out/{stem} would be out/ itself or
-        // the folder above it.
-        if ((value == "." || value == "..") && out.find(field) != std::string::npos)
-            throw Failure(quote(input) + ": its " + field + " is " + quote(value) +
-                          ", which names a folder, not a bake; "
-                          "rename the map or use another field in -o");
-        for (size_t at = out.find(field); at != std::string::npos;
-             at = out.find(field, at + value.size()))
-            out.replace(at, field.size(), value);
-    }
-    return out;
-}
-
-// Which shard a map belongs to: FNV-1a of its path as given, so the split is the same on every
-// machine and a map's shard does not move when others are added.
-int shardOf(const std::string& input, int shards) {
-    uint64_t h = 1469598103934665603ull;
-    for (unsigned char c : input) h = (h ^ c) * 1099511628211ull;
-    return int(h % uint64_t(shards));
-}
+// ---- many maps (bake_batch.h) ----------------------------------------------------------------
 
 // The decimal integer that is all of `text` (digits, an optional leading '-'), if it fits an
 // int64_t: no sign '+', no spaces, no trailing bytes, no wrap-around (sscanf and strtol allow all).
@@ -257,11 +175,6 @@ std::pair<int, int> shardOrFail(const BakeArgs& a) {
     return {int(*i), a.shards};
 }
 
-struct MapResult {
-    std::string input, output, status, error;
-    double seconds = 0.0;
-};
-
 // Once the engine files are written: without the material's roughness their level 0 roughness
 // is the normals' spread alone, ~0 on a flat map.
 void warnAboutEngineRoughness(const BakeArgs& args) {
@@ -277,11 +190,12 @@ void warnAboutEngineRoughness(const BakeArgs& args) {
 
 void runBake(const BakeArgs& args) {
     if (Status s = checkBakeFileOptions(fileOptions(args)); !s) throw Failure(s.error);
-    bool expanded = false; // a folder or a glob: many maps, whatever their number
-    const std::vector<std::string> inputs = expandInputsOrFail(args.inputs, &expanded);
+    Result<BakeInputs> expanded = expandBakeInputs(args.inputs);
+    if (!expanded) throw Failure(expanded.error().message);
+    const std::vector<std::string>& inputs = expanded->maps;
     const bool pattern = args.output.find('{') != std::string::npos;
-    if (inputs.size() == 1 && !expanded && !pattern && !args.shardGiven && args.shards == 0 &&
-        !args.json) {
+    if (inputs.size() == 1 && !expanded->expanded && !pattern && !args.shardGiven &&
+        args.shards == 0 && !args.json) {
         BakeArgs one = args; // one map: its errors are the command's
         one.input = inputs.front();
         if (bakeOne(one) == MapStatus::Skipped && !args.quiet)
@@ -290,54 +204,17 @@ void runBake(const BakeArgs& args) {
         warnAboutEngineRoughness(args);
         return;
     }
-    if ((inputs.size() > 1 || expanded) && args.output.find("{stem}") == std::string::npos &&
-        args.output.find("{name}") == std::string::npos)
-        throw Failure("-o " + quote(args.output) + ": with " + std::to_string(inputs.size()) +
-                      " map(s) from " + (expanded ? "a folder or glob" : "several inputs") +
-                      ", -o needs {stem} or {name}, e.g. -o 'out/{stem}.bake'");
     const auto [shard, shards] = shardOrFail(args);
-    std::vector<MapResult> jobs;
-    std::map<std::string, std::string> outputs; // output -> the map writing it
-    for (const std::string& input : inputs) {
-        const std::string output = outputFor(args.output, input);
-        const std::string normal = std::filesystem::path(output).lexically_normal().string();
-        if (auto [it, fresh] = outputs.emplace(normal, input); !fresh)
-            throw Failure(quote(it->second) + " and " + quote(input) + " would both be baked to " +
-                          quote(output) + "; use {parent} or {name} in -o");
-        if (shardOf(input, shards) == shard) jobs.push_back({input, output, "", "", 0.0});
-    }
+    Result<std::vector<BakeBatchMap>> planned =
+        planBakeBatch(expanded.value(), args.output, shard, shards);
+    if (!planned) throw Failure(planned.error().message);
+    std::vector<BakeBatchMap>& jobs = planned.value();
 
-    std::mutex lock;
-    std::atomic<size_t> next{0};
-    size_t done = 0, failed = 0;
     const bool bar = !args.quiet && !args.json && isatty(2);
     const long long start = nowNanoseconds();
     const int workers = std::max(1, std::min(args.jobs, int(jobs.size())));
-    // The cores this process may use: OMP_NUM_THREADS, else the CPUs of its affinity mask (a
-    // Slurm or container cpuset), not every core of the machine.
-    const int cores = std::max(1, omp_get_max_threads());
-    auto work = [&] {
-        omp_set_num_threads(std::max(1, cores / workers)); // the maps share the cores
-        for (size_t i; (i = next++) < jobs.size();) {
-            MapResult& r = jobs[i];
-            BakeArgs one = args;
-            one.input = r.input;
-            one.output = r.output;
-            one.quiet = true;
-            const long long t0 = nowNanoseconds();
-            try {
-                r.status = bakeOne(one) == MapStatus::Skipped ? "skipped" : "baked";
-            } catch (const std::bad_alloc&) {
-                r.status = "failed";
-                r.error = outOfMemoryMessage(r.input);
-            } catch (const std::exception& e) { // one map's failure never stops the others
-                r.status = "failed";
-                r.error = e.what();
-            }
-            r.seconds = millisecondsSince(t0) / 1000.0;
-            std::lock_guard<std::mutex> guard(lock);
-            ++done;
-            failed += r.status == "failed";
+    runBakeBatch(
+        jobs, fileOptions(args), args.jobs, [&](const BakeBatchMap& r, size_t done, size_t failed) {
             if (args.json) {
                 nlohmann::json line = {{"map", r.input},
                                        {"output", r.output},
@@ -358,17 +235,12 @@ void runBake(const BakeArgs& args) {
                              failed, elapsed / double(done) * double(jobs.size() - done));
                 std::fflush(stderr);
             }
-        }
-    };
-    std::vector<std::thread> threads;
-    for (int t = 1; t < workers; ++t) threads.emplace_back(work);
-    work();
-    for (std::thread& t : threads) t.join();
+        });
     if (bar) std::fprintf(stderr, "\n");
 
     size_t baked = 0, skipped = 0;
     std::vector<std::string> failures;
-    for (const MapResult& r : jobs) {
+    for (const BakeBatchMap& r : jobs) {
         baked += r.status == "baked";
         skipped += r.status == "skipped";
         if (r.status == "failed") failures.push_back(r.input);
@@ -397,7 +269,7 @@ void runBake(const BakeArgs& args) {
             baked, skipped, failures.size(), seconds, workers);
     }
     if (!args.json)
-        for (const MapResult& r : jobs)
+        for (const BakeBatchMap& r : jobs)
             if (r.status == "failed")
                 std::fprintf(stderr, "  failed: %s\n", shortened(r.error, 1024).c_str());
     if (!failures.empty())

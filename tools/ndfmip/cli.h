@@ -8,8 +8,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "core/clock.h" // nowNanoseconds, millisecondsSince
 #include "ndfmip/bake.h"
+#include "ndfmip/clock.h" // nowNanoseconds, millisecondsSince
 #include "ndfmip/method_parameters.h"
 #include "ndfmip/normal_map.h"
 #include "ndfmip/roughness.h"

@@ -9,7 +9,6 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
-#include "methods/method_unit.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/io.h"
 
@@ -35,7 +34,7 @@ glm::vec3 levelZeroNormal(const LoadedBake& level0, int x, int y) {
     std::vector<float> texel;
     for (const Image& plane : level0.level)
         texel.insert(texel.end(), plane.at(x, y), plane.at(x, y) + plane.channels);
-    const glm::vec3 n = methodUnit(level0.method).levelZeroNormal(texel.data());
+    const glm::vec3 n = bakeLevelZeroNormal(level0.method, texel.data());
     const float length = glm::length(n);
     return length > 0.f ? n / length : glm::vec3(0.f, 0.f, 1.f);
 }
@@ -47,7 +46,7 @@ glm::dvec3 latLongDirection(int i, int j, int width, int height) {
 }
 
 // The texel's NDF as densities over the sphere (integrating to 1), side by side: left the
-// method's own (MethodUnit::ndfDensity: the SH series, the vMF mixture), where it stores one;
+// method's own (bakeNdfDensity: the SH series, the vMF mixture), where it stores one;
 // right the histogram of the level-0 normals it covers. One scale for both; written as PNG (and EXR
 // beside it).
 void writeNdfImage(const InspectArgs& a, const LoadedBake& bake, int x, int y, const Footprint& f) {
@@ -73,11 +72,10 @@ void writeNdfImage(const InspectArgs& a, const LoadedBake& bake, int x, int y, c
                        (std::cos(M_PI * j / height) - std::cos(M_PI * (j + 1) / height));
         for (int i = 0; i < width; ++i) histogram.at(i, j)[0] /= float(double(f.count()) * omega);
     }
-    if (const auto density = methodUnit(bake.method).ndfDensity)
-        for (int j = 0; j < height; ++j)
-            for (int i = 0; i < width; ++i)
-                reconstructed.at(i, j)[0] =
-                    float(density(bake, x, y, latLongDirection(i, j, width, height)));
+    for (int j = 0; j < height; ++j)
+        for (int i = 0; i < width; ++i)
+            reconstructed.at(i, j)[0] = float(
+                bakeNdfDensity(bake, x, y, latLongDirection(i, j, width, height)).value_or(0.0));
     Image both(2 * width + 2, height, 1);
     float peak = 0.f;
     for (int j = 0; j < height; ++j)

@@ -8,11 +8,7 @@
 #include <memory>
 #include <optional>
 
-#include <unistd.h>
-
 #include "cli.h"
-#include "io/crash_recovery.h"
-#include "methods/method_unit.h"
 #include "ndfmip/gpu_render.h"
 #include "ndfmip/interpolated.h"
 #include "ndfmip/io.h"
@@ -67,38 +63,6 @@ void warnAboutShTruncation(const Material& m, int order) {
         advice.c_str());
 }
 
-// The EXR and its PNG preview (none when `png` is empty) as a pair: both are written to
-// temporaries beside their names (PATH.tmp-TAG-render, which the next render removes after a
-// kill) and renamed only once both are written, so a failure leaves the earlier pair.
-void writePairOrFail(const std::string& exr, const Image& image, const std::string& png,
-                     const Image& preview) {
-    // What a killed earlier run left beside either name (the temporaries below included).
-    removeStaleTemporaries(exr);
-    if (!png.empty()) removeStaleTemporaries(png);
-    const std::string suffix = ".tmp-" + writerTag() + "-render";
-    const std::string exrTemp = exr + suffix, pngTemp = png.empty() ? "" : png + suffix;
-    auto fail = [&](const std::string& message, const std::string& temp, const std::string& file) {
-        ::unlink(exrTemp.c_str());
-        if (!png.empty()) ::unlink(pngTemp.c_str());
-        // Name the file asked for, not its temporary.
-        std::string text = message;
-        if (text.rfind(temp, 0) == 0) text.replace(0, temp.size(), file);
-        throw Failure(text);
-    };
-    if (Status s = saveExr(exrTemp, image); !s) fail(s.error, exrTemp, exr);
-    if (!png.empty())
-        if (Status s = savePng(pngTemp, preview, 8); !s) fail(s.error, pngTemp, png);
-    std::error_code ec;
-    for (const std::string* file : {&png, &exr})
-        if (!file->empty() && std::filesystem::is_directory(*file, ec))
-            fail(*file + ": cannot write (a folder has that name)", "", "");
-    // The preview first: the EXR, the data, is replaced last.
-    if (!png.empty() && (std::filesystem::rename(pngTemp, png, ec), ec))
-        fail(png + ": cannot write (" + ec.message() + ")", "", "");
-    if (std::filesystem::rename(exrTemp, exr, ec), ec)
-        fail(exr + ": cannot write (" + ec.message() + ")", "", "");
-}
-
 void runRender(const RenderArgs& a) {
     if (std::filesystem::path(a.output).extension() != ".exr")
         throw Failure(a.output +
@@ -110,10 +74,7 @@ void runRender(const RenderArgs& a) {
     // Faceted spheres (interpolated normals) have their own methods and no textures.
     const bool interpolated = scene->geometry.type == GeometryType::FacetedSphere;
     const bool bakeless = method == kGroundTruth || method == kExact || interpolated;
-    // The bake a shader reads (toksvig-lut: toksvig's; roughness-mips: naive's), from the method
-    // table.
-    const MethodShader* shader = findShader(method);
-    if (!bakeless && !shader)
+    if (!bakeless && !shaderBake(method))
         throw Failure("unknown method " + quote(method) + " (expected " + renderMethodNames() +
                       ")");
     RenderOptions options;
@@ -183,8 +144,10 @@ void runRender(const RenderArgs& a) {
     std::string png;
     if (!a.noPng) png = std::filesystem::path(a.output).replace_extension(".png").string();
     const float stops = std::isnan(a.exposure) ? autoExposure(image.value()) : a.exposure;
-    writePairOrFail(a.output, image.value(), png,
-                    png.empty() ? Image{} : toneMap(image.value(), stops));
+    if (Status s = saveExrWithPreview(a.output, image.value(), png,
+                                      png.empty() ? Image{} : toneMap(image.value(), stops));
+        !s)
+        throw Failure(s.error);
     std::printf("render: %s, %dx%d, %d spp: load %.0f ms, render %.0f ms -> %s%s%s\n",
                 method.c_str(), image->width, image->height, options.spp, loadMs, renderMs,
                 a.output.c_str(), png.empty() ? "" : ", ", png.c_str());

@@ -10,12 +10,12 @@
 
 #include "cli.h"
 
-#if defined(NDFMIP_HAS_GPU) && defined(NDFMIP_HAS_GLFW)
+#if defined(NDFMIP_HAS_GLFW)
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
-#include "gpu/gpu_method.h"
+#include "ndfmip/gpu_render.h"
 #include "ndfmip/io.h"
 #include "ndfmip/vmf.h"
 #endif
@@ -32,7 +32,7 @@ struct ViewArgs {
     FilteringArgs filtering;
 };
 
-#if defined(NDFMIP_HAS_GPU) && defined(NDFMIP_HAS_GLFW)
+#if defined(NDFMIP_HAS_GLFW)
 
 const char* kHelp =
     "ndfmip view: Tab / Shift+Tab method, +/- vMF lobes, S split screen (left: the method, right: "
@@ -65,20 +65,20 @@ struct Viewer {
     ViewArgs args;
     RenderOptions options;
     ViewState state;
-    std::map<std::string, Bake> bakes;         // by bake key ("vmf:4", "sh", ...)
-    std::map<std::string, GpuMethod> programs; // by shader and bake key
+    std::map<std::string, Bake> bakes; // by bake key ("vmf:4", "sh", ...)
+    GpuWindowDrawer drawer;            // a program per shader and bake key
 
     std::string bakeKey(const std::string& shader) const {
-        const MethodShader* s = findShader(shader);
-        const std::string name = methodName(s->bake);
-        return s->bake == Method::Vmf ? name + ":" + std::to_string(state.lobes) : name;
+        const Method bake = shaderBake(shader).value();
+        const std::string name = methodName(bake);
+        return bake == Method::Vmf ? name + ":" + std::to_string(state.lobes) : name;
     }
 
     const Bake& bakeFor(const std::string& shader) {
         const std::string key = bakeKey(shader);
         auto it = bakes.find(key);
         if (it != bakes.end()) return it->second;
-        const Method method = findShader(shader)->bake;
+        const Method method = shaderBake(shader).value();
         BakeOptions o;
         o.parameters = args.methodParameters.given();
         o.parameters["lobes"] = state.lobes;
@@ -98,16 +98,10 @@ struct Viewer {
             s.lights.front().direction = fromSpherical(state.lightAzimuth, state.lightElevation);
         RenderTextures t = base;
         t.bake = bakeFor(shader);
-        Result<RenderProgram> program = renderProgram(s, t, shader, options);
-        if (!program) throw Failure(args.scene + ": " + program.error().message);
-        program->uniforms.push_back({"ndfmipShowLevel", true, {state.levels ? 1.f : 0.f}});
-        const std::string key = shader + "/" + bakeKey(shader);
-        if (!programs.count(key)) {
-            Result<GpuMethod> created = GpuMethod::create(program.value());
-            if (!created) throw Failure(created.error().message);
-            programs.emplace(key, std::move(created.value()));
-        }
-        programs.at(key).draw(program->uniforms, 0, 0, width, height);
+        if (Status drawn = drawer.draw(s, t, shader, options, shader + "/" + bakeKey(shader),
+                                       state.levels, 0, 0, width, height);
+            !drawn)
+            throw Failure(args.scene + ": " + drawn.error);
     }
 };
 
@@ -207,12 +201,10 @@ void runView(const ViewArgs& a) {
                                                 ? ":" + std::to_string(bakeVmfLobes(bake.value()))
                                                 : "")] = bake.value();
     }
-    for (const MethodShader& shader : methodShaders()) {
-        if (std::string(shader.name) == kRoughnessMips)
-            continue; // needs an engine's roughness mips
-        if (std::string(shader.name) == kToksvigLut && scene->material.brdf != Brdf::BlinnPhong)
-            continue;
-        v.state.methods.push_back(shader.name);
+    for (const std::string& shader : shaderNames()) {
+        if (shader == kRoughnessMips) continue; // needs an engine's roughness mips
+        if (shader == kToksvigLut && scene->material.brdf != Brdf::BlinnPhong) continue;
+        v.state.methods.push_back(shader);
     }
     glfwSetWindowUserPointer(window, &v);
     onKey(window, GLFW_KEY_R, 0, GLFW_PRESS, 0); // the scene's own camera and light
@@ -256,7 +248,7 @@ void runView(const ViewArgs& a) {
         const double ms = (glfwGetTime() - start) * 1e3;
         frameMs.push_back(ms);
         std::string title = "ndfmip view - " + method;
-        if (findShader(method)->bake == Method::Vmf) title += ":" + std::to_string(v.state.lobes);
+        if (shaderBake(method) == Method::Vmf) title += ":" + std::to_string(v.state.lobes);
         if (v.state.split) title += " | toksvig";
         if (v.state.levels) title += " (mip levels)";
         char timing[64];

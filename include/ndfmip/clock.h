@@ -1,4 +1,4 @@
-// A monotonic clock for the stage timings the commands print.
+// A monotonic clock for the stage timings the commands print (and callers of the library may).
 #pragma once
 
 #include <chrono>
