@@ -131,8 +131,9 @@ struct BakeWriteOptions {
     // BC5 normal map (its green convention) and its packed material map (RGBA8: roughness or
     // smoothness, metallic, occlusion in its channels), named <engine>_<file>.
     const EnginePreset* engine = nullptr;
-    // A lean bake's engine files (engines that read KHR_materials_anisotropy): the material's
-    // alpha, the same at every texel, whose alpha^2 the slopes' variance widens per axis.
+    // A lean bake's engine files (one anisotropic lobe per texel, each engine's inputs): the
+    // material's alpha, the same at every texel, whose alpha^2 the slopes' variance widens per
+    // axis.
     float baseRoughness = 0.f;
     // Per level, one channel each, for the packed map (empty: metallic 0, occlusion 1).
     std::vector<SharedImage> metallic, occlusion;

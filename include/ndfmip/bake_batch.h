@@ -43,16 +43,15 @@ struct BakeBatchMap {
 
 // Every map's output from the pattern (which must hold {stem} or {name} when the maps are many,
 // and must not give two maps one folder), and the maps of shard `shard` of `shards`, in order.
-Result<std::vector<BakeBatchMap>> planBakeBatch(const BakeInputs& inputs,
-                                                const std::string& outputPattern, int shard,
-                                                int shards);
+Result<std::vector<BakeBatchMap>>
+planBakeBatch(const BakeInputs& inputs, const std::string& outputPattern, int shard, int shards);
 
 // Bakes the maps with bakeFile and `options` (its callbacks unused), `jobs` at a time, each
 // with its share of the cores (OMP_NUM_THREADS or the process's affinity mask), filling in
 // their status. `finished` is called, one call at a time, as each map ends, with the maps ended
 // and failed so far.
-void runBakeBatch(std::vector<BakeBatchMap>& maps, const BakeFileOptions& options, int jobs,
-                  const std::function<void(const BakeBatchMap& map, size_t ended,
-                                           size_t failed)>& finished = {});
+void runBakeBatch(
+    std::vector<BakeBatchMap>& maps, const BakeFileOptions& options, int jobs,
+    const std::function<void(const BakeBatchMap& map, size_t ended, size_t failed)>& finished = {});
 
 } // namespace ndfmip

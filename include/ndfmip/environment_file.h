@@ -17,9 +17,9 @@ struct EnvironmentFileOptions {
     std::string lodMapping = "filament"; // --lod-mapping: filament or linear
     std::string layout = "equirect";     // --layout: equirect, cube or both
     int shOrder = 8;                     // --sh-order: 0 .. kMaxShOrder
-    int size = 0;   // --size: GGX level 0's width, a power of two 8 .. 4096 (0: the map's)
-    int levels = 0; // --levels: 1 .. log2(size) - 2 (0: PrefilterOptions' default)
-    int samples = 1024;                  // --samples: 1 .. 65536
+    int size = 0;       // --size: GGX level 0's width, a power of two 8 .. 4096 (0: the map's)
+    int levels = 0;     // --levels: 1 .. log2(size) - 2 (0: PrefilterOptions' default)
+    int samples = 1024; // --samples: 1 .. 65536
     int dfgSize = 128, dfgSamples = 4096; // --dfg-size 8 .. 1024, --dfg-samples 1 .. 65536
     bool half = false, ktx2 = false, dds = false;
     std::function<void(int done, int total)> progress; // after each GGX level
@@ -27,9 +27,9 @@ struct EnvironmentFileOptions {
 
 // What was written, and the time of each step.
 struct EnvironmentFileReport {
-    int width = 0, height = 0;                // the map's
-    size_t negativeTexels = 0;                // set to 0 on loading, for a warning
-    std::vector<double> perceptualRoughness;  // of each GGX level
+    int width = 0, height = 0;               // the map's
+    size_t negativeTexels = 0;               // set to 0 on loading, for a warning
+    std::vector<double> perceptualRoughness; // of each GGX level
     int firstLevelWidth = 0, lastLevelWidth = 0;
     double loadMs = 0, shMs = 0, ggxMs = 0, dfgMs = 0, writeMs = 0;
 };

@@ -33,8 +33,7 @@ Status checkEnvironmentFileOptions(const EnvironmentFileOptions& o) {
         return Status::failure("--lod-mapping " + quote(o.lodMapping) +
                                ": expected filament or linear");
     if (o.layout != "equirect" && o.layout != "cube" && o.layout != "both")
-        return Status::failure("--layout " + quote(o.layout) +
-                               ": expected equirect, cube or both");
+        return Status::failure("--layout " + quote(o.layout) + ": expected equirect, cube or both");
     if (!(o.environment.intensity >= 1e-6f && o.environment.intensity <= 1e6f))
         return outOfRange("--intensity", o.environment.intensity, "1e-06 to 1e+06");
     if (!(o.environment.rotationDegrees >= -360.f && o.environment.rotationDegrees <= 360.f))

@@ -18,8 +18,8 @@ GpuWindowDrawer::~GpuWindowDrawer() = default;
 
 Status GpuWindowDrawer::draw(const Scene& scene, const RenderTextures& textures,
                              const std::string& shader, const RenderOptions& options,
-                             const std::string& programKey, bool showLevel, int x, int y,
-                             int width, int height) {
+                             const std::string& programKey, bool showLevel, int x, int y, int width,
+                             int height) {
     Result<RenderProgram> program = renderProgram(scene, textures, shader, options);
     if (!program) return Status::failure(program.error().message);
     program->uniforms.push_back({"ndfmipShowLevel", true, {showLevel ? 1.f : 0.f}});

@@ -88,18 +88,16 @@ int bakeShardOf(const std::string& input, int shards) {
     return int(h % uint64_t(std::max(shards, 1)));
 }
 
-Result<std::vector<BakeBatchMap>> planBakeBatch(const BakeInputs& inputs,
-                                                const std::string& outputPattern, int shard,
-                                                int shards) {
+Result<std::vector<BakeBatchMap>>
+planBakeBatch(const BakeInputs& inputs, const std::string& outputPattern, int shard, int shards) {
     if (shards < 1 || shard < 0 || shard >= shards)
         return Error{"shard " + std::to_string(shard) + " of " + std::to_string(shards) +
                      ": expected 0 <= shard < shards"};
     if ((inputs.maps.size() > 1 || inputs.expanded) &&
         outputPattern.find("{stem}") == std::string::npos &&
         outputPattern.find("{name}") == std::string::npos)
-        return Error{"-o " + quote(outputPattern) + ": with " +
-                     std::to_string(inputs.maps.size()) + " map(s) from " +
-                     (inputs.expanded ? "a folder or glob" : "several inputs") +
+        return Error{"-o " + quote(outputPattern) + ": with " + std::to_string(inputs.maps.size()) +
+                     " map(s) from " + (inputs.expanded ? "a folder or glob" : "several inputs") +
                      ", -o needs {stem} or {name}, e.g. -o 'out/{stem}.bake'"};
     std::vector<BakeBatchMap> maps;
     std::map<std::string, std::string> outputs; // output -> the map writing it
@@ -111,14 +109,15 @@ Result<std::vector<BakeBatchMap>> planBakeBatch(const BakeInputs& inputs,
         if (auto [it, fresh] = outputs.emplace(normal, input); !fresh)
             return Error{quote(it->second) + " and " + quote(input) + " would both be baked to " +
                          quote(output.value()) + "; use {parent} or {name} in -o"};
-        if (bakeShardOf(input, shards) == shard) maps.push_back({input, output.value(), "", "", 0.0});
+        if (bakeShardOf(input, shards) == shard)
+            maps.push_back({input, output.value(), "", "", 0.0});
     }
     return maps;
 }
 
-void runBakeBatch(std::vector<BakeBatchMap>& maps, const BakeFileOptions& options, int jobs,
-                  const std::function<void(const BakeBatchMap& map, size_t ended,
-                                           size_t failed)>& finished) {
+void runBakeBatch(
+    std::vector<BakeBatchMap>& maps, const BakeFileOptions& options, int jobs,
+    const std::function<void(const BakeBatchMap& map, size_t ended, size_t failed)>& finished) {
     BakeFileOptions quiet = options;
     quiet.progress = nullptr;
     quiet.decoded = nullptr;

@@ -15,7 +15,7 @@
 #include "io/basisu_encoder.h"
 #include "io/crash_recovery.h"
 #include "io/input_file.h"
-#include "methods/lean/khr_anisotropy.h"
+#include "methods/lean/engine_anisotropy.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/engine_presets.h"
 #include "ndfmip/io.h"
@@ -225,6 +225,173 @@ Ktx2KeyValues planeKeyValues(const PlaneInfo& plane) {
                                   {"channels", channels}})}};
 }
 
+// BC5 and RG16 keep a normal's x and y; RGBA8 and UASTC x, y, z as glTF normal textures do.
+int normalChannels(TextureFormat format) {
+    return format == TextureFormat::Rgba8Unorm ? 4 : format == TextureFormat::Uastc ? 3 : 2;
+}
+
+// writeContainers' writer of a file of levels made row by row.
+using WriteMade =
+    std::function<Status(const std::string& stem, const std::function<LevelRows(size_t)>& make,
+                         TextureFormat format, const Ktx2KeyValues& keyValues)>;
+
+// A lean bake's engine files: one anisotropic GGX lobe per texel from the slope moments
+// (sggx.glsl) in the engine's own inputs (engine_anisotropy.h): the mean slope's normal (the
+// lobe's axis), the roughness in the packed map, and the direction and anisotropy textures.
+Status writeEngineAnisotropy(const EnginePreset& engine, const Bake& bake, size_t moments,
+                             size_t cross, const BakeWriteOptions& options,
+                             const WriteMade& writeMade) {
+    const std::string prefix = std::string(engine.name) + "_";
+    const float alpha2 = options.baseRoughness * options.baseRoughness;
+    const AnisotropyInput input = engine.anisotropy;
+    const bool down = engine.greenDown;
+    // Level k's rows computed as the encoder asks for them: `texel` writes one texel's
+    // `channels` values from its lobe.
+    auto lobeRows = [&bake, moments, cross, alpha2](size_t k, int channels, auto texel) {
+        const Image& m = *bake.levels[k][moments];
+        const Image& c = *bake.levels[k][cross];
+        return LevelRows{
+            m.width, m.height, channels, [&m, &c, alpha2, channels, texel](int y, float* out) {
+                for (int x = 0; x < m.width; ++x) {
+                    const size_t i = size_t(y) * size_t(m.width) + size_t(x);
+                    texel(anisotropicLobeOfMoments(&m.pixels[4 * i], c.pixels[i], alpha2),
+                          out + size_t(x) * size_t(channels));
+                }
+            }};
+    };
+    // The engine's perceptual roughness of a lobe, and its direction in the normal map's frame.
+    auto roughnessOf = [input](const AnisotropicLobe& lobe) {
+        return input == AnisotropyInput::Khr     ? khrAnisotropy(lobe).roughness
+               : input == AnisotropyInput::Godot ? burleyAnisotropy(lobe).roughness
+                                                 : kullaAnisotropy(lobe).roughness;
+    };
+    auto direction = [down](const AnisotropicLobe& lobe, float* rg) {
+        rg[0] = 0.5f * (lobe.direction.x + 1.f);
+        rg[1] = 0.5f * ((down ? -lobe.direction.y : lobe.direction.y) + 1.f);
+    };
+
+    const int channels = normalChannels(options.normalFormat);
+    // The lobe's axis is the mean slope's normal, (E[bx], E[by], 1).
+    auto normal = [&bake, moments, down, channels](size_t k) {
+        const Image& m = *bake.levels[k][moments];
+        return LevelRows{m.width, m.height, channels, [&m, down, channels](int y, float* out) {
+                             for (int x = 0; x < m.width; ++x) {
+                                 const float* mi = m.at(x, y);
+                                 const float slopeNormal[3] = {mi[0], mi[1], 1.f};
+                                 encodeNormal(slopeNormal, down, channels,
+                                              out + size_t(x) * size_t(channels));
+                             }
+                         }};
+    };
+    if (Status s = writeMade(prefix + engine.normalFile, normal, options.normalFormat,
+                             normalKeyValues(options.normalFormat, down));
+        !s)
+        return s;
+    auto packed = [&](size_t k) {
+        const Image& m = *bake.levels[k][moments];
+        Image roughness(m.width, m.height, 1);
+        const LevelRows rows =
+            lobeRows(k, 1, [roughnessOf](const AnisotropicLobe& lobe, float* out) {
+                out[0] = roughnessOf(lobe);
+            });
+        for (int y = 0; y < m.height; ++y) rows.row(y, roughness.at(0, y));
+        return rowsOf(std::make_shared<const Image>(packedMaterial(
+            engine, roughness, k < options.metallic.size() ? options.metallic[k].get() : nullptr,
+            k < options.occlusion.size() ? options.occlusion[k].get() : nullptr)));
+    };
+    if (Status s = writeMade(prefix + engine.packedFile, packed, TextureFormat::Rgba8Unorm,
+                             packedKeyValues(engine));
+        !s)
+        return s;
+
+    auto about = [&](const char* content, const json& channelMeanings) -> Ktx2KeyValues {
+        return {{"ndfmip", aboutText({{"content", content},
+                                      {"engine", engine.name},
+                                      {"channels", channelMeanings}})}};
+    };
+    const char* directionX = "direction of alpha_t, tangent x, (d + 1)/2";
+    const char* directionY = down ? "direction of alpha_t, bitangent y (green down), (d + 1)/2"
+                                  : "direction of alpha_t, bitangent y, (d + 1)/2";
+    switch (input) {
+    case AnisotropyInput::Khr:
+        return writeMade(
+            prefix + "anisotropy",
+            [&](size_t k) {
+                return lobeRows(k, 4, [](const AnisotropicLobe& lobe, float* out) {
+                    khrAnisotropyTexel(khrAnisotropy(lobe), out);
+                });
+            },
+            TextureFormat::Rgba8Unorm,
+            about("KHR_materials_anisotropy anisotropyTexture", {{"r", kKhrAnisotropyChannels[0]},
+                                                                 {"g", kKhrAnisotropyChannels[1]},
+                                                                 {"b", kKhrAnisotropyChannels[2]},
+                                                                 {"a", "1"}}));
+    case AnisotropyInput::Unreal:
+        return writeMade(
+            prefix + "anisotropy",
+            [&](size_t k) {
+                return lobeRows(k, 4, [direction](const AnisotropicLobe& lobe, float* out) {
+                    direction(lobe, out);
+                    out[2] = kullaAnisotropy(lobe).anisotropy;
+                    out[3] = 1.f;
+                });
+            },
+            TextureFormat::Rgba8Unorm,
+            about("Unreal Tangent and Anisotropy inputs",
+                  {{"r", directionX},
+                   {"g", directionY},
+                   {"b", "Anisotropy k: alpha_t,b = alpha (1 +- k), alpha = roughness^2"},
+                   {"a", "1"}}));
+    case AnisotropyInput::UnityHdrp:
+        if (Status s = writeMade(
+                prefix + "tangent",
+                [&](size_t k) {
+                    return lobeRows(k, 4, [direction](const AnisotropicLobe& lobe, float* out) {
+                        direction(lobe, out);
+                        out[2] = 0.5f;
+                        out[3] = 1.f;
+                    });
+                },
+                TextureFormat::Rgba8Unorm,
+                about("HDRP tangent map (import as a normal map)",
+                      {{"r", directionX}, {"g", directionY}, {"b", "0.5 (z = 0)"}, {"a", "1"}}));
+            !s)
+            return s;
+        return writeMade(
+            prefix + "anisotropy",
+            [&](size_t k) {
+                return lobeRows(k, 4, [](const AnisotropicLobe& lobe, float* out) {
+                    out[0] = out[1] = out[2] = kullaAnisotropy(lobe).anisotropy;
+                    out[3] = 1.f;
+                });
+            },
+            TextureFormat::Rgba8Unorm,
+            about("HDRP anisotropy map",
+                  {{"r", "Anisotropy k: alpha_t,b = alpha (1 +- k), alpha = (1 - smoothness)^2"},
+                   {"g", "k"},
+                   {"b", "k"},
+                   {"a", "1"}}));
+    case AnisotropyInput::Godot:
+        return writeMade(
+            prefix + "anisotropy",
+            [&](size_t k) {
+                return lobeRows(k, 4, [direction](const AnisotropicLobe& lobe, float* out) {
+                    direction(lobe, out);
+                    out[2] = 0.f;
+                    out[3] = burleyAnisotropy(lobe).anisotropy;
+                });
+            },
+            TextureFormat::Rgba8Unorm,
+            about("Godot anisotropy flowmap",
+                  {{"r", directionX},
+                   {"g", directionY},
+                   {"b", "0 (unused)"},
+                   {"a", "anisotropy k: aspect sqrt(1 - 0.9 k), alpha_t,b = alpha / aspect, "
+                         "alpha aspect"}}));
+    }
+    return Status::success();
+}
+
 // Writes the ktx2 or dds files (`container` "ktx2" or "dds") into `folder`; returns their names
 // relative to the bake folder.
 Result<std::vector<std::string>> writeContainers(const fs::path& folder, const Bake& bake,
@@ -260,10 +427,6 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
         return write(stem, levels, format, keyValues);
     };
     const int dirPlane = directionPlane(bake), ggx = findPlane(bake.planes, "roughness_ggx");
-    // BC5 and RG16 keep x and y; UASTC x, y, z as glTF normal textures do (RGB).
-    auto normalChannels = [](TextureFormat format) {
-        return format == TextureFormat::Rgba8Unorm ? 4 : format == TextureFormat::Uastc ? 3 : 2;
-    };
     auto normals = [&](bool down, TextureFormat format) {
         const int channels = normalChannels(format);
         return [&bake, dirPlane, down, channels](size_t k) {
@@ -315,80 +478,11 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     }
     const int moments = findPlane(bake.planes, "lean_moments"),
               cross = findPlane(bake.planes, "lean_cross");
-    if (const EnginePreset* engine = options.engine;
-        engine && engine->anisotropy && moments >= 0 && cross >= 0) {
-        // One anisotropic GGX lobe per texel from the slope moments (sggx.glsl) as
-        // KHR_materials_anisotropy stores it: the mean slope's normal, sqrt(alpha_b) in the
-        // packed map, the anisotropyTexture (RG direction (d + 1)/2, B strength).
-        const std::string prefix = std::string(engine->name) + "_";
-        const float alpha2 = options.baseRoughness * options.baseRoughness;
-        // Level k's rows computed as the encoder asks for them: `texel` writes one texel's
-        // `channels` values from its moments and its lobe.
-        auto lobeRows = [&](size_t k, int channels, auto texel) {
-            const Image& m = *bake.levels[k][size_t(moments)];
-            const Image& c = *bake.levels[k][size_t(cross)];
-            return LevelRows{m.width, m.height, channels,
-                             [&m, &c, alpha2, channels, texel](int y, float* out) {
-                                 for (int x = 0; x < m.width; ++x) {
-                                     const size_t i = size_t(y) * size_t(m.width) + size_t(x);
-                                     const float* mi = &m.pixels[4 * i];
-                                     texel(mi, khrAnisotropyOfMoments(mi, c.pixels[i], alpha2),
-                                           out + size_t(x) * size_t(channels));
-                                 }
-                             }};
-        };
-        const int channels = normalChannels(options.normalFormat);
-        const bool down = engine->greenDown;
-        // The lobe's axis is the mean slope's normal, (E[bx], E[by], 1).
-        auto normal = [&](size_t k) {
-            const Image& m = *bake.levels[k][size_t(moments)];
-            return LevelRows{m.width, m.height, channels, [&m, down, channels](int y, float* out) {
-                                 for (int x = 0; x < m.width; ++x) {
-                                     const float* mi = m.at(x, y);
-                                     const float slopeNormal[3] = {mi[0], mi[1], 1.f};
-                                     encodeNormal(slopeNormal, down, channels,
-                                                  out + size_t(x) * size_t(channels));
-                                 }
-                             }};
-        };
-        if (Status s = writeMade(prefix + engine->normalFile, normal, options.normalFormat,
-                                 normalKeyValues(options.normalFormat, down));
+    if (const EnginePreset* engine = options.engine; engine && moments >= 0 && cross >= 0)
+        if (Status s = writeEngineAnisotropy(*engine, bake, size_t(moments), size_t(cross), options,
+                                             writeMade);
             !s)
             return Error{s.error};
-        auto packed = [&](size_t k) {
-            const Image& m = *bake.levels[k][size_t(moments)];
-            Image roughness(m.width, m.height, 1);
-            const LevelRows rows =
-                lobeRows(k, 1, [](const float*, const KhrAnisotropy& lobe, float* out) {
-                    out[0] = lobe.roughness;
-                });
-            for (int y = 0; y < m.height; ++y) rows.row(y, roughness.at(0, y));
-            return rowsOf(std::make_shared<const Image>(packedMaterial(
-                *engine, roughness,
-                k < options.metallic.size() ? options.metallic[k].get() : nullptr,
-                k < options.occlusion.size() ? options.occlusion[k].get() : nullptr)));
-        };
-        if (Status s = writeMade(prefix + engine->packedFile, packed, TextureFormat::Rgba8Unorm,
-                                 packedKeyValues(*engine));
-            !s)
-            return Error{s.error};
-        auto anisotropy = [&](size_t k) {
-            return lobeRows(k, 4, [](const float*, const KhrAnisotropy& lobe, float* out) {
-                khrAnisotropyTexel(lobe, out);
-            });
-        };
-        if (Status s = writeMade(
-                prefix + "anisotropy", anisotropy, TextureFormat::Rgba8Unorm,
-                {{"ndfmip", aboutText({{"content", "KHR_materials_anisotropy anisotropyTexture"},
-                                       {"engine", engine->name},
-                                       {"channels",
-                                        {{"r", kKhrAnisotropyChannels[0]},
-                                         {"g", kKhrAnisotropyChannels[1]},
-                                         {"b", kKhrAnisotropyChannels[2]},
-                                         {"a", "1"}}}})}});
-            !s)
-            return Error{s.error};
-    }
     // A container asked for but given nothing (a method without normal or roughness, planes not
     // asked for) is a mistake, not an empty folder.
     if (names.empty())

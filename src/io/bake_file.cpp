@@ -12,9 +12,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "ndfmip/clock.h"
 #include "io/input_file.h"
 #include "ndfmip/bake_file.h"
+#include "ndfmip/clock.h"
 #include "ndfmip/engine_presets.h"
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"
@@ -120,14 +120,9 @@ void checkFileOptions(const BakeFileOptions& a) {
     if (!a.engine.empty()) {
         if (!findEnginePreset(a.engine))
             fail("--engine " + quote(a.engine) + ": expected " + enginePresetNames());
-        const EnginePreset& preset = *findEnginePreset(a.engine);
-        if (*method == Method::Lean && !preset.anisotropy)
-            fail("--engine " + a.engine +
-                 " --method lean: the lean bake's engine files are KHR_materials_anisotropy's, "
-                 "which gltf, three, filament and bevy read");
         if (*method != Method::Toksvig && *method != Method::Naive && *method != Method::Lean)
             fail("--engine writes a normal map and a roughness map: --method toksvig (or naive), "
-                 "or lean (one anisotropic lobe per texel, KHR_materials_anisotropy)");
+                 "or lean (one anisotropic lobe per texel, in the engine's anisotropy inputs)");
         if (!exports.count("ktx2") && !exports.count("dds")) exports.insert("ktx2");
     }
     if (exports.count("png16") &&

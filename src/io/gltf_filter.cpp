@@ -21,7 +21,7 @@
 
 #include "io/basisu_encoder.h"
 #include "io/gltf_asset.h"
-#include "methods/lean/khr_anisotropy.h"
+#include "methods/lean/engine_anisotropy.h"
 #include "ndfmip/bake.h"
 #include "ndfmip/io.h"
 #include "ndfmip/limits.h"

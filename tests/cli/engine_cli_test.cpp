@@ -197,14 +197,116 @@ TEST(EngineCli, LeanBakeWritesKhrMaterialsAnisotropyFiles) {
         }
         EXPECT_EQ(aboutOf(anisotropy)["content"], "KHR_materials_anisotropy anisotropyTexture");
     }
-    std::string output;
-    test::expectOneLineError(test::runCli("bake " + test::shellArg(dir.file("n.png")) +
-                                              " --engine unreal --method lean --export ktx2 -o " +
-                                              test::shellArg(dir.file("unreal")),
-                                          &output),
-                             output,
-                             {"KHR_materials_anisotropy", "gltf, three, filament and bevy"});
-    EXPECT_FALSE(std::filesystem::exists(dir.file("unreal")));
+}
+
+// The same stripes for the engines with their own anisotropy inputs: Unreal's and Unity HDRP's
+// Kulla parametrisation (alpha_t,b = alpha (1 +- k)), Godot's Burley one (aspect sqrt(1 - 0.9 k)),
+// each texel against the closed form of the lobe alpha_t = sqrt(0.2^2 + 2 s^2), alpha_b = 0.2
+// along x (level 0: one normal a texel, isotropic).
+TEST(EngineCli, LeanBakeWritesEachEnginesOwnAnisotropyInputs) {
+    test::TempDir dir("ndfmip_engine_lean_own");
+    saveColumns(dir.file("n.png"), 0.28f, 0.f, 0.96f);
+    const double slope = 7.0 / 24.0, alphaB = 0.2;
+    const double alphaT = std::sqrt(alphaB * alphaB + 2.0 * slope * slope);
+    const double kulla = (alphaT - alphaB) / (alphaT + alphaB);
+    const double burley = std::min((1.0 - alphaB / alphaT) / 0.9, 1.0);
+    struct Case {
+        const char* engine;
+        const char* packedFile;
+        int roughnessChannel; // in the packed map
+        bool smoothness;
+        double roughness; // perceptual, levels >= 1
+        double isotropic; // level 0's
+    };
+    for (const Case& c :
+         {Case{"unreal", "occlusion_roughness_metallic", 1, false,
+               std::sqrt(0.5 * (alphaT + alphaB)), std::sqrt(alphaB)},
+          Case{"unity", "mask_map", 3, true, std::sqrt(0.5 * (alphaT + alphaB)), std::sqrt(alphaB)},
+          Case{"godot", "orm", 1, false, std::pow(alphaT * alphaB, 0.25), std::sqrt(alphaB)}}) {
+        const std::string out = dir.file(c.engine), engine = c.engine;
+        std::string output;
+        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --engine " + engine +
+                                   " --method lean --base-roughness 0.2 --export ktx2 -q -o " +
+                                   test::shellArg(out),
+                               &output),
+                  0)
+            << output;
+        const std::string anisotropy = slurp(out + "/ktx2/" + engine + "_anisotropy.ktx2");
+        const std::string packed = slurp(out + "/ktx2/" + engine + "_" + c.packedFile + ".ktx2");
+        const std::string tangent = slurp(out + "/ktx2/" + engine + "_tangent.ktx2");
+        ASSERT_GT(anisotropy.size(), 80u);
+        ASSERT_GT(packed.size(), 80u);
+        EXPECT_EQ(tangent.empty(), engine != "unity") << engine;
+        for (uint32_t k = 0; k < 4; ++k) {
+            const std::string a = ktx2Level(anisotropy, k), g = ktx2Level(packed, k);
+            const double k8 = 255.0 * (k == 0 ? 0.0 : engine == "godot" ? burley : kulla);
+            const double r8 = 255.0 * (k == 0 ? c.isotropic : c.roughness);
+            ASSERT_EQ(a.size(), size_t(4 * (8 >> k) * (8 >> k)));
+            for (size_t i = 0; i < a.size(); i += 4) {
+                const auto at = [&](const std::string& t, size_t channel) {
+                    return double((unsigned char)t[i + channel]);
+                };
+                EXPECT_NEAR(at(g, size_t(c.roughnessChannel)), c.smoothness ? 255.0 - r8 : r8, 0.6)
+                    << engine << " level " << k;
+                if (engine == "unity") {
+                    EXPECT_NEAR(at(a, 0), k8, 0.6) << "level " << k; // R = G = B = k
+                    const std::string t = ktx2Level(tangent, k);
+                    EXPECT_EQ(at(t, 0), 255.0); // the x axis, as a normal map texel
+                    EXPECT_NEAR(at(t, 1), 127.5, 0.6);
+                    EXPECT_NEAR(at(t, 2), 127.5, 0.6);
+                } else {
+                    EXPECT_EQ(at(a, 0), 255.0) << engine << " level " << k;
+                    EXPECT_NEAR(at(a, 1), 127.5, 0.6) << engine << " level " << k;
+                    EXPECT_NEAR(at(a, engine == "godot" ? 3 : 2), k8, 0.6)
+                        << engine << " level " << k;
+                }
+            }
+        }
+    }
+    EXPECT_EQ(aboutOf(slurp(dir.file("godot") + "/ktx2/godot_anisotropy.ktx2"))["content"],
+              "Godot anisotropy flowmap");
+}
+
+// The stripes turned 90 degrees: the direction is the y axis, and Unreal's texture holds it
+// in the frame of its normal maps (green down), Godot's in the +Y-up frame.
+TEST(EngineCli, LeanBakeDirectionFollowsEachEnginesGreenConvention) {
+    test::TempDir dir("ndfmip_engine_lean_turned");
+    saveColumns(dir.file("n.png"), 0.28f, 0.f, 0.96f);
+    // Rows instead of columns: the same map transposed, normals turned to the y axis.
+    Result<SourceImage> columns = loadImage(dir.file("n.png"));
+    ASSERT_TRUE(columns);
+    Image rows(columns->image.height, columns->image.width, 3);
+    for (int y = 0; y < rows.height; ++y)
+        for (int x = 0; x < rows.width; ++x) {
+            const float* n = columns->image.at(y, x);
+            rows.at(x, y)[0] = n[1];
+            rows.at(x, y)[1] = n[0];
+            rows.at(x, y)[2] = n[2];
+        }
+    ASSERT_TRUE(savePng(dir.file("rows.png"), rows, 16));
+    for (const char* engine : {"unreal", "godot"}) {
+        const std::string out = dir.file(engine);
+        std::string output;
+        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("rows.png")) + " --engine " +
+                                   engine +
+                                   " --method lean --base-roughness 0.2 --export ktx2 -q -o " +
+                                   test::shellArg(out),
+                               &output),
+                  0)
+            << output;
+        const std::string a =
+            ktx2Level(slurp(out + "/ktx2/" + std::string(engine) + "_anisotropy.ktx2"), 1);
+        ASSERT_FALSE(a.empty());
+        // x = 0 (127.5); y = +-1, which an axis may take either sign of: 0 or 255, flipped in
+        // Unreal's frame against the +Y-up frame's.
+        EXPECT_NEAR((unsigned char)a[0], 127.5, 0.6) << engine;
+        EXPECT_TRUE((unsigned char)a[1] == 0 || (unsigned char)a[1] == 255) << engine;
+    }
+    const std::string unreal =
+        ktx2Level(slurp(dir.file("unreal") + "/ktx2/unreal_anisotropy.ktx2"), 1);
+    const std::string godot =
+        ktx2Level(slurp(dir.file("godot") + "/ktx2/godot_anisotropy.ktx2"), 1);
+    EXPECT_EQ(int((unsigned char)unreal[1]) + int((unsigned char)godot[1]), 255);
 }
 
 // Runs the CLI with stdout and stderr kept apart; returns the status.

@@ -29,8 +29,9 @@ TEST(BakeBatch, FoldersAndGlobsExpandToTheirImagesSorted) {
     Result<BakeInputs> folder = expandBakeInputs({tmp.file("maps")});
     ASSERT_TRUE(folder) << folder.error().message;
     EXPECT_TRUE(folder->expanded);
-    EXPECT_EQ(folder->maps, (std::vector<std::string>{tmp.file("maps/a.PNG"), tmp.file("maps/b.png"),
-                                                      tmp.file("maps/c.exr")}));
+    EXPECT_EQ(folder->maps,
+              (std::vector<std::string>{tmp.file("maps/a.PNG"), tmp.file("maps/b.png"),
+                                        tmp.file("maps/c.exr")}));
     Result<BakeInputs> glob = expandBakeInputs({tmp.file("maps/*.png")});
     ASSERT_TRUE(glob);
     EXPECT_TRUE(glob->expanded);
@@ -85,7 +86,7 @@ TEST(BakeBatch, PlansRefuseAmbiguousOutputs) {
     EXPECT_FALSE(planBakeBatch(two, "out.bake", 0, 1));        // many maps, one folder
     EXPECT_FALSE(planBakeBatch(two, "out/{stem}.bake", 0, 1)); // both x
     EXPECT_TRUE(planBakeBatch(two, "out/{parent}-{stem}.bake", 0, 1));
-    EXPECT_FALSE(planBakeBatch(two, "out/{parent}-{stem}.bake", 2, 2)); // no shard 2 of 2
+    EXPECT_FALSE(planBakeBatch(two, "out/{parent}-{stem}.bake", 2, 2));         // no shard 2 of 2
     EXPECT_FALSE(planBakeBatch(BakeInputs{{"a.png"}, true}, "out.bake", 0, 1)); // from a folder
 }
 
@@ -94,16 +95,15 @@ TEST(BakeBatch, OneBadMapFailsAloneAndARerunSkips) {
     writeFlatMap(tmp.file("a.png"));
     writeFlatMap(tmp.file("c.png"));
     writeBytes(tmp.path / "b.png", "not a png");
-    Result<std::vector<BakeBatchMap>> plan = planBakeBatch(
-        BakeInputs{{tmp.file("a.png"), tmp.file("b.png"), tmp.file("c.png")}, false},
-        tmp.file("{stem}.bake"), 0, 1);
+    Result<std::vector<BakeBatchMap>> plan =
+        planBakeBatch(BakeInputs{{tmp.file("a.png"), tmp.file("b.png"), tmp.file("c.png")}, false},
+                      tmp.file("{stem}.bake"), 0, 1);
     ASSERT_TRUE(plan);
     BakeFileOptions options;
     options.method = "toksvig";
     std::vector<size_t> ended;
-    runBakeBatch(plan.value(), options, 2, [&](const BakeBatchMap&, size_t done, size_t) {
-        ended.push_back(done);
-    });
+    runBakeBatch(plan.value(), options, 2,
+                 [&](const BakeBatchMap&, size_t done, size_t) { ended.push_back(done); });
     EXPECT_EQ(ended, (std::vector<size_t>{1, 2, 3}));
     const std::vector<BakeBatchMap>& maps = plan.value();
     EXPECT_EQ(maps[0].status, "baked");

@@ -1,0 +1,72 @@
+// One anisotropic GGX lobe in each engine's own inputs (engine_anisotropy.h).
+#include "methods/lean/engine_anisotropy.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ndfmip/method_shading.h"
+
+namespace ndfmip {
+
+AnisotropicLobe anisotropicLobe(float axx, float ayy, float axy) {
+    // Eigenvalues of the symmetric 2x2 tensor: mean +- the half difference's length.
+    const double mean = 0.5 * (double(axx) + double(ayy));
+    const double half = 0.5 * (double(axx) - double(ayy));
+    const double spread = std::hypot(half, double(axy));
+    const double alphaT = std::clamp(std::sqrt(std::max(mean + spread, 0.0)), 0.0, 1.0);
+    const double alphaB = std::clamp(std::sqrt(std::max(mean - spread, 0.0)), 0.0, alphaT);
+    // The major axis at angle atan2(2 axy, axx - ayy) / 2, in (-90, 90] degrees: x >= 0.
+    const double angle = spread > 0.0 ? 0.5 * std::atan2(double(axy), half) : 0.0;
+    return {float(alphaT), float(alphaB),
+            glm::vec2(float(std::cos(angle)), float(std::sin(angle)))};
+}
+
+AnisotropicLobe anisotropicLobeOfMoments(const float* m, float cross, float alpha2) {
+    const glm::vec3 own = glsl().ndfmipLeanCovariance(glm::vec4(m[0], m[1], m[2], m[3]), cross);
+    return anisotropicLobe(alpha2 + 2.f * own.x, alpha2 + 2.f * own.y, 2.f * own.z);
+}
+
+KhrAnisotropy khrAnisotropy(const AnisotropicLobe& lobe) {
+    const double alphaT = lobe.alphaT, alphaB = lobe.alphaB;
+    KhrAnisotropy out;
+    out.roughness = float(std::sqrt(alphaB));
+    // alpha_t = alpha_b + s^2 (1 - alpha_b).
+    out.strength = alphaB < 1.0 ? float(std::sqrt((alphaT - alphaB) / (1.0 - alphaB))) : 0.f;
+    out.direction = lobe.direction;
+    return out;
+}
+
+KhrAnisotropy khrAnisotropy(float axx, float ayy, float axy) {
+    return khrAnisotropy(anisotropicLobe(axx, ayy, axy));
+}
+
+KhrAnisotropy khrAnisotropyOfMoments(const float* m, float cross, float alpha2) {
+    return khrAnisotropy(anisotropicLobeOfMoments(m, cross, alpha2));
+}
+
+void khrAnisotropyTexel(const KhrAnisotropy& lobe, float* rgba) {
+    rgba[0] = 0.5f * (lobe.direction.x + 1.f);
+    rgba[1] = 0.5f * (lobe.direction.y + 1.f);
+    rgba[2] = lobe.strength;
+    rgba[3] = 1.f;
+}
+
+RoughnessAnisotropy kullaAnisotropy(const AnisotropicLobe& lobe) {
+    const double sum = double(lobe.alphaT) + double(lobe.alphaB);
+    RoughnessAnisotropy out;
+    out.roughness = float(std::sqrt(0.5 * sum));
+    out.anisotropy = sum > 0.0 ? float((double(lobe.alphaT) - double(lobe.alphaB)) / sum) : 0.f;
+    out.direction = lobe.direction;
+    return out;
+}
+
+RoughnessAnisotropy burleyAnisotropy(const AnisotropicLobe& lobe) {
+    const double alphaT = lobe.alphaT, alphaB = lobe.alphaB;
+    RoughnessAnisotropy out;
+    out.roughness = float(std::sqrt(std::sqrt(alphaT * alphaB)));
+    out.anisotropy = alphaT > 0.0 ? float(std::min((1.0 - alphaB / alphaT) / 0.9, 1.0)) : 0.f;
+    out.direction = lobe.direction;
+    return out;
+}
+
+} // namespace ndfmip
