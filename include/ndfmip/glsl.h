@@ -14,6 +14,7 @@ namespace glsl_detail {
 using glm::clamp;
 using glm::dot;
 using glm::exp;
+using glm::length;
 using glm::max;
 using glm::min;
 using glm::normalize;
@@ -36,6 +37,7 @@ struct ShaderLibrary {
 #include "vmf.glsl"
 #include "lean.glsl"
 #include "sggx.glsl"
+#include "splitsum.glsl"
     // clang-format on
 };
 

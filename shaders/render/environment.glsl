@@ -1,5 +1,7 @@
 // The GPU renderer under an environment, the split-sum way (environment_splitsum.h; Karis 2013):
-// the same lookups as src/env/splitsum_lighting.cpp and splitsum_shading.cpp, in float. Included
+// the same lookups as src/env/splitsum_lighting.cpp and splitsum_shading.cpp, in float, with the
+// per-texel factors both take from splitsum.glsl (the roughness a lobe reads, the root mean
+// square of n.v, the SH bands' vMF factors). Included
 // by the renderer (with #define NDFMIP_ENVIRONMENT) after raycast.glsl and before the method's
 // glue, whose ndfmipShadeEnvironment(p, albedo, hit, view) calls these.
 //
@@ -200,47 +202,9 @@ vec3 ndfmipIrradiance(vec3 n, vec3 band) {
     return max(e, vec3(0.0f));
 }
 
-// The mean of SH bands 1 and 2 over a vMF of concentration kappa relative to its mean
-// direction: 1, A(kappa), 1 - 3 A(kappa)/kappa, A = coth(kappa) - 1/kappa; the series where
-// float cancels.
-vec3 ndfmipVmfBandFactors(float kappa) {
-    if (!(kappa < 1e30f)) return vec3(1.0f);
-    if (kappa < 0.05f) return vec3(1.0f, kappa / 3.0f - kappa * kappa * kappa / 45.0f, kappa * kappa / 15.0f);
-    float a = ndfmipLangevin(kappa);
-    return vec3(1.0f, a, 1.0f - 3.0f * a / kappa);
-}
-
-// The perceptual roughness a lobe reads the chain and the table at: sqrt(alpha), Blinn-Phong
-// through alpha^2 = 2/(s + 2) (Walter et al.).
-float ndfmipBlinnPhongPerceptual(float s) { return sqrt(sqrt(2.0f / (max(s, 0.0f) + 2.0f))); }
-float ndfmipAlphaPerceptual(float alpha) { return sqrt(clamp(alpha, 0.0f, 1.0f)); }
-bool ndfmipHasLobe(NdfmipMaterial m) {
-    return m.brdf == NDFMIP_BLINN_PHONG || m.brdf == NDFMIP_BECKMANN || m.brdf == NDFMIP_GGX;
-}
-
-vec3 ndfmipUnitOrFlat(vec3 v) {
-    float len = length(v);
-    return len > 0.0f ? v / len : vec3(0.0f, 0.0f, 1.0f);
-}
-
 // albedo/pi E(n) about the unit tangent-frame normal n.
 vec3 ndfmipEnvDiffuse(NdfmipHit hit, vec3 albedo, vec3 n, vec3 band) {
     return albedo * (1.0f / NDFMIP_PI) * ndfmipIrradiance(ndfmipTangentToEnvironment(hit, n), band);
-}
-
-// rmsCosine: the root mean square of n.v over normals of mean length r (a vMF) about the unit
-// mean direction with n.v = mu, E[sin^2 t] = 2 (1 - r^2)/(3 - r^2); mu itself for r >= 1.
-float ndfmipRmsCosine(float mu, float r) {
-    mu = clamp(mu, 0.0f, 1.0f);
-    if (r >= 1.0f) return mu;
-    r = clamp(r, 0.0f, 1.0f);
-    float sin2 = 2.0f * (1.0f - r * r) / (3.0f - r * r);
-    return sqrt(max(mu * mu * (1.0f - sin2) + 0.5f * sin2 * (1.0f - mu * mu), 0.0f));
-}
-
-// lengthFromRoughness: T eq. 1 inverted through the ours mapping, 1/(1 + (widened^2 - alpha^2)/c).
-float ndfmipLengthFromRoughness(float widened, float alpha) {
-    return 1.0f / (1.0f + max(widened * widened - alpha * alpha, 0.0f) / 2.0f); // kVarianceScale
 }
 
 // specularTerm: LD(reflect(-v, n), r) E(rms n.v, albedoR) about the unit tangent-frame normal
@@ -252,11 +216,6 @@ vec3 ndfmipEnvSpecular(NdfmipMaterial m, NdfmipHit hit, vec3 n, vec3 view, float
     vec3 reflected = 2.0f * mu * n - view;
     vec3 ld = ndfmipPrefilteredRadiance(ndfmipTangentToEnvironment(hit, reflected), r, normalVariance);
     return m.specular * ld * ndfmipSpecularAlbedo(ndfmipRmsCosine(mu, len), albedoR);
-}
-
-// basePerceptual: the material's own perceptual roughness.
-float ndfmipBasePerceptual(NdfmipMaterial m) {
-    return m.brdf == NDFMIP_BLINN_PHONG ? ndfmipBlinnPhongPerceptual(m.exponent) : ndfmipAlphaPerceptual(m.roughness);
 }
 
 // shadeNaiveSplitSum.

@@ -12,40 +12,32 @@ namespace ndfmip {
 
 namespace {
 
+// The split sum's per-texel factors, from the shading library (splitsum.glsl), which the GPU
+// renderer's environment.glsl calls too.
+static_assert(kVarianceScale == NDFMIP_VARIANCE_SCALE, "splitsum.glsl's variance scale");
 bool hasLobe(const Material& m) {
-    return m.brdf == Brdf::BlinnPhong || m.brdf == Brdf::Beckmann || m.brdf == Brdf::Ggx;
+    return glsl().ndfmipHasLobe(glslMaterial(m));
 }
-
-// The perceptual roughness at which a lobe reads the chains: sqrt(alpha), Blinn-Phong through
-// alpha^2 = 2/(s + 2) (Walter et al.), so that its GGX-prefiltered level and its albedo table row
-// agree with the lobe near its peak.
 float blinnPhongPerceptual(float exponent) {
-    return float(std::sqrt(blinnPhongAlpha(exponent)));
+    return glsl().ndfmipBlinnPhongPerceptual(exponent);
 }
 float alphaPerceptual(float alpha) {
-    return std::sqrt(std::clamp(alpha, 0.f, 1.f));
+    return glsl().ndfmipAlphaPerceptual(alpha);
 }
-
-// The root mean square of n.v over a texel's normals, read as a vMF of mean length r about the
-// unit mean direction m, mu = m.v: E[(n.v)^2] = E[cos^2 t] mu^2 + E[sin^2 t] (1 - mu^2)/2 (t the
-// angle to m, the spread even about m), with a vMF's E[sin^2 t] = 2 A(kappa)/kappa, A = r and
-// kappa by Banerjee's approximation (vmfKappaFromLength): 2 (1 - r^2)/(3 - r^2), about 2 (1 - r)
-// near r = 1 (twice T eq. 1's sigma^2) and 2/3 (normals over the whole sphere) at r = 0. A lobe's
-// albedo grows as (n.v)^2 (4 (n.v)^2 when sharp), so one albedo read here stands for the mean of
-// the texel's own. One normal (r >= 1): mu itself, clamped to [0, 1].
+float basePerceptual(const Material& m) {
+    return glsl().ndfmipBasePerceptual(glslMaterial(m));
+}
 float rmsCosine(float mu, float r) {
-    mu = std::clamp(mu, 0.f, 1.f);
-    if (r >= 1.f) return mu;
-    r = std::clamp(r, 0.f, 1.f);
-    const float sin2 = 2.f * (1.f - r * r) / (3.f - r * r);
-    return std::sqrt(std::max(mu * mu * (1.f - sin2) + 0.5f * sin2 * (1.f - mu * mu), 0.f));
+    return glsl().ndfmipRmsCosine(mu, r);
 }
-
-// The mean length |Na| whose Toksvig variance widens alpha to `widened` under the ours mapping
-// (roughness.h, c = kVarianceScale): T eq. 1 inverted, 1/(1 + sigma^2), sigma^2 = (widened^2 -
-// alpha^2)/c; 1 where the stored roughness is not wider than the material's.
 float lengthFromRoughness(float widened, float alpha) {
-    return 1.f / (1.f + std::max(widened * widened - alpha * alpha, 0.f) / kVarianceScale);
+    return glsl().ndfmipLengthFromRoughness(widened, alpha);
+}
+glm::vec3 unitOrFlat(glm::vec3 v) {
+    return glsl().ndfmipUnitOrFlat(v);
+}
+glm::dvec3 vmfBandFactors(float kappa) {
+    return glm::dvec3(glsl().ndfmipVmfBandFactors(kappa));
 }
 
 // A unit normal n (tangent frame), seen from v: the specular term of a lobe of perceptual
@@ -69,31 +61,10 @@ glm::vec3 specularTerm(const Material& m, glm::vec3 n, glm::vec3 view,
     return m.specular * ld * specularAlbedo(lighting, m.brdf, rmsCosine(mu, length), base);
 }
 
-// The material's own perceptual roughness (a Blinn-Phong exponent's through Walter et al.).
-float basePerceptual(const Material& m) {
-    return m.brdf == Brdf::BlinnPhong ? blinnPhongPerceptual(m.exponent)
-                                      : alphaPerceptual(m.roughness);
-}
-
 glm::vec3 diffuseTerm(glm::vec3 albedo, glm::vec3 n, const glm::mat3& tangentToEnvironment,
                       const SplitSumLighting& lighting, glm::dvec3 band = glm::dvec3(1.)) {
     return albedo * (1.f / kPi) *
            irradianceAt(lighting, glm::dvec3(tangentToEnvironment * n), band);
-}
-
-glm::vec3 unitOrFlat(glm::vec3 v) {
-    const float length = glm::length(v);
-    return length > 0.f ? v / length : glm::vec3(0.f, 0.f, 1.f);
-}
-
-// The mean of the SH bands 1 and 2 over normals drawn from a vMF of concentration kappa, relative
-// to their value at its mean direction: the Legendre moments E[P_l(cos t)], A(kappa) and
-// 1 - 3 A(kappa)/kappa, A = coth(kappa) - 1/kappa (series below 1e-3, where it cancels).
-glm::dvec3 vmfBandFactors(double kappa) {
-    if (!(kappa < 1e30)) return glm::dvec3(1.);
-    if (kappa < 1e-3) return {1., kappa / 3., kappa * kappa / 15.};
-    const double a = (kappa > 20. ? 1. : 1. / std::tanh(kappa)) - 1. / kappa;
-    return {1., a, 1. - 3. * a / kappa};
 }
 
 } // namespace
@@ -176,8 +147,7 @@ glm::vec3 shadeVmfSplitSum(const Material& m, glm::vec3 albedo, const float* lob
             const float kappa = std::max(lobe.kappa, 1e-6f);
             const float r = m.brdf == Brdf::BlinnPhong
                                 ? blinnPhongPerceptual(kappa * m.exponent / (kappa + m.exponent))
-                                : alphaPerceptual(std::min(
-                                      std::sqrt(m.roughness * m.roughness + 2.f / kappa), 1.f));
+                                : alphaPerceptual(glsl().ndfmipVmfWidenedAlpha(m.roughness, kappa));
             // The albedo factor at the material's roughness over the lobe's normals, whose mean
             // length is A(kappa) (specularTerm).
             term += specularTerm(m, lobe.mu, view, tangentToEnvironment, lighting, rule, r,

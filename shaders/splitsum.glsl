@@ -1,0 +1,60 @@
+// ndfmip shading library: the per-texel factors of the split sum under an environment (needs
+// brdf.glsl and vmf.glsl), one source for the CPU renderer (src/env/splitsum_shading.cpp, through
+// glsl.h) and the GPU renderer's environment.glsl: which perceptual roughness a lobe reads the
+// prefiltered chain and the albedo table at, the root mean square of n.v over a texel's normals,
+// and the SH bands' mean over a vMF's normals.
+
+// The Toksvig variance scale of the ours roughness mapping, alpha'^2 = alpha^2 + c sigma^2
+// (roughness.h's kVarianceScale, which glsl.h checks against it).
+#define NDFMIP_VARIANCE_SCALE 2.0f
+
+// The perceptual roughness at which a lobe reads the chains: sqrt(alpha), Blinn-Phong through
+// alpha^2 = 2/(s + 2) (Walter et al.), so that its GGX-prefiltered level and its albedo table
+// row agree with the lobe near its peak.
+float ndfmipBlinnPhongPerceptual(float s) { return sqrt(sqrt(2.0f / (max(s, 0.0f) + 2.0f))); }
+float ndfmipAlphaPerceptual(float alpha) { return sqrt(clamp(alpha, 0.0f, 1.0f)); }
+bool ndfmipHasLobe(NdfmipMaterial m) {
+    return m.brdf == NDFMIP_BLINN_PHONG || m.brdf == NDFMIP_BECKMANN || m.brdf == NDFMIP_GGX;
+}
+
+// The material's own perceptual roughness (a Blinn-Phong exponent's through Walter et al.).
+float ndfmipBasePerceptual(NdfmipMaterial m) {
+    return m.brdf == NDFMIP_BLINN_PHONG ? ndfmipBlinnPhongPerceptual(m.exponent) : ndfmipAlphaPerceptual(m.roughness);
+}
+
+vec3 ndfmipUnitOrFlat(vec3 v) {
+    float len = length(v);
+    return len > 0.0f ? v / len : vec3(0.0f, 0.0f, 1.0f);
+}
+
+// The root mean square of n.v over a texel's normals, read as a vMF of mean length r about the
+// unit mean direction m, mu = m.v: E[(n.v)^2] = E[cos^2 t] mu^2 + E[sin^2 t] (1 - mu^2)/2 (t the
+// angle to m, the spread even about m), with a vMF's E[sin^2 t] = 2 A(kappa)/kappa, A = r and
+// kappa by Banerjee's approximation: 2 (1 - r^2)/(3 - r^2), about 2 (1 - r) near r = 1 (twice
+// T eq. 1's sigma^2) and 2/3 (normals over the whole sphere) at r = 0. A lobe's albedo grows as
+// (n.v)^2 (4 (n.v)^2 when sharp), so one albedo read here stands for the mean of the texel's own.
+// One normal (r >= 1): mu itself, clamped to [0, 1].
+float ndfmipRmsCosine(float mu, float r) {
+    mu = clamp(mu, 0.0f, 1.0f);
+    if (r >= 1.0f) return mu;
+    r = clamp(r, 0.0f, 1.0f);
+    float sin2 = 2.0f * (1.0f - r * r) / (3.0f - r * r);
+    return sqrt(max(mu * mu * (1.0f - sin2) + 0.5f * sin2 * (1.0f - mu * mu), 0.0f));
+}
+
+// The mean length |Na| whose Toksvig variance widens alpha to `widened` under the ours mapping:
+// T eq. 1 inverted, 1/(1 + sigma^2), sigma^2 = (widened^2 - alpha^2)/c; 1 where the stored
+// roughness is not wider than the material's.
+float ndfmipLengthFromRoughness(float widened, float alpha) {
+    return 1.0f / (1.0f + max(widened * widened - alpha * alpha, 0.0f) / NDFMIP_VARIANCE_SCALE);
+}
+
+// The mean of the SH bands 1 and 2 over normals drawn from a vMF of concentration kappa,
+// relative to their value at its mean direction: the Legendre moments E[P_l(cos t)], 1,
+// A(kappa) and 1 - 3 A(kappa)/kappa (Langevin's A); the series where float cancels.
+vec3 ndfmipVmfBandFactors(float kappa) {
+    if (!(kappa < 1e30f)) return vec3(1.0f);
+    if (kappa < 0.05f) return vec3(1.0f, kappa / 3.0f - kappa * kappa * kappa / 45.0f, kappa * kappa / 15.0f);
+    float a = ndfmipLangevin(kappa);
+    return vec3(1.0f, a, 1.0f - 3.0f * a / kappa);
+}
