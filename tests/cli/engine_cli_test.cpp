@@ -111,6 +111,16 @@ void saveColumns(const std::string& path, float x, float y, float z) {
     ASSERT_TRUE(savePng(path, normal, 16));
 }
 
+// `bake MAP --engine ENGINE --method lean --base-roughness 0.2 --export ktx2 -q -o OUT`: its
+// exit status, with stdout and stderr in `output`.
+int bakeLeanFor(const std::string& map, const std::string& engine, const std::string& out,
+                std::string* output) {
+    return test::runCli("bake " + test::shellArg(map) + " --engine " + engine +
+                            " --method lean --base-roughness 0.2 --export ktx2 -q -o " +
+                            test::shellArg(out),
+                        output);
+}
+
 // Normals at +-theta (sin theta = 0.6) in alternate columns: level 0 is unit length, every texel
 // of level k >= 1 averages as many of each, |Na| = cos theta = 0.8. With --base-roughness 0.2
 // Toksvig's alpha is 0.2 at level 0 and sqrt(0.2^2 + 2 (1 - 0.8)/0.8) above it; the glTF-layout
@@ -160,19 +170,14 @@ TEST(EngineCli, GltfLayoutPackedMapHoldsThePerceptualRoughnessInG) {
 // along x): level 0 has no spread, every coarser texel a slope variance of (7/24)^2 along x
 // only, so with --base-roughness 0.2 alpha_b = 0.2 (G = sqrt 0.2 in the packed map at every
 // level) and alpha_t^2 = 0.04 + 2 (7/24)^2 along x: direction (1, 0), strength s^2 = (alpha_t -
-// alpha_b) / (1 - alpha_b). Engines without the extension refuse.
+// alpha_b) / (1 - alpha_b).
 TEST(EngineCli, LeanBakeWritesKhrMaterialsAnisotropyFiles) {
     test::TempDir dir("ndfmip_engine_lean");
     saveColumns(dir.file("n.png"), 0.28f, 0.f, 0.96f);
     for (const char* engine : {"gltf", "three", "bevy", "filament"}) {
         const std::string out = dir.file(engine);
         std::string output;
-        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --engine " + engine +
-                                   " --method lean --base-roughness 0.2 --export ktx2 -q -o " +
-                                   test::shellArg(out),
-                               &output),
-                  0)
-            << output;
+        ASSERT_EQ(bakeLeanFor(dir.file("n.png"), engine, out, &output), 0) << output;
         const std::string anisotropy = slurp(out + "/ktx2/" + engine + "_anisotropy.ktx2");
         const std::string packed =
             slurp(out + "/ktx2/" + engine + "_occlusion_roughness_metallic.ktx2");
@@ -225,12 +230,7 @@ TEST(EngineCli, LeanBakeWritesEachEnginesOwnAnisotropyInputs) {
           Case{"godot", "orm", 1, false, std::pow(alphaT * alphaB, 0.25), std::sqrt(alphaB)}}) {
         const std::string out = dir.file(c.engine), engine = c.engine;
         std::string output;
-        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --engine " + engine +
-                                   " --method lean --base-roughness 0.2 --export ktx2 -q -o " +
-                                   test::shellArg(out),
-                               &output),
-                  0)
-            << output;
+        ASSERT_EQ(bakeLeanFor(dir.file("n.png"), engine, out, &output), 0) << output;
         const std::string anisotropy = slurp(out + "/ktx2/" + engine + "_anisotropy.ktx2");
         const std::string packed = slurp(out + "/ktx2/" + engine + "_" + c.packedFile + ".ktx2");
         const std::string tangent = slurp(out + "/ktx2/" + engine + "_tangent.ktx2");
@@ -287,13 +287,7 @@ TEST(EngineCli, LeanBakeDirectionFollowsEachEnginesGreenConvention) {
     for (const char* engine : {"unreal", "godot"}) {
         const std::string out = dir.file(engine);
         std::string output;
-        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("rows.png")) + " --engine " +
-                                   engine +
-                                   " --method lean --base-roughness 0.2 --export ktx2 -q -o " +
-                                   test::shellArg(out),
-                               &output),
-                  0)
-            << output;
+        ASSERT_EQ(bakeLeanFor(dir.file("rows.png"), engine, out, &output), 0) << output;
         const std::string a =
             ktx2Level(slurp(out + "/ktx2/" + std::string(engine) + "_anisotropy.ktx2"), 1);
         ASSERT_FALSE(a.empty());

@@ -1,12 +1,7 @@
 # Installs the built library into a scratch prefix, builds the command-line tool (tools/ndfmip)
 # against that installed package alone (no source-tree headers: the tool uses public headers
 # only), and runs it: a bake of the bundled map, whose manifest must name the method.
-file(REMOVE_RECURSE ${WORK_DIR})
-execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix
-                RESULT_VARIABLE rc)
-if(rc)
-    message(FATAL_ERROR "install failed: ${rc}")
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/install_prefix.cmake)
 # No optimisation: the tool's own code is thin, and this checks that it builds, quickly.
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/tools/ndfmip -B ${WORK_DIR}/build
                         -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=
