@@ -2,6 +2,7 @@
 #include "engines/engine_client.h"
 
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
@@ -87,6 +88,15 @@ std::vector<unsigned char> fromBase64(const std::string& text) {
         }
     }
     return out;
+}
+
+int runGltfCli(const std::string& args, std::string* output) {
+    int status = runCliWithin(120, "gltf " + args, output);
+    if (status == 137) {
+        std::fprintf(stderr, "ndfmip gltf did not finish in 120 s; running it once more\n");
+        status = runCliWithin(120, "gltf " + args, output);
+    }
+    return status;
 }
 
 } // namespace ndfmip::test

@@ -63,10 +63,10 @@ TEST(EngineClients, ThreeGltfAnisotropy) {
                                              {{"image/png", encodePng(stripes, 8).value()}});
     const std::string glb = dir.file("stripes_sggx.glb");
     std::string output;
-    ASSERT_EQ(test::runCli("gltf " + test::shellArg(input) + " -o " + test::shellArg(glb) +
-                               " -q --method sggx",
-                           &output),
-              0)
+    ASSERT_EQ(
+        test::runGltfCli(test::shellArg(input) + " -o " + test::shellArg(glb) + " -q --method sggx",
+                         &output),
+        0)
         << output;
 
     // The anisotropy texture as ndfmip wrote it: UASTC, every level of the map.

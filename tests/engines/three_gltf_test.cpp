@@ -98,9 +98,8 @@ TEST(EngineClients, ThreeGltfLevels) {
         test::writeGlb(dir.path / "plane.glb", asset, {{"image/png", test::fileBytes(kMap)}});
     const std::string glb = dir.file("plane_filtered.glb");
     std::string output;
-    ASSERT_EQ(test::runCli("gltf " + test::shellArg(input) + " -o " + test::shellArg(glb) + " -q",
-                           &output),
-              0)
+    ASSERT_EQ(
+        test::runGltfCli(test::shellArg(input) + " -o " + test::shellArg(glb) + " -q", &output), 0)
         << output;
 
     // ndfmip's KTX2, as ndfmip reads it: the level count three must keep.
