@@ -49,8 +49,8 @@ planBakeBatch(const BakeInputs& inputs, const std::string& outputPattern, int sh
 // Bakes the maps with bakeFile and `options` (its callbacks unused), `jobs` at a time, each
 // with its share of the cores (OMP_NUM_THREADS or the process's affinity mask), filling in
 // their status. `finished` is called, one call at a time, as each map ends, with the maps ended
-// and failed so far.
-void runBakeBatch(
+// and failed so far. Returns how many maps were baked at a time (jobs, at most the maps).
+int runBakeBatch(
     std::vector<BakeBatchMap>& maps, const BakeFileOptions& options, int jobs,
     const std::function<void(const BakeBatchMap& map, size_t ended, size_t failed)>& finished = {});
 

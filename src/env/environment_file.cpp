@@ -25,6 +25,15 @@ Status outOfRange(const char* name, double value, const char* what) {
     return Status::failure(text);
 }
 
+// --levels against level 0's width: at most log2(width) - 2 levels, down to 4x2.
+Status levelsFit(int levels, int width) {
+    const int most = log2Of(width) - 2;
+    if (levels <= most) return Status::success();
+    return Status::failure("--levels " + std::to_string(levels) + ": a " + std::to_string(width) +
+                           "-wide level 0 has at most " + std::to_string(most) +
+                           " levels (down to 4x2)");
+}
+
 } // namespace
 
 Status checkEnvironmentFileOptions(const EnvironmentFileOptions& o) {
@@ -43,10 +52,8 @@ Status checkEnvironmentFileOptions(const EnvironmentFileOptions& o) {
     if (o.size != 0 && (o.size < 8 || o.size > 4096 || (o.size & (o.size - 1)) != 0))
         return outOfRange("--size", o.size, "a power of two from 8 to 4096");
     if (o.levels < 0 || o.levels > 12) return outOfRange("--levels", o.levels, "1 to 12");
-    if (o.size != 0 && o.levels > log2Of(o.size) - 2)
-        return Status::failure("--levels " + std::to_string(o.levels) + ": a " +
-                               std::to_string(o.size) + "-wide level 0 has at most " +
-                               std::to_string(log2Of(o.size) - 2) + " levels (down to 4x2)");
+    if (o.size != 0)
+        if (Status s = levelsFit(o.levels, o.size); !s) return s;
     if (o.samples < 1 || o.samples > 65536) return outOfRange("--samples", o.samples, "1 to 65536");
     if (o.dfgSize < 8 || o.dfgSize > 1024) return outOfRange("--dfg-size", o.dfgSize, "8 to 1024");
     if (o.dfgSamples < 1 || o.dfgSamples > 65536)
@@ -82,10 +89,7 @@ Result<EnvironmentFileReport> environmentFile(const std::string& input, const st
     report.height = env.radiance.height;
     report.negativeTexels = loading.negativeTexels;
     prefilter.size = o.size != 0 ? o.size : defaultPrefilterSize(env.radiance.width);
-    if (o.levels > log2Of(prefilter.size) - 2)
-        return Error{"--levels " + std::to_string(o.levels) + ": a " +
-                     std::to_string(prefilter.size) + "-wide level 0 has at most " +
-                     std::to_string(log2Of(prefilter.size) - 2) + " levels (down to 4x2)"};
+    if (Status s = levelsFit(o.levels, prefilter.size); !s) return Error{s.error};
     Result<std::string> hash = sha256File(input);
     if (!hash) return hash.error();
     report.loadMs = millisecondsSince(start);

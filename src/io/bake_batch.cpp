@@ -115,7 +115,7 @@ planBakeBatch(const BakeInputs& inputs, const std::string& outputPattern, int sh
     return maps;
 }
 
-void runBakeBatch(
+int runBakeBatch(
     std::vector<BakeBatchMap>& maps, const BakeFileOptions& options, int jobs,
     const std::function<void(const BakeBatchMap& map, size_t ended, size_t failed)>& finished) {
     BakeFileOptions quiet = options;
@@ -159,6 +159,7 @@ void runBakeBatch(
     for (int t = 1; t < workers; ++t) threads.emplace_back(work);
     work();
     for (std::thread& t : threads) t.join();
+    return workers;
 }
 
 } // namespace ndfmip

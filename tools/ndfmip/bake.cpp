@@ -212,8 +212,7 @@ void runBake(const BakeArgs& args) {
 
     const bool bar = !args.quiet && !args.json && isatty(2);
     const long long start = nowNanoseconds();
-    const int workers = std::max(1, std::min(args.jobs, int(jobs.size())));
-    runBakeBatch(
+    const int workers = runBakeBatch(
         jobs, fileOptions(args), args.jobs, [&](const BakeBatchMap& r, size_t done, size_t failed) {
             if (args.json) {
                 nlohmann::json line = {{"map", r.input},
