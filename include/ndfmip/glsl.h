@@ -11,10 +11,12 @@
 namespace ndfmip {
 namespace glsl_detail {
 
+using glm::atan;
 using glm::clamp;
 using glm::dot;
 using glm::exp;
 using glm::length;
+using glm::log;
 using glm::max;
 using glm::min;
 using glm::normalize;

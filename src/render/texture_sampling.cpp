@@ -70,7 +70,35 @@ std::vector<glm::ivec2> levelSizes(const MipChain& chain) {
     return sizes;
 }
 
+namespace {
+
+// The sums kept in locals, which the compiler holds in registers: summed into out, every tap's
+// stores and loads would go through memory (out may alias the texels). Same order, same sums.
+template <int Channels> void gatherFixed(const MipChain& chain, const TapList& taps, float* out) {
+    float sum[Channels] = {};
+    for (int t = 0; t < taps.count; ++t) {
+        const TexelTap& tap = taps.tap[t];
+        const float* texel = chain.levels[tap.level]->at(tap.x, tap.y);
+        for (int c = 0; c < Channels; ++c) sum[c] += tap.weight * texel[c];
+    }
+    for (int c = 0; c < Channels; ++c) out[c] = sum[c];
+}
+
+} // namespace
+
 void gatherTaps(const MipChain& chain, const TapList& taps, float* out) {
+    switch (chain.channels) {
+    case 1:
+        return gatherFixed<1>(chain, taps, out);
+    case 2:
+        return gatherFixed<2>(chain, taps, out);
+    case 3:
+        return gatherFixed<3>(chain, taps, out);
+    case 4:
+        return gatherFixed<4>(chain, taps, out);
+    default:
+        break;
+    }
     for (int c = 0; c < chain.channels; ++c) out[c] = 0.f;
     for (int t = 0; t < taps.count; ++t) {
         const TexelTap& tap = taps.tap[t];

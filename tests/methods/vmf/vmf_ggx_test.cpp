@@ -1,6 +1,7 @@
 // GGX convolved with a vMF lobe (shaders/vmf.glsl, ndfmipGgxVmf) against the spherical
 // convolution integrated numerically, the closed forms at its limits, and the integral over the
 // sphere, which a convolution with a unit-mass lobe keeps.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -65,19 +66,37 @@ Gap gapToConvolution(double alpha, double kappa) {
 }
 
 TEST(VmfGgx, FollowsTheSphericalConvolution) {
-    // Measured with this rule: at most 0.02 for alpha <= 0.1 and 0.094 at alpha = 0.3, kappa = 3,
-    // where the equivalent roughness is off by 0.06-0.63.
-    for (double alpha : {0.05, 0.1, 0.3})
+    // The closed form was fitted at other (alpha, kappa) pairs (shaders/vmf.glsl); measured
+    // here: at most 0.011 for alpha <= 0.1, 0.017 at alpha = 0.3 and 0.021 at alpha = 0.5, where
+    // the equivalent roughness is off by 0.05-0.59 (0.002 where kappa alpha^2 = 250).
+    for (double alpha : {0.05, 0.1, 0.3, 0.5})
         for (double kappa : {3., 10., 100., 1000.}) {
+            if (kappa * alpha * alpha > 400.) continue;
             const Gap gap = gapToConvolution(alpha, kappa);
-            const double limit = alpha <= 0.1 ? 0.025 : 0.10;
+            const double limit = alpha <= 0.1 ? 0.015 : alpha <= 0.3 ? 0.025 : 0.04;
             EXPECT_LT(gap.convolved, limit) << "alpha " << alpha << " kappa " << kappa;
-            EXPECT_LT(gap.convolved, gap.equivalent) << "alpha " << alpha << " kappa " << kappa;
+            // Where both are below 0.5% (a vMF narrow against the lobe) either will do.
+            EXPECT_LT(gap.convolved, std::max(gap.equivalent, 0.005))
+                << "alpha " << alpha << " kappa " << kappa;
             ::testing::Test::RecordProperty(
                 "gap_a" + std::to_string(alpha) + "_k" + std::to_string(int(kappa)),
                 std::to_string(gap.convolved) + " (equivalent roughness " +
                     std::to_string(gap.equivalent) + ")");
         }
+}
+
+// The sphere mass of GGX against its integral done numerically, on both sides of alpha = 1.
+TEST(VmfGgx, SphereMassIsGgxsIntegralOverTheSphere) {
+    for (double alpha : {0.01, 0.05, 0.3, 0.9, 0.9999, 1., 1.0001, 1.5, 3.}) {
+        double integral = 0.;
+        const int n = 200000;
+        for (int i = 0; i < n; ++i) {
+            const double t = (i + 0.5) * (kPi / 2.) / n;
+            integral += 2. * kPi * std::sin(t) * (kPi / 2.) / n * ggx(std::cos(t), alpha);
+        }
+        EXPECT_NEAR(glsl().ndfmipGgxSphereMass(float(alpha)), integral, 1e-4 * integral)
+            << "alpha " << alpha;
+    }
 }
 
 // A vMF far narrower than the GGX lobe leaves it as it is.
@@ -107,8 +126,8 @@ TEST(VmfGgx, ASmoothMaterialGivesTheVmf) {
 
 // The convolution with a unit-mass lobe keeps the lobe's integral over the sphere.
 TEST(VmfGgx, KeepsTheIntegralOverTheSphere) {
-    for (double alpha : {0.05, 0.1, 0.3})
-        for (double kappa : {3., 30., 300.}) {
+    for (double alpha : {0.05, 0.1, 0.3, 0.7})
+        for (double kappa : {1., 3., 30., 300.}) {
             double convolved = 0., original = 0.;
             const int n = 20000;
             for (int i = 0; i < n; ++i) {
@@ -118,9 +137,9 @@ TEST(VmfGgx, KeepsTheIntegralOverTheSphere) {
                     ring * glsl().ndfmipGgxVmf(float(std::cos(t)), float(alpha), float(kappa));
                 original += ring * ggx(std::cos(t), alpha);
             }
-            // Measured: within 0.2% for alpha <= 0.1 and 1.6% at alpha = 0.3, kappa = 3 (the
-            // equivalent roughness adds up to 75%).
-            EXPECT_NEAR(convolved, original, (alpha <= 0.1 ? 0.005 : 0.02) * original)
+            // Kept by construction (ndfmipGgxSphereMass); the equivalent roughness adds up to
+            // 75%.
+            EXPECT_NEAR(convolved, original, 2e-3 * original)
                 << "alpha " << alpha << " kappa " << kappa;
         }
 }
