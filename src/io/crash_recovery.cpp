@@ -186,6 +186,29 @@ fs::path folderPath(const std::string& name) {
     return dir;
 }
 
+namespace {
+
+// replaceable(dir), run again when another writer swapped its own folder in while dir was being
+// read (bakes into one folder at once): the old manifest against the new folder's files is not a
+// stranger's work. A refusal stands once dir was one and the same folder throughout the check.
+Status checkReplaceableFolder(const fs::path& dir,
+                              const std::function<Status(const fs::path& dir)>& replaceable) {
+    for (int attempt = 1;; ++attempt) {
+        std::error_code ec;
+        if (!fs::exists(dir, ec)) return Status::success();
+        struct stat before = {};
+        struct stat after = {};
+        const bool statted = ::stat(dir.c_str(), &before) == 0;
+        Status s = replaceable(dir);
+        if (s || attempt == 8) return s;
+        if (statted && ::stat(dir.c_str(), &after) == 0 && after.st_ino == before.st_ino &&
+            after.st_dev == before.st_dev)
+            return s;
+    }
+}
+
+} // namespace
+
 Status writeFolderWhole(const std::string& name,
                         const std::function<Status(const fs::path& dir)>& replaceable,
                         const std::function<Status(const fs::path& staging)>& fill) {
@@ -203,15 +226,14 @@ Status writeFolderWhole(const std::string& name,
         return Status::failure(name + ": parent folder " + parent.string() +
                                (fs::exists(parent, ec) ? " is not a folder" : " does not exist"));
     recoverFolderLeftovers(dir);
-    if (fs::exists(dir, ec))
-        if (Status s = replaceable(dir); !s) return s;
+    if (Status s = checkReplaceableFolder(dir, replaceable); !s) return s;
     // A name of this writer's own: threads writing beside one another never share one.
     const fs::path staging = dir.string() + ".partial-" + writerTag();
     if (!fs::create_directory(staging, ec))
         return Status::failure(name + ": cannot write (" +
                                (ec ? ec.message() : std::string("staging folder exists")) + ")");
     Status s = fill(staging);
-    if (s && fs::exists(dir, ec)) s = replaceable(dir);
+    if (s) s = checkReplaceableFolder(dir, replaceable);
     if (s) s = replaceFolder(staging, dir);
     if (!s) fs::remove_all(staging, ec);
     return s;

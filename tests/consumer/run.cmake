@@ -3,7 +3,7 @@
 include(${CMAKE_CURRENT_LIST_DIR}/install_prefix.cmake)
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/build
                         -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release
-                        "-DCMAKE_CXX_FLAGS=${EXTRA_FLAGS}"
+                        "-DCMAKE_CXX_FLAGS=${EXTRA_FLAGS}" -DCMAKE_CXX_COMPILER=${CXX_COMPILER}
                 RESULT_VARIABLE rc)
 if(rc)
     message(FATAL_ERROR "configure of the consumer failed: ${rc}")
