@@ -194,14 +194,12 @@ namespace {
 Status checkReplaceableFolder(const fs::path& dir,
                               const std::function<Status(const fs::path& dir)>& replaceable) {
     for (int attempt = 1;; ++attempt) {
-        std::error_code ec;
-        if (!fs::exists(dir, ec)) return Status::success();
         struct stat before = {};
-        struct stat after = {};
-        const bool statted = ::stat(dir.c_str(), &before) == 0;
+        if (::stat(dir.c_str(), &before) != 0) return Status::success(); // nothing to replace
         Status s = replaceable(dir);
         if (s || attempt == 8) return s;
-        if (statted && ::stat(dir.c_str(), &after) == 0 && after.st_ino == before.st_ino &&
+        struct stat after = {};
+        if (::stat(dir.c_str(), &after) == 0 && after.st_ino == before.st_ino &&
             after.st_dev == before.st_dev)
             return s;
     }
