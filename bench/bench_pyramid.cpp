@@ -53,6 +53,19 @@ void BM_ToksvigBake(benchmark::State& state) {
     setBytes(state, map);
 }
 
+// ggx-fit: the pyramid and a GGX roughness fitted to every texel's filtered NDF (alpha 0.1).
+void BM_GgxFitBake(benchmark::State& state) {
+    const ndfmip::SharedImage& shared = syntheticMap(int(state.range(0)));
+    ndfmip::BakeOptions options;
+    options.baseRoughness = 0.1f;
+    for (auto _ : state) {
+        ndfmip::Pyramid p = ndfmip::buildPyramid(shared);
+        ndfmip::Bake bake = ndfmip::bakeGgxFit(p, options);
+        benchmark::DoNotOptimize(bake.levels.back().back()->pixels.data());
+    }
+    setBytes(state, *shared);
+}
+
 // Spherical-harmonic bake (Han et al. Sec. 5): (l*+1)^2 coefficients per texel at every level.
 void BM_ShBake(benchmark::State& state) {
     const ndfmip::SharedImage& shared = syntheticMap(int(state.range(0)));
@@ -70,6 +83,7 @@ void BM_ShBake(benchmark::State& state) {
 BENCHMARK(BM_Memcpy)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Pyramid)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ToksvigBake)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_GgxFitBake)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ShBake)
     ->Args({2048, 7})
     ->Args({1024, 10})

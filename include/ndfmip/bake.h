@@ -28,6 +28,7 @@ enum class Method {
     Sh,      // spherical-harmonic coefficients of the NDF (Han et al. Sec. 5)
     Vmf,     // mixtures of von Mises-Fisher lobes fitted by spherical EM (Han et al. Sec. 7)
     Lean,    // slope moments: one anisotropic Beckmann lobe (Olano and Baker 2010)
+    GgxFit,  // one GGX lobe per texel, its roughness fitted to the filtered NDF
 };
 
 std::optional<Method> methodFromString(std::string_view name);
@@ -76,6 +77,7 @@ Bake bakeToksvig(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeSh(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeLean(const Pyramid& pyramid, const BakeOptions& options);
+Bake bakeGgxFit(const Pyramid& pyramid, const BakeOptions& options);
 
 // lean: normals are clamped to n.z >= this before their slopes n.xy/n.z are taken (84 degrees;
 // steeper normals would give unbounded slopes).
@@ -87,6 +89,11 @@ int shPlaneCount(int order);
 
 // The order l* of an sh bake (its "order" parameter), 0 for other methods.
 int bakeShOrder(const Bake& bake);
+
+// Whether `method`'s bake is fitted to the material's own roughness (BakeOptions::baseRoughness,
+// ggx-fit): it holds for that roughness only.
+bool bakeFitsMaterialRoughness(Method method);
+constexpr float kMinFittedRoughness = 0.01f; // the least material alpha such a bake takes
 
 // The lobe count J of a vmf bake (its "lobes" parameter), 0 for other methods.
 int bakeVmfLobes(const Bake& bake);

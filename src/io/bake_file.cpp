@@ -120,9 +120,11 @@ void checkFileOptions(const BakeFileOptions& a) {
     if (!a.engine.empty()) {
         if (!findEnginePreset(a.engine))
             fail("--engine " + quote(a.engine) + ": expected " + enginePresetNames());
-        if (*method != Method::Toksvig && *method != Method::Naive && *method != Method::Lean)
-            fail("--engine writes a normal map and a roughness map: --method toksvig (or naive), "
-                 "or lean (one anisotropic lobe per texel, in the engine's anisotropy inputs)");
+        if (*method != Method::Toksvig && *method != Method::Naive && *method != Method::Lean &&
+            *method != Method::GgxFit)
+            fail("--engine writes a normal map and a roughness map: --method toksvig, ggx-fit (or "
+                 "naive), or lean (one anisotropic lobe per texel, in the engine's anisotropy "
+                 "inputs)");
         if (!exports.count("ktx2") && !exports.count("dds")) exports.insert("ktx2");
     }
     if (exports.count("png16") &&
@@ -130,6 +132,9 @@ void checkFileOptions(const BakeFileOptions& a) {
         fail("--export png16 needs a method that stores a normal (naive, toksvig)");
     if (!a.roughnessMap.empty() && *method != Method::Toksvig)
         fail("--roughness-map applies to --method toksvig (its roughness planes)");
+    if (bakeFitsMaterialRoughness(*method) && a.baseRoughness < kMinFittedRoughness)
+        fail(std::string("--method ") + methodName(*method) +
+             " fits one GGX lobe to the material's: give its --base-roughness (at least 0.01)");
     if (!a.roughnessMap.empty() && a.baseRoughness != 0.f)
         fail("--roughness-map and --base-roughness both set the material's roughness: give one");
     if (!a.gloss.empty() && a.maxExponent <= 0.f)
@@ -449,6 +454,9 @@ Status checkBakeOptions(Method method, const BakeOptions& o, int width, int heig
         if (Status s = checkParameterValues(method, o.parameters, ParameterNaming::Key); !s)
             fail(s.error);
         requireRange("base_roughness", o.baseRoughness, 0.0, 1.0);
+        if (bakeFitsMaterialRoughness(method) && o.baseRoughness < kMinFittedRoughness)
+            fail(std::string(methodName(method)) +
+                 " fits one GGX lobe to the material's: base_roughness must be at least 0.01");
         if (o.roughnessMap) {
             const Image& r = *o.roughnessMap;
             if (method != Method::Toksvig)

@@ -8,8 +8,8 @@
 namespace ndfmip {
 
 const std::vector<MethodUnit>& methodUnits() {
-    static const std::vector<MethodUnit> units = {naiveUnit(), toksvigUnit(), shUnit(), vmfUnit(),
-                                                  leanUnit()};
+    static const std::vector<MethodUnit> units = {naiveUnit(), toksvigUnit(), shUnit(),
+                                                  vmfUnit(),   leanUnit(),    ggxFitUnit()};
     return units;
 }
 
@@ -22,8 +22,8 @@ const MethodUnit& methodUnit(Method method) {
 const std::vector<MethodShader>& methodShaders() {
     static const std::vector<MethodShader> shaders = [] {
         std::vector<MethodShader> all;
-        for (auto list :
-             {naiveShaders(), toksvigShaders(), shShaders(), vmfShaders(), leanShaders()})
+        for (auto list : {naiveShaders(), toksvigShaders(), shShaders(), vmfShaders(),
+                          leanShaders(), ggxFitShaders()})
             all.insert(all.end(), list.begin(), list.end());
         return all;
     }();
@@ -91,6 +91,10 @@ int findPlane(const std::vector<PlaneInfo>& planes, const std::string& name) {
 int bakeShOrder(const Bake& bake) {
     auto it = bake.parameters.find("order");
     return bake.method == Method::Sh && it != bake.parameters.end() ? int(it->second) : 0;
+}
+
+bool bakeFitsMaterialRoughness(Method method) {
+    return methodUnit(method).fitsMaterialRoughness;
 }
 
 int bakeVmfLobes(const Bake& bake) {

@@ -59,6 +59,9 @@ struct MethodUnit {
     glm::vec3 (*levelZeroNormal)(const float* planes);
     // The texel's NDF density at unit w, for methods that store one (inspect --ndf); else null.
     double (*ndfDensity)(const LoadedBake& bake, int x, int y, glm::dvec3 w);
+    // The bake is fitted to the material's own roughness (BakeOptions::baseRoughness): eval bakes
+    // it once per GGX roughness it judges.
+    bool fitsMaterialRoughness = false;
 };
 
 const std::vector<MethodUnit>& methodUnits();
@@ -158,11 +161,13 @@ MethodUnit toksvigUnit();
 MethodUnit shUnit();
 MethodUnit vmfUnit();
 MethodUnit leanUnit();
+MethodUnit ggxFitUnit();
 std::vector<MethodShader> naiveShaders();
 std::vector<MethodShader> toksvigShaders();
 std::vector<MethodShader> shShaders();
 std::vector<MethodShader> vmfShaders();
 std::vector<MethodShader> leanShaders();
+std::vector<MethodShader> ggxFitShaders();
 
 // Helpers the units share.
 PlaneInfo planeOf(const std::string& name, int channels, bool linear);

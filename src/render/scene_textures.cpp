@@ -99,6 +99,9 @@ Result<RenderTextures> loadSceneTextures(const Scene& scene, const std::string& 
             BakeOptions bakeOptions;
             bakeOptions.parameters = parametersOf(shader->bake, options.bakeParameters);
             bakeOptions.albedo = albedo;
+            // A bake fitted to the material's roughness (ggx-fit) is fitted to the scene's.
+            if (methodUnit(shader->bake).fitsMaterialRoughness)
+                bakeOptions.baseRoughness = scene.material.roughness;
             if (Status s = checkCommandParameterValues(options.bakeParameters, kParameterRender,
                                                        ParameterNaming::Key);
                 !s)

@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
@@ -150,6 +151,16 @@ int viewPixels(const MapData& map, int footprint, int maxPixels) {
 }
 
 // The textures of a row: the map's normals, the bake `label` (if any), the environment.
+// The bake a row reads under a setting: the spec's own, or one fitted to the setting's roughness
+// (ggx-fit); "" where the row does not apply (such a bake under a BRDF other than GGX).
+std::string bakeKeyOf(const MethodSpec& spec, const Setting& setting) {
+    if (!spec.baked || !bakeFitsMaterialRoughness(spec.method)) return spec.bakeKey;
+    if (setting.material.brdf != Brdf::Ggx) return "";
+    char alpha[48];
+    std::snprintf(alpha, sizeof alpha, " alpha=%g", double(setting.material.roughness));
+    return spec.bakeKey + alpha;
+}
+
 RenderTextures textures(const MapData& map, const std::string& label, const Lighting& lighting) {
     RenderTextures t;
     t.normals = map.normals;
@@ -205,10 +216,12 @@ std::string liveViewOf(const Plan& plan, const MapData& map) {
     std::stable_partition(ordered.begin(), ordered.end(),
                           [](const MethodSpec& m) { return m.render == "vmf"; });
     for (const MethodSpec& spec : ordered) {
-        if (!spec.baked || spec.render == kToksvigLut || !map.bakes.count(spec.label)) continue;
+        const std::string key =
+            spec.label == spec.bakeKey ? bakeKeyOf(spec, plan.settings.front()) : "";
+        if (!spec.baked || spec.render == kToksvigLut || !map.bakes.count(key)) continue;
         RenderTextures t;
         t.normals = map.normals;
-        t.bake = map.bakes.at(spec.label);
+        t.bake = map.bakes.at(key);
         WebglMethod method;
         method.label = spec.label;
         bool drawable = true;
@@ -251,8 +264,13 @@ MapData loadAndBake(const Plan& plan, size_t mapIndex, const Lighting& lighting)
     // Every bake this map gets, held at once, checked by the decoder from the map's header
     // before it allocates.
     double perTexel = 16.0 + 12.0 + 16.0;
-    for (const MethodSpec& spec : specs)
-        if (spec.baked) perTexel += bakeBytesPerTexel(spec.method, spec.options);
+    for (const MethodSpec& spec : specs) {
+        std::set<std::string> keys; // a fitted bake is made once per roughness
+        for (const Setting& setting : plan.settings)
+            if (spec.baked && !bakeKeyOf(spec, setting).empty())
+                keys.insert(bakeKeyOf(spec, setting));
+        perTexel += double(keys.size()) * bakeBytesPerTexel(spec.method, spec.options);
+    }
     Result<Image> normals = [&] {
         const PlannedPeak peak("the evaluation", perTexel);
         return loadNormalMap(a.maps[mapIndex], decode, &decodeReport);
@@ -268,8 +286,13 @@ MapData loadAndBake(const Plan& plan, size_t mapIndex, const Lighting& lighting)
                 !s)
                 fail(s.error);
     for (const MethodSpec& spec : specs)
-        if (spec.baked && !map.bakes.count(spec.bakeKey))
-            map.bakes[spec.bakeKey] = bakeMethod(spec.method, map.pyramid, spec.options);
+        for (const Setting& setting : plan.settings) {
+            const std::string key = bakeKeyOf(spec, setting);
+            if (!spec.baked || key.empty() || map.bakes.count(key)) continue;
+            BakeOptions options = spec.options;
+            options.baseRoughness = setting.material.roughness;
+            map.bakes[key] = bakeMethod(spec.method, map.pyramid, options);
+        }
     if (lighting.externalRows)
         map.bakes["naive (external roughness)"] = bakeMethod(Method::Naive, map.pyramid, {});
     if (a.calibrate && map.bakes.count("toksvig") == 0)
@@ -412,10 +435,12 @@ void evaluateSetting(const Plan& plan, const Lighting& lighting, MapData& map, S
     for (const MethodSpec& spec : plan.specs) {
         // Toksvig's table is for Blinn-Phong only.
         if (spec.label == kToksvigLut && setting.material.brdf != Brdf::BlinnPhong) continue;
+        const std::string bakeKey = bakeKeyOf(spec, setting);
+        if (bakeKey.empty()) continue;
         RenderOptions rowOptions = methodOptions;
         if (spec.lod) rowOptions.environmentLod = *spec.lod;
         if (spec.way) rowOptions.vmfEnvironment = *spec.way;
-        const RenderTextures t = textures(map, spec.bakeKey, lighting);
+        const RenderTextures t = textures(map, bakeKey, lighting);
         const Image image = renderOrFail(scene, t, spec.render, rowOptions);
         recordRow(
             view, spec.label, image,

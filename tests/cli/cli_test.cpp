@@ -423,6 +423,31 @@ TEST(Cli, ExportPng16WritesNormalAndRoughnessMips) {
     for (float v : r0->image.pixels) EXPECT_LT(v, 0.02f);
 }
 
+TEST(Cli, GgxFitNeedsTheMaterialsRoughnessAndExportsItsFit) {
+    TempDir tmp("cli_ggx_fit");
+    const std::string map = tmp.file("map.png");
+    writePng16(map, encodeNormals(bumpyNormals(8, 8)));
+    const fs::path dir = tmp.path / "bake";
+    CliRun missing =
+        cli("bake " + shellQuoted(map) + " --method ggx-fit -o " + shellQuoted(dir.string()));
+    EXPECT_NE(missing.status, 0);
+    EXPECT_NE(missing.output.find("--base-roughness"), std::string::npos) << missing.output;
+    EXPECT_FALSE(fs::exists(dir));
+    CliRun r = cli("bake " + shellQuoted(map) + " -q --method ggx-fit --base-roughness 0.09 " +
+                   "--export exr,png16 -o " + shellQuoted(dir.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    // Level 0 is the material's own lobe: perceptual sqrt(0.09) = 0.3; the bumps widen level 1.
+    Result<SourceImage> r0 = loadImage((dir / "png16/roughness_L0.png").string());
+    Result<SourceImage> r1 = loadImage((dir / "png16/roughness_L1.png").string());
+    ASSERT_TRUE(r0.ok() && r1.ok());
+    for (float v : r0->image.pixels) EXPECT_NEAR(v, 0.3f, 1e-4f);
+    for (float v : r1->image.pixels) EXPECT_GT(v, 0.3f);
+    json texel = inspect(dir, 1, "0,0");
+    EXPECT_EQ(texel.at("method"), "ggx-fit");
+    EXPECT_NEAR(texel.at("perceptual_roughness").get<float>(),
+                std::sqrt(texel.at("roughness_ggx").get<float>()), 1e-6f);
+}
+
 // ---- bad input --------------------------------------------------------------------------------
 
 class CliBadInput : public ::testing::Test {

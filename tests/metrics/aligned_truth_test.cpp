@@ -25,6 +25,7 @@ TEST(AlignedTruth, FlatMapEveryMethodEqualsTheTruth) {
         for (int x = 0; x < 12; ++x) test::setNormal(map, x, y, n.x, n.y, n.z);
     Pyramid p = buildPyramid(map);
     for (Method m : allMethods()) {
+        if (bakeFitsMaterialRoughness(m)) continue; // a GGX fit: these lobes are Blinn-Phong's
         // sh reproduces a lobe only up to its order: at l* = 30 a lobe of s = 4 keeps all but
         // ~exp(-30^2/4) of itself.
         BakeOptions options;

@@ -224,6 +224,41 @@ TEST(EvaluationSteps, OnAFlatMapEveryRowIsTheTruth) {
     EXPECT_EQ(gathered.report.groups[0].images.size(), 1u + 2u * 4u);
 }
 
+TEST(EvaluationSteps, AFittedBakeIsMadePerGgxRoughnessAndJudgedUnderGgxOnly) {
+    // ggx-fit is fitted to the material's roughness: one bake per GGX alpha, no row under
+    // Blinn-Phong; on a flat map its one lobe is the material's, so the row is the truth.
+    FlatMap flat;
+    EvalOptions o = optionsFor({"toksvig", "ggx-fit"});
+    o.maps = {flat.path};
+    o.frames = 0;
+    o.brdfs = {"blinnphong", "ggx"};
+    o.exponents = {32.f};
+    o.roughness = {0.1f, 0.3f};
+    evaluation::Plan plan = evaluation::planEvaluation(o);
+    const evaluation::Lighting lighting = evaluation::prepareLighting(plan);
+    evaluation::MapData map = evaluation::loadAndBake(plan, 0, lighting);
+    std::vector<std::string> keys;
+    for (const auto& [key, bake] : map.bakes) keys.push_back(key);
+    EXPECT_EQ(keys,
+              (std::vector<std::string>{"ggx-fit alpha=0.1", "ggx-fit alpha=0.3", "toksvig"}));
+    EXPECT_FLOAT_EQ(float(map.bakes.at("ggx-fit alpha=0.3").parameters.at("base_roughness")), 0.3f);
+    const Scene scene = evaluation::footprintScene(plan, map, 4, lighting);
+    for (const evaluation::Setting& setting : plan.settings) {
+        evaluation::Gathered gathered;
+        evaluation::evaluateSetting(plan, lighting, map, scene, 4, setting, gathered);
+        std::vector<std::string> rows;
+        for (const ReportCase& c : gathered.report.cases) {
+            rows.push_back(c.method);
+            if (c.method == "ggx-fit") {
+                EXPECT_LT(c.relRmse, 1e-3) << setting.label();
+            }
+        }
+        std::vector<std::string> expected{kGroundTruth, "toksvig"};
+        if (setting.brdf == "ggx") expected.push_back("ggx-fit");
+        EXPECT_EQ(rows, expected) << setting.label();
+    }
+}
+
 TEST(EvaluationSteps, ReportSaysTheViewItRan) {
     EvalOptions o = optionsFor({"naive"});
     o.view = "engine";

@@ -50,10 +50,14 @@ TEST(WebglView, FragmentShaderIsGlslEs300ForEveryMethod) {
         BakeOptions options;
         options.parameters["order"] = 5;
         options.parameters["lobes"] = 3;
+        options.baseRoughness = 0.2f; // ggx-fit's fit is for the material's GGX alpha
         t.bake = bakeMethod(shader.bake, pyramid, options);
         if (std::string(shader.name) == kRoughnessMips) {
             for (const auto& level : t.bake.levels) t.roughness.push_back(level[0]);
             scene.material.brdf = Brdf::Ggx;
+        } else if (bakeFitsMaterialRoughness(shader.bake)) {
+            scene.material.brdf = Brdf::Ggx;
+            scene.material.roughness = 0.2f;
         } else {
             scene.material.brdf = Brdf::BlinnPhong;
         }

@@ -83,8 +83,10 @@ void runDemo(DemoArgs a) {
     std::filesystem::create_directories(a.output, ec);
     if (ec) throw Failure(a.output + ": cannot create (" + ec.message() + ")");
     const Image& normals = *pyramid.base;
+    // The Blinn-Phong comparison: a bake fitted to one GGX material (ggx-fit) has no place in it.
     std::vector<Bake> bakes;
-    for (Method m : allMethods()) bakes.push_back(bakeMethod(m, pyramid, {}));
+    for (Method m : allMethods())
+        if (!bakeFitsMaterialRoughness(m)) bakes.push_back(bakeMethod(m, pyramid, {}));
     const std::vector<float> exponents = {8.f, 32.f, 128.f, 512.f};
     std::printf("%s: %dx%d, %zu levels\n", a.input.c_str(), normals.width, normals.height,
                 pyramid.levels.size());

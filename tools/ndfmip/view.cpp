@@ -71,6 +71,8 @@ struct Viewer {
     std::string bakeKey(const std::string& shader) const {
         const Method bake = shaderBake(shader).value();
         const std::string name = methodName(bake);
+        if (bakeFitsMaterialRoughness(bake))
+            return name + " a=" + std::to_string(scene.material.roughness);
         return bake == Method::Vmf ? name + ":" + std::to_string(state.lobes) : name;
     }
 
@@ -83,6 +85,7 @@ struct Viewer {
         o.parameters = args.methodParameters.given();
         o.parameters["lobes"] = state.lobes;
         o.parameters = parametersOf(method, o.parameters);
+        if (bakeFitsMaterialRoughness(method)) o.baseRoughness = scene.material.roughness;
         std::fprintf(stderr, "view: baking %s ...\n", key.c_str());
         return bakes[key] = bakeMethod(method, pyramid, o);
     }

@@ -1,0 +1,234 @@
+// ggx-fit: per texel and level, the one isotropic GGX lobe about the level's mean normal that
+// best matches the texel's exact filtered NDF. Filtering is the spherical convolution of the
+// footprint's normal distribution with the material's lobe (Han et al. Sec. 3); with the
+// footprint's normals n_i that is the mean of the material's GGX lobes about them,
+// T(h) = mean_i D_a0(h . n_i). The stored alpha minimises the L2 distance over the sphere between
+// D_alpha(h . n) and T(h), n the footprint's mean normal (what an engine's normal mip holds): one
+// lobe an engine loads as it is, in place of Toksvig's alpha^2 = a0^2 + 2 sigma^2, which follows
+// the footprint's variance but not its shape.
+//
+// The lobe fitted is isotropic about n, so only T's means over rings about n matter. A normal at
+// angle beta from n adds to the ring at angle theta the material's lobe averaged over the ring,
+// R(theta, beta), which depends on a0 alone: it is tabulated once per bake, and each texel is a
+// histogram of its normals' angles from n. Every level-0 normal counts, at any level, in time
+// linear in the footprint.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "ndfmip/bake.h"
+#include "ndfmip/glsl.h"
+
+namespace ndfmip {
+
+namespace {
+
+constexpr float kHalfPi = 1.57079632679f;
+constexpr int kRings = 16;     // rings of the fit about the mean normal
+constexpr float kReach = 3.5f; // they reach tan(theta) = kReach x Toksvig's width
+constexpr float kMinAlpha = 1e-3f;
+
+// GGX over half vectors (Walter et al. 2007, eq. 33), the shaders' own.
+inline float ggx(float cosH, float alpha) {
+    return glsl().ndfmipGgx(cosH, alpha);
+}
+
+// R(theta, beta) on a grid of `steps` + 1 angles over [0, pi/2] each: the material's lobe about a
+// direction at beta from the axis, averaged over the ring at theta about it. The grid and the
+// azimuths resolve the lobe: 8 steps and 8 azimuths across its width a0, down to a0 = 0.025
+// (512 steps, 1024 azimuths; narrower lobes are resolved less finely).
+struct RingTable {
+    int steps = 0;
+    float step = 0.f;
+    std::vector<float> values; // [theta][beta]: a ring's row holds every beta
+
+    const float* ring(int t) const { return &values[size_t(t) * size_t(steps + 1)]; }
+};
+
+RingTable ringTable(float a0) {
+    RingTable table;
+    table.steps = std::clamp(int(std::ceil(8.f * kHalfPi / a0)), 256, 512);
+    table.step = kHalfPi / float(table.steps);
+    const int azimuths = std::clamp(int(std::ceil(8.f * 3.14159265f / a0)), 256, 1024);
+    const int n = table.steps + 1;
+    table.values.resize(size_t(n) * size_t(n));
+    // Symmetric in the azimuth: the half ring [0, pi), midpoints.
+    std::vector<float> cosPhi(static_cast<size_t>(azimuths));
+    for (int m = 0; m < azimuths; ++m)
+        cosPhi[size_t(m)] = std::cos(3.14159265f * (float(m) + 0.5f) / float(azimuths));
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int b = 0; b < n; ++b) {
+        const float cb = std::cos(float(b) * table.step), sb = std::sin(float(b) * table.step);
+        // R is symmetric in theta and beta: each pair once.
+        for (int t = b; t < n; ++t) {
+            const float ct = std::cos(float(t) * table.step), st = std::sin(float(t) * table.step);
+            float sum = 0.f;
+            for (float c : cosPhi) sum += ggx(ct * cb + st * sb * c, a0);
+            table.values[size_t(t) * size_t(n) + size_t(b)] = sum / float(azimuths);
+            table.values[size_t(b) * size_t(n) + size_t(t)] = sum / float(azimuths);
+        }
+    }
+    return table;
+}
+
+// One texel's normals as angles from its mean normal: a histogram on the table's betas, each
+// normal split linearly between its two neighbouring steps.
+struct AngleHistogram {
+    std::vector<float> counts; // table.steps + 1, zero outside [first, last]
+    int first = 0, last = -1;
+    float total = 0.f;
+    // The normals' steps and fractions while few: a sum over them is cheaper than over the
+    // histogram's range when that is wider than they are many.
+    std::vector<std::pair<int, float>> few;
+};
+
+constexpr size_t kFewNormals = 64;
+
+void addNormal(AngleHistogram& h, const RingTable& table, const float* n, const float axis[3]) {
+    float unit[3];
+    normalizeOrFlat(n, unit);
+    const float c = unit[0] * axis[0] + unit[1] * axis[1] + unit[2] * axis[2];
+    const float u = std::min(std::acos(std::clamp(c, -1.f, 1.f)) / table.step, float(table.steps));
+    const int b = std::min(int(u), table.steps - 1);
+    const float f = u - float(b);
+    if (h.last < h.first) h.first = h.last = b;
+    h.first = std::min(h.first, b), h.last = std::max(h.last, b + 1);
+    h.counts[size_t(b)] += 1.f - f;
+    h.counts[size_t(b) + 1] += f;
+    h.total += 1.f;
+    if (h.few.size() < kFewNormals) h.few.emplace_back(b, f);
+}
+
+void clearHistogram(AngleHistogram& h) {
+    if (h.last >= h.first)
+        std::fill(h.counts.begin() + h.first, h.counts.begin() + h.last + 1, 0.f);
+    h.first = 0, h.last = -1, h.total = 0.f;
+    h.few.clear();
+}
+
+// The fitted alpha of one texel: `r` its mean normal's length |Na|, a0 the material's alpha.
+// The error is the squared difference on kRings rings about the mean normal, weighted by their
+// solid angles: the L2 distance of the two NDFs over the sphere.
+float fitTexel(const AngleHistogram& normals, const RingTable& table, float r, float a0) {
+    if (!(normals.total > 0.f)) return a0;
+    // The rings reach kReach times Toksvig's width, sqrt(a0^2 + 2 sigma^2) (T eq. 1,
+    // roughness.h), spaced evenly in tan(theta).
+    const float width = std::min(std::sqrt(a0 * a0 + 2.f * (1.f - r) / std::max(r, 1e-3f)), 2.f);
+    const float step = kReach * width / float(kRings);
+    float cosTheta[kRings], target[kRings], weight[kRings];
+    for (int j = 0; j < kRings; ++j) {
+        const float lo = std::atan(step * float(j)), hi = std::atan(step * float(j + 1));
+        const float theta = 0.5f * (lo + hi);
+        cosTheta[j] = std::cos(theta);
+        weight[j] = std::cos(lo) - std::cos(hi);
+        // Linear in theta between the table's two rings about it.
+        const float u = std::min(theta / table.step, float(table.steps));
+        const int t = std::min(int(u), table.steps - 1);
+        const float* below = table.ring(t);
+        const float* above = table.ring(t + 1);
+        float sumBelow = 0.f, sumAbove = 0.f;
+        if (normals.total <= float(kFewNormals) &&
+            2.f * normals.total < float(normals.last - normals.first + 1)) {
+            for (const auto& [b, f] : normals.few) {
+                sumBelow += below[b] + f * (below[b + 1] - below[b]);
+                sumAbove += above[b] + f * (above[b + 1] - above[b]);
+            }
+        } else {
+            for (int b = normals.first; b <= normals.last; ++b) {
+                sumBelow += normals.counts[size_t(b)] * below[b];
+                sumAbove += normals.counts[size_t(b)] * above[b];
+            }
+        }
+        const float sum = sumBelow + (u - float(t)) * (sumAbove - sumBelow);
+        target[j] = sum / normals.total;
+    }
+    auto error = [&](float logAlpha) {
+        const float a = std::exp(logAlpha);
+        float e = 0.f;
+        for (int j = 0; j < kRings; ++j) {
+            const float d = ggx(cosTheta[j], a) - target[j];
+            e += weight[j] * d * d;
+        }
+        return e;
+    };
+    // A scan over log alpha, then golden-section search about its best point.
+    const float lo = std::log(std::max(0.5f * a0, kMinAlpha)), hi = 0.f;
+    constexpr int kScan = 8;
+    int best = 0;
+    float bestError = error(lo);
+    for (int i = 1; i <= kScan; ++i) {
+        const float e = error(lo + (hi - lo) * float(i) / kScan);
+        if (e < bestError) bestError = e, best = i;
+    }
+    float a = lo + (hi - lo) * float(std::max(best - 1, 0)) / kScan;
+    float c = lo + (hi - lo) * float(std::min(best + 1, kScan)) / kScan;
+    constexpr float kGolden = 0.618034f;
+    float p = c - kGolden * (c - a), q = a + kGolden * (c - a);
+    float ep = error(p), eq = error(q);
+    for (int i = 0; i < 12; ++i) {
+        if (ep < eq) {
+            c = q, q = p, eq = ep;
+            p = c - kGolden * (c - a), ep = error(p);
+        } else {
+            a = p, p = q, ep = eq;
+            q = a + kGolden * (c - a), eq = error(q);
+        }
+    }
+    return std::min(std::exp(0.5f * (a + c)), 1.f);
+}
+
+} // namespace
+
+Bake bakeGgxFit(const Pyramid& pyramid, const BakeOptions& options) {
+    Bake bake;
+    bake.method = Method::GgxFit;
+    // A material alpha below kMinFittedRoughness (the commands refuse it) is fitted as that.
+    const float a0 = std::max(options.baseRoughness, kMinFittedRoughness);
+    bake.parameters["base_roughness"] = options.baseRoughness;
+    bake.planes = {
+        {"normal", {"n.x", "n.y", "n.z"}, "mean normal renormalised to unit length", true},
+        {"roughness_ggx",
+         {"alpha"},
+         "GGX alpha of the one lobe about the normal closest to the texel's filtered NDF",
+         true},
+    };
+    const RingTable table = ringTable(a0);
+    const Image& base = *pyramid.base;
+    const int count = int(pyramid.levels.size());
+    bake.levels.resize(count);
+    for (int k = 0; k < count; ++k) {
+        const Image& mean = levelMean(pyramid, k);
+        Image normal(mean.width, mean.height, 3, Image::Uninitialized{});
+        Image alpha(mean.width, mean.height, 1, Image::Uninitialized{});
+        const int width = mean.width;
+        const int64_t texels = int64_t(mean.texelCount());
+#pragma omp parallel
+        {
+            AngleHistogram histogram;
+            histogram.counts.assign(size_t(table.steps) + 1, 0.f);
+#pragma omp for schedule(dynamic, 16)
+            for (int64_t i = 0; i < texels; ++i) {
+                const float* na = &mean.pixels[3 * size_t(i)];
+                float* n = &normal.pixels[3 * size_t(i)];
+                normalizeOrFlat(na, n);
+                if (k == 0) {
+                    alpha.pixels[size_t(i)] = a0; // one normal: the material's own lobe
+                    continue;
+                }
+                const Footprint f = footprint(pyramid, k, int(i % width), int(i / width));
+                for (int y = f.y0; y < f.y1; ++y)
+                    for (int x = f.x0; x < f.x1; ++x) addNormal(histogram, table, base.at(x, y), n);
+                alpha.pixels[size_t(i)] =
+                    fitTexel(histogram, table, std::min(length3(na), 1.f), a0);
+                clearHistogram(histogram);
+            }
+        }
+        bake.levels[k] = {std::make_shared<const Image>(std::move(normal)),
+                          std::make_shared<const Image>(std::move(alpha))};
+        if (options.progress) options.progress(k + 1, count);
+    }
+    return bake;
+}
+
+} // namespace ndfmip

@@ -1,0 +1,282 @@
+// ggx-fit: one GGX lobe per texel whose roughness is fitted to the texel's filtered NDF. Checked
+// against closed forms (one normal, a constant map) and against an independent brute-force fit
+// in double precision over every normal of the footprint on real maps.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "methods/method_unit.h"
+#include "ndfmip/normal_map.h"
+#include "ndfmip/pyramid.h"
+#include "ndfmip/roughness.h"
+#include "test_support.h"
+
+namespace ndfmip {
+namespace {
+
+constexpr double kPiD = 3.14159265358979323846;
+
+double ggxD(double c, double alpha) {
+    if (c <= 0.) return 0.;
+    const double a2 = alpha * alpha, d = c * c * (a2 - 1.) + 1.;
+    return a2 / (kPiD * d * d);
+}
+
+BakeOptions fitted(float alpha) {
+    BakeOptions o;
+    o.baseRoughness = alpha;
+    return o;
+}
+
+SharedImage filled(int width, int height, const std::function<glm::vec3(int, int)>& normal) {
+    auto image = std::make_shared<Image>(width, height, 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const glm::vec3 n = glm::normalize(normal(x, y));
+            float* p = image->at(x, y);
+            p[0] = n.x, p[1] = n.y, p[2] = n.z;
+        }
+    return image;
+}
+
+float alphaAt(const Bake& bake, int level, int x, int y) {
+    return bake.levels[level][1]->at(x, y)[0];
+}
+
+TEST(GgxFit, OneNormalPerTexelIsTheMaterialsRoughness) {
+    // A constant (tilted) map: every footprint holds one direction, whose filtered NDF is the
+    // material's own lobe about it.
+    const glm::vec3 tilt = glm::normalize(glm::vec3(0.3f, -0.2f, 1.f));
+    const Pyramid pyramid = buildPyramid(filled(32, 32, [&](int, int) { return tilt; }));
+    for (float alpha : {0.05f, 0.1f, 0.3f, 0.7f}) {
+        const Bake bake = bakeGgxFit(pyramid, fitted(alpha));
+        ASSERT_EQ(bake.levels.size(), pyramid.levels.size());
+        for (size_t k = 0; k < bake.levels.size(); ++k) {
+            EXPECT_NEAR(alphaAt(bake, int(k), 0, 0), alpha, 3e-3f * alpha)
+                << "alpha " << alpha << " level " << k;
+            const float* n = bake.levels[k][0]->at(0, 0);
+            EXPECT_NEAR(glm::dot(glm::vec3(n[0], n[1], n[2]), tilt), 1.f, 1e-5f);
+        }
+    }
+}
+
+TEST(GgxFit, LevelZeroAndNormalsAreTheStandardMipmaps) {
+    const Pyramid pyramid = buildPyramid(filled(16, 8, [](int x, int y) {
+        return glm::vec3(0.6f * std::sin(x), 0.4f * std::cos(y), 1.f);
+    }));
+    const Bake bake = bakeGgxFit(pyramid, fitted(0.2f));
+    const Bake naive = bakeNaive(pyramid, {});
+    for (size_t k = 0; k < bake.levels.size(); ++k) {
+        const Image& n = *bake.levels[k][0];
+        EXPECT_EQ(n.pixels, naive.levels[k][0]->pixels) << "level " << k;
+        for (float a : bake.levels[k][1]->pixels) {
+            if (k == 0) {
+                EXPECT_EQ(a, 0.2f);
+            }
+            EXPECT_GE(a, 0.1f);
+            EXPECT_LE(a, 1.f);
+        }
+    }
+}
+
+TEST(GgxFit, NormalsAtPlusMinusThetaWidenTheLobeMonotonically) {
+    // A checkerboard of normals at +-theta about x: every 2x2 block is the NDF of two
+    // directions, wider the further apart they are; the fit is the material's lobe at theta = 0.
+    float previous = 0.f;
+    for (float theta : {0.f, 0.05f, 0.1f, 0.2f, 0.35f}) {
+        const Pyramid pyramid = buildPyramid(filled(8, 8, [&](int x, int y) {
+            const float s = (x + y) % 2 ? 1.f : -1.f;
+            return glm::vec3(s * std::sin(theta), 0.f, std::cos(theta));
+        }));
+        const float alpha = alphaAt(bakeGgxFit(pyramid, fitted(0.1f)), 1, 0, 0);
+        if (theta == 0.f) {
+            EXPECT_NEAR(alpha, 0.1f, 1e-4f);
+        }
+        EXPECT_GT(alpha, previous) << "theta " << theta;
+        previous = alpha;
+    }
+    EXPECT_GT(previous, 0.3f); // normals 40 degrees apart against a lobe of alpha 0.1
+}
+
+TEST(GgxFit, NonPowerOfTwoMapsGiveFiniteRoughnessEverywhere) {
+    const Pyramid pyramid = buildPyramid(filled(13, 7, [](int x, int y) {
+        return glm::vec3(0.8f * std::sin(1.7f * x), 0.5f * std::cos(2.3f * y), 1.f);
+    }));
+    const Bake bake = bakeGgxFit(pyramid, fitted(0.05f));
+    for (const auto& level : bake.levels)
+        for (float a : level[1]->pixels) {
+            EXPECT_TRUE(std::isfinite(a));
+            EXPECT_GE(a, 0.025f);
+            EXPECT_LE(a, 1.f);
+        }
+}
+
+// ---- Against an independent fit on real maps ---------------------------------------------
+
+// The NDF L2 distance that ggx-fit minimises, written out in double with every normal of the
+// footprint and more samples: 96 rings of equal width in theta up to 60 degrees past the
+// footprint's widest normal, 24 azimuths each.
+struct DenseObjective {
+    std::vector<double> cosTheta, weight, target;
+
+    DenseObjective(const std::vector<glm::dvec3>& normals, glm::dvec3 axis, double a0) {
+        double widest = 0.;
+        for (const glm::dvec3& n : normals)
+            widest = std::max(widest, std::acos(std::clamp(glm::dot(n, axis), -1., 1.)));
+        const double reach = std::min(widest + 1.05, kPiD / 2);
+        const glm::dvec3 t = glm::normalize(glm::cross(axis, glm::dvec3(1, 0, 0)));
+        const glm::dvec3 b = glm::cross(axis, t);
+        constexpr int kRings = 96, kAzimuths = 24;
+        for (int j = 0; j < kRings; ++j) {
+            const double lo = reach * j / kRings, hi = reach * (j + 1) / kRings;
+            const double theta = 0.5 * (lo + hi);
+            double sum = 0.;
+            for (int m = 0; m < kAzimuths; ++m) {
+                const double phi = 2. * kPiD * (m + 0.5) / kAzimuths;
+                const glm::dvec3 h = std::cos(theta) * axis +
+                                     std::sin(theta) * (std::cos(phi) * t + std::sin(phi) * b);
+                for (const glm::dvec3& n : normals) sum += ggxD(glm::dot(h, n), a0);
+            }
+            cosTheta.push_back(std::cos(theta));
+            weight.push_back(std::cos(lo) - std::cos(hi));
+            target.push_back(sum / (double(normals.size()) * kAzimuths));
+        }
+    }
+
+    double error(double alpha) const {
+        double e = 0.;
+        for (size_t j = 0; j < target.size(); ++j) {
+            const double d = ggxD(cosTheta[j], alpha) - target[j];
+            e += weight[j] * d * d;
+        }
+        return e;
+    }
+
+    // The best alpha by brute force: 2000 log-spaced candidates over [1e-3, 1], then the
+    // neighbourhood of the best refined 200 times finer.
+    double bestAlpha() const {
+        double best = 1e-3, bestError = error(best);
+        auto scan = [&](double lo, double hi, int count) {
+            for (int i = 0; i <= count; ++i) {
+                const double a = std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / count);
+                const double e = error(a);
+                if (e < bestError) best = a, bestError = e;
+            }
+        };
+        scan(1e-3, 1., 2000);
+        scan(best * 0.995, std::min(best * 1.005, 1.), 200);
+        return best;
+    }
+};
+
+TEST(GgxFit, MatchesABruteForceFitOnRealMaps) {
+    const std::filesystem::path dir = test::sharedNormalMaps();
+    if (dir.empty()) GTEST_SKIP() << "../shared/data/normalmaps not found";
+    // Two maps, one per green convention and bit depth, crops of 128 x 128.
+    struct Case {
+        const char* file;
+        bool greenDown;
+    };
+    double worst = 0., fitSum = 0., referenceSum = 0., toksvigSum = 0.;
+    int texels = 0;
+    for (const Case& c :
+         {Case{"stktex_generic_rockA_Normal.png", false}, Case{"Ground010_1K_Normal.png", true}}) {
+        DecodeOptions decode;
+        decode.greenDown = c.greenDown;
+        Result<Image> map = loadNormalMap((dir / c.file).string(), decode, nullptr);
+        ASSERT_TRUE(map.ok()) << map.error().message;
+        auto crop = std::make_shared<Image>(128, 128, 3);
+        for (int y = 0; y < 128; ++y)
+            for (int x = 0; x < 128; ++x) std::copy_n(map->at(x + 256, y + 384), 3, crop->at(x, y));
+        const Pyramid pyramid = buildPyramid(crop);
+        for (float a0 : {0.05f, 0.1f, 0.3f}) {
+            const Bake bake = bakeGgxFit(pyramid, fitted(a0));
+            for (int level : {2, 4, 6}) {
+                const int side = 128 >> level, step = std::max(1, side / 4);
+                for (int y = 0; y < side; y += step)
+                    for (int x = 0; x < side; x += step) {
+                        const Footprint f = footprint(pyramid, level, x, y);
+                        std::vector<glm::dvec3> normals;
+                        glm::dvec3 sum(0.);
+                        for (int by = f.y0; by < f.y1; ++by)
+                            for (int bx = f.x0; bx < f.x1; ++bx) {
+                                const float* p = crop->at(bx, by);
+                                normals.push_back(glm::normalize(glm::dvec3(p[0], p[1], p[2])));
+                                sum += normals.back();
+                            }
+                        const DenseObjective objective(normals, glm::normalize(sum), a0);
+                        const double reference = objective.error(objective.bestAlpha());
+                        const double mine = objective.error(alphaAt(bake, level, x, y));
+                        const double toksvig = objective.error(varianceRoughness(
+                            float(glm::length(sum) / double(normals.size())), a0));
+                        worst = std::max(worst, std::sqrt(mine / reference));
+                        fitSum += std::sqrt(mine);
+                        referenceSum += std::sqrt(reference);
+                        toksvigSum += std::sqrt(toksvig);
+                        ++texels;
+                    }
+            }
+        }
+    }
+    std::printf("ggx-fit on %d texels: L2 error / brute force's %.4f (worst %.4f), Toksvig's / "
+                "brute force's %.4f\n",
+                texels, fitSum / referenceSum, worst, toksvigSum / referenceSum);
+    EXPECT_LT(fitSum / referenceSum, 1.01);
+    EXPECT_LT(worst, 1.07);
+    // What the fit is for: Toksvig's variance rule is further from the filtered NDF.
+    EXPECT_LT(fitSum, 0.93 * toksvigSum);
+}
+
+// ---- The shader ---------------------------------------------------------------------------
+
+TEST(GgxFit, ShaderIsAnEnginesGgxLobeAtTheStoredRoughness) {
+    const MethodShader* shader = findShader("ggx-fit");
+    ASSERT_NE(shader, nullptr);
+    EXPECT_EQ(shader->bake, Method::GgxFit);
+    Material m;
+    m.brdf = Brdf::Ggx;
+    m.roughness = 0.1f;
+    m.albedo = glm::vec3(0.f);
+    m.specular = glm::vec3(1.f);
+    RenderTextures textures;
+    textures.bake.parameters["base_roughness"] = 0.1;
+    ShaderSetup setup;
+    ASSERT_TRUE(shader->prepare(m, textures, {}, setup));
+    const float p[4] = {0.f, 0.f, 2.f, 0.3f}; // an unnormalised normal, alpha 0.3
+    const glm::vec3 l = glm::normalize(glm::vec3(0.2f, 0.1f, 1.f)), v(0.f, 0.f, 1.f);
+    Material widened = m;
+    widened.roughness = 0.3f;
+    const glm::vec3 expected = shadeNaive(widened, glm::vec3(0.f), glm::vec3(0.f, 0.f, 1.f), l, v);
+    const glm::vec3 got = shader->shade(setup, m, p, glm::vec3(0.f), l, v);
+    EXPECT_NEAR(got.x, expected.x, 1e-5f * expected.x);
+    EXPECT_NEAR(shader->lobe(setup, m, p, glm::normalize(l + v)),
+                float(ggxD(glm::normalize(l + v).z, 0.3)), 1e-4f);
+}
+
+TEST(GgxFit, ShaderRefusesAnotherMaterial) {
+    const MethodShader* shader = findShader("ggx-fit");
+    ASSERT_NE(shader, nullptr);
+    RenderTextures textures;
+    textures.bake.parameters["base_roughness"] = 0.1;
+    ShaderSetup setup;
+    Material phong;
+    phong.brdf = Brdf::BlinnPhong;
+    phong.exponent = 64.f;
+    const Status blinnPhong = shader->prepare(phong, textures, {}, setup);
+    ASSERT_FALSE(blinnPhong);
+    EXPECT_NE(blinnPhong.error.find("GGX"), std::string::npos) << blinnPhong.error;
+    Material rougher;
+    rougher.brdf = Brdf::Ggx;
+    rougher.roughness = 0.3f;
+    const Status other = shader->prepare(rougher, textures, {}, setup);
+    ASSERT_FALSE(other);
+    EXPECT_NE(other.error.find("--base-roughness 0.3"), std::string::npos) << other.error;
+}
+
+} // namespace
+} // namespace ndfmip
