@@ -106,6 +106,18 @@ Bake bakeMethod(Method method, const Pyramid& pyramid, const BakeOptions& option
     return methodUnit(method).bake(pyramid, options);
 }
 
+MethodParameter materialRoughnessParameter() {
+    return {.key = "base_roughness",
+            .flag = "--base-roughness",
+            .type = ParameterType::Float,
+            .min = 0,
+            .max = 1,
+            .defaultValue = 0,
+            .help = "GGX/Beckmann alpha of the material before filtering",
+            .commands = 0,
+            .recorded = true};
+}
+
 PlaneInfo planeOf(const std::string& name, int channels, bool linear) {
     return {name, std::vector<std::string>(size_t(channels)), "", linear};
 }

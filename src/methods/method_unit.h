@@ -170,6 +170,10 @@ std::vector<MethodShader> leanShaders();
 std::vector<MethodShader> ggxFitShaders();
 
 // Helpers the units share.
+// The material's roughness: an option of every bake (BakeOptions::baseRoughness), not one of a
+// method's own, so no command takes it from a table; a bake that depends on it (toksvig's
+// roughness planes, ggx-fit) lists it so that its manifest must record it.
+MethodParameter materialRoughnessParameter();
 PlaneInfo planeOf(const std::string& name, int channels, bool linear);
 nlohmann::json jsonVec3(const float* v);
 int requirePlane(const LoadedBake& bake, const std::string& name); // throws std::runtime_error

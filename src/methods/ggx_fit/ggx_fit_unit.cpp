@@ -73,17 +73,7 @@ MethodUnit ggxFitUnit() {
         return std::vector<PlaneInfo>{planeOf("normal", 3, true),
                                       planeOf("roughness_ggx", 1, true)};
     };
-    // The material's roughness is an option of every bake; the manifest records it (the shader
-    // refuses a material of another roughness).
-    u.parameters = {{.key = "base_roughness",
-                     .flag = "--base-roughness",
-                     .type = ParameterType::Float,
-                     .min = 0,
-                     .max = 1,
-                     .defaultValue = 0,
-                     .help = "GGX/Beckmann alpha of the material before filtering",
-                     .commands = 0,
-                     .recorded = true}};
+    u.parameters = {materialRoughnessParameter()}; // the shader checks the material's
     u.bakeBytesPerTexel = [](const BakeOptions&) { return 16.0 * 4.0 / 3.0; };
     u.describe = [](const BakeParameters&) { return std::string("ggx-fit bake"); };
     u.inspect = inspectGgxFit;

@@ -77,17 +77,7 @@ MethodUnit toksvigUnit() {
                                       planeOf("roughness_beckmann", 1, false),
                                       planeOf("roughness_ggx", 1, false)};
     };
-    // The material's roughness is an option of every bake (BakeOptions::baseRoughness), not one of
-    // toksvig's own: no command takes it from this table, but a manifest must record it.
-    u.parameters = {{.key = "base_roughness",
-                     .flag = "--base-roughness",
-                     .type = ParameterType::Float,
-                     .min = 0,
-                     .max = 1,
-                     .defaultValue = 0,
-                     .help = "GGX/Beckmann alpha of the material before filtering",
-                     .commands = 0,
-                     .recorded = true}};
+    u.parameters = {materialRoughnessParameter()};
     // Roughness planes, and with a roughness map its alpha^2 chain being averaged.
     u.bakeBytesPerTexel = [](const BakeOptions& o) {
         return 4.0 * 4.0 / 3.0 + (o.roughnessMap ? 8.0 : 0.0);
