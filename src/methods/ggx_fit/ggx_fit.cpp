@@ -85,11 +85,20 @@ struct AngleHistogram {
 
 constexpr size_t kFewNormals = 64;
 
+// acos to 7e-5 radians (Abramowitz and Stegun 4.4.45), a hundredth of the table's finest step;
+// the histogram takes one per normal per level.
+inline float fastAcos(float x) {
+    const float a = std::abs(x);
+    const float r =
+        std::sqrt(1.f - a) * (1.5707288f + a * (-0.2121144f + a * (0.0742610f - 0.0187293f * a)));
+    return x < 0.f ? 3.14159265f - r : r;
+}
+
 void addNormal(AngleHistogram& h, const RingTable& table, const float* n, const float axis[3]) {
     float unit[3];
     normalizeOrFlat(n, unit);
     const float c = unit[0] * axis[0] + unit[1] * axis[1] + unit[2] * axis[2];
-    const float u = std::min(std::acos(std::clamp(c, -1.f, 1.f)) / table.step, float(table.steps));
+    const float u = std::min(fastAcos(std::clamp(c, -1.f, 1.f)) / table.step, float(table.steps));
     const int b = std::min(int(u), table.steps - 1);
     const float f = u - float(b);
     if (h.last < h.first) h.first = h.last = b;
@@ -112,16 +121,22 @@ void clearHistogram(AngleHistogram& h) {
 // solid angles: the L2 distance of the two NDFs over the sphere.
 float fitTexel(const AngleHistogram& normals, const RingTable& table, float r, float a0) {
     if (!(normals.total > 0.f)) return a0;
-    // The rings reach kReach times Toksvig's width, sqrt(a0^2 + 2 sigma^2) (T eq. 1,
-    // roughness.h), spaced evenly in tan(theta).
+    // Rings of equal width in theta up to tan(theta) = kReach x Toksvig's width, sqrt(a0^2 +
+    // 2 sigma^2) (T eq. 1, roughness.h); their edges' cosines by rotation, the weights being the
+    // rings' solid angles / 2 pi.
     const float width = std::min(std::sqrt(a0 * a0 + 2.f * (1.f - r) / std::max(r, 1e-3f)), 2.f);
-    const float step = kReach * width / float(kRings);
     float cosTheta[kRings], target[kRings], weight[kRings];
+    const float reach = std::atan(kReach * width), dTheta = reach / float(kRings);
+    const float cosStep = std::cos(dTheta), sinStep = std::sin(dTheta);
+    const float cosHalf = std::cos(0.5f * dTheta), sinHalf = std::sin(0.5f * dTheta);
+    float cosLo = 1.f, sinLo = 0.f;
     for (int j = 0; j < kRings; ++j) {
-        const float lo = std::atan(step * float(j)), hi = std::atan(step * float(j + 1));
-        const float theta = 0.5f * (lo + hi);
-        cosTheta[j] = std::cos(theta);
-        weight[j] = std::cos(lo) - std::cos(hi);
+        const float cosHi = cosLo * cosStep - sinLo * sinStep;
+        const float sinHi = sinLo * cosStep + cosLo * sinStep;
+        const float theta = dTheta * (float(j) + 0.5f);
+        cosTheta[j] = cosLo * cosHalf - sinLo * sinHalf;
+        weight[j] = cosLo - cosHi;
+        cosLo = cosHi, sinLo = sinHi;
         // Linear in theta between the table's two rings about it.
         const float u = std::min(theta / table.step, float(table.steps));
         const int t = std::min(int(u), table.steps - 1);
@@ -152,30 +167,44 @@ float fitTexel(const AngleHistogram& normals, const RingTable& table, float r, f
         }
         return e;
     };
-    // A scan over log alpha, then golden-section search about its best point.
+    // A scan over log alpha, then parabolic steps in the bracket about its best point (Brent's
+    // idea without his safeguards: the error is smooth and has one minimum in the bracket).
     const float lo = std::log(std::max(0.5f * a0, kMinAlpha)), hi = 0.f;
-    constexpr int kScan = 8;
+    constexpr int kScan = 8, kParabolicSteps = 6;
+    float x[kScan + 1], e[kScan + 1];
     int best = 0;
-    float bestError = error(lo);
-    for (int i = 1; i <= kScan; ++i) {
-        const float e = error(lo + (hi - lo) * float(i) / kScan);
-        if (e < bestError) bestError = e, best = i;
+    for (int i = 0; i <= kScan; ++i) {
+        x[i] = lo + (hi - lo) * float(i) / kScan;
+        e[i] = error(x[i]);
+        if (e[i] < e[best]) best = i;
     }
-    float a = lo + (hi - lo) * float(std::max(best - 1, 0)) / kScan;
-    float c = lo + (hi - lo) * float(std::min(best + 1, kScan)) / kScan;
-    constexpr float kGolden = 0.618034f;
-    float p = c - kGolden * (c - a), q = a + kGolden * (c - a);
-    float ep = error(p), eq = error(q);
-    for (int i = 0; i < 12; ++i) {
-        if (ep < eq) {
-            c = q, q = p, eq = ep;
-            p = c - kGolden * (c - a), ep = error(p);
+    if (best == 0 || best == kScan) return std::min(std::exp(x[best]), 1.f);
+    float xa = x[best - 1], xb = x[best], xc = x[best + 1];
+    float ea = e[best - 1], eb = e[best], ec = e[best + 1];
+    for (int i = 0; i < kParabolicSteps; ++i) {
+        const float p = (xb - xa) * (eb - ec), q = (xb - xc) * (eb - ea);
+        const float denominator = 2.f * (p - q);
+        if (!(std::abs(denominator) > 0.f)) break;
+        float xn = xb - ((xb - xa) * p - (xb - xc) * q) / denominator;
+        // Keep the trial inside the bracket and off its best point.
+        const float margin = 1e-3f * (xc - xa);
+        xn = std::clamp(xn, xa + margin, xc - margin);
+        if (std::abs(xn - xb) < margin) xn = xb + (xn < xb ? -margin : margin);
+        const float en = error(xn);
+        if (en < eb) {
+            if (xn < xb)
+                xc = xb, ec = eb;
+            else
+                xa = xb, ea = eb;
+            xb = xn, eb = en;
         } else {
-            a = p, p = q, ep = eq;
-            q = a + kGolden * (c - a), eq = error(q);
+            if (xn < xb)
+                xa = xn, ea = en;
+            else
+                xc = xn, ec = en;
         }
     }
-    return std::min(std::exp(0.5f * (a + c)), 1.f);
+    return std::min(std::exp(xb), 1.f);
 }
 
 } // namespace

@@ -95,7 +95,7 @@ TEST(GgxFit, NormalsAtPlusMinusThetaWidenTheLobeMonotonically) {
         }));
         const float alpha = alphaAt(bakeGgxFit(pyramid, fitted(0.1f)), 1, 0, 0);
         if (theta == 0.f) {
-            EXPECT_NEAR(alpha, 0.1f, 1e-4f);
+            EXPECT_NEAR(alpha, 0.1f, 3e-4f);
         }
         EXPECT_GT(alpha, previous) << "theta " << theta;
         previous = alpha;
