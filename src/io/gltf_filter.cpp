@@ -234,7 +234,8 @@ class Filter {
         : path_(std::move(path)), asset_(asset),
           dds_(options.textureFormat != GltfTextureFormat::Basisu),
           basisu_(options.textureFormat != GltfTextureFormat::Dds),
-          anisotropy_(options.method == GltfMethod::Sggx) {}
+          anisotropy_(options.method == GltfMethod::Sggx),
+          fitted_(options.method == GltfMethod::GgxFit) {}
 
     GltfFiltered run() {
         json& root = asset_.json;
@@ -822,7 +823,27 @@ class Filter {
             }
             scaled = buildPyramid(SharedImage(s));
         }
-        const Bake bake = bakeToksvig(scaled ? *scaled : pyramid, options);
+        // --method ggx-fit: the roughness fitted to each texel's filtered NDF, for a material of
+        // one roughness; where the roughness varies over its texture, Toksvig's rule (a warning).
+        bool fitted = false;
+        if (fitted_) {
+            const float alpha0 = alpha->pixels.front();
+            const bool uniform = std::all_of(alpha->pixels.begin(), alpha->pixels.end(),
+                                             [&](float a) { return a == alpha0; });
+            if (uniform && alpha0 >= kMinFittedRoughness) {
+                fitted = true;
+            } else {
+                result_.warnings.push_back(
+                    job.where + ": " +
+                    (uniform ? std::string("roughness below 0.1 (alpha below 0.01)")
+                             : std::string("its roughness varies over its texture")) +
+                    ": ggx-fit fits one material roughness; Toksvig's rule used instead");
+            }
+        }
+        BakeOptions fit;
+        fit.baseRoughness = alpha->pixels.front();
+        const Bake bake = fitted ? bakeGgxFit(scaled ? *scaled : pyramid, fit)
+                                 : bakeToksvig(scaled ? *scaled : pyramid, options);
         ++result_.bakes;
         const int ggx = findPlane(bake.planes, "roughness_ggx");
         const int levels = int(pyramid.levels.size());
@@ -869,7 +890,8 @@ class Filter {
                             {{"content", "metallicRoughness"},
                              {"channels",
                               {{"r", "R averaged (occlusion where packed)"},
-                               {"g", "perceptual roughness, Toksvig-filtered"},
+                               {"g", fitted ? "perceptual roughness, fitted to the filtered NDF"
+                                            : "perceptual roughness, Toksvig-filtered"},
                                {"b", "metallic averaged"}}}});
         return out;
     }
@@ -1008,6 +1030,7 @@ class Filter {
     std::map<std::string, AddedLevels> wants_; // slot (JSON pointer) -> the levels it should read
     bool dds_ = false, basisu_ = true;
     bool anisotropy_ = false; // --method sggx: KHR_materials_anisotropy
+    bool fitted_ = false;     // --method ggx-fit: the fitted roughness
     struct PendingUastc {
         int image = -1;                         // added with no bytes yet
         std::future<Result<std::string>> bytes; // its KTX2 file

@@ -279,6 +279,61 @@ TEST(GltfCli, FilteredAssetKeepsEverythingElseAndMatchesBake) {
     EXPECT_NEAR(core->image.at(0, 0)[1], 0.5f, 0.5f / 255.f + 1e-6f);
 }
 
+TEST(GltfCli, GgxFitFitsMaterialsOfOneRoughnessAndKeepsToksvigWhereItVaries) {
+    // 'Plain' has one roughness (factor 0.5, no map): its made map holds ggx-fit's roughness, as
+    // bake --method ggx-fit --base-roughness 0.25 fits it. 'Wall''s roughness varies over its
+    // map: Toksvig's rule, the same bytes as --method toksvig, and a warning naming it.
+    Fixture f;
+    const std::string fit = f.dir.file("fit.glb"), toksvig = f.dir.file("toksvig.glb");
+    std::string output;
+    ASSERT_EQ(test::runCli("gltf " + test::shellArg(f.gltf) + " -o " + test::shellArg(fit) +
+                               " --method ggx-fit" + kDds,
+                           &output),
+              0)
+        << output;
+    EXPECT_NE(output.find("'Wall': its roughness varies over its texture"), std::string::npos)
+        << output;
+    EXPECT_EQ(output.find("'Plain': its roughness"), std::string::npos) << output;
+    ASSERT_EQ(test::runCli("gltf " + test::shellArg(f.gltf) + " -o " + test::shellArg(toksvig) +
+                               " -q" + kDds,
+                           &output),
+              0)
+        << output;
+    const test::Glb glb = test::parseGlb(test::fileBytes(fit));
+    const test::Glb reference = test::parseGlb(test::fileBytes(toksvig));
+    ASSERT_TRUE(glb.ok && reference.ok);
+    EXPECT_EQ(textureDds(glb, 1).levels, textureDds(reference, 1).levels); // Wall
+
+    test::writeBytes(f.dir.path / "normal_copy.png", f.normalPng);
+    const std::string bake = f.dir.file("plain.bake");
+    ASSERT_EQ(test::runCli("bake " + test::shellArg(f.dir.file("normal_copy.png")) +
+                               " --method ggx-fit -q --base-roughness 0.25 -o " +
+                               test::shellArg(bake),
+                           &output),
+              0)
+        << output;
+    const size_t made =
+        glb.json["materials"][2]["pbrMetallicRoughness"]["metallicRoughnessTexture"]["index"]
+            .get<size_t>();
+    const Dds plain = textureDds(glb, made), plainToksvig = textureDds(reference, made);
+    double worst = 0.0;
+    bool differs = false;
+    for (size_t k = 0; k < plain.levels.size(); ++k) {
+        Result<SourceImage> alpha =
+            loadImage(bake + "/roughness_ggx_L" + std::to_string(k) + ".exr");
+        ASSERT_TRUE(alpha);
+        const Image& a = alpha->image;
+        ASSERT_EQ(plain.levels[k].size(), a.texelCount() * 4);
+        for (size_t i = 0; i < a.texelCount(); ++i) {
+            const double g = (unsigned char)plain.levels[k][4 * i + 1] / 255.0;
+            worst = std::max(worst, std::abs(std::min(std::sqrt(double(a.pixels[i])), 1.0) - g));
+            differs |= plain.levels[k][4 * i + 1] != plainToksvig.levels[k][4 * i + 1];
+        }
+    }
+    EXPECT_LE(worst, 1.0 / 255.0);
+    EXPECT_TRUE(differs) << "the fit should differ from Toksvig's rule somewhere";
+}
+
 TEST(GltfCli, GlbInputPassesTheKhronosValidator) {
     Fixture f;
     const std::string input = test::writeGlb(

@@ -26,7 +26,9 @@ void runGltf(const GltfArgs& a) {
     if (std::filesystem::path(a.output).extension() != ".glb")
         throw Failure(a.output + ": the output is a binary glTF: name it .glb");
     GltfOptions options = a.options;
-    options.method = a.method == "sggx" ? GltfMethod::Sggx : GltfMethod::Toksvig;
+    options.method = a.method == "sggx"      ? GltfMethod::Sggx
+                     : a.method == "ggx-fit" ? GltfMethod::GgxFit
+                                             : GltfMethod::Toksvig;
     options.textureFormat = a.textureFormat == "dds"    ? GltfTextureFormat::Dds
                             : a.textureFormat == "both" ? GltfTextureFormat::Both
                                                         : GltfTextureFormat::Basisu;
@@ -83,10 +85,11 @@ void addGltfCommand(CLI::App& app) {
         ->capture_default_str();
     c->add_option("--method", args->method,
                   "how the roughness takes the normals' spread: toksvig (one isotropic roughness "
-                  "per texel) or sggx (one anisotropic GGX lobe per texel from the slope moments, "
+                  "per texel), sggx (one anisotropic GGX lobe per texel from the slope moments, "
                   "written as KHR_materials_anisotropy with an anisotropyTexture of ndfmip's "
-                  "levels)")
-        ->check(CLI::IsMember({"toksvig", "sggx"}))
+                  "levels) or ggx-fit (the roughness fitted to each texel's filtered NDF, for "
+                  "materials of one roughness; others keep toksvig's, with a warning)")
+        ->check(CLI::IsMember({"toksvig", "sggx", "ggx-fit"}))
         ->capture_default_str();
     c->add_flag("--allow-outside", args->options.allowOutside,
                 "read buffer and image uris outside the asset's folder (absolute paths, file:, "
