@@ -132,9 +132,12 @@ void checkFileOptions(const BakeFileOptions& a) {
         fail("--export png16 needs a method that stores a normal (naive, toksvig)");
     if (!a.roughnessMap.empty() && *method != Method::Toksvig)
         fail("--roughness-map applies to --method toksvig (its roughness planes)");
-    if (bakeFitsMaterialRoughness(*method) && a.baseRoughness < kMinFittedRoughness)
+    if (bakeFitsMaterialRoughness(*method) && a.baseRoughness == 0.f)
         fail(std::string("--method ") + methodName(*method) +
              " fits one GGX lobe to the material's: give its --base-roughness (at least 0.01)");
+    if (bakeFitsMaterialRoughness(*method) && a.baseRoughness < kMinFittedRoughness)
+        fail("--base-roughness " + number(a.baseRoughness) + ": --method " + methodName(*method) +
+             " fits a GGX alpha of at least 0.01");
     if (!a.roughnessMap.empty() && a.baseRoughness != 0.f)
         fail("--roughness-map and --base-roughness both set the material's roughness: give one");
     if (!a.gloss.empty() && a.maxExponent <= 0.f)
