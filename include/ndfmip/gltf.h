@@ -41,9 +41,8 @@ enum class GltfTextureFormat { Basisu, Dds, Both };
 // KHR_materials_anisotropy: metallicRoughness G = sqrt(alpha_b), an anisotropyTexture of its
 // own (RG the direction of alpha_t in the tangent frame as (d + 1)/2, B the strength s with
 // alpha_t = mix(alpha_b, 1, s^2)), every level ndfmip's.
-// ggx-fit: the roughness fitted to each texel's filtered NDF (bake --method ggx-fit) for a
-// material of one roughness (roughnessFactor without a texture, or a texture of one value); a
-// material whose roughness varies keeps Toksvig's rule, with a warning.
+// ggx-fit: the roughness fitted to each texel's filtered NDF (bake --method ggx-fit
+// --roughness-map), the material's alpha_0 per texel the lobes it widens.
 enum class GltfMethod { Toksvig, Sggx, GgxFit };
 
 struct GltfOptions {

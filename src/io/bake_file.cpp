@@ -130,12 +130,14 @@ void checkFileOptions(const BakeFileOptions& a) {
     if (exports.count("png16") &&
         (*method == Method::Sh || *method == Method::Vmf || *method == Method::Lean))
         fail("--export png16 needs a method that stores a normal (naive, toksvig)");
-    if (!a.roughnessMap.empty() && *method != Method::Toksvig)
-        fail("--roughness-map applies to --method toksvig (its roughness planes)");
-    if (bakeFitsMaterialRoughness(*method) && a.baseRoughness == 0.f)
+    if (!a.roughnessMap.empty() && *method != Method::Toksvig && *method != Method::GgxFit)
+        fail("--roughness-map applies to --method toksvig and ggx-fit (their roughness planes)");
+    if (bakeFitsMaterialRoughness(*method) && a.baseRoughness == 0.f && a.roughnessMap.empty())
         fail(std::string("--method ") + methodName(*method) +
-             " fits one GGX lobe to the material's: give its --base-roughness (at least 0.01)");
-    if (bakeFitsMaterialRoughness(*method) && a.baseRoughness < kMinFittedRoughness)
+             " fits one GGX lobe to the material's: give its --base-roughness (at least 0.01) "
+             "or --roughness-map");
+    if (bakeFitsMaterialRoughness(*method) && a.roughnessMap.empty() &&
+        a.baseRoughness < kMinFittedRoughness)
         fail("--base-roughness " + number(a.baseRoughness) + ": --method " + methodName(*method) +
              " fits a GGX alpha of at least 0.01");
     if (!a.roughnessMap.empty() && a.baseRoughness != 0.f)
@@ -457,13 +459,14 @@ Status checkBakeOptions(Method method, const BakeOptions& o, int width, int heig
         if (Status s = checkParameterValues(method, o.parameters, ParameterNaming::Key); !s)
             fail(s.error);
         requireRange("base_roughness", o.baseRoughness, 0.0, 1.0);
-        if (bakeFitsMaterialRoughness(method) && o.baseRoughness < kMinFittedRoughness)
+        if (bakeFitsMaterialRoughness(method) && !o.roughnessMap &&
+            o.baseRoughness < kMinFittedRoughness)
             fail(std::string(methodName(method)) +
                  " fits one GGX lobe to the material's: base_roughness must be at least 0.01");
         if (o.roughnessMap) {
             const Image& r = *o.roughnessMap;
-            if (method != Method::Toksvig)
-                fail("roughness: applies to method toksvig (its roughness planes)");
+            if (method != Method::Toksvig && method != Method::GgxFit)
+                fail("roughness: applies to methods toksvig and ggx-fit (their roughness planes)");
             if (r.width != width || r.height != height || r.channels != 1)
                 fail("roughness: " + std::to_string(r.width) + "x" + std::to_string(r.height) +
                      "x" + std::to_string(r.channels) + " but the normal map is " +

@@ -823,27 +823,10 @@ class Filter {
             }
             scaled = buildPyramid(SharedImage(s));
         }
-        // --method ggx-fit: the roughness fitted to each texel's filtered NDF, for a material of
-        // one roughness; where the roughness varies over its texture, Toksvig's rule (a warning).
-        bool fitted = false;
-        if (fitted_) {
-            const float alpha0 = alpha->pixels.front();
-            const bool uniform = std::all_of(alpha->pixels.begin(), alpha->pixels.end(),
-                                             [&](float a) { return a == alpha0; });
-            if (uniform && alpha0 >= kMinFittedRoughness) {
-                fitted = true;
-            } else {
-                result_.warnings.push_back(
-                    job.where + ": " +
-                    (uniform ? std::string("roughness below 0.1 (alpha below 0.01)")
-                             : std::string("its roughness varies over its texture")) +
-                    ": ggx-fit fits one material roughness; Toksvig's rule used instead");
-            }
-        }
-        BakeOptions fit;
-        fit.baseRoughness = alpha->pixels.front();
-        const Bake bake = fitted ? bakeGgxFit(scaled ? *scaled : pyramid, fit)
-                                 : bakeToksvig(scaled ? *scaled : pyramid, options);
+        // --method ggx-fit: the roughness fitted to each texel's filtered NDF, the material's own
+        // alpha per texel the lobes it widens (bake --method ggx-fit --roughness-map).
+        const Bake bake = fitted_ ? bakeGgxFit(scaled ? *scaled : pyramid, options)
+                                  : bakeToksvig(scaled ? *scaled : pyramid, options);
         ++result_.bakes;
         const int ggx = findPlane(bake.planes, "roughness_ggx");
         const int levels = int(pyramid.levels.size());
@@ -890,8 +873,8 @@ class Filter {
                             {{"content", "metallicRoughness"},
                              {"channels",
                               {{"r", "R averaged (occlusion where packed)"},
-                               {"g", fitted ? "perceptual roughness, fitted to the filtered NDF"
-                                            : "perceptual roughness, Toksvig-filtered"},
+                               {"g", fitted_ ? "perceptual roughness, fitted to the filtered NDF"
+                                             : "perceptual roughness, Toksvig-filtered"},
                                {"b", "metallic averaged"}}}});
         return out;
     }

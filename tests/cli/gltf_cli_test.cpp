@@ -279,21 +279,17 @@ TEST(GltfCli, FilteredAssetKeepsEverythingElseAndMatchesBake) {
     EXPECT_NEAR(core->image.at(0, 0)[1], 0.5f, 0.5f / 255.f + 1e-6f);
 }
 
-TEST(GltfCli, GgxFitFitsMaterialsOfOneRoughnessAndKeepsToksvigWhereItVaries) {
-    // 'Plain' has one roughness (factor 0.5, no map): its made map holds ggx-fit's roughness, as
-    // bake --method ggx-fit --base-roughness 0.25 fits it. 'Wall''s roughness varies over its
-    // map: Toksvig's rule, the same bytes as --method toksvig, and a warning naming it.
+TEST(GltfCli, GgxFitWritesTheFittedRoughnessOfEachMaterial) {
+    // Each material's G levels are the ggx-fit bake's alpha with the material's roughness per
+    // texel: 'Wall' its map (G times the factor 0.9), 'Plain' its factor 0.5 (alpha 0.25).
     Fixture f;
     const std::string fit = f.dir.file("fit.glb"), toksvig = f.dir.file("toksvig.glb");
     std::string output;
     ASSERT_EQ(test::runCli("gltf " + test::shellArg(f.gltf) + " -o " + test::shellArg(fit) +
-                               " --method ggx-fit" + kDds,
+                               " -q --method ggx-fit" + kDds,
                            &output),
               0)
         << output;
-    EXPECT_NE(output.find("'Wall': its roughness varies over its texture"), std::string::npos)
-        << output;
-    EXPECT_EQ(output.find("'Plain': its roughness"), std::string::npos) << output;
     ASSERT_EQ(test::runCli("gltf " + test::shellArg(f.gltf) + " -o " + test::shellArg(toksvig) +
                                " -q" + kDds,
                            &output),
@@ -302,36 +298,64 @@ TEST(GltfCli, GgxFitFitsMaterialsOfOneRoughnessAndKeepsToksvigWhereItVaries) {
     const test::Glb glb = test::parseGlb(test::fileBytes(fit));
     const test::Glb reference = test::parseGlb(test::fileBytes(toksvig));
     ASSERT_TRUE(glb.ok && reference.ok);
-    EXPECT_EQ(textureDds(glb, 1).levels, textureDds(reference, 1).levels); // Wall
 
+    const float factor = 0.9f;
+    Image material = materialMap(f.width, f.height);
+    Image scaled(f.width, f.height, 1);
+    for (size_t i = 0; i < scaled.texelCount(); ++i)
+        scaled.pixels[i] = std::round(material.pixels[3 * i + 1] * 255.f) / 255.f * factor;
+    ASSERT_TRUE(savePng(f.dir.file("roughness16.png"), scaled, 16));
     test::writeBytes(f.dir.path / "normal_copy.png", f.normalPng);
-    const std::string bake = f.dir.file("plain.bake");
-    ASSERT_EQ(test::runCli("bake " + test::shellArg(f.dir.file("normal_copy.png")) +
-                               " --method ggx-fit -q --base-roughness 0.25 -o " +
-                               test::shellArg(bake),
+    const std::string wallBake = f.dir.file("wall.bake"), plainBake = f.dir.file("plain.bake");
+    const std::string normal = test::shellArg(f.dir.file("normal_copy.png"));
+    ASSERT_EQ(test::runCli("bake " + normal + " --method ggx-fit -q --roughness-map " +
+                               test::shellArg(f.dir.file("roughness16.png")) + " -o " +
+                               test::shellArg(wallBake),
+                           &output),
+              0)
+        << output;
+    ASSERT_EQ(test::runCli("bake " + normal + " --method ggx-fit -q --base-roughness 0.25 -o " +
+                               test::shellArg(plainBake),
                            &output),
               0)
         << output;
     const size_t made =
         glb.json["materials"][2]["pbrMetallicRoughness"]["metallicRoughnessTexture"]["index"]
             .get<size_t>();
-    const Dds plain = textureDds(glb, made), plainToksvig = textureDds(reference, made);
-    double worst = 0.0;
-    bool differs = false;
-    for (size_t k = 0; k < plain.levels.size(); ++k) {
-        Result<SourceImage> alpha =
-            loadImage(bake + "/roughness_ggx_L" + std::to_string(k) + ".exr");
-        ASSERT_TRUE(alpha);
-        const Image& a = alpha->image;
-        ASSERT_EQ(plain.levels[k].size(), a.texelCount() * 4);
-        for (size_t i = 0; i < a.texelCount(); ++i) {
-            const double g = (unsigned char)plain.levels[k][4 * i + 1] / 255.0;
-            worst = std::max(worst, std::abs(std::min(std::sqrt(double(a.pixels[i])), 1.0) - g));
-            differs |= plain.levels[k][4 * i + 1] != plainToksvig.levels[k][4 * i + 1];
+    struct Check {
+        size_t texture;
+        std::string bake;
+        float factor;
+    };
+    for (const Check& c : {Check{1, wallBake, factor}, Check{made, plainBake, 1.f}}) {
+        SCOPED_TRACE(c.bake);
+        const Dds mine = textureDds(glb, c.texture), toksvigs = textureDds(reference, c.texture);
+        double worst = 0.0;
+        size_t off = 0, texels = 0;
+        bool differs = false;
+        for (size_t k = 0; k < mine.levels.size(); ++k) {
+            Result<SourceImage> alpha =
+                loadImage(c.bake + "/roughness_ggx_L" + std::to_string(k) + ".exr");
+            ASSERT_TRUE(alpha);
+            const Image& a = alpha->image;
+            ASSERT_EQ(mine.levels[k].size(), a.texelCount() * 4);
+            for (size_t i = 0; i < a.texelCount(); ++i) {
+                const double g = (unsigned char)mine.levels[k][4 * i + 1] / 255.0;
+                const double expected = std::min(std::sqrt(double(a.pixels[i])) / c.factor, 1.0);
+                worst = std::max(worst, std::abs(expected - g));
+                off += std::abs(expected - g) > 1.0 / 255.0 + 1e-6;
+                ++texels;
+                differs |= mine.levels[k][4 * i + 1] != toksvigs.levels[k][4 * i + 1];
+            }
         }
+        std::printf("%s: %zu of %zu texels more than 1/255 off (worst %.4f)\n", c.bake.c_str(), off,
+                    texels, worst);
+        // The reference reads the roughness from a 16-bit PNG, the filter from the 8-bit map
+        // times the factor: measured 1 texel of 739450 off (0.18) where the map nears alpha 0.01
+        // and the fit has two minima, a narrow and a wide lobe, that the difference tips.
+        EXPECT_LE(off, texels / 100000) << "worst " << worst;
+        EXPECT_TRUE(differs) << "the fit should differ from Toksvig's rule somewhere";
     }
-    EXPECT_LE(worst, 1.0 / 255.0);
-    EXPECT_TRUE(differs) << "the fit should differ from Toksvig's rule somewhere";
 }
 
 TEST(GltfCli, GlbInputPassesTheKhronosValidator) {

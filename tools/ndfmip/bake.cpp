@@ -311,8 +311,8 @@ void addBakeCommand(CLI::App& app) {
     addInputOptions(c, args->input_options);
     c->add_option(
         "--roughness-map", args->roughnessMap,
-        "toksvig: the material's roughness per texel (same size as the map), combined with the "
-        "normals' variance at every level");
+        "toksvig, ggx-fit: the material's roughness per texel (same size as the map), combined "
+        "with the normals' spread at every level");
     c->add_option("--roughness-channel", args->roughnessChannel,
                   "the roughness map's channel: r, g, b or a")
         ->check(CLI::IsMember({"r", "g", "b", "a"}))

@@ -87,8 +87,7 @@ void addGltfCommand(CLI::App& app) {
                   "how the roughness takes the normals' spread: toksvig (one isotropic roughness "
                   "per texel), sggx (one anisotropic GGX lobe per texel from the slope moments, "
                   "written as KHR_materials_anisotropy with an anisotropyTexture of ndfmip's "
-                  "levels) or ggx-fit (the roughness fitted to each texel's filtered NDF, for "
-                  "materials of one roughness; others keep toksvig's, with a warning)")
+                  "levels) or ggx-fit (the roughness fitted to each texel's filtered NDF)")
         ->check(CLI::IsMember({"toksvig", "sggx", "ggx-fit"}))
         ->capture_default_str();
     c->add_flag("--allow-outside", args->options.allowOutside,

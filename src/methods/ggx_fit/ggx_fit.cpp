@@ -78,9 +78,14 @@ struct AngleHistogram {
     std::vector<float> counts; // table.steps + 1, zero outside [first, last]
     int first = 0, last = -1;
     float total = 0.f;
-    // The normals' steps and fractions while few: a sum over them is cheaper than over the
-    // histogram's range when that is wider than they are many.
-    std::vector<std::pair<int, float>> few;
+    // The normals' steps, fractions and weights while few: a sum over them is cheaper than over
+    // the histogram's range when that is wider than they are many.
+    struct Entry {
+        int b;
+        float f, w;
+    };
+    std::vector<Entry> few;
+    size_t entries = 0; // normals added, few or not
 };
 
 constexpr size_t kFewNormals = 64;
@@ -94,19 +99,18 @@ inline float fastAcos(float x) {
     return x < 0.f ? 3.14159265f - r : r;
 }
 
-void addNormal(AngleHistogram& h, const RingTable& table, const float* n, const float axis[3]) {
-    float unit[3];
-    normalizeOrFlat(n, unit);
-    const float c = unit[0] * axis[0] + unit[1] * axis[1] + unit[2] * axis[2];
-    const float u = std::min(fastAcos(std::clamp(c, -1.f, 1.f)) / table.step, float(table.steps));
+// A normal at angle beta from the axis, with weight w.
+inline void addAngle(AngleHistogram& h, const RingTable& table, float beta, float w) {
+    const float u = std::min(beta / table.step, float(table.steps));
     const int b = std::min(int(u), table.steps - 1);
     const float f = u - float(b);
     if (h.last < h.first) h.first = h.last = b;
     h.first = std::min(h.first, b), h.last = std::max(h.last, b + 1);
-    h.counts[size_t(b)] += 1.f - f;
-    h.counts[size_t(b) + 1] += f;
-    h.total += 1.f;
-    if (h.few.size() < kFewNormals) h.few.emplace_back(b, f);
+    h.counts[size_t(b)] += w * (1.f - f);
+    h.counts[size_t(b) + 1] += w * f;
+    h.total += w;
+    if (h.few.size() < kFewNormals) h.few.push_back({b, f, w});
+    ++h.entries;
 }
 
 void clearHistogram(AngleHistogram& h) {
@@ -114,13 +118,141 @@ void clearHistogram(AngleHistogram& h) {
         std::fill(h.counts.begin() + h.first, h.counts.begin() + h.last + 1, 0.f);
     h.first = 0, h.last = -1, h.total = 0.f;
     h.few.clear();
+    h.entries = 0;
 }
 
-// The fitted alpha of one texel: `r` its mean normal's length |Na|, a0 the material's alpha.
-// The error is the squared difference on kRings rings about the mean normal, weighted by their
-// solid angles: the L2 distance of the two NDFs over the sphere.
-float fitTexel(const AngleHistogram& normals, const RingTable& table, float r, float a0) {
-    if (!(normals.total > 0.f)) return a0;
+// The material's lobes: one ring table per alpha of a geometric grid (ratio kAlphaRatio) over the
+// roughness map's values, each normal's lobe split linearly in log alpha between its two
+// neighbouring tables; without a map, one table at the material's alpha.
+constexpr float kAlphaRatio = 1.15f;
+
+struct MaterialLobes {
+    std::vector<RingTable> tables;
+    float logFirst = 0.f; // ln alpha of table 0
+    SharedImage map;      // alpha per level-0 texel (null: every texel the material's)
+    float alpha = 0.f;    // the material's alpha without a map
+
+    float alphaAt(int x, int y) const {
+        return map ? std::clamp(map->at(x, y)[0], kMinFittedRoughness, 1.f) : alpha;
+    }
+    // Table k and the share of table k + 1 for a lobe of alpha a.
+    std::pair<int, float> tableOf(float a) const {
+        if (tables.size() == 1) return {0, 0.f};
+        const float u = std::clamp((std::log(a) - logFirst) / std::log(kAlphaRatio), 0.f,
+                                   float(tables.size() - 1));
+        const int k = std::min(int(u), int(tables.size()) - 2);
+        return {k, u - float(k)};
+    }
+};
+
+MaterialLobes materialLobes(const BakeOptions& options) {
+    MaterialLobes lobes;
+    lobes.alpha = std::clamp(options.baseRoughness, kMinFittedRoughness, 1.f);
+    if (!options.roughnessMap) {
+        lobes.tables.push_back(ringTable(lobes.alpha));
+        lobes.logFirst = std::log(lobes.alpha);
+        return lobes;
+    }
+    // The map's own alpha, its first channel (as toksvig reads it).
+    const Image& given = *options.roughnessMap;
+    auto map = std::make_shared<Image>(given.width, given.height, 1, Image::Uninitialized{});
+    float lo = 1.f, hi = kMinFittedRoughness;
+    for (size_t i = 0; i < map->texelCount(); ++i) {
+        const float a =
+            std::clamp(given.pixels[i * size_t(given.channels)], kMinFittedRoughness, 1.f);
+        map->pixels[i] = a;
+        lo = std::min(lo, a), hi = std::max(hi, a);
+    }
+    lobes.map = std::move(map);
+    lobes.logFirst = std::log(lo);
+    const int count = 1 + int(std::ceil(std::log(hi / lo) / std::log(kAlphaRatio) - 1e-4f));
+    for (int k = 0; k < count; ++k)
+        lobes.tables.push_back(
+            ringTable(std::exp(lobes.logFirst + float(k) * std::log(kAlphaRatio))));
+    if (lobes.tables.size() == 1) lobes.tables.push_back(lobes.tables.front()); // lo == hi
+    return lobes;
+}
+
+// One texel's normals: a histogram per table, and their lobes' mean alpha^2.
+struct TexelNormals {
+    std::vector<AngleHistogram> histograms;
+    std::vector<int> used; // the tables with normals, once each
+    float alpha2 = 0.f, total = 0.f;
+    float narrowest = 1.f; // the least alpha among them
+};
+
+inline void addNormal(TexelNormals& t, const MaterialLobes& lobes, const float* n, float a,
+                      const float axis[3]) {
+    float unit[3];
+    normalizeOrFlat(n, unit);
+    const float c = unit[0] * axis[0] + unit[1] * axis[1] + unit[2] * axis[2];
+    const float beta = fastAcos(std::clamp(c, -1.f, 1.f));
+    t.alpha2 += a * a;
+    t.total += 1.f;
+    t.narrowest = std::min(t.narrowest, a);
+    if (!lobes.map) { // one table
+        if (t.used.empty()) t.used.push_back(0);
+        addAngle(t.histograms.front(), lobes.tables.front(), beta, 1.f);
+        return;
+    }
+    const auto [k, share] = lobes.tableOf(a);
+    for (int j = 0; j < 2; ++j) {
+        const float w = j == 0 ? 1.f - share : share;
+        if (!(w > 0.f)) continue;
+        AngleHistogram& h = t.histograms[size_t(k + j)];
+        if (h.entries == 0) t.used.push_back(k + j);
+        addAngle(h, lobes.tables[size_t(k + j)], beta, w);
+    }
+}
+
+void clearTexel(TexelNormals& t) {
+    for (int k : t.used) clearHistogram(t.histograms[size_t(k)]);
+    t.used.clear();
+    t.alpha2 = t.total = 0.f;
+    t.narrowest = 1.f;
+}
+
+// T on the ring at theta: the normals' ring means, table by table, linear in theta between the
+// table's two rings about it.
+float ringTarget(const TexelNormals& normals, const MaterialLobes& lobes, float theta) {
+    float sum = 0.f;
+    for (int k : normals.used) {
+        const AngleHistogram& h = normals.histograms[size_t(k)];
+        const RingTable& table = lobes.tables[size_t(k)];
+        const float u = std::min(theta / table.step, float(table.steps));
+        const int t = std::min(int(u), table.steps - 1);
+        const float* below = table.ring(t);
+        const float* above = table.ring(t + 1);
+        float sumBelow = 0.f, sumAbove = 0.f;
+        if (h.entries <= kFewNormals && 2 * h.entries < size_t(h.last - h.first + 1)) {
+            if (lobes.map) {
+                for (const AngleHistogram::Entry& e : h.few) {
+                    sumBelow += e.w * (below[e.b] + e.f * (below[e.b + 1] - below[e.b]));
+                    sumAbove += e.w * (above[e.b] + e.f * (above[e.b + 1] - above[e.b]));
+                }
+            } else { // every weight 1
+                for (const AngleHistogram::Entry& e : h.few) {
+                    sumBelow += below[e.b] + e.f * (below[e.b + 1] - below[e.b]);
+                    sumAbove += above[e.b] + e.f * (above[e.b + 1] - above[e.b]);
+                }
+            }
+        } else {
+            for (int b = h.first; b <= h.last; ++b) {
+                sumBelow += h.counts[size_t(b)] * below[b];
+                sumAbove += h.counts[size_t(b)] * above[b];
+            }
+        }
+        sum += sumBelow + (u - float(t)) * (sumAbove - sumBelow);
+    }
+    return sum / normals.total;
+}
+
+// The fitted alpha of one texel: `r` its mean normal's length |Na|. The error is the squared
+// difference on kRings rings about the mean normal, weighted by their solid angles: the L2
+// distance of the two NDFs over the sphere.
+float fitTexel(const TexelNormals& normals, const MaterialLobes& lobes, float r) {
+    const float a0 = std::sqrt(normals.alpha2 / std::max(normals.total, 1.f)); // RMS alpha
+    if (!(normals.total > 0.f)) return lobes.alpha;
     // Rings of equal width in theta up to tan(theta) = kReach x Toksvig's width, sqrt(a0^2 +
     // 2 sigma^2) (T eq. 1, roughness.h); their edges' cosines by rotation, the weights being the
     // rings' solid angles / 2 pi.
@@ -137,26 +269,7 @@ float fitTexel(const AngleHistogram& normals, const RingTable& table, float r, f
         cosTheta[j] = cosLo * cosHalf - sinLo * sinHalf;
         weight[j] = cosLo - cosHi;
         cosLo = cosHi, sinLo = sinHi;
-        // Linear in theta between the table's two rings about it.
-        const float u = std::min(theta / table.step, float(table.steps));
-        const int t = std::min(int(u), table.steps - 1);
-        const float* below = table.ring(t);
-        const float* above = table.ring(t + 1);
-        float sumBelow = 0.f, sumAbove = 0.f;
-        if (normals.total <= float(kFewNormals) &&
-            2.f * normals.total < float(normals.last - normals.first + 1)) {
-            for (const auto& [b, f] : normals.few) {
-                sumBelow += below[b] + f * (below[b + 1] - below[b]);
-                sumAbove += above[b] + f * (above[b + 1] - above[b]);
-            }
-        } else {
-            for (int b = normals.first; b <= normals.last; ++b) {
-                sumBelow += normals.counts[size_t(b)] * below[b];
-                sumAbove += normals.counts[size_t(b)] * above[b];
-            }
-        }
-        const float sum = sumBelow + (u - float(t)) * (sumAbove - sumBelow);
-        target[j] = sum / normals.total;
+        target[j] = ringTarget(normals, lobes, theta);
     }
     auto error = [&](float logAlpha) {
         const float a = std::exp(logAlpha);
@@ -169,7 +282,7 @@ float fitTexel(const AngleHistogram& normals, const RingTable& table, float r, f
     };
     // A scan over log alpha, then parabolic steps in the bracket about its best point (Brent's
     // idea without his safeguards: the error is smooth and has one minimum in the bracket).
-    const float lo = std::log(std::max(0.5f * a0, kMinAlpha)), hi = 0.f;
+    const float lo = std::log(std::max(0.5f * normals.narrowest, kMinAlpha)), hi = 0.f;
     constexpr int kScan = 8, kParabolicSteps = 6;
     float x[kScan + 1], e[kScan + 1];
     int best = 0;
@@ -212,9 +325,8 @@ float fitTexel(const AngleHistogram& normals, const RingTable& table, float r, f
 Bake bakeGgxFit(const Pyramid& pyramid, const BakeOptions& options) {
     Bake bake;
     bake.method = Method::GgxFit;
-    // A material alpha below kMinFittedRoughness (the commands refuse it) is fitted as that.
-    const float a0 = std::max(options.baseRoughness, kMinFittedRoughness);
     bake.parameters["base_roughness"] = options.baseRoughness;
+    if (options.roughnessMap) bake.parameters["roughness_map"] = 1.0;
     bake.planes = {
         {"normal", {"n.x", "n.y", "n.z"}, "mean normal renormalised to unit length", true},
         {"roughness_ggx",
@@ -222,7 +334,8 @@ Bake bakeGgxFit(const Pyramid& pyramid, const BakeOptions& options) {
          "GGX alpha of the one lobe about the normal closest to the texel's filtered NDF",
          true},
     };
-    const RingTable table = ringTable(a0);
+    // A material alpha below kMinFittedRoughness (the commands refuse it) is fitted as that.
+    const MaterialLobes lobes = materialLobes(options);
     const Image& base = *pyramid.base;
     const int count = int(pyramid.levels.size());
     bake.levels.resize(count);
@@ -234,23 +347,26 @@ Bake bakeGgxFit(const Pyramid& pyramid, const BakeOptions& options) {
         const int64_t texels = int64_t(mean.texelCount());
 #pragma omp parallel
         {
-            AngleHistogram histogram;
-            histogram.counts.assign(size_t(table.steps) + 1, 0.f);
+            TexelNormals normals;
+            normals.histograms.resize(lobes.tables.size());
+            for (size_t t = 0; t < lobes.tables.size(); ++t)
+                normals.histograms[t].counts.assign(size_t(lobes.tables[t].steps) + 1, 0.f);
 #pragma omp for schedule(dynamic, 16)
             for (int64_t i = 0; i < texels; ++i) {
                 const float* na = &mean.pixels[3 * size_t(i)];
                 float* n = &normal.pixels[3 * size_t(i)];
                 normalizeOrFlat(na, n);
+                const int x = int(i % width), y = int(i / width);
                 if (k == 0) {
-                    alpha.pixels[size_t(i)] = a0; // one normal: the material's own lobe
+                    alpha.pixels[size_t(i)] = lobes.alphaAt(x, y); // one normal: its own lobe
                     continue;
                 }
-                const Footprint f = footprint(pyramid, k, int(i % width), int(i / width));
-                for (int y = f.y0; y < f.y1; ++y)
-                    for (int x = f.x0; x < f.x1; ++x) addNormal(histogram, table, base.at(x, y), n);
-                alpha.pixels[size_t(i)] =
-                    fitTexel(histogram, table, std::min(length3(na), 1.f), a0);
-                clearHistogram(histogram);
+                const Footprint f = footprint(pyramid, k, x, y);
+                for (int by = f.y0; by < f.y1; ++by)
+                    for (int bx = f.x0; bx < f.x1; ++bx)
+                        addNormal(normals, lobes, base.at(bx, by), lobes.alphaAt(bx, by), n);
+                alpha.pixels[size_t(i)] = fitTexel(normals, lobes, std::min(length3(na), 1.f));
+                clearTexel(normals);
             }
         }
         bake.levels[k] = {std::make_shared<const Image>(std::move(normal)),

@@ -18,8 +18,10 @@ Status prepareGgxFit(const Material& m, const RenderTextures& textures,
             std::string("render: ggx-fit stores a GGX roughness fitted to a GGX material, the "
                         "material is ") +
             brdfName(m.brdf));
+    // Fitted to one material roughness (not to a roughness map): the material must be it.
     const auto base = textures.bake.parameters.find("base_roughness");
-    if (base != textures.bake.parameters.end() &&
+    if (!textures.bake.parameters.count("roughness_map") &&
+        base != textures.bake.parameters.end() &&
         std::abs(float(base->second) - m.roughness) > 1e-4f) {
         char text[256];
         std::snprintf(text, sizeof text,
@@ -74,7 +76,10 @@ MethodUnit ggxFitUnit() {
                                       planeOf("roughness_ggx", 1, true)};
     };
     u.parameters = {materialRoughnessParameter()}; // the shader checks the material's
-    u.bakeBytesPerTexel = [](const BakeOptions&) { return 16.0 * 4.0 / 3.0; };
+    // The planes, and with a roughness map its alpha.
+    u.bakeBytesPerTexel = [](const BakeOptions& o) {
+        return 16.0 * 4.0 / 3.0 + (o.roughnessMap ? 4.0 : 0.0);
+    };
     u.describe = [](const BakeParameters&) { return std::string("ggx-fit bake"); };
     u.inspect = inspectGgxFit;
     u.levelZeroNormal = [](const float* p) { return glm::vec3(p[0], p[1], p[2]); };

@@ -124,7 +124,8 @@ TEST(GgxFit, NonPowerOfTwoMapsGiveFiniteRoughnessEverywhere) {
 struct DenseObjective {
     std::vector<double> cosTheta, weight, target;
 
-    DenseObjective(const std::vector<glm::dvec3>& normals, glm::dvec3 axis, double a0) {
+    DenseObjective(const std::vector<glm::dvec3>& normals, const std::vector<double>& alphas,
+                   glm::dvec3 axis) {
         double widest = 0.;
         for (const glm::dvec3& n : normals)
             widest = std::max(widest, std::acos(std::clamp(glm::dot(n, axis), -1., 1.)));
@@ -140,7 +141,8 @@ struct DenseObjective {
                 const double phi = 2. * kPiD * (m + 0.5) / kAzimuths;
                 const glm::dvec3 h = std::cos(theta) * axis +
                                      std::sin(theta) * (std::cos(phi) * t + std::sin(phi) * b);
-                for (const glm::dvec3& n : normals) sum += ggxD(glm::dot(h, n), a0);
+                for (size_t i = 0; i < normals.size(); ++i)
+                    sum += ggxD(glm::dot(h, normals[i]), alphas[i]);
             }
             cosTheta.push_back(std::cos(theta));
             weight.push_back(std::cos(lo) - std::cos(hi));
@@ -174,62 +176,142 @@ struct DenseObjective {
     }
 };
 
-TEST(GgxFit, MatchesABruteForceFitOnRealMaps) {
-    const std::filesystem::path dir = test::sharedNormalMaps();
-    if (dir.empty()) GTEST_SKIP() << "../shared/data/normalmaps not found";
-    // Two maps, one per green convention and bit depth, crops of 128 x 128.
+// ggx-fit against the brute-force fit on 128 x 128 crops of two real maps (one per green
+// convention and bit depth), levels 2, 4 and 6, for each material: a constant alpha, or a
+// roughness map (`roughness` non-null, its alpha per texel). Sums of the texels' L2 errors.
+struct AgainstBruteForce {
+    double fit = 0., reference = 0., toksvig = 0., worst = 0.;
+    int texels = 0;
+};
+
+AgainstBruteForce againstBruteForce(const std::filesystem::path& dir,
+                                    const std::vector<float>& alphas,
+                                    const std::function<float(int, int)>& roughness) {
+    AgainstBruteForce out;
     struct Case {
         const char* file;
         bool greenDown;
     };
-    double worst = 0., fitSum = 0., referenceSum = 0., toksvigSum = 0.;
-    int texels = 0;
     for (const Case& c :
          {Case{"stktex_generic_rockA_Normal.png", false}, Case{"Ground010_1K_Normal.png", true}}) {
         DecodeOptions decode;
         decode.greenDown = c.greenDown;
         Result<Image> map = loadNormalMap((dir / c.file).string(), decode, nullptr);
-        ASSERT_TRUE(map.ok()) << map.error().message;
+        EXPECT_TRUE(map.ok()) << map.error().message;
+        if (!map.ok()) return out;
         auto crop = std::make_shared<Image>(128, 128, 3);
         for (int y = 0; y < 128; ++y)
             for (int x = 0; x < 128; ++x) std::copy_n(map->at(x + 256, y + 384), 3, crop->at(x, y));
         const Pyramid pyramid = buildPyramid(crop);
-        for (float a0 : {0.05f, 0.1f, 0.3f}) {
-            const Bake bake = bakeGgxFit(pyramid, fitted(a0));
+        for (float a0 : alphas) {
+            BakeOptions options = fitted(a0);
+            if (roughness) {
+                auto r = std::make_shared<Image>(128, 128, 1);
+                for (int y = 0; y < 128; ++y)
+                    for (int x = 0; x < 128; ++x) r->at(x, y)[0] = roughness(x, y);
+                options = {};
+                options.roughnessMap = r;
+            }
+            const Bake bake = bakeGgxFit(pyramid, options);
             for (int level : {2, 4, 6}) {
                 const int side = 128 >> level, step = std::max(1, side / 4);
                 for (int y = 0; y < side; y += step)
                     for (int x = 0; x < side; x += step) {
                         const Footprint f = footprint(pyramid, level, x, y);
                         std::vector<glm::dvec3> normals;
+                        std::vector<double> lobes;
                         glm::dvec3 sum(0.);
+                        double alpha2 = 0.;
                         for (int by = f.y0; by < f.y1; ++by)
                             for (int bx = f.x0; bx < f.x1; ++bx) {
                                 const float* p = crop->at(bx, by);
                                 normals.push_back(glm::normalize(glm::dvec3(p[0], p[1], p[2])));
+                                lobes.push_back(roughness ? roughness(bx, by) : a0);
                                 sum += normals.back();
+                                alpha2 += lobes.back() * lobes.back();
                             }
-                        const DenseObjective objective(normals, glm::normalize(sum), a0);
+                        const DenseObjective objective(normals, lobes, glm::normalize(sum));
                         const double reference = objective.error(objective.bestAlpha());
                         const double mine = objective.error(alphaAt(bake, level, x, y));
-                        const double toksvig = objective.error(varianceRoughness(
-                            float(glm::length(sum) / double(normals.size())), a0));
-                        worst = std::max(worst, std::sqrt(mine / reference));
-                        fitSum += std::sqrt(mine);
-                        referenceSum += std::sqrt(reference);
-                        toksvigSum += std::sqrt(toksvig);
-                        ++texels;
+                        // Toksvig's rule with the footprint's mean alpha^2 (as toksvig bakes
+                        // a roughness map).
+                        const double toksvig = objective.error(
+                            varianceRoughness(float(glm::length(sum) / double(normals.size())),
+                                              float(std::sqrt(alpha2 / double(normals.size())))));
+                        out.worst = std::max(out.worst, std::sqrt(mine / reference));
+                        out.fit += std::sqrt(mine);
+                        out.reference += std::sqrt(reference);
+                        out.toksvig += std::sqrt(toksvig);
+                        ++out.texels;
                     }
             }
+            if (roughness) break; // the map is the material: one bake per map
         }
     }
+    return out;
+}
+
+TEST(GgxFit, MatchesABruteForceFitOnRealMaps) {
+    const std::filesystem::path dir = test::sharedNormalMaps();
+    if (dir.empty()) GTEST_SKIP() << "../shared/data/normalmaps not found";
+    const AgainstBruteForce r = againstBruteForce(dir, {0.05f, 0.1f, 0.3f}, nullptr);
     std::printf("ggx-fit on %d texels: L2 error / brute force's %.4f (worst %.4f), Toksvig's / "
                 "brute force's %.4f\n",
-                texels, fitSum / referenceSum, worst, toksvigSum / referenceSum);
-    EXPECT_LT(fitSum / referenceSum, 1.01);
-    EXPECT_LT(worst, 1.07);
+                r.texels, r.fit / r.reference, r.worst, r.toksvig / r.reference);
+    EXPECT_LT(r.fit / r.reference, 1.01);
+    EXPECT_LT(r.worst, 1.07);
     // What the fit is for: Toksvig's variance rule is further from the filtered NDF.
-    EXPECT_LT(fitSum, 0.93 * toksvigSum);
+    EXPECT_LT(r.fit, 0.93 * r.toksvig);
+}
+
+TEST(GgxFit, MatchesABruteForceFitWithARoughnessMap) {
+    // A material of blocks (alpha 0.06 and 0.25, 16 texels wide) on a gradient: every footprint
+    // above level 4 mixes lobes of different widths, which the tables' grid interpolates.
+    const std::filesystem::path dir = test::sharedNormalMaps();
+    if (dir.empty()) GTEST_SKIP() << "../shared/data/normalmaps not found";
+    const auto roughness = [](int x, int y) {
+        return ((x / 16 + y / 16) % 2 ? 0.06f : 0.25f) + 0.1f * float(x) / 127.f;
+    };
+    const AgainstBruteForce r = againstBruteForce(dir, {0.f}, roughness);
+    std::printf("ggx-fit with a roughness map, %d texels: L2 error / brute force's %.4f (worst "
+                "%.4f), Toksvig's / brute force's %.4f\n",
+                r.texels, r.fit / r.reference, r.worst, r.toksvig / r.reference);
+    // Measured 1.015 (worst 1.048), unchanged with twice the rings, a grid of tables twice as
+    // fine or four times the reference's azimuths: what costs the 1.5% is not found.
+    EXPECT_LT(r.fit / r.reference, 1.03);
+    EXPECT_LT(r.worst, 1.07);
+    EXPECT_LT(r.fit, 0.95 * r.toksvig);
+}
+
+TEST(GgxFit, AConstantRoughnessMapIsThatRoughness) {
+    const Pyramid pyramid = buildPyramid(filled(16, 16, [](int x, int y) {
+        return glm::vec3(0.5f * std::sin(x), 0.3f * std::cos(y), 1.f);
+    }));
+    BakeOptions map;
+    auto r = std::make_shared<Image>(16, 16, 1);
+    std::fill(r->pixels.begin(), r->pixels.end(), 0.2f);
+    map.roughnessMap = r;
+    const Bake withMap = bakeGgxFit(pyramid, map), constant = bakeGgxFit(pyramid, fitted(0.2f));
+    EXPECT_EQ(withMap.parameters.at("roughness_map"), 1.0);
+    for (size_t k = 0; k < constant.levels.size(); ++k)
+        for (size_t i = 0; i < constant.levels[k][1]->pixels.size(); ++i)
+            EXPECT_NEAR(withMap.levels[k][1]->pixels[i], constant.levels[k][1]->pixels[i],
+                        3e-4f * constant.levels[k][1]->pixels[i])
+                << "level " << k << " texel " << i;
+    // Two materials side by side, one normal everywhere: each texel is its own alpha until a
+    // footprint spans both.
+    const Pyramid flat = buildPyramid(filled(8, 8, [](int, int) { return glm::vec3(0, 0, 1); }));
+    auto halves = std::make_shared<Image>(8, 8, 1);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) halves->at(x, y)[0] = x < 4 ? 0.1f : 0.3f;
+    map.roughnessMap = halves;
+    const Bake split = bakeGgxFit(flat, map);
+    EXPECT_NEAR(alphaAt(split, 0, 1, 1), 0.1f, 1e-6f);
+    EXPECT_NEAR(alphaAt(split, 1, 0, 0), 0.1f, 3e-3f * 0.1f);
+    EXPECT_NEAR(alphaAt(split, 2, 1, 1), 0.3f, 3e-3f * 0.3f);
+    const float mixed = alphaAt(split, 3, 0, 0); // half 0.1, half 0.3 about one normal
+    EXPECT_GT(mixed, 0.1f);
+    EXPECT_LT(mixed, 0.3f);
 }
 
 // ---- The shader ---------------------------------------------------------------------------
