@@ -235,7 +235,7 @@ class Filter {
           dds_(options.textureFormat != GltfTextureFormat::Basisu),
           basisu_(options.textureFormat != GltfTextureFormat::Dds),
           anisotropy_(options.method == GltfMethod::Sggx),
-          fitted_(options.method == GltfMethod::GgxFit) {}
+          roughness_(options.method == GltfMethod::GgxFit ? Method::GgxFit : Method::Toksvig) {}
 
     GltfFiltered run() {
         json& root = asset_.json;
@@ -654,9 +654,8 @@ class Filter {
         const double texels = double(size->first) * double(size->second);
         const double beside =
             16 + 4 + 16 * 4.0 / 3 * 2 + 12 * 4.0 / 3 + (job.scale != 1.f ? 28 : 0);
-        const int64_t need =
-            bakeMemoryEstimate(Method::Toksvig, options, size->first, size->second) +
-            int64_t(beside * texels);
+        const int64_t need = bakeMemoryEstimate(roughness_, options, size->first, size->second) +
+                             int64_t(beside * texels);
         if (need > inputLimits().maxMemoryBytes)
             refuse(name + ": filtering a " + std::to_string(size->first) + "x" +
                    std::to_string(size->second) + " normal map needs about " + byteSize(need) +
@@ -809,7 +808,7 @@ class Filter {
         }
         BakeOptions options;
         options.roughnessMap = alpha;
-        if (Status s = checkBakeMemory(job.where, Method::Toksvig, options, width, height); !s)
+        if (Status s = checkBakeMemory(job.where, roughness_, options, width, height); !s)
             refuse(s.error);
 
         // normalTexture.scale widens the normals' spread as a loader applies it: n.xy * scale.
@@ -823,10 +822,7 @@ class Filter {
             }
             scaled = buildPyramid(SharedImage(s));
         }
-        // --method ggx-fit: the roughness fitted to each texel's filtered NDF, the material's own
-        // alpha per texel the lobes it widens (bake --method ggx-fit --roughness-map).
-        const Bake bake = fitted_ ? bakeGgxFit(scaled ? *scaled : pyramid, options)
-                                  : bakeToksvig(scaled ? *scaled : pyramid, options);
+        const Bake bake = bakeMethod(roughness_, scaled ? *scaled : pyramid, options);
         ++result_.bakes;
         const int ggx = findPlane(bake.planes, "roughness_ggx");
         const int levels = int(pyramid.levels.size());
@@ -873,8 +869,9 @@ class Filter {
                             {{"content", "metallicRoughness"},
                              {"channels",
                               {{"r", "R averaged (occlusion where packed)"},
-                               {"g", fitted_ ? "perceptual roughness, fitted to the filtered NDF"
-                                             : "perceptual roughness, Toksvig-filtered"},
+                               {"g", roughness_ == Method::GgxFit
+                                         ? "perceptual roughness, fitted to the filtered NDF"
+                                         : "perceptual roughness, Toksvig-filtered"},
                                {"b", "metallic averaged"}}}});
         return out;
     }
@@ -1013,7 +1010,10 @@ class Filter {
     std::map<std::string, AddedLevels> wants_; // slot (JSON pointer) -> the levels it should read
     bool dds_ = false, basisu_ = true;
     bool anisotropy_ = false; // --method sggx: KHR_materials_anisotropy
-    bool fitted_ = false;     // --method ggx-fit: the fitted roughness
+    // The bake whose roughness_ggx the material maps get: toksvig, or with --method ggx-fit the
+    // roughness fitted to each texel's filtered NDF, the material's alpha per texel the lobes it
+    // widens (bake --method ggx-fit --roughness-map).
+    Method roughness_ = Method::Toksvig;
     struct PendingUastc {
         int image = -1;                         // added with no bytes yet
         std::future<Result<std::string>> bytes; // its KTX2 file

@@ -261,16 +261,25 @@ MapData loadAndBake(const Plan& plan, size_t mapIndex, const Lighting& lighting)
     MapData map;
     map.name = std::filesystem::path(a.maps[mapIndex]).filename().string();
     DecodeReport decodeReport;
+    // The bakes the rows read: each spec's own, a fitted one (ggx-fit) once per roughness.
+    struct PlannedBake {
+        std::string key;
+        const MethodSpec* spec;
+        float baseRoughness;
+    };
+    std::vector<PlannedBake> planned;
+    for (const MethodSpec& spec : specs) {
+        std::set<std::string> keys;
+        for (const Setting& setting : plan.settings)
+            if (std::string key = bakeKeyOf(spec, setting);
+                spec.baked && !key.empty() && keys.insert(key).second)
+                planned.push_back({key, &spec, setting.material.roughness});
+    }
     // Every bake this map gets, held at once, checked by the decoder from the map's header
     // before it allocates.
     double perTexel = 16.0 + 12.0 + 16.0;
-    for (const MethodSpec& spec : specs) {
-        std::set<std::string> keys; // a fitted bake is made once per roughness
-        for (const Setting& setting : plan.settings)
-            if (spec.baked && !bakeKeyOf(spec, setting).empty())
-                keys.insert(bakeKeyOf(spec, setting));
-        perTexel += double(keys.size()) * bakeBytesPerTexel(spec.method, spec.options);
-    }
+    for (const PlannedBake& b : planned)
+        perTexel += bakeBytesPerTexel(b.spec->method, b.spec->options);
     Result<Image> normals = [&] {
         const PlannedPeak peak("the evaluation", perTexel);
         return loadNormalMap(a.maps[mapIndex], decode, &decodeReport);
@@ -285,14 +294,12 @@ MapData loadAndBake(const Plan& plan, size_t mapIndex, const Lighting& lighting)
                                            map.normals->width, map.normals->height);
                 !s)
                 fail(s.error);
-    for (const MethodSpec& spec : specs)
-        for (const Setting& setting : plan.settings) {
-            const std::string key = bakeKeyOf(spec, setting);
-            if (!spec.baked || key.empty() || map.bakes.count(key)) continue;
-            BakeOptions options = spec.options;
-            options.baseRoughness = setting.material.roughness;
-            map.bakes[key] = bakeMethod(spec.method, map.pyramid, options);
-        }
+    for (const PlannedBake& b : planned) {
+        if (map.bakes.count(b.key)) continue; // variants (@RULE) share their spec's bake
+        BakeOptions options = b.spec->options;
+        options.baseRoughness = b.baseRoughness;
+        map.bakes[b.key] = bakeMethod(b.spec->method, map.pyramid, options);
+    }
     if (lighting.externalRows)
         map.bakes["naive (external roughness)"] = bakeMethod(Method::Naive, map.pyramid, {});
     if (a.calibrate && map.bakes.count("toksvig") == 0)

@@ -19,12 +19,13 @@
 
 #include "ndfmip/bake.h"
 #include "ndfmip/glsl.h"
+#include "ndfmip/shading.h"
 
 namespace ndfmip {
 
 namespace {
 
-constexpr float kHalfPi = 1.57079632679f;
+constexpr float kHalfPi = 0.5f * kPi;
 constexpr int kRings = 16;     // rings of the fit about the mean normal
 constexpr float kReach = 3.5f; // they reach tan(theta) = kReach x Toksvig's width
 constexpr float kMinAlpha = 1e-3f;
@@ -50,13 +51,13 @@ RingTable ringTable(float a0) {
     RingTable table;
     table.steps = std::clamp(int(std::ceil(8.f * kHalfPi / a0)), 256, 512);
     table.step = kHalfPi / float(table.steps);
-    const int azimuths = std::clamp(int(std::ceil(8.f * 3.14159265f / a0)), 256, 1024);
+    const int azimuths = std::clamp(int(std::ceil(8.f * kPi / a0)), 256, 1024);
     const int n = table.steps + 1;
     table.values.resize(size_t(n) * size_t(n));
     // Symmetric in the azimuth: the half ring [0, pi), midpoints.
     std::vector<float> cosPhi(static_cast<size_t>(azimuths));
     for (int m = 0; m < azimuths; ++m)
-        cosPhi[size_t(m)] = std::cos(3.14159265f * (float(m) + 0.5f) / float(azimuths));
+        cosPhi[size_t(m)] = std::cos(kPi * (float(m) + 0.5f) / float(azimuths));
 #pragma omp parallel for schedule(dynamic, 4)
     for (int b = 0; b < n; ++b) {
         const float cb = std::cos(float(b) * table.step), sb = std::sin(float(b) * table.step);
@@ -77,7 +78,6 @@ RingTable ringTable(float a0) {
 struct AngleHistogram {
     std::vector<float> counts; // table.steps + 1, zero outside [first, last]
     int first = 0, last = -1;
-    float total = 0.f;
     // The normals' steps, fractions and weights while few: a sum over them is cheaper than over
     // the histogram's range when that is wider than they are many.
     struct Entry {
@@ -96,7 +96,7 @@ inline float fastAcos(float x) {
     const float a = std::abs(x);
     const float r =
         std::sqrt(1.f - a) * (1.5707288f + a * (-0.2121144f + a * (0.0742610f - 0.0187293f * a)));
-    return x < 0.f ? 3.14159265f - r : r;
+    return x < 0.f ? kPi - r : r;
 }
 
 // A normal at angle beta from the axis, with weight w.
@@ -108,7 +108,6 @@ inline void addAngle(AngleHistogram& h, const RingTable& table, float beta, floa
     h.first = std::min(h.first, b), h.last = std::max(h.last, b + 1);
     h.counts[size_t(b)] += w * (1.f - f);
     h.counts[size_t(b) + 1] += w * f;
-    h.total += w;
     if (h.few.size() < kFewNormals) h.few.push_back({b, f, w});
     ++h.entries;
 }
@@ -116,7 +115,7 @@ inline void addAngle(AngleHistogram& h, const RingTable& table, float beta, floa
 void clearHistogram(AngleHistogram& h) {
     if (h.last >= h.first)
         std::fill(h.counts.begin() + h.first, h.counts.begin() + h.last + 1, 0.f);
-    h.first = 0, h.last = -1, h.total = 0.f;
+    h.first = 0, h.last = -1;
     h.few.clear();
     h.entries = 0;
 }
@@ -129,12 +128,10 @@ constexpr float kAlphaRatio = 1.15f;
 struct MaterialLobes {
     std::vector<RingTable> tables;
     float logFirst = 0.f; // ln alpha of table 0
-    SharedImage map;      // alpha per level-0 texel (null: every texel the material's)
+    SharedImage map;      // alpha per level-0 texel, clamped (null: every texel the material's)
     float alpha = 0.f;    // the material's alpha without a map
 
-    float alphaAt(int x, int y) const {
-        return map ? std::clamp(map->at(x, y)[0], kMinFittedRoughness, 1.f) : alpha;
-    }
+    float alphaAt(int x, int y) const { return map ? map->at(x, y)[0] : alpha; }
     // Table k and the share of table k + 1 for a lobe of alpha a.
     std::pair<int, float> tableOf(float a) const {
         if (tables.size() == 1) return {0, 0.f};
@@ -169,7 +166,6 @@ MaterialLobes materialLobes(const BakeOptions& options) {
     for (int k = 0; k < count; ++k)
         lobes.tables.push_back(
             ringTable(std::exp(lobes.logFirst + float(k) * std::log(kAlphaRatio))));
-    if (lobes.tables.size() == 1) lobes.tables.push_back(lobes.tables.front()); // lo == hi
     return lobes;
 }
 
@@ -251,8 +247,8 @@ float ringTarget(const TexelNormals& normals, const MaterialLobes& lobes, float 
 // difference on kRings rings about the mean normal, weighted by their solid angles: the L2
 // distance of the two NDFs over the sphere.
 float fitTexel(const TexelNormals& normals, const MaterialLobes& lobes, float r) {
-    const float a0 = std::sqrt(normals.alpha2 / std::max(normals.total, 1.f)); // RMS alpha
     if (!(normals.total > 0.f)) return lobes.alpha;
+    const float a0 = std::sqrt(normals.alpha2 / normals.total); // RMS alpha
     // Rings of equal width in theta up to tan(theta) = kReach x Toksvig's width, sqrt(a0^2 +
     // 2 sigma^2) (T eq. 1, roughness.h); their edges' cosines by rotation, the weights being the
     // rings' solid angles / 2 pi.

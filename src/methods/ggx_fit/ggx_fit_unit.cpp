@@ -1,6 +1,8 @@
 // ggx-fit as a unit, and its shader: the level's unit normal with the fitted GGX roughness, both
-// blended by the lookup as an engine blends its normal and roughness maps.
+// blended by the lookup as an engine blends its normal and roughness maps (roughness-mips'
+// shading, with the roughness read as alpha).
 #include <cstdio>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
@@ -32,26 +34,6 @@ Status prepareGgxFit(const Material& m, const RenderTextures& textures,
     }
     setup.roughnessIsAlpha = true;
     return prepareSplitSumSetup(m, textures, options, setup);
-}
-
-// The normal's three channels, then the fitted alpha.
-glm::vec3 shadeGgxFit(const ShaderSetup&, const Material& m, const float* p, glm::vec3 albedo,
-                      glm::vec3 l, glm::vec3 v) {
-    return shadeRoughnessMipsTexel(m, albedo, glm::vec3(p[0], p[1], p[2]), p[3], true, l, v);
-}
-
-float ggxFitLobe(const ShaderSetup&, const Material& m, const float* p, glm::vec3 h) {
-    const glm::vec3 n(p[0], p[1], p[2]);
-    const float length = glm::length(n);
-    const float alpha = glm::clamp(p[3], 1e-4f, 1.f);
-    return length > 0.f ? specularLobe(m.brdf, glm::dot(n, h) / length, m.exponent, alpha) : 0.f;
-}
-
-glm::vec3 shadeGgxFitEnvironment(const ShaderSetup& setup, const Material& m, const float* p,
-                                 glm::vec3 albedo, glm::vec3 v, const glm::mat3& toEnvironment,
-                                 const EnvironmentLighting&) {
-    return shadeRoughnessMipsSplitSum(m, albedo, glm::vec3(p[0], p[1], p[2]), p[3], true, v,
-                                      toEnvironment, *setup.splitSum, setup.environmentLod);
 }
 
 void inspectGgxFit(nlohmann::json& out, const LoadedBake& bake, int x, int y,
@@ -89,8 +71,18 @@ MethodUnit ggxFitUnit() {
 }
 
 std::vector<MethodShader> ggxFitShaders() {
-    return {{"ggx-fit", Method::GgxFit, "render/ggx_fit.glsl", prepareGgxFit, shadeGgxFit,
-             ggxFitLobe, shadeGgxFitEnvironment, nullptr, nullptr, nullptr, false}};
+    // An engine's GGX lobe at the stored alpha: roughness-mips' shading and render glue (layer 0
+    // the normal, layer 1 the alpha), the roughness one of the bake's own planes, not a chain the
+    // renderer adds.
+    for (MethodShader shader : naiveShaders()) {
+        if (std::string(shader.name) != kRoughnessMips) continue;
+        shader.name = "ggx-fit";
+        shader.bake = Method::GgxFit;
+        shader.prepare = prepareGgxFit;
+        shader.gpuLayers = nullptr;
+        return {shader};
+    }
+    throw std::logic_error("no roughness-mips shader");
 }
 
 } // namespace ndfmip
