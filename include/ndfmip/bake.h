@@ -23,12 +23,13 @@ namespace ndfmip {
 struct EnginePreset; // engine_presets.h
 
 enum class Method {
-    Naive,   // standard mipmap: mean normal, renormalised
-    Toksvig, // mean normal kept unnormalised; |Na| widens the lobe
-    Sh,      // spherical-harmonic coefficients of the NDF (Han et al. Sec. 5)
-    Vmf,     // mixtures of von Mises-Fisher lobes fitted by spherical EM (Han et al. Sec. 7)
-    Lean,    // slope moments: one anisotropic Beckmann lobe (Olano and Baker 2010)
-    GgxFit,  // one GGX lobe per texel, its roughness fitted to the filtered NDF
+    Naive,    // standard mipmap: mean normal, renormalised
+    Toksvig,  // mean normal kept unnormalised; |Na| widens the lobe
+    Sh,       // spherical-harmonic coefficients of the NDF (Han et al. Sec. 5)
+    Vmf,      // mixtures of von Mises-Fisher lobes fitted by spherical EM (Han et al. Sec. 7)
+    Lean,     // slope moments: one anisotropic Beckmann lobe (Olano and Baker 2010)
+    GgxFit,   // one GGX lobe per texel, its roughness fitted to the filtered NDF
+    GgxAniso, // one anisotropic GGX lobe per texel, fitted to the filtered NDF
 };
 
 std::optional<Method> methodFromString(std::string_view name);
@@ -78,6 +79,7 @@ Bake bakeSh(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeVmf(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeLean(const Pyramid& pyramid, const BakeOptions& options);
 Bake bakeGgxFit(const Pyramid& pyramid, const BakeOptions& options);
+Bake bakeGgxAniso(const Pyramid& pyramid, const BakeOptions& options);
 
 // lean: normals are clamped to n.z >= this before their slopes n.xy/n.z are taken (84 degrees;
 // steeper normals would give unbounded slopes).

@@ -39,6 +39,7 @@ struct ShaderLibrary {
 #include "vmf.glsl"
 #include "lean.glsl"
 #include "sggx.glsl"
+#include "ggx_aniso.glsl"
 #include "splitsum.glsl"
     // clang-format on
 };

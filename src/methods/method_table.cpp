@@ -8,8 +8,8 @@
 namespace ndfmip {
 
 const std::vector<MethodUnit>& methodUnits() {
-    static const std::vector<MethodUnit> units = {naiveUnit(), toksvigUnit(), shUnit(),
-                                                  vmfUnit(),   leanUnit(),    ggxFitUnit()};
+    static const std::vector<MethodUnit> units = {
+        naiveUnit(), toksvigUnit(), shUnit(), vmfUnit(), leanUnit(), ggxFitUnit(), ggxAnisoUnit()};
     return units;
 }
 
@@ -23,7 +23,7 @@ const std::vector<MethodShader>& methodShaders() {
     static const std::vector<MethodShader> shaders = [] {
         std::vector<MethodShader> all;
         for (auto list : {naiveShaders(), toksvigShaders(), shShaders(), vmfShaders(),
-                          leanShaders(), ggxFitShaders()})
+                          leanShaders(), ggxFitShaders(), ggxAnisoShaders()})
             all.insert(all.end(), list.begin(), list.end());
         return all;
     }();

@@ -162,12 +162,14 @@ MethodUnit shUnit();
 MethodUnit vmfUnit();
 MethodUnit leanUnit();
 MethodUnit ggxFitUnit();
+MethodUnit ggxAnisoUnit();
 std::vector<MethodShader> naiveShaders();
 std::vector<MethodShader> toksvigShaders();
 std::vector<MethodShader> shShaders();
 std::vector<MethodShader> vmfShaders();
 std::vector<MethodShader> leanShaders();
 std::vector<MethodShader> ggxFitShaders();
+std::vector<MethodShader> ggxAnisoShaders();
 
 // Helpers the units share.
 // The material's roughness: an option of every bake (BakeOptions::baseRoughness), not one of a

@@ -15,8 +15,9 @@ namespace {
 
 // The library's files in the order they depend on each other, then the ray caster.
 const char* const kLibraryFiles[] = {
-    "brdf.glsl", "naive.glsl", "toksvig.glsl", "toksvig_lut.glsl", "sh.glsl",
-    "vmf.glsl",  "lean.glsl",  "sggx.glsl",    "splitsum.glsl",    "render/raycast.glsl"};
+    "brdf.glsl",      "naive.glsl",    "toksvig.glsl",       "toksvig_lut.glsl",
+    "sh.glsl",        "vmf.glsl",      "lean.glsl",          "sggx.glsl",
+    "ggx_aniso.glsl", "splitsum.glsl", "render/raycast.glsl"};
 
 Result<std::string> embedded(const std::string& path) {
     for (const EmbeddedShader& s : embeddedShaders())

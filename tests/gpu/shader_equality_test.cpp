@@ -101,7 +101,7 @@ void expectGpuMatchesCpu(const Inputs& in, const std::string& body, const std::s
     Result<ShaderSource> source =
         loadShaderFiles(NDFMIP_SOURCE_DIR "/shaders",
                         {"brdf.glsl", "naive.glsl", "toksvig.glsl", "toksvig_lut.glsl", "sh.glsl",
-                         "vmf.glsl", "lean.glsl", "sggx.glsl"},
+                         "vmf.glsl", "lean.glsl", "sggx.glsl", "ggx_aniso.glsl"},
                         computeShaderHead());
     ASSERT_TRUE(source) << source.error().message;
     std::string kernel = "#define STRIDE " + std::to_string(in.stride) + "\n" + kHead + body +

@@ -2,7 +2,7 @@
 # calls each method's shade function (so none is left out as unused). cmake -P with GLSLANG,
 # SHADERS (the shaders/ folder) and WORK (a scratch folder).
 set(source "#version 450 core\n")
-foreach(file brdf naive toksvig toksvig_lut sh vmf lean sggx)
+foreach(file brdf naive toksvig toksvig_lut sh vmf lean sggx ggx_aniso)
     file(READ ${SHADERS}/${file}.glsl text)
     string(APPEND source "#line 1\n${text}\n")
 endforeach()
@@ -26,7 +26,7 @@ void main() {
            + ndfmipShadeToksvigLut(m, vec3(0.5f), p.xyz, p.w, l, v)
            + ndfmipShadeSh(m, vec3(0.5f), g, a, a, 7, l, v)
            + ndfmipShadeVmfLobe(m, vec3(0.5f), p, l, v) + ndfmipShadeLean(m, vec3(0.5f), p, p.x, l, v)
-           + ndfmipShadeSggx(m, vec3(0.5f), p, p.x, l, v);
+           + ndfmipShadeSggx(m, vec3(0.5f), p, p.x, l, v) + ndfmipShadeGgxAniso(m, vec3(0.5f), p.xyz, p.yzw, l, v);
     colour = vec4(c, 1.0f);
 }
 ]])

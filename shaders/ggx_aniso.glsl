@@ -1,0 +1,55 @@
+// ndfmip shading library: one anisotropic GGX lobe about the mean normal (needs brdf.glsl), the
+// lobe ggx-aniso fits per texel and what an engine's anisotropic GGX shades.
+//
+// Textures: ggx-aniso's "normal" (the mean normal renormalised) and "alpha_tensor" (A_tt, A_tb,
+// A_bb: the lobe's squared-roughness tensor in the frame (t, b) about that normal), both
+// hardware-filtered: a blend of tensors is a tensor.
+
+// The frame about a unit normal n: t the texture's x made orthogonal to n (Gram-Schmidt, as
+// engines make a surface tangent orthogonal to the shading normal), b = n x t; from y where n
+// lies along x.
+vec3 ndfmipAnisoTangent(vec3 n) {
+    vec3 t = vec3(1.0f, 0.0f, 0.0f) - n.x * n;
+    float length2 = dot(t, t);
+    if (length2 < 1e-8f) {
+        t = vec3(0.0f, 1.0f, 0.0f) - n.y * n;
+        length2 = dot(t, t);
+    }
+    return t / sqrt(length2);
+}
+
+// Anisotropic GGX about n with the squared-roughness tensor A = (A_tt, A_tb, A_bb) in (t, b):
+//   D(h) = 1 / (pi sqrt(det A) (h.n)^4 (1 + s^T A^-1 s)^2),  s = (h.t, h.b) / h.n
+// (Heitz 2014, eq. 86, the lobe stretched by A^1/2); for A = alpha^2 I, ndfmipGgx. With
+// q = (h.t, h.b) A^-1 (h.t, h.b)^T the denominator's (h.n)^2 (1 + s^T A^-1 s) is (h.n)^2 + q.
+float ndfmipGgxAnisoLobe(vec3 n, vec3 tensor, vec3 h) {
+    float cosH = dot(n, h);
+    if (cosH <= 0.0f) return 0.0f;
+    vec3 t = ndfmipAnisoTangent(n);
+    vec3 b = cross(n, t);
+    float att = max(tensor.x, 1e-8f);
+    float abb = max(tensor.z, 1e-8f);
+    float atb = tensor.y;
+    float det = max(att * abb - atb * atb, 1e-16f);
+    float x = dot(h, t);
+    float y = dot(h, b);
+    float q = (abb * x * x - 2.0f * atb * x * y + att * y * y) / det;
+    float d = cosH * cosH + q;
+    return 1.0f / (NDFMIP_PI * sqrt(det) * d * d);
+}
+
+// The isotropic alpha an engine's environment lighting reads for the lobe: the root mean of the
+// tensor's two squared roughnesses (its trace / 2).
+float ndfmipGgxAnisoAlpha(vec3 tensor) {
+    return sqrt(max(0.5f * (tensor.x + tensor.z), 1e-8f));
+}
+
+// The lobe about the renormalised filtered normal, with its cosine: max(n.l, 0) (albedo / pi +
+// specular D(h)), as ndfmipShadeNormal shades one normal.
+vec3 ndfmipShadeGgxAniso(NdfmipMaterial m, vec3 albedo, vec3 filtered, vec3 tensor, vec3 l, vec3 v) {
+    float len = sqrt(dot(filtered, filtered));
+    vec3 n = len > 0.0f ? filtered / len : vec3(0.0f, 0.0f, 1.0f);
+    float cosL = max(dot(n, l), 0.0f);
+    if (cosL <= 0.0f) return vec3(0.0f);
+    return cosL * (albedo * (1.0f / NDFMIP_PI) + m.specular * ndfmipGgxAnisoLobe(n, tensor, normalize(l + v)));
+}

@@ -1,0 +1,13 @@
+// Render glue for ggx-aniso: layer 0 = "normal", layer 1 = "alpha_tensor".
+#define NDFMIP_LAYERS 2
+vec3 ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v) {
+    return ndfmipShadeGgxAniso(ndfmipMaterial, albedo, p[0].xyz, p[1].xyz, l, v);
+}
+#ifdef NDFMIP_ENVIRONMENT
+// Under an environment (render/environment.glsl): an engine's split sum at the tensor's
+// isotropic alpha.
+vec3 ndfmipShadeEnvironment(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, vec3 view) {
+    return ndfmipShadeRoughnessMipsEnvironment(ndfmipMaterial, albedo, p[0].xyz, ndfmipGgxAnisoAlpha(p[1].xyz), true, hit,
+                                               view);
+}
+#endif

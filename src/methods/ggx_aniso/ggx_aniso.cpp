@@ -1,0 +1,182 @@
+// ggx-aniso: per texel and level, the one anisotropic GGX lobe about the level's mean normal that
+// best matches the texel's exact filtered NDF (ndf_rings.h): two roughnesses and the direction of
+// the wider, stored as the squared-roughness tensor A in the frame (t, b) about the normal
+// (shaders/ggx_aniso.glsl), which a hardware blend keeps a tensor.
+//
+// The error is ggx-fit's, the L2 distance of the two NDFs over the sphere, read through the
+// azimuthal modes 0 and 2 on the rings about the normal. The lobe, centred on the normal, has
+// only even modes; about its own axes (a1 along phi_d, a2 across) it is
+//   D = K / (P + Q cos 2(phi - phi_d))^2,  K = 1 / (pi a1 a2 cos^4 theta),
+//   P = 1 + tan^2 theta (a1^-2 + a2^-2) / 2,  Q = tan^2 theta (a1^-2 - a2^-2) / 2,
+// whose ring mean and cos 2 mode are closed forms (1/2pi Int (P + Q cos psi)^-2 dpsi =
+// P / (P^2 - Q^2)^3/2, and with cos psi, -Q / (P^2 - Q^2)^3/2). By Parseval on each ring the
+// squared error is (D0 - T0)^2 + 2 |D2 - T2|^2 plus the modes the lobe cannot have (odd ones) or
+// that are left out (4 and above, small beside mode 2 for the lobes met here).
+//
+// The direction is mode 2's own (its weighted sum over the rings); the isotropic alpha (mode 0,
+// ggx-fit's fit) starts the search over the geometric mean and the log ratio of a1 and a2.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "methods/ggx_fit/ndf_rings.h"
+#include "ndfmip/bake.h"
+#include "ndfmip/glsl.h"
+#include "ndfmip/shading.h"
+
+namespace ndfmip {
+
+namespace {
+
+using namespace ndf_rings;
+
+constexpr float kMaxLogRatio = 2.5f; // a1 / a2 up to e^5
+
+struct Tensor {
+    float tt, tb, bb;
+};
+
+Tensor isotropic(float alpha) {
+    return {alpha * alpha, 0.f, alpha * alpha};
+}
+
+// The fitted lobe of one texel: `r` its mean normal's length |Na|.
+Tensor fitTexel(const TexelNormals& normals, const MaterialLobes& lobes, float r) {
+    if (!(normals.total > 0.f)) return isotropic(lobes.alpha);
+    const Rings ring = rings(toksvigWidth(normals, r));
+    float mean[kRings], cos2[kRings], sin2[kRings];
+    float tan2[kRings], inverseCos4[kRings];
+    for (int j = 0; j < kRings; ++j) {
+        const RingModes modes = ringModes(normals, lobes, ring.theta[j]);
+        mean[j] = modes.mean, cos2[j] = modes.cos2, sin2[j] = modes.sin2;
+        const float c2 = ring.cosTheta[j] * ring.cosTheta[j];
+        tan2[j] = (1.f - c2) / c2, inverseCos4[j] = 1.f / (c2 * c2);
+    }
+    // Isotropic first: mode 0 alone (an isotropic lobe has no mode 2).
+    auto isotropicError = [&](float logAlpha) {
+        const float a = std::exp(logAlpha);
+        float e = 0.f;
+        for (int j = 0; j < kRings; ++j) {
+            const float d = glsl().ndfmipGgx(ring.cosTheta[j], a) - mean[j];
+            e += ring.weight[j] * d * d;
+        }
+        return e;
+    };
+    const float lo = std::log(std::max(0.5f * normals.narrowest, kMinAlpha));
+    float u = minimiseOnScan(isotropicError, lo, 0.f, 8, 6);
+    // The direction: mode 2 summed over the rings with the weights a small stretch of the
+    // isotropic lobe changes its mode 2 by (dD2/dv at v = 0, up to a constant:
+    // tan^2 theta / (cos^4 theta P^3), P = 1 + tan^2 theta / alpha^2).
+    const float inverseAlpha2 = std::exp(-2.f * u);
+    float sumCos2 = 0.f, sumSin2 = 0.f;
+    for (int j = 0; j < kRings; ++j) {
+        const float p = 1.f + tan2[j] * inverseAlpha2;
+        const float g = ring.weight[j] * tan2[j] * inverseCos4[j] / (p * p * p);
+        sumCos2 += g * cos2[j], sumSin2 += g * sin2[j];
+    }
+    const float length = std::hypot(sumCos2, sumSin2);
+    if (!(length > 0.f)) return isotropic(std::min(std::exp(u), 1.f));
+    // Mode 2 along the direction: a1 (the wider) at phi_d, cos 2 phi_d = sumCos2 / length.
+    const float c = sumCos2 / length, s = sumSin2 / length;
+    float along[kRings];
+    for (int j = 0; j < kRings; ++j) along[j] = cos2[j] * c + sin2[j] * s;
+    // u = ln sqrt(a1 a2), v = ln sqrt(a1 / a2).
+    auto error = [&](float uu, float vv) {
+        const float inverse1 = std::exp(-2.f * (uu + vv)), inverse2 = std::exp(-2.f * (uu - vv));
+        const float sum = 0.5f * (inverse1 + inverse2), difference = 0.5f * (inverse1 - inverse2);
+        const float k = std::exp(-2.f * uu) / kPi;
+        float e = 0.f;
+        for (int j = 0; j < kRings; ++j) {
+            const float p = 1.f + tan2[j] * sum, q = tan2[j] * difference;
+            const float x = (p - q) * (p + q);
+            const float g = k * inverseCos4[j] / (x * std::sqrt(x));
+            const float d0 = g * p - mean[j], d2 = -g * q - along[j];
+            e += ring.weight[j] * (d0 * d0 + 2.f * d2 * d2);
+        }
+        return e;
+    };
+    // Each roughness within [kMinAlpha, 1] (no engine input stores a wider lobe).
+    auto maxRatio = [&](float uu) {
+        return std::max(std::min({kMaxLogRatio, -uu, uu - std::log(kMinAlpha)}), 0.f);
+    };
+    // The log ratio scanned as w |w|: denser near the isotropic lobe, where most texels' optima
+    // lie; negative where the wider axis is across the direction after all.
+    const float last = std::sqrt(maxRatio(u));
+    const float root =
+        minimiseOnScan([&](float w) { return error(u, w * std::abs(w)); }, -last, last, 16, 6);
+    float v = root * std::abs(root);
+    for (int round = 0; round < 2; ++round) {
+        u = minimiseOnScan([&](float uu) { return error(uu, v); }, std::max(u - 0.3f, lo),
+                           std::min(u + 0.3f, -std::abs(v)), 4, 4);
+        v = minimiseOnScan([&](float vv) { return error(u, vv); }, std::max(v - 0.3f, -maxRatio(u)),
+                           std::min(v + 0.3f, maxRatio(u)), 4, 4);
+    }
+    const float a1 = std::min(std::exp(u + v), 1.f), a2 = std::min(std::exp(u - v), 1.f);
+    const float middle = 0.5f * (a1 * a1 + a2 * a2), half = 0.5f * (a1 * a1 - a2 * a2);
+    return {middle + half * c, half * s, middle - half * c};
+}
+
+} // namespace
+
+Bake bakeGgxAniso(const Pyramid& pyramid, const BakeOptions& options) {
+    Bake bake;
+    bake.method = Method::GgxAniso;
+    bake.parameters["base_roughness"] = options.baseRoughness;
+    if (options.roughnessMap) bake.parameters["roughness_map"] = 1.0;
+    bake.planes = {
+        {"normal", {"n.x", "n.y", "n.z"}, "mean normal renormalised to unit length", true},
+        {"alpha_tensor",
+         {"A_tt", "A_tb", "A_bb"},
+         "squared-roughness tensor of the one anisotropic GGX lobe about the normal closest to "
+         "the texel's filtered NDF, in the frame t = the texture's x made orthogonal to the "
+         "normal, b = n x t",
+         true},
+    };
+    const MaterialLobes lobes = materialLobes(options, true);
+    const Image& base = *pyramid.base;
+    const int count = int(pyramid.levels.size());
+    bake.levels.resize(count);
+    for (int k = 0; k < count; ++k) {
+        const Image& mean = levelMean(pyramid, k);
+        Image normal(mean.width, mean.height, 3, Image::Uninitialized{});
+        Image tensor(mean.width, mean.height, 3, Image::Uninitialized{});
+        const int width = mean.width;
+        const int64_t texels = int64_t(mean.texelCount());
+#pragma omp parallel
+        {
+            TexelNormals normals = texelNormals(lobes);
+            RingFrame frame{};
+#pragma omp for schedule(dynamic, 16)
+            for (int64_t i = 0; i < texels; ++i) {
+                const float* na = &mean.pixels[3 * size_t(i)];
+                float* n = &normal.pixels[3 * size_t(i)];
+                normalizeOrFlat(na, n);
+                const int x = int(i % width), y = int(i / width);
+                Tensor fitted;
+                if (k == 0) {
+                    fitted = isotropic(lobes.alphaAt(x, y)); // one normal: its own lobe
+                } else {
+                    const glm::vec3 axis(n[0], n[1], n[2]);
+                    const glm::vec3 t = glsl().ndfmipAnisoTangent(axis);
+                    const glm::vec3 b = glm::cross(axis, t);
+                    frame = {{n[0], n[1], n[2]}, {t.x, t.y, t.z}, {b.x, b.y, b.z}};
+                    const Footprint f = footprint(pyramid, k, x, y);
+                    for (int by = f.y0; by < f.y1; ++by)
+                        for (int bx = f.x0; bx < f.x1; ++bx)
+                            addNormal(normals, lobes, base.at(bx, by), lobes.alphaAt(bx, by),
+                                      frame);
+                    fitted = fitTexel(normals, lobes, std::min(length3(na), 1.f));
+                    clearTexel(normals);
+                }
+                float* a = &tensor.pixels[3 * size_t(i)];
+                a[0] = fitted.tt, a[1] = fitted.tb, a[2] = fitted.bb;
+            }
+        }
+        bake.levels[k] = {std::make_shared<const Image>(std::move(normal)),
+                          std::make_shared<const Image>(std::move(tensor))};
+        if (options.progress) options.progress(k + 1, count);
+    }
+    return bake;
+}
+
+} // namespace ndfmip

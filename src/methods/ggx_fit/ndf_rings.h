@@ -1,0 +1,234 @@
+// A texel's exact filtered GGX NDF, read on rings about its mean normal: what ggx-fit and
+// ggx-aniso fit their one lobe to. Filtering is the spherical convolution of the footprint's
+// normal distribution with the material's lobe (Han et al. Sec. 3); with the footprint's normals
+// n_i that is the mean of the material's GGX lobes about them, T(h) = mean_i D_a0(h . n_i).
+//
+// A lobe centred on the mean normal n is even in the azimuth phi about n, so only T's even
+// azimuthal modes on the rings about n meet it: mode 0 (the ring means, all an isotropic lobe
+// sees) and mode 2 (T's means times cos 2 phi and sin 2 phi: the elliptic part an anisotropic
+// lobe sees). A normal at angle beta from n and azimuth phi_i adds to the ring at theta
+// R0(theta, beta) to the mean and R2(theta, beta) (cos 2 phi_i, sin 2 phi_i) to mode 2, where
+//   R_m(theta, beta) = 1/(2 pi) Int D_a0(cos theta cos beta + sin theta sin beta cos psi) cos(m
+//   psi) dpsi
+// depends on a0 alone: tabulated once per bake, each texel is a histogram of its normals'
+// angles from n (weighted by cos 2 phi_i and sin 2 phi_i for mode 2). Every level-0 normal
+// counts, at any level, in time linear in the footprint.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "ndfmip/bake.h"
+
+namespace ndfmip::ndf_rings {
+
+constexpr float kMinAlpha = 1e-3f;
+
+// R0 (and R2 when asked) on a grid of `steps` + 1 angles over [0, pi/2] each. The grid and the
+// azimuths resolve the lobe: 8 steps and 8 azimuths across its width a0, down to a0 = 0.025
+// (512 steps, 1024 azimuths; narrower lobes are resolved less finely).
+struct RingTable {
+    int steps = 0;
+    float step = 0.f;
+    std::vector<float> mean;   // R0 [theta][beta]: a ring's row holds every beta
+    std::vector<float> second; // R2, the same layout (empty without mode 2)
+
+    const float* ring(int t) const { return &mean[size_t(t) * size_t(steps + 1)]; }
+    const float* secondRing(int t) const { return &second[size_t(t) * size_t(steps + 1)]; }
+};
+
+RingTable ringTable(float a0, bool secondMode);
+
+// The material's lobes: one ring table per alpha of a geometric grid (ratio kAlphaRatio) over the
+// roughness map's values, each normal's lobe split linearly in log alpha between its two
+// neighbouring tables; without a map, one table at the material's alpha.
+constexpr float kAlphaRatio = 1.15f;
+
+struct MaterialLobes {
+    std::vector<RingTable> tables;
+    float logFirst = 0.f; // ln alpha of table 0
+    SharedImage map;      // alpha per level-0 texel, clamped (null: every texel the material's)
+    float alpha = 0.f;    // the material's alpha without a map
+    bool secondMode = false;
+
+    float alphaAt(int x, int y) const { return map ? map->at(x, y)[0] : alpha; }
+    // Table k and the share of table k + 1 for a lobe of alpha a.
+    std::pair<int, float> tableOf(float a) const {
+        if (tables.size() == 1) return {0, 0.f};
+        const float u = std::clamp((std::log(a) - logFirst) / std::log(kAlphaRatio), 0.f,
+                                   float(tables.size() - 1));
+        const int k = std::min(int(u), int(tables.size()) - 2);
+        return {k, u - float(k)};
+    }
+};
+
+// A material alpha below kMinFittedRoughness (the commands refuse it) is taken as that.
+MaterialLobes materialLobes(const BakeOptions& options, bool secondMode);
+
+// One texel's normals as angles from its mean normal: a histogram on the table's betas, each
+// normal split linearly between its two neighbouring steps; with mode 2 the same weights times
+// cos 2 phi_i and sin 2 phi_i.
+struct AngleHistogram {
+    std::vector<float> counts, cos2, sin2; // table.steps + 1, zero outside [first, last]
+    int first = 0, last = -1;
+    // The normals' steps, fractions, weights and doubled azimuths while few: a sum over them is
+    // cheaper than over the histogram's range when that is wider than they are many.
+    struct Entry {
+        int b;
+        float f, w, c2, s2;
+    };
+    std::vector<Entry> few;
+    size_t entries = 0; // normals added, few or not
+};
+
+constexpr size_t kFewNormals = 64;
+
+// One texel's normals: a histogram per table, and their lobes' mean alpha^2.
+struct TexelNormals {
+    std::vector<AngleHistogram> histograms;
+    std::vector<int> used; // the tables with normals, once each
+    float alpha2 = 0.f, total = 0.f;
+    float narrowest = 1.f; // the least alpha among them
+};
+
+TexelNormals texelNormals(const MaterialLobes& lobes); // empty, sized for the lobes
+void clearTexel(TexelNormals& t);
+
+// acos to 7e-5 radians (Abramowitz and Stegun 4.4.45), a hundredth of the table's finest step;
+// the histogram takes one per normal per level.
+inline float fastAcos(float x) {
+    const float a = std::abs(x);
+    const float r =
+        std::sqrt(1.f - a) * (1.5707288f + a * (-0.2121144f + a * (0.0742610f - 0.0187293f * a)));
+    return x < 0.f ? 3.14159265358979f - r : r;
+}
+
+// A normal at angle beta from the axis, with weight w and doubled azimuth (c2, s2).
+inline void addAngle(AngleHistogram& h, const RingTable& table, float beta, float w, float c2,
+                     float s2, bool secondMode) {
+    const float u = std::min(beta / table.step, float(table.steps));
+    const int b = std::min(int(u), table.steps - 1);
+    const float f = u - float(b);
+    if (h.last < h.first) h.first = h.last = b;
+    h.first = std::min(h.first, b), h.last = std::max(h.last, b + 1);
+    h.counts[size_t(b)] += w * (1.f - f);
+    h.counts[size_t(b) + 1] += w * f;
+    if (secondMode) {
+        h.cos2[size_t(b)] += w * (1.f - f) * c2;
+        h.cos2[size_t(b) + 1] += w * f * c2;
+        h.sin2[size_t(b)] += w * (1.f - f) * s2;
+        h.sin2[size_t(b) + 1] += w * f * s2;
+    }
+    if (h.few.size() < kFewNormals) h.few.push_back({b, f, w, c2, s2});
+    ++h.entries;
+}
+
+// The frame the azimuths are measured in: `axis` the mean normal, `tangent` and `bitangent`
+// (used with mode 2 only) the directions of phi = 0 and phi = pi/2 about it.
+struct RingFrame {
+    float axis[3];
+    float tangent[3];
+    float bitangent[3];
+};
+
+// Adds a level-0 normal `n` (not necessarily unit) of lobe alpha `a`.
+inline void addNormal(TexelNormals& t, const MaterialLobes& lobes, const float* n, float a,
+                      const RingFrame& frame) {
+    float unit[3];
+    normalizeOrFlat(n, unit);
+    const float* axis = frame.axis;
+    const float c = unit[0] * axis[0] + unit[1] * axis[1] + unit[2] * axis[2];
+    const float beta = fastAcos(std::clamp(c, -1.f, 1.f));
+    float c2 = 0.f, s2 = 0.f;
+    if (lobes.secondMode) {
+        const float* tx = frame.tangent;
+        const float* bx = frame.bitangent;
+        const float x = unit[0] * tx[0] + unit[1] * tx[1] + unit[2] * tx[2];
+        const float y = unit[0] * bx[0] + unit[1] * bx[1] + unit[2] * bx[2];
+        const float rho2 = x * x + y * y;
+        if (rho2 > 1e-12f) c2 = (x * x - y * y) / rho2, s2 = 2.f * x * y / rho2;
+    }
+    t.alpha2 += a * a;
+    t.total += 1.f;
+    t.narrowest = std::min(t.narrowest, a);
+    if (!lobes.map) { // one table
+        if (t.used.empty()) t.used.push_back(0);
+        addAngle(t.histograms.front(), lobes.tables.front(), beta, 1.f, c2, s2, lobes.secondMode);
+        return;
+    }
+    const auto [k, share] = lobes.tableOf(a);
+    for (int j = 0; j < 2; ++j) {
+        const float w = j == 0 ? 1.f - share : share;
+        if (!(w > 0.f)) continue;
+        AngleHistogram& h = t.histograms[size_t(k + j)];
+        if (h.entries == 0) t.used.push_back(k + j);
+        addAngle(h, lobes.tables[size_t(k + j)], beta, w, c2, s2, lobes.secondMode);
+    }
+}
+
+// T's modes on the ring at theta: its mean, and with mode 2 its means times cos 2 phi and
+// sin 2 phi; linear in theta between the tables' two rings about it.
+struct RingModes {
+    float mean = 0.f, cos2 = 0.f, sin2 = 0.f;
+};
+RingModes ringModes(const TexelNormals& normals, const MaterialLobes& lobes, float theta);
+
+// Toksvig's width sqrt(a0^2 + 2 sigma^2) (T eq. 1, roughness.h) for the normals' RMS alpha a0
+// and |Na| = r: how far the rings reach.
+float toksvigWidth(const TexelNormals& normals, float r);
+
+// The rings a fit reads: kRings of equal width in theta up to tan(theta) = kReach x `width`,
+// with the squared-difference weights of an L2 distance over the sphere (their solid angles /
+// 2 pi).
+constexpr int kRings = 16;
+constexpr float kReach = 3.5f;
+struct Rings {
+    float theta[kRings], cosTheta[kRings], weight[kRings];
+};
+Rings rings(float width);
+
+// The least of f over [lo, hi]: a scan of `scan` + 1 points, then parabolic steps in the bracket
+// about its best point (Brent's idea without his safeguards: the errors fitted here are smooth
+// with one minimum in the bracket). The scan's end when the least is there.
+template <typename F>
+float minimiseOnScan(const F& f, float lo, float hi, int scan, int parabolicSteps) {
+    float x[17], e[17];
+    scan = std::min(scan, 16);
+    int best = 0;
+    for (int i = 0; i <= scan; ++i) {
+        x[i] = lo + (hi - lo) * float(i) / float(scan);
+        e[i] = f(x[i]);
+        if (e[i] < e[best]) best = i;
+    }
+    if (best == 0 || best == scan) return x[best];
+    float xa = x[best - 1], xb = x[best], xc = x[best + 1];
+    float ea = e[best - 1], eb = e[best], ec = e[best + 1];
+    for (int i = 0; i < parabolicSteps; ++i) {
+        const float p = (xb - xa) * (eb - ec), q = (xb - xc) * (eb - ea);
+        const float denominator = 2.f * (p - q);
+        if (!(std::abs(denominator) > 0.f)) break;
+        float xn = xb - ((xb - xa) * p - (xb - xc) * q) / denominator;
+        // Keep the trial inside the bracket and off its best point.
+        const float margin = 1e-3f * (xc - xa);
+        xn = std::clamp(xn, xa + margin, xc - margin);
+        if (std::abs(xn - xb) < margin) xn = xb + (xn < xb ? -margin : margin);
+        const float en = f(xn);
+        if (en < eb) {
+            if (xn < xb)
+                xc = xb, ec = eb;
+            else
+                xa = xb, ea = eb;
+            xb = xn, eb = en;
+        } else {
+            if (xn < xb)
+                xa = xn, ea = en;
+            else
+                xc = xn, ec = en;
+        }
+    }
+    return xb;
+}
+
+} // namespace ndfmip::ndf_rings
