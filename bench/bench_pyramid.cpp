@@ -66,6 +66,20 @@ void BM_GgxFitBake(benchmark::State& state) {
     setBytes(state, *shared);
 }
 
+// ggx-aniso: the pyramid and an anisotropic GGX lobe fitted to every texel's filtered NDF
+// (alpha 0.1).
+void BM_GgxAnisoBake(benchmark::State& state) {
+    const ndfmip::SharedImage& shared = syntheticMap(int(state.range(0)));
+    ndfmip::BakeOptions options;
+    options.baseRoughness = 0.1f;
+    for (auto _ : state) {
+        ndfmip::Pyramid p = ndfmip::buildPyramid(shared);
+        ndfmip::Bake bake = ndfmip::bakeGgxAniso(p, options);
+        benchmark::DoNotOptimize(bake.levels.back().back()->pixels.data());
+    }
+    setBytes(state, *shared);
+}
+
 // Spherical-harmonic bake (Han et al. Sec. 5): (l*+1)^2 coefficients per texel at every level.
 void BM_ShBake(benchmark::State& state) {
     const ndfmip::SharedImage& shared = syntheticMap(int(state.range(0)));
@@ -84,6 +98,7 @@ BENCHMARK(BM_Memcpy)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRe
 BENCHMARK(BM_Pyramid)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ToksvigBake)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_GgxFitBake)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_GgxAnisoBake)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ShBake)
     ->Args({2048, 7})
     ->Args({1024, 10})

@@ -43,7 +43,9 @@ enum class GltfTextureFormat { Basisu, Dds, Both };
 // alpha_t = mix(alpha_b, 1, s^2)), every level ndfmip's.
 // ggx-fit: the roughness fitted to each texel's filtered NDF (bake --method ggx-fit
 // --roughness-map), the material's alpha_0 per texel the lobes it widens.
-enum class GltfMethod { Toksvig, Sggx, GgxFit };
+// ggx-aniso: the anisotropic GGX lobe fitted to each texel's filtered NDF (bake --method
+// ggx-aniso --roughness-map), written as KHR_materials_anisotropy as sggx's is.
+enum class GltfMethod { Toksvig, Sggx, GgxFit, GgxAniso };
 
 struct GltfOptions {
     GltfMethod method = GltfMethod::Toksvig;

@@ -12,7 +12,8 @@ from conftest import BUNDLED_MAP, assert_same_folders, run_cli
 
 METHODS = [("toksvig", {}, []), ("naive", {}, []), ("lean", {}, []),
            ("sh", {"order": 3}, ["--order", "3"]), ("vmf", {"lobes": 2}, ["--lobes", "2"]),
-           ("ggx-fit", {"base_roughness": 0.1}, ["--base-roughness", "0.1"])]
+           ("ggx-fit", {"base_roughness": 0.1}, ["--base-roughness", "0.1"]),
+           ("ggx-aniso", {"base_roughness": 0.1}, ["--base-roughness", "0.1"])]
 
 
 @pytest.mark.parametrize("method,options,flags", METHODS, ids=[m[0] for m in METHODS])

@@ -235,29 +235,30 @@ using WriteMade =
     std::function<Status(const std::string& stem, const std::function<LevelRows(size_t)>& make,
                          TextureFormat format, const Ktx2KeyValues& keyValues)>;
 
-// A lean bake's engine files: one anisotropic GGX lobe per texel from the slope moments
-// (sggx.glsl) in the engine's own inputs (engine_anisotropy.h): the mean slope's normal (the
-// lobe's axis), the roughness in the packed map, and the direction and anisotropy textures.
-Status writeEngineAnisotropy(const EnginePreset& engine, const Bake& bake, size_t moments,
-                             size_t cross, const BakeWriteOptions& options,
-                             const WriteMade& writeMade) {
+// One anisotropic GGX lobe per texel: level k's texel i (row by row) of a plane `plane` sized.
+struct LobeLevels {
+    size_t plane = 0;
+    std::function<AnisotropicLobe(size_t k, size_t i)> lobe;
+};
+
+// The engine files of a bake with one anisotropic GGX lobe per texel (engine_anisotropy.h): the
+// roughness in the packed map, and the direction and anisotropy textures.
+Status writeEngineAnisotropy(const EnginePreset& engine, const Bake& bake, const LobeLevels& lobes,
+                             const BakeWriteOptions& options, const WriteMade& writeMade) {
     const std::string prefix = std::string(engine.name) + "_";
-    const float alpha2 = options.baseRoughness * options.baseRoughness;
     const AnisotropyInput input = engine.anisotropy;
     const bool down = engine.greenDown;
     // Level k's rows computed as the encoder asks for them: `texel` writes one texel's
     // `channels` values from its lobe.
-    auto lobeRows = [&bake, moments, cross, alpha2](size_t k, int channels, auto texel) {
-        const Image& m = *bake.levels[k][moments];
-        const Image& c = *bake.levels[k][cross];
-        return LevelRows{
-            m.width, m.height, channels, [&m, &c, alpha2, channels, texel](int y, float* out) {
-                for (int x = 0; x < m.width; ++x) {
-                    const size_t i = size_t(y) * size_t(m.width) + size_t(x);
-                    texel(anisotropicLobeOfMoments(&m.pixels[4 * i], c.pixels[i], alpha2),
-                          out + size_t(x) * size_t(channels));
-                }
-            }};
+    auto lobeRows = [&bake, &lobes](size_t k, int channels, auto texel) {
+        const Image& m = *bake.levels[k][lobes.plane];
+        return LevelRows{m.width, m.height, channels,
+                         [&m, &lobes, k, channels, texel](int y, float* out) {
+                             for (int x = 0; x < m.width; ++x) {
+                                 const size_t i = size_t(y) * size_t(m.width) + size_t(x);
+                                 texel(lobes.lobe(k, i), out + size_t(x) * size_t(channels));
+                             }
+                         }};
     };
     // The engine's perceptual roughness of a lobe, and its direction in the normal map's frame.
     auto roughnessOf = [input](const AnisotropicLobe& lobe) {
@@ -270,25 +271,8 @@ Status writeEngineAnisotropy(const EnginePreset& engine, const Bake& bake, size_
         rg[1] = 0.5f * ((down ? -lobe.direction.y : lobe.direction.y) + 1.f);
     };
 
-    const int channels = normalChannels(options.normalFormat);
-    // The lobe's axis is the mean slope's normal, (E[bx], E[by], 1).
-    auto normal = [&bake, moments, down, channels](size_t k) {
-        const Image& m = *bake.levels[k][moments];
-        return LevelRows{m.width, m.height, channels, [&m, down, channels](int y, float* out) {
-                             for (int x = 0; x < m.width; ++x) {
-                                 const float* mi = m.at(x, y);
-                                 const float slopeNormal[3] = {mi[0], mi[1], 1.f};
-                                 encodeNormal(slopeNormal, down, channels,
-                                              out + size_t(x) * size_t(channels));
-                             }
-                         }};
-    };
-    if (Status s = writeMade(prefix + engine.normalFile, normal, options.normalFormat,
-                             normalKeyValues(options.normalFormat, down));
-        !s)
-        return s;
     auto packed = [&](size_t k) {
-        const Image& m = *bake.levels[k][moments];
+        const Image& m = *bake.levels[k][lobes.plane];
         Image roughness(m.width, m.height, 1);
         const LevelRows rows =
             lobeRows(k, 1, [roughnessOf](const AnisotropicLobe& lobe, float* out) {
@@ -478,11 +462,45 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     }
     const int moments = findPlane(bake.planes, "lean_moments"),
               cross = findPlane(bake.planes, "lean_cross");
-    if (const EnginePreset* engine = options.engine; engine && moments >= 0 && cross >= 0)
-        if (Status s = writeEngineAnisotropy(*engine, bake, size_t(moments), size_t(cross), options,
-                                             writeMade);
+    if (const EnginePreset* engine = options.engine; engine && moments >= 0 && cross >= 0) {
+        // The lean bake's lobe from the slope moments (sggx.glsl), about the mean slope's normal
+        // (E[bx], E[by], 1), which is the engine's normal map.
+        const int channels = normalChannels(options.normalFormat);
+        const bool down = engine->greenDown;
+        auto normal = [&bake, moments, down, channels](size_t k) {
+            const Image& m = *bake.levels[k][size_t(moments)];
+            return LevelRows{m.width, m.height, channels, [&m, down, channels](int y, float* out) {
+                                 for (int x = 0; x < m.width; ++x) {
+                                     const float* mi = m.at(x, y);
+                                     const float slopeNormal[3] = {mi[0], mi[1], 1.f};
+                                     encodeNormal(slopeNormal, down, channels,
+                                                  out + size_t(x) * size_t(channels));
+                                 }
+                             }};
+        };
+        if (Status s = writeMade(std::string(engine->name) + "_" + engine->normalFile, normal,
+                                 options.normalFormat, normalKeyValues(options.normalFormat, down));
             !s)
             return Error{s.error};
+        const float alpha2 = options.baseRoughness * options.baseRoughness;
+        const LobeLevels lobes{
+            size_t(moments), [&bake, moments, cross, alpha2](size_t k, size_t i) {
+                return anisotropicLobeOfMoments(&bake.levels[k][size_t(moments)]->pixels[4 * i],
+                                                bake.levels[k][size_t(cross)]->pixels[i], alpha2);
+            }};
+        if (Status s = writeEngineAnisotropy(*engine, bake, lobes, options, writeMade); !s)
+            return Error{s.error};
+    }
+    // ggx-aniso's fitted lobe from its tensor (ggx_aniso.glsl), about its normal plane (written
+    // above as the engine's normal map).
+    if (const int tensor = findPlane(bake.planes, "alpha_tensor"); options.engine && tensor >= 0) {
+        const LobeLevels lobes{size_t(tensor), [&bake, tensor](size_t k, size_t i) {
+                                   const float* a = &bake.levels[k][size_t(tensor)]->pixels[3 * i];
+                                   return anisotropicLobe(a[0], a[2], a[1]);
+                               }};
+        if (Status s = writeEngineAnisotropy(*options.engine, bake, lobes, options, writeMade); !s)
+            return Error{s.error};
+    }
     // A container asked for but given nothing (a method without normal or roughness, planes not
     // asked for) is a mistake, not an empty folder.
     if (names.empty())

@@ -121,17 +121,19 @@ void checkFileOptions(const BakeFileOptions& a) {
         if (!findEnginePreset(a.engine))
             fail("--engine " + quote(a.engine) + ": expected " + enginePresetNames());
         if (*method != Method::Toksvig && *method != Method::Naive && *method != Method::Lean &&
-            *method != Method::GgxFit)
+            *method != Method::GgxFit && *method != Method::GgxAniso)
             fail("--engine writes a normal map and a roughness map: --method toksvig, ggx-fit (or "
-                 "naive), or lean (one anisotropic lobe per texel, in the engine's anisotropy "
-                 "inputs)");
+                 "naive), or ggx-aniso or lean (one anisotropic lobe per texel, in the engine's "
+                 "anisotropy inputs)");
         if (!exports.count("ktx2") && !exports.count("dds")) exports.insert("ktx2");
     }
     if (exports.count("png16") &&
         (*method == Method::Sh || *method == Method::Vmf || *method == Method::Lean))
         fail("--export png16 needs a method that stores a normal (naive, toksvig)");
-    if (!a.roughnessMap.empty() && *method != Method::Toksvig && *method != Method::GgxFit)
-        fail("--roughness-map applies to --method toksvig and ggx-fit (their roughness planes)");
+    if (!a.roughnessMap.empty() && *method != Method::Toksvig &&
+        !bakeFitsMaterialRoughness(*method))
+        fail("--roughness-map applies to --method toksvig, ggx-fit and ggx-aniso (their roughness "
+             "planes)");
     if (bakeFitsMaterialRoughness(*method) && a.baseRoughness == 0.f && a.roughnessMap.empty())
         fail(std::string("--method ") + methodName(*method) +
              " fits one GGX lobe to the material's: give its --base-roughness (at least 0.01) "
@@ -465,8 +467,9 @@ Status checkBakeOptions(Method method, const BakeOptions& o, int width, int heig
                  " fits one GGX lobe to the material's: base_roughness must be at least 0.01");
         if (o.roughnessMap) {
             const Image& r = *o.roughnessMap;
-            if (method != Method::Toksvig && method != Method::GgxFit)
-                fail("roughness: applies to methods toksvig and ggx-fit (their roughness planes)");
+            if (method != Method::Toksvig && !bakeFitsMaterialRoughness(method))
+                fail("roughness: applies to methods toksvig, ggx-fit and ggx-aniso (their "
+                     "roughness planes)");
             if (r.width != width || r.height != height || r.channels != 1)
                 fail("roughness: " + std::to_string(r.width) + "x" + std::to_string(r.height) +
                      "x" + std::to_string(r.channels) + " but the normal map is " +

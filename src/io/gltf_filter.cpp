@@ -234,8 +234,10 @@ class Filter {
         : path_(std::move(path)), asset_(asset),
           dds_(options.textureFormat != GltfTextureFormat::Basisu),
           basisu_(options.textureFormat != GltfTextureFormat::Dds),
-          anisotropy_(options.method == GltfMethod::Sggx),
-          roughness_(options.method == GltfMethod::GgxFit ? Method::GgxFit : Method::Toksvig) {}
+          anisotropy_(options.method == GltfMethod::Sggx || options.method == GltfMethod::GgxAniso),
+          roughness_(options.method == GltfMethod::GgxFit     ? Method::GgxFit
+                     : options.method == GltfMethod::GgxAniso ? Method::GgxAniso
+                                                              : Method::Toksvig) {}
 
     GltfFiltered run() {
         json& root = asset_.json;
@@ -516,7 +518,9 @@ class Filter {
             if (const json* extensions = member(material, "extensions");
                 extensions && member(*extensions, kAnisotropyExtension))
                 refuse(job.where + ": has a " + kAnisotropyExtension +
-                       " of its own, which --method sggx would replace: use --method toksvig");
+                       " of its own, which --method " +
+                       (roughness_ == Method::GgxAniso ? "ggx-aniso" : "sggx") +
+                       " would replace: use --method toksvig");
         return job;
     }
 
@@ -796,6 +800,30 @@ class Filter {
         return material;
     }
 
+    // --method ggx-aniso, level by level: the fitted lobe of each texel's tensor (the bake's
+    // alpha_tensor, ggx_aniso.glsl) as KHR_materials_anisotropy stores it, as sggxLevels.
+    template <class RoughnessG>
+    std::vector<Image>
+    fittedAnisotropyLevels(const Bake& bake, const std::vector<SharedImage>& averaged,
+                           RoughnessG roughnessG, std::vector<Image>& anisotropy) {
+        const int tensor = findPlane(bake.planes, "alpha_tensor");
+        std::vector<Image> material;
+        for (size_t k = 0; k < bake.levels.size(); ++k) {
+            const Image& a = *bake.levels[k][size_t(tensor)];
+            Image level = *averaged[k];
+            Image texture(level.width, level.height, 4);
+            for (size_t i = 0; i < level.texelCount(); ++i) {
+                const float* t = &a.pixels[3 * i];
+                const KhrAnisotropy lobe = khrAnisotropy(t[0], t[2], t[1]);
+                level.pixels[4 * i + 1] = roughnessG(lobe.roughness);
+                khrAnisotropyTexel(lobe, &texture.pixels[4 * i]);
+            }
+            material.push_back(std::move(level));
+            anisotropy.push_back(std::move(texture));
+        }
+        return material;
+    }
+
     Baked bakeMaterial(const MaterialJob& job, const Pyramid& pyramid,
                        const std::shared_ptr<Image>& normals,
                        const std::shared_ptr<const Image>& rgba) {
@@ -838,8 +866,10 @@ class Filter {
         };
         if (anisotropy_) {
             std::vector<Image> anisotropy;
-            material =
-                sggxLevels(scaled ? *scaled : pyramid, *alpha, averaged, roughnessG, anisotropy);
+            material = roughness_ == Method::GgxAniso
+                           ? fittedAnisotropyLevels(bake, averaged, roughnessG, anisotropy)
+                           : sggxLevels(scaled ? *scaled : pyramid, *alpha, averaged, roughnessG,
+                                        anisotropy);
             out.anisotropyLevel0 = anisotropy.front();
             out.anisotropy = addLevels(std::move(anisotropy), TextureFormat::Rgba8Unorm,
                                        "ndfmip RGBA8 anisotropy mips of material " +
@@ -871,7 +901,12 @@ class Filter {
                               {{"r", "R averaged (occlusion where packed)"},
                                {"g", roughness_ == Method::GgxFit
                                          ? "perceptual roughness, fitted to the filtered NDF"
-                                         : "perceptual roughness, Toksvig-filtered"},
+                                     : roughness_ == Method::GgxAniso
+                                         ? "perceptual roughness sqrt(alpha_b) of the anisotropic "
+                                           "lobe fitted to the filtered NDF"
+                                     : anisotropy_ ? "perceptual roughness sqrt(alpha_b) of the "
+                                                     "slope moments' anisotropic lobe"
+                                                   : "perceptual roughness, Toksvig-filtered"},
                                {"b", "metallic averaged"}}}});
         return out;
     }
@@ -1009,10 +1044,10 @@ class Filter {
     size_t originalTextures_ = 0;
     std::map<std::string, AddedLevels> wants_; // slot (JSON pointer) -> the levels it should read
     bool dds_ = false, basisu_ = true;
-    bool anisotropy_ = false; // --method sggx: KHR_materials_anisotropy
-    // The bake whose roughness_ggx the material maps get: toksvig, or with --method ggx-fit the
-    // roughness fitted to each texel's filtered NDF, the material's alpha per texel the lobes it
-    // widens (bake --method ggx-fit --roughness-map).
+    bool anisotropy_ = false; // --method sggx or ggx-aniso: KHR_materials_anisotropy
+    // The bake whose roughness the material maps get: toksvig's roughness_ggx, or with --method
+    // ggx-fit (ggx-aniso) the roughness (anisotropic lobe) fitted to each texel's filtered NDF,
+    // the material's alpha per texel the lobes it widens (bake --method ggx-fit --roughness-map).
     Method roughness_ = Method::Toksvig;
     struct PendingUastc {
         int image = -1;                         // added with no bytes yet

@@ -448,6 +448,35 @@ TEST(Cli, GgxFitNeedsTheMaterialsRoughnessAndExportsItsFit) {
                 std::sqrt(texel.at("roughness_ggx").get<float>()), 1e-6f);
 }
 
+TEST(Cli, GgxAnisoNeedsTheMaterialsRoughnessAndInspectsItsLobe) {
+    TempDir tmp("cli_ggx_aniso");
+    const std::string map = tmp.file("map.png");
+    writePng16(map, encodeNormals(bumpyNormals(8, 8)));
+    const fs::path dir = tmp.path / "bake";
+    CliRun missing =
+        cli("bake " + shellQuoted(map) + " --method ggx-aniso -o " + shellQuoted(dir.string()));
+    EXPECT_NE(missing.status, 0);
+    EXPECT_NE(missing.output.find("--base-roughness"), std::string::npos) << missing.output;
+    EXPECT_FALSE(fs::exists(dir));
+    CliRun r = cli("bake " + shellQuoted(map) + " -q --method ggx-aniso --base-roughness 0.09 -o " +
+                   shellQuoted(dir.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    // Level 0 is the material's own lobe; the bumps widen level 1 along some axis.
+    json level0 = inspect(dir, 0, "0,0");
+    EXPECT_NEAR(level0.at("alpha_t").get<float>(), 0.09f, 1e-6f);
+    EXPECT_NEAR(level0.at("alpha_b").get<float>(), 0.09f, 1e-6f);
+    json texel = inspect(dir, 1, "0,0");
+    EXPECT_EQ(texel.at("method"), "ggx-aniso");
+    EXPECT_GE(texel.at("alpha_t").get<float>(), texel.at("alpha_b").get<float>());
+    EXPECT_GT(texel.at("alpha_t").get<float>(), 0.09f);
+    const json& a = texel.at("alpha_tensor");
+    const float t = a[0][0].get<float>() + a[1][1].get<float>();
+    EXPECT_NEAR(t,
+                std::pow(texel.at("alpha_t").get<float>(), 2.f) +
+                    std::pow(texel.at("alpha_b").get<float>(), 2.f),
+                1e-4f * t); // the trace is the sum of the squared roughnesses
+}
+
 // ---- bad input --------------------------------------------------------------------------------
 
 class CliBadInput : public ::testing::Test {

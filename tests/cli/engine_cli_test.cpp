@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "methods/lean/engine_anisotropy.h"
 #include "ndfmip/io.h"
 #include "ndfmip/texture_container.h"
 #include "test_support.h"
@@ -265,6 +266,62 @@ TEST(EngineCli, LeanBakeWritesEachEnginesOwnAnisotropyInputs) {
     }
     EXPECT_EQ(aboutOf(slurp(dir.file("godot") + "/ktx2/godot_anisotropy.ktx2"))["content"],
               "Godot anisotropy flowmap");
+}
+
+// ggx-aniso's fitted lobe in each engine's anisotropy inputs: every texel of levels 0-3 of the
+// files against the lobe of the bake's own alpha_tensor plane (written beside them as EXR), in
+// KHR's, Kulla's (Unreal) and Burley's (Godot) parametrisation; the axis on x from level 1 on.
+TEST(EngineCli, GgxAnisoBakeWritesItsFittedLobeInEachEnginesInputs) {
+    test::TempDir dir("ndfmip_engine_ggx_aniso");
+    saveColumns(dir.file("n.png"), 0.28f, 0.f, 0.96f);
+    for (const std::string engine : {"gltf", "unreal", "godot"}) {
+        const std::string out = dir.file(engine);
+        std::string output;
+        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --engine " + engine +
+                                   " --method ggx-aniso --base-roughness 0.2 --export ktx2,exr "
+                                   "-q -o " +
+                                   test::shellArg(out),
+                               &output),
+                  0)
+            << output;
+        const std::string anisotropy = slurp(out + "/ktx2/" + engine + "_anisotropy.ktx2");
+        const std::string packed =
+            slurp(out + "/ktx2/" + engine +
+                  (engine == "godot" ? "_orm" : "_occlusion_roughness_metallic") + ".ktx2");
+        ASSERT_GT(anisotropy.size(), 80u);
+        ASSERT_GT(packed.size(), 80u);
+        for (uint32_t k = 0; k < 4; ++k) {
+            Result<SourceImage> tensor =
+                loadImage(out + "/alpha_tensor_L" + std::to_string(k) + ".exr");
+            ASSERT_TRUE(tensor) << tensor.error().message;
+            const std::string a = ktx2Level(anisotropy, k), g = ktx2Level(packed, k);
+            ASSERT_EQ(a.size(), size_t(4 * (8 >> k) * (8 >> k)));
+            for (size_t i = 0; i < a.size() / 4; ++i) {
+                const float* t = &tensor->image.pixels[size_t(tensor->image.channels) * i];
+                const AnisotropicLobe lobe = anisotropicLobe(t[0], t[2], t[1]);
+                const auto at = [&](const std::string& s, size_t channel) {
+                    return double((unsigned char)s[4 * i + channel]);
+                };
+                double strength = 0.0, roughness = 0.0;
+                if (engine == "gltf") {
+                    const KhrAnisotropy khr = khrAnisotropy(lobe);
+                    strength = khr.strength, roughness = khr.roughness;
+                } else {
+                    const RoughnessAnisotropy r =
+                        engine == "godot" ? burleyAnisotropy(lobe) : kullaAnisotropy(lobe);
+                    strength = r.anisotropy, roughness = r.roughness;
+                }
+                EXPECT_NEAR(at(a, engine == "godot" ? 3 : 2), 255.0 * strength, 0.6)
+                    << engine << " level " << k;
+                EXPECT_NEAR(at(g, 1), 255.0 * roughness, 0.6) << engine << " level " << k;
+                if (k > 0) {
+                    EXPECT_EQ(at(a, 0), 255.0) << engine << " level " << k;
+                    EXPECT_NEAR(at(a, 1), 127.5, 0.6) << engine << " level " << k;
+                    EXPECT_GT(strength, 0.3) << engine << " level " << k;
+                }
+            }
+        }
+    }
 }
 
 // The stripes turned 90 degrees: the direction is the y axis, and Unreal's texture holds it

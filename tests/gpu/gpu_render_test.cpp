@@ -118,7 +118,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"toksvig", Brdf::Ggx}, Case{"toksvig-lut", Brdf::BlinnPhong},
                       Case{"roughness-mips", Brdf::Ggx}, Case{"sh", Brdf::BlinnPhong},
                       Case{"vmf", Brdf::Beckmann}, Case{"lean", Brdf::Ggx},
-                      Case{"ggx-fit", Brdf::Ggx}),
+                      Case{"ggx-fit", Brdf::Ggx}, Case{"ggx-aniso", Brdf::Ggx}),
     [](const auto& param) {
         std::string name = std::string(param.param.method) + "_" + brdfName(param.param.brdf);
         for (char& ch : name)

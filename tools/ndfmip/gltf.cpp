@@ -26,9 +26,10 @@ void runGltf(const GltfArgs& a) {
     if (std::filesystem::path(a.output).extension() != ".glb")
         throw Failure(a.output + ": the output is a binary glTF: name it .glb");
     GltfOptions options = a.options;
-    options.method = a.method == "sggx"      ? GltfMethod::Sggx
-                     : a.method == "ggx-fit" ? GltfMethod::GgxFit
-                                             : GltfMethod::Toksvig;
+    options.method = a.method == "sggx"        ? GltfMethod::Sggx
+                     : a.method == "ggx-fit"   ? GltfMethod::GgxFit
+                     : a.method == "ggx-aniso" ? GltfMethod::GgxAniso
+                                               : GltfMethod::Toksvig;
     options.textureFormat = a.textureFormat == "dds"    ? GltfTextureFormat::Dds
                             : a.textureFormat == "both" ? GltfTextureFormat::Both
                                                         : GltfTextureFormat::Basisu;
@@ -37,7 +38,10 @@ void runGltf(const GltfArgs& a) {
                            ? "UASTC and DDS normal and metallicRoughness mips"
                            : "UASTC normal and metallicRoughness mips";
     const std::string whatWithAnisotropy =
-        std::string(what) + (options.method == GltfMethod::Sggx ? ", anisotropy mips" : "");
+        std::string(what) +
+        (options.method == GltfMethod::Sggx || options.method == GltfMethod::GgxAniso
+             ? ", anisotropy mips"
+             : "");
     const long long start = nowNanoseconds();
     Result<GltfFiltered> filtered = filterGltf(a.input, options);
     if (!filtered) throw Failure(filtered.error().message);
@@ -87,8 +91,9 @@ void addGltfCommand(CLI::App& app) {
                   "how the roughness takes the normals' spread: toksvig (one isotropic roughness "
                   "per texel), sggx (one anisotropic GGX lobe per texel from the slope moments, "
                   "written as KHR_materials_anisotropy with an anisotropyTexture of ndfmip's "
-                  "levels) or ggx-fit (the roughness fitted to each texel's filtered NDF)")
-        ->check(CLI::IsMember({"toksvig", "sggx", "ggx-fit"}))
+                  "levels), ggx-fit (the roughness fitted to each texel's filtered NDF) or "
+                  "ggx-aniso (the anisotropic GGX lobe fitted to it, written as sggx's is)")
+        ->check(CLI::IsMember({"toksvig", "sggx", "ggx-fit", "ggx-aniso"}))
         ->capture_default_str();
     c->add_flag("--allow-outside", args->options.allowOutside,
                 "read buffer and image uris outside the asset's folder (absolute paths, file:, "

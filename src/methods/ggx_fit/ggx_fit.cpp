@@ -23,12 +23,14 @@ namespace {
 
 using namespace ndf_rings;
 
+constexpr int kRings = 16; // rings of the fit about the mean normal
+
 // The fitted alpha of one texel: `r` its mean normal's length |Na|. The error is the squared
 // difference on the rings about the mean normal, weighted by their solid angles: the L2
 // distance of the two NDFs over the sphere.
 float fitTexel(const TexelNormals& normals, const MaterialLobes& lobes, float r) {
     if (!(normals.total > 0.f)) return lobes.alpha;
-    const Rings ring = rings(toksvigWidth(normals, r));
+    const Rings ring = rings(toksvigWidth(normals, r), kRings);
     float target[kRings];
     for (int j = 0; j < kRings; ++j) target[j] = ringModes(normals, lobes, ring.theta[j]).mean;
     auto error = [&](float logAlpha) {

@@ -106,92 +106,12 @@ void clearTexel(TexelNormals& t) {
         }
         h.first = 0, h.last = -1;
         h.few.clear();
+        h.fewModes.clear();
         h.entries = 0;
     }
     t.used.clear();
     t.alpha2 = t.total = 0.f;
     t.narrowest = 1.f;
-}
-
-namespace {
-
-// The table's values at entry e of rows `below` and `above`.
-inline float at(const float* row, const AngleHistogram::Entry& e) {
-    return row[e.b] + e.f * (row[e.b + 1] - row[e.b]);
-}
-
-} // namespace
-
-RingModes ringModes(const TexelNormals& normals, const MaterialLobes& lobes, float theta) {
-    RingModes sum;
-    for (int k : normals.used) {
-        const AngleHistogram& h = normals.histograms[size_t(k)];
-        const RingTable& table = lobes.tables[size_t(k)];
-        const float u = std::min(theta / table.step, float(table.steps));
-        const int t = std::min(int(u), table.steps - 1);
-        const float s = u - float(t);
-        const float* below = table.ring(t);
-        const float* above = table.ring(t + 1);
-        const bool few = h.entries <= kFewNormals && 2 * h.entries < size_t(h.last - h.first + 1);
-        float meanBelow = 0.f, meanAbove = 0.f;
-        if (few) {
-            if (lobes.map) {
-                for (const AngleHistogram::Entry& e : h.few)
-                    meanBelow += e.w * at(below, e), meanAbove += e.w * at(above, e);
-            } else { // every weight 1
-                for (const AngleHistogram::Entry& e : h.few)
-                    meanBelow += at(below, e), meanAbove += at(above, e);
-            }
-        } else {
-            for (int b = h.first; b <= h.last; ++b) {
-                meanBelow += h.counts[size_t(b)] * below[b];
-                meanAbove += h.counts[size_t(b)] * above[b];
-            }
-        }
-        sum.mean += meanBelow + s * (meanAbove - meanBelow);
-        if (!lobes.secondMode) continue;
-        const float* secondBelow = table.secondRing(t);
-        const float* secondAbove = table.secondRing(t + 1);
-        float cb = 0.f, ca = 0.f, sb = 0.f, sa = 0.f;
-        if (few) {
-            for (const AngleHistogram::Entry& e : h.few) {
-                const float rb = e.w * at(secondBelow, e), ra = e.w * at(secondAbove, e);
-                cb += rb * e.c2, ca += ra * e.c2, sb += rb * e.s2, sa += ra * e.s2;
-            }
-        } else {
-            for (int b = h.first; b <= h.last; ++b) {
-                cb += h.cos2[size_t(b)] * secondBelow[b], ca += h.cos2[size_t(b)] * secondAbove[b];
-                sb += h.sin2[size_t(b)] * secondBelow[b], sa += h.sin2[size_t(b)] * secondAbove[b];
-            }
-        }
-        sum.cos2 += cb + s * (ca - cb);
-        sum.sin2 += sb + s * (sa - sb);
-    }
-    sum.mean /= normals.total, sum.cos2 /= normals.total, sum.sin2 /= normals.total;
-    return sum;
-}
-
-float toksvigWidth(const TexelNormals& normals, float r) {
-    const float a0 = std::sqrt(normals.alpha2 / normals.total); // RMS alpha
-    return std::min(std::sqrt(a0 * a0 + 2.f * (1.f - r) / std::max(r, 1e-3f)), 2.f);
-}
-
-Rings rings(float width) {
-    Rings out;
-    // Edges' cosines by rotation; each ring's weight its solid angle / 2 pi.
-    const float reach = std::atan(kReach * width), dTheta = reach / float(kRings);
-    const float cosStep = std::cos(dTheta), sinStep = std::sin(dTheta);
-    const float cosHalf = std::cos(0.5f * dTheta), sinHalf = std::sin(0.5f * dTheta);
-    float cosLo = 1.f, sinLo = 0.f;
-    for (int j = 0; j < kRings; ++j) {
-        const float cosHi = cosLo * cosStep - sinLo * sinStep;
-        const float sinHi = sinLo * cosStep + cosLo * sinStep;
-        out.theta[j] = dTheta * (float(j) + 0.5f);
-        out.cosTheta[j] = cosLo * cosHalf - sinLo * sinHalf;
-        out.weight[j] = cosLo - cosHi;
-        cosLo = cosHi, sinLo = sinHi;
-    }
-    return out;
 }
 
 } // namespace ndfmip::ndf_rings

@@ -73,14 +73,16 @@ MaterialLobes materialLobes(const BakeOptions& options, bool secondMode);
 struct AngleHistogram {
     std::vector<float> counts, cos2, sin2; // table.steps + 1, zero outside [first, last]
     int first = 0, last = -1;
-    // The normals' steps, fractions, weights and doubled azimuths while few: a sum over them is
-    // cheaper than over the histogram's range when that is wider than they are many.
+    // The normals' steps, fractions and weights while few (with mode 2 their doubled azimuths'
+    // cosines and sines beside them): a sum over them is cheaper than over the histogram's range
+    // when that is wider than they are many.
     struct Entry {
         int b;
-        float f, w, c2, s2;
+        float f, w;
     };
     std::vector<Entry> few;
-    size_t entries = 0; // normals added, few or not
+    std::vector<std::pair<float, float>> fewModes; // (cos 2 phi, sin 2 phi), mode 2 only
+    size_t entries = 0;                            // normals added, few or not
 };
 
 constexpr size_t kFewNormals = 64;
@@ -105,9 +107,10 @@ inline float fastAcos(float x) {
     return x < 0.f ? 3.14159265358979f - r : r;
 }
 
-// A normal at angle beta from the axis, with weight w and doubled azimuth (c2, s2).
+// A normal at angle beta from the axis, with weight w (and with mode 2 doubled azimuth (c2, s2)).
+template <bool kSecondMode>
 inline void addAngle(AngleHistogram& h, const RingTable& table, float beta, float w, float c2,
-                     float s2, bool secondMode) {
+                     float s2) {
     const float u = std::min(beta / table.step, float(table.steps));
     const int b = std::min(int(u), table.steps - 1);
     const float f = u - float(b);
@@ -115,13 +118,16 @@ inline void addAngle(AngleHistogram& h, const RingTable& table, float beta, floa
     h.first = std::min(h.first, b), h.last = std::max(h.last, b + 1);
     h.counts[size_t(b)] += w * (1.f - f);
     h.counts[size_t(b) + 1] += w * f;
-    if (secondMode) {
+    if constexpr (kSecondMode) {
         h.cos2[size_t(b)] += w * (1.f - f) * c2;
         h.cos2[size_t(b) + 1] += w * f * c2;
         h.sin2[size_t(b)] += w * (1.f - f) * s2;
         h.sin2[size_t(b) + 1] += w * f * s2;
     }
-    if (h.few.size() < kFewNormals) h.few.push_back({b, f, w, c2, s2});
+    if (h.few.size() < kFewNormals) {
+        h.few.push_back({b, f, w});
+        if constexpr (kSecondMode) h.fewModes.emplace_back(c2, s2);
+    }
     ++h.entries;
 }
 
@@ -134,15 +140,16 @@ struct RingFrame {
 };
 
 // Adds a level-0 normal `n` (not necessarily unit) of lobe alpha `a`.
-inline void addNormal(TexelNormals& t, const MaterialLobes& lobes, const float* n, float a,
-                      const RingFrame& frame) {
+template <bool kSecondMode>
+inline void addNormalWithModes(TexelNormals& t, const MaterialLobes& lobes, const float* n, float a,
+                               const RingFrame& frame) {
     float unit[3];
     normalizeOrFlat(n, unit);
     const float* axis = frame.axis;
     const float c = unit[0] * axis[0] + unit[1] * axis[1] + unit[2] * axis[2];
     const float beta = fastAcos(std::clamp(c, -1.f, 1.f));
     float c2 = 0.f, s2 = 0.f;
-    if (lobes.secondMode) {
+    if constexpr (kSecondMode) {
         const float* tx = frame.tangent;
         const float* bx = frame.bitangent;
         const float x = unit[0] * tx[0] + unit[1] * tx[1] + unit[2] * tx[2];
@@ -155,7 +162,7 @@ inline void addNormal(TexelNormals& t, const MaterialLobes& lobes, const float* 
     t.narrowest = std::min(t.narrowest, a);
     if (!lobes.map) { // one table
         if (t.used.empty()) t.used.push_back(0);
-        addAngle(t.histograms.front(), lobes.tables.front(), beta, 1.f, c2, s2, lobes.secondMode);
+        addAngle<kSecondMode>(t.histograms.front(), lobes.tables.front(), beta, 1.f, c2, s2);
         return;
     }
     const auto [k, share] = lobes.tableOf(a);
@@ -164,8 +171,16 @@ inline void addNormal(TexelNormals& t, const MaterialLobes& lobes, const float* 
         if (!(w > 0.f)) continue;
         AngleHistogram& h = t.histograms[size_t(k + j)];
         if (h.entries == 0) t.used.push_back(k + j);
-        addAngle(h, lobes.tables[size_t(k + j)], beta, w, c2, s2, lobes.secondMode);
+        addAngle<kSecondMode>(h, lobes.tables[size_t(k + j)], beta, w, c2, s2);
     }
+}
+
+inline void addNormal(TexelNormals& t, const MaterialLobes& lobes, const float* n, float a,
+                      const RingFrame& frame) {
+    if (lobes.secondMode)
+        addNormalWithModes<true>(t, lobes, n, a, frame);
+    else
+        addNormalWithModes<false>(t, lobes, n, a, frame);
 }
 
 // T's modes on the ring at theta: its mean, and with mode 2 its means times cos 2 phi and
@@ -173,21 +188,22 @@ inline void addNormal(TexelNormals& t, const MaterialLobes& lobes, const float* 
 struct RingModes {
     float mean = 0.f, cos2 = 0.f, sin2 = 0.f;
 };
-RingModes ringModes(const TexelNormals& normals, const MaterialLobes& lobes, float theta);
+inline RingModes ringModes(const TexelNormals& normals, const MaterialLobes& lobes, float theta);
 
 // Toksvig's width sqrt(a0^2 + 2 sigma^2) (T eq. 1, roughness.h) for the normals' RMS alpha a0
 // and |Na| = r: how far the rings reach.
-float toksvigWidth(const TexelNormals& normals, float r);
+inline float toksvigWidth(const TexelNormals& normals, float r);
 
-// The rings a fit reads: kRings of equal width in theta up to tan(theta) = kReach x `width`,
-// with the squared-difference weights of an L2 distance over the sphere (their solid angles /
-// 2 pi).
-constexpr int kRings = 16;
+// The rings a fit reads: `count` (at most kMaxRings) of equal width in theta up to tan(theta) =
+// kReach x `width`, with the squared-difference weights of an L2 distance over the sphere (their
+// solid angles / 2 pi).
+constexpr int kMaxRings = 16;
 constexpr float kReach = 3.5f;
 struct Rings {
-    float theta[kRings], cosTheta[kRings], weight[kRings];
+    int count = 0;
+    float theta[kMaxRings], cosTheta[kMaxRings], weight[kMaxRings];
 };
-Rings rings(float width);
+inline Rings rings(float width, int count);
 
 // The least of f over [lo, hi]: a scan of `scan` + 1 points, then parabolic steps in the bracket
 // about its best point (Brent's idea without his safeguards: the errors fitted here are smooth
@@ -229,6 +245,94 @@ float minimiseOnScan(const F& f, float lo, float hi, int scan, int parabolicStep
         }
     }
     return xb;
+}
+
+// ---- the inline definitions, on every texel's path ----------------------------------------
+
+namespace detail {
+
+// The table's value at entry e of a row.
+inline float at(const float* row, const AngleHistogram::Entry& e) {
+    return row[e.b] + e.f * (row[e.b + 1] - row[e.b]);
+}
+
+} // namespace detail
+
+inline RingModes ringModes(const TexelNormals& normals, const MaterialLobes& lobes, float theta) {
+    RingModes sum;
+    for (int k : normals.used) {
+        const AngleHistogram& h = normals.histograms[size_t(k)];
+        const RingTable& table = lobes.tables[size_t(k)];
+        const float u = std::min(theta / table.step, float(table.steps));
+        const int t = std::min(int(u), table.steps - 1);
+        const float s = u - float(t);
+        const float* below = table.ring(t);
+        const float* above = table.ring(t + 1);
+        const bool few = h.entries <= kFewNormals && 2 * h.entries < size_t(h.last - h.first + 1);
+        float meanBelow = 0.f, meanAbove = 0.f;
+        if (few) {
+            if (lobes.map) {
+                for (const AngleHistogram::Entry& e : h.few)
+                    meanBelow += e.w * detail::at(below, e),
+                        meanAbove += e.w * detail::at(above, e);
+            } else { // every weight 1
+                for (const AngleHistogram::Entry& e : h.few)
+                    meanBelow += detail::at(below, e), meanAbove += detail::at(above, e);
+            }
+        } else {
+            for (int b = h.first; b <= h.last; ++b) {
+                meanBelow += h.counts[size_t(b)] * below[b];
+                meanAbove += h.counts[size_t(b)] * above[b];
+            }
+        }
+        sum.mean += meanBelow + s * (meanAbove - meanBelow);
+        if (!lobes.secondMode) continue;
+        const float* secondBelow = table.secondRing(t);
+        const float* secondAbove = table.secondRing(t + 1);
+        float cb = 0.f, ca = 0.f, sb = 0.f, sa = 0.f;
+        if (few) {
+            for (size_t i = 0; i < h.few.size(); ++i) {
+                const AngleHistogram::Entry& e = h.few[i];
+                const auto [c2, s2] = h.fewModes[i];
+                const float rb = e.w * detail::at(secondBelow, e),
+                            ra = e.w * detail::at(secondAbove, e);
+                cb += rb * c2, ca += ra * c2, sb += rb * s2, sa += ra * s2;
+            }
+        } else {
+            for (int b = h.first; b <= h.last; ++b) {
+                cb += h.cos2[size_t(b)] * secondBelow[b], ca += h.cos2[size_t(b)] * secondAbove[b];
+                sb += h.sin2[size_t(b)] * secondBelow[b], sa += h.sin2[size_t(b)] * secondAbove[b];
+            }
+        }
+        sum.cos2 += cb + s * (ca - cb);
+        sum.sin2 += sb + s * (sa - sb);
+    }
+    sum.mean /= normals.total, sum.cos2 /= normals.total, sum.sin2 /= normals.total;
+    return sum;
+}
+
+inline float toksvigWidth(const TexelNormals& normals, float r) {
+    const float a0 = std::sqrt(normals.alpha2 / normals.total); // RMS alpha
+    return std::min(std::sqrt(a0 * a0 + 2.f * (1.f - r) / std::max(r, 1e-3f)), 2.f);
+}
+
+inline Rings rings(float width, int count) {
+    Rings out;
+    out.count = count;
+    // Edges' cosines by rotation; each ring's weight its solid angle / 2 pi.
+    const float reach = std::atan(kReach * width), dTheta = reach / float(count);
+    const float cosStep = std::cos(dTheta), sinStep = std::sin(dTheta);
+    const float cosHalf = std::cos(0.5f * dTheta), sinHalf = std::sin(0.5f * dTheta);
+    float cosLo = 1.f, sinLo = 0.f;
+    for (int j = 0; j < count; ++j) {
+        const float cosHi = cosLo * cosStep - sinLo * sinStep;
+        const float sinHi = sinLo * cosStep + cosLo * sinStep;
+        out.theta[j] = dTheta * (float(j) + 0.5f);
+        out.cosTheta[j] = cosLo * cosHalf - sinLo * sinHalf;
+        out.weight[j] = cosLo - cosHi;
+        cosLo = cosHi, sinLo = sinHi;
+    }
+    return out;
 }
 
 } // namespace ndfmip::ndf_rings

@@ -53,8 +53,9 @@ TEST(GgxAniso, OneNormalPerTexelIsTheMaterialsIsotropicLobe) {
         ASSERT_EQ(bake.levels.size(), pyramid.levels.size());
         for (size_t k = 0; k < bake.levels.size(); ++k) {
             const glm::vec3 a = tensorAt(bake, int(k), 0, 0);
-            EXPECT_NEAR(a.x, alpha * alpha, 6e-3f * alpha * alpha) << alpha << " level " << k;
-            EXPECT_NEAR(a.z, alpha * alpha, 6e-3f * alpha * alpha) << alpha << " level " << k;
+            // Within 1% (alpha within 0.5%): the ring table's interpolation on 12 rings.
+            EXPECT_NEAR(a.x, alpha * alpha, 1e-2f * alpha * alpha) << alpha << " level " << k;
+            EXPECT_NEAR(a.z, alpha * alpha, 1e-2f * alpha * alpha) << alpha << " level " << k;
             EXPECT_NEAR(a.y, 0.f, 1e-3f * alpha * alpha) << alpha << " level " << k;
             const float* n = bake.levels[k][0]->at(0, 0);
             EXPECT_NEAR(glm::dot(glm::vec3(n[0], n[1], n[2]), tilt), 1.f, 1e-5f);
@@ -64,7 +65,7 @@ TEST(GgxAniso, OneNormalPerTexelIsTheMaterialsIsotropicLobe) {
 
 TEST(GgxAniso, NormalsSpreadAlongXWidenTheLobeAlongX) {
     // Columns of normals at +-theta about x: every footprint's NDF is two lobes apart along x, so
-    // the lobe is wider along t (x) than along b, and across it stays within 2x the material's.
+    // the lobe is wider along t (x) than along b (how close to the best lobe: below).
     for (const bool alongY : {false, true}) {
         float previous = 0.1f;
         for (float theta : {0.05f, 0.1f, 0.2f, 0.35f}) {
@@ -80,7 +81,6 @@ TEST(GgxAniso, NormalsSpreadAlongXWidenTheLobeAlongX) {
             EXPECT_GT(along, previous) << "theta " << theta;
             EXPECT_GT(along, 1.2f * across) << "theta " << theta;
             EXPECT_NEAR(a.y, 0.f, 1e-4f);
-            EXPECT_LT(across, 0.2f) << "theta " << theta;
             previous = along;
         }
         EXPECT_GT(previous, 0.3f);
@@ -306,6 +306,79 @@ TEST(GgxAniso, MatchesAMultiStartFitOnRealMaps) {
     EXPECT_LT(mine / reference, 1.02);
     EXPECT_LT(worst, 1.1);
     EXPECT_LT(mine, 0.97 * iso); // the anisotropic lobe is closer than the best isotropic one
+}
+
+// What a hardware blend of the stored tensors rebuilds, against the fit of the blended footprint:
+// a lookup halfway between texels averages a 2x2 block's four children, whose union is the
+// parent texel. Mean of ||A_blend - A_union|| / ||A_union|| over the blocks of levels 1-5
+// (docs/RESULTS.md compares the slope-moment storages with it).
+double tensorBlendError(const Bake& bake) {
+    double sum = 0.;
+    int blocks = 0;
+    for (size_t k = 1; k + 1 < bake.levels.size() && k <= 5; ++k) {
+        const Image& child = *bake.levels[k][1];
+        const Image& parent = *bake.levels[k + 1][1];
+        for (int y = 0; y + 1 < child.height; y += 2)
+            for (int x = 0; x + 1 < child.width; x += 2) {
+                glm::dvec3 blend(0.);
+                for (int i = 0; i < 4; ++i) {
+                    const float* a = child.at(x + i % 2, y + i / 2);
+                    blend += 0.25 * glm::dvec3(a[0], a[1], a[2]);
+                }
+                const float* u = parent.at(x / 2, y / 2);
+                const glm::dvec3 onion(u[0], u[1], u[2]), d = blend - onion;
+                // Frobenius norms of the symmetric 2x2 matrices (the off-diagonal twice).
+                sum += std::sqrt(d.x * d.x + 2. * d.y * d.y + d.z * d.z) /
+                       std::sqrt(onion.x * onion.x + 2. * onion.y * onion.y + onion.z * onion.z);
+                ++blocks;
+            }
+    }
+    return sum / blocks;
+}
+
+TEST(GgxAniso, BlendedTensorsAgainstTheFitOfTheUnion) {
+    Result<Image> normals = loadNormalMap(
+        std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png", {}, nullptr);
+    ASSERT_TRUE(normals) << normals.error().message;
+    const Pyramid pyramid = buildPyramid(normals.value());
+    for (float alpha : {0.1f, 0.3f}) {
+        const double e = tensorBlendError(bakeGgxAniso(pyramid, fitted(alpha)));
+        std::printf("ggx-aniso tensor blend, pyramidwall_256, alpha %.1f: %.4f\n", alpha, e);
+        EXPECT_TRUE(std::isfinite(e));
+        EXPECT_LT(e, 0.6);
+    }
+    const std::filesystem::path dir = test::sharedNormalMaps();
+    if (dir.empty()) return;
+    for (const char* file : {"stktex_generic_rockA_Normal.png", "godot_wool_normal.png",
+                             "stk_generic_brickA_Normal.png", "Ground010_1K_Normal.png"}) {
+        Result<Image> map = loadNormalMap((dir / file).string(), {}, nullptr);
+        ASSERT_TRUE(map) << map.error().message;
+        const Pyramid shared = buildPyramid(map.value());
+        for (float alpha : {0.1f, 0.3f})
+            std::printf("ggx-aniso tensor blend, %s, alpha %.1f: %.4f\n", file, alpha,
+                        tensorBlendError(bakeGgxAniso(shared, fitted(alpha))));
+    }
+}
+
+TEST(GgxAniso, TwoNarrowLobesApartAgainstTheMultiStartFit) {
+    // The spread test's extreme: alpha 0.1 lobes 2 theta apart along x, each 2x2 block both,
+    // a two-peaked NDF no single lobe follows well; the fit stays near the best one (measured
+    // 1.02 / 1.03 / 1.06).
+    for (float theta : {0.1f, 0.2f, 0.35f}) {
+        const Pyramid pyramid = buildPyramid(filled(8, 8, [&](int x, int) {
+            const float d = (x % 2 ? 1.f : -1.f) * std::sin(theta);
+            return glm::vec3(d, 0.f, std::cos(theta));
+        }));
+        const glm::vec3 a = tensorAt(bakeGgxAniso(pyramid, fitted(0.1f)), 1, 0, 0);
+        const std::vector<glm::dvec3> normals = {glm::dvec3(std::sin(theta), 0., std::cos(theta)),
+                                                 glm::dvec3(-std::sin(theta), 0., std::cos(theta))};
+        const DenseObjective objective(normals, 0.1, glm::dvec3(0., 0., 1.));
+        const double ratio =
+            std::sqrt(objective.error(glm::dmat2(a.x, a.y, a.y, a.z)) / objective.bestError());
+        std::printf("theta %.2f: alpha_t %.3f alpha_b %.3f, L2 error / multi-start's %.3f\n", theta,
+                    std::sqrt(a.x), std::sqrt(a.z), ratio);
+        EXPECT_LT(ratio, 1.1) << "theta " << theta;
+    }
 }
 
 } // namespace
