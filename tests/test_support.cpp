@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "ndfmip/normal_map.h"
 #include "ndfmip/shading.h"
 
 namespace ndfmip::test {
@@ -30,6 +31,31 @@ TempDir::~TempDir() {
 std::filesystem::path sharedNormalMaps() {
     auto dir = std::filesystem::path(NDFMIP_SOURCE_DIR) / ".." / "shared" / "data" / "normalmaps";
     return std::filesystem::is_directory(dir) ? dir : std::filesystem::path();
+}
+
+Result<Image> sharedMapCrop(const std::filesystem::path& dir, const SharedMap& map, int x0, int y0,
+                            int size) {
+    DecodeOptions decode;
+    decode.greenDown = map.greenDown;
+    Result<Image> full = loadNormalMap((dir / map.file).string(), decode, nullptr);
+    if (!full) return full;
+    if (x0 + size > full->width || y0 + size > full->height)
+        return Error{std::string(map.file) + ": smaller than the crop"};
+    Image crop(size, size, 3);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) std::copy_n(full->at(x + x0, y + y0), 3, crop.at(x, y));
+    return crop;
+}
+
+SharedImage filledNormals(int width, int height, const std::function<glm::vec3(int, int)>& normal) {
+    auto image = std::make_shared<Image>(width, height, 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const glm::vec3 n = glm::normalize(normal(x, y));
+            float* p = image->at(x, y);
+            p[0] = n.x, p[1] = n.y, p[2] = n.z;
+        }
+    return image;
 }
 
 std::filesystem::path sharedEnvMaps() {

@@ -2,12 +2,16 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <initializer_list>
 #include <map>
 #include <string>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "ndfmip/image.h"
+#include "ndfmip/result.h"
 
 namespace ndfmip::test {
 
@@ -24,6 +28,22 @@ struct TempDir {
 // ../shared/data/normalmaps beside the checkout, or empty when it does not exist
 // (tests that need it call GTEST_SKIP()).
 std::filesystem::path sharedNormalMaps();
+
+// The two shared maps fits are checked against independent references on: one per green
+// convention and bit depth (8-bit, +Y up; 16-bit, DirectX).
+struct SharedMap {
+    const char* file;
+    bool greenDown;
+};
+inline constexpr SharedMap kReferenceMaps[2] = {{"stktex_generic_rockA_Normal.png", false},
+                                                {"Ground010_1K_Normal.png", true}};
+
+// The size x size crop at (x0, y0) of `map` in `dir`, decoded as its convention says.
+Result<Image> sharedMapCrop(const std::filesystem::path& dir, const SharedMap& map, int x0, int y0,
+                            int size);
+
+// A width x height map of the unit normals normal(x, y) (normalised).
+SharedImage filledNormals(int width, int height, const std::function<glm::vec3(int, int)>& normal);
 
 // ../shared/data/envmaps beside the checkout (equirectangular HDR maps), or empty.
 std::filesystem::path sharedEnvMaps();

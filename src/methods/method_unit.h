@@ -176,6 +176,10 @@ std::vector<MethodShader> ggxAnisoShaders();
 // method's own, so no command takes it from a table; a bake that depends on it (toksvig's
 // roughness planes, ggx-fit) lists it so that its manifest must record it.
 MethodParameter materialRoughnessParameter();
+// A bake fitted to the material's GGX roughness (ggx-fit, ggx-aniso) shades a GGX material of that
+// roughness, or any GGX material when fitted to a roughness map (the map is the material): an
+// error names `method` and the --base-roughness to bake with.
+Status checkFittedMaterial(const char* method, const Material& m, const RenderTextures& textures);
 PlaneInfo planeOf(const std::string& name, int channels, bool linear);
 nlohmann::json jsonVec3(const float* v);
 int requirePlane(const LoadedBake& bake, const std::string& name); // throws std::runtime_error

@@ -527,15 +527,16 @@ TEST(GltfCli, RerunOnItsOwnOutputKeepsItsSize) {
     EXPECT_EQ(gb.json["materials"], ga.json["materials"]);
 }
 
-// --method sggx on stripes whose normals alternate column by column between +-20 degrees about
-// y (tilted along x): from level 1 every texel's footprint holds both, so the slopes' variance
-// along x is tan^2(20 degrees) and the lobe is KHR_materials_anisotropy's with its axis on x:
-// alpha_t^2 = alpha^2 + 2 tan^2, alpha_b = alpha, strength s^2 = (alpha_t - alpha_b) / (1 -
-// alpha_b). Level 0 has no spread: strength 0. The asset passes the Khronos validator and a
-// rerun replaces ndfmip's images and extension.
-TEST(GltfCli, SggxWritesKhrMaterialsAnisotropyWithTheStripesAxis) {
-    test::TempDir dir{"gltf_sggx"};
-    const int size = 64;
+// The quad asset with stripes whose normals alternate column by column between +-20 degrees about
+// y (tilted along x) as its normal map, 64 x 64 8-bit, and an ORM map of roughness G 77/255.
+struct StripesQuad {
+    static constexpr int kSize = 64;
+    std::string gltf;
+    Image decoded; // the normals as the 8-bit file holds them
+};
+
+StripesQuad stripesQuad(const test::TempDir& dir) {
+    const int size = StripesQuad::kSize;
     const float tilt = glm::radians(20.f);
     Image stripes(size, size, 3);
     for (int y = 0; y < size; ++y)
@@ -547,15 +548,28 @@ TEST(GltfCli, SggxWritesKhrMaterialsAnisotropyWithTheStripesAxis) {
     Image orm(size, size, 3);
     for (size_t i = 0; i < orm.texelCount(); ++i)
         orm.pixels[3 * i] = 1.f, orm.pixels[3 * i + 1] = 77.f / 255.f, orm.pixels[3 * i + 2] = 0.f;
-    // The slope as the 8-bit file holds it.
-    const Image decoded = [&] {
-        Result<SourceImage> source = decodeImage(encodePng(stripes, 8).value(), "stripes");
-        return decodeNormalMap(source.value(), DecodeOptions{}, "stripes", nullptr).value();
-    }();
-    const float slope = decoded.at(0, 0)[0] / decoded.at(0, 0)[2];
-    const std::string gltf = test::writeGltf(
+    StripesQuad out;
+    Result<SourceImage> source = decodeImage(encodePng(stripes, 8).value(), "stripes");
+    out.decoded = decodeNormalMap(source.value(), DecodeOptions{}, "stripes", nullptr).value();
+    out.gltf = test::writeGltf(
         dir.path, test::quadAsset(),
         {{"normal.png", encodePng(stripes, 8).value()}, {"orm.png", encodePng(orm, 8).value()}});
+    return out;
+}
+
+// --method sggx on stripes whose normals alternate column by column between +-20 degrees about
+// y (tilted along x): from level 1 every texel's footprint holds both, so the slopes' variance
+// along x is tan^2(20 degrees) and the lobe is KHR_materials_anisotropy's with its axis on x:
+// alpha_t^2 = alpha^2 + 2 tan^2, alpha_b = alpha, strength s^2 = (alpha_t - alpha_b) / (1 -
+// alpha_b). Level 0 has no spread: strength 0. The asset passes the Khronos validator and a
+// rerun replaces ndfmip's images and extension.
+TEST(GltfCli, SggxWritesKhrMaterialsAnisotropyWithTheStripesAxis) {
+    test::TempDir dir{"gltf_sggx"};
+    const int size = StripesQuad::kSize;
+    const StripesQuad quad = stripesQuad(dir);
+    const std::string& gltf = quad.gltf;
+    // The slope as the 8-bit file holds it.
+    const float slope = quad.decoded.at(0, 0)[0] / quad.decoded.at(0, 0)[2];
     const std::string out = dir.file("out.glb");
     std::string output;
     ASSERT_EQ(test::runCli("gltf " + test::shellArg(gltf) + " -o " + test::shellArg(out) +
@@ -638,25 +652,10 @@ TEST(GltfCli, SggxWritesKhrMaterialsAnisotropyWithTheStripesAxis) {
 // the material's own lobe (strength 0). The asset passes the Khronos validator.
 TEST(GltfCli, GgxAnisoWritesItsFittedLobeAsKhrMaterialsAnisotropy) {
     test::TempDir dir{"gltf_ggx_aniso"};
-    const int size = 64;
-    const float tilt = glm::radians(20.f);
-    Image stripes(size, size, 3);
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x)
-            for (int c = 0; c < 3; ++c)
-                stripes.at(x, y)[c] = 0.5f * (glm::vec3((x % 2 ? -1.f : 1.f) * std::sin(tilt), 0.f,
-                                                        std::cos(tilt))[c] +
-                                              1.f);
-    Image orm(size, size, 3);
-    for (size_t i = 0; i < orm.texelCount(); ++i)
-        orm.pixels[3 * i] = 1.f, orm.pixels[3 * i + 1] = 77.f / 255.f, orm.pixels[3 * i + 2] = 0.f;
-    const Image decoded = [&] {
-        Result<SourceImage> source = decodeImage(encodePng(stripes, 8).value(), "stripes");
-        return decodeNormalMap(source.value(), DecodeOptions{}, "stripes", nullptr).value();
-    }();
-    const std::string gltf = test::writeGltf(
-        dir.path, test::quadAsset(),
-        {{"normal.png", encodePng(stripes, 8).value()}, {"orm.png", encodePng(orm, 8).value()}});
+    const int size = StripesQuad::kSize;
+    const StripesQuad quad = stripesQuad(dir);
+    const std::string& gltf = quad.gltf;
+    const Image& decoded = quad.decoded;
     const std::string out = dir.file("out.glb");
     std::string output;
     ASSERT_EQ(test::runCli("gltf " + test::shellArg(gltf) + " -o " + test::shellArg(out) +

@@ -149,45 +149,31 @@ Bake bakeGgxAniso(const Pyramid& pyramid, const BakeOptions& options) {
          true},
     };
     const MaterialLobes lobes = materialLobes(options, true);
-    const Image& base = *pyramid.base;
     const int count = int(pyramid.levels.size());
     bake.levels.resize(count);
     for (int k = 0; k < count; ++k) {
         const Image& mean = levelMean(pyramid, k);
         Image normal(mean.width, mean.height, 3, Image::Uninitialized{});
         Image tensor(mean.width, mean.height, 3, Image::Uninitialized{});
-        const int width = mean.width;
-        const int64_t texels = int64_t(mean.texelCount());
-#pragma omp parallel
-        {
-            TexelNormals normals = texelNormals(lobes);
-            RingFrame frame{};
-#pragma omp for schedule(dynamic, 16)
-            for (int64_t i = 0; i < texels; ++i) {
-                const float* na = &mean.pixels[3 * size_t(i)];
-                float* n = &normal.pixels[3 * size_t(i)];
-                normalizeOrFlat(na, n);
-                const int x = int(i % width), y = int(i / width);
-                Tensor fitted;
-                if (k == 0) {
-                    fitted = isotropic(lobes.alphaAt(x, y)); // one normal: its own lobe
-                } else {
-                    const glm::vec3 axis(n[0], n[1], n[2]);
-                    const glm::vec3 t = glsl().ndfmipAnisoTangent(axis);
-                    const glm::vec3 b = glm::cross(axis, t);
-                    frame = {{n[0], n[1], n[2]}, {t.x, t.y, t.z}, {b.x, b.y, b.z}};
-                    const Footprint f = footprint(pyramid, k, x, y);
-                    for (int by = f.y0; by < f.y1; ++by)
-                        for (int bx = f.x0; bx < f.x1; ++bx)
-                            addNormal(normals, lobes, base.at(bx, by), lobes.alphaAt(bx, by),
-                                      frame);
-                    fitted = fitTexel(normals, lobes, std::min(length3(na), 1.f));
-                    clearTexel(normals);
-                }
-                float* a = &tensor.pixels[3 * size_t(i)];
-                a[0] = fitted.tt, a[1] = fitted.tb, a[2] = fitted.bb;
-            }
-        }
+        auto store = [&tensor](size_t i, const Tensor& a) {
+            float* out = &tensor.pixels[3 * i];
+            out[0] = a.tt, out[1] = a.tb, out[2] = a.bb;
+        };
+        fitLevel(
+            pyramid, lobes, k, normal,
+            [](const float* n) {
+                // The frame the tensor is stored in (ggx_aniso.glsl).
+                const glm::vec3 axis(n[0], n[1], n[2]);
+                const glm::vec3 t = glsl().ndfmipAnisoTangent(axis);
+                const glm::vec3 b = glm::cross(axis, t);
+                return RingFrame{{n[0], n[1], n[2]}, {t.x, t.y, t.z}, {b.x, b.y, b.z}};
+            },
+            [&](size_t i, const TexelNormals& normals, float r) {
+                store(i, fitTexel(normals, lobes, r));
+            },
+            [&](size_t i, int x, int y) {
+                store(i, isotropic(lobes.alphaAt(x, y))); // one normal: its own lobe
+            });
         bake.levels[k] = {std::make_shared<const Image>(std::move(normal)),
                           std::make_shared<const Image>(std::move(tensor))};
         if (options.progress) options.progress(k + 1, count);

@@ -1,7 +1,5 @@
 // ggx-aniso as a unit, and its shader: the level's unit normal with the fitted anisotropic GGX
 // lobe's tensor, both blended by the lookup (shaders/ggx_aniso.glsl).
-#include <cmath>
-#include <cstdio>
 
 #include <nlohmann/json.hpp>
 
@@ -15,23 +13,7 @@ namespace {
 
 Status prepareGgxAniso(const Material& m, const RenderTextures& textures,
                        const RenderOptions& options, ShaderSetup& setup) {
-    if (m.brdf != Brdf::Ggx)
-        return Status::failure(
-            std::string("render: ggx-aniso stores a GGX lobe fitted to a GGX material, the "
-                        "material is ") +
-            brdfName(m.brdf));
-    // Fitted to one material roughness (not to a roughness map): the material must be it.
-    const auto base = textures.bake.parameters.find("base_roughness");
-    if (!textures.bake.parameters.count("roughness_map") &&
-        base != textures.bake.parameters.end() &&
-        std::abs(float(base->second) - m.roughness) > 1e-4f) {
-        char text[256];
-        std::snprintf(text, sizeof text,
-                      "render: the ggx-aniso bake was fitted to GGX alpha %g, the material's is "
-                      "%g: bake it with --base-roughness %g",
-                      base->second, double(m.roughness), double(m.roughness));
-        return Status::failure(text);
-    }
+    if (Status s = checkFittedMaterial("ggx-aniso", m, textures); !s) return s;
     return prepareSplitSumSetup(m, textures, options, setup);
 }
 

@@ -62,38 +62,25 @@ Bake bakeGgxFit(const Pyramid& pyramid, const BakeOptions& options) {
     };
     // A material alpha below kMinFittedRoughness (the commands refuse it) is fitted as that.
     const MaterialLobes lobes = materialLobes(options, false);
-    const Image& base = *pyramid.base;
     const int count = int(pyramid.levels.size());
     bake.levels.resize(count);
     for (int k = 0; k < count; ++k) {
         const Image& mean = levelMean(pyramid, k);
         Image normal(mean.width, mean.height, 3, Image::Uninitialized{});
         Image alpha(mean.width, mean.height, 1, Image::Uninitialized{});
-        const int width = mean.width;
-        const int64_t texels = int64_t(mean.texelCount());
-#pragma omp parallel
-        {
-            TexelNormals normals = texelNormals(lobes);
-            RingFrame frame{};
-#pragma omp for schedule(dynamic, 16)
-            for (int64_t i = 0; i < texels; ++i) {
-                const float* na = &mean.pixels[3 * size_t(i)];
-                float* n = &normal.pixels[3 * size_t(i)];
-                normalizeOrFlat(na, n);
+        fitLevel(
+            pyramid, lobes, k, normal,
+            [](const float* n) {
+                RingFrame frame{};
                 std::copy(n, n + 3, frame.axis);
-                const int x = int(i % width), y = int(i / width);
-                if (k == 0) {
-                    alpha.pixels[size_t(i)] = lobes.alphaAt(x, y); // one normal: its own lobe
-                    continue;
-                }
-                const Footprint f = footprint(pyramid, k, x, y);
-                for (int by = f.y0; by < f.y1; ++by)
-                    for (int bx = f.x0; bx < f.x1; ++bx)
-                        addNormal(normals, lobes, base.at(bx, by), lobes.alphaAt(bx, by), frame);
-                alpha.pixels[size_t(i)] = fitTexel(normals, lobes, std::min(length3(na), 1.f));
-                clearTexel(normals);
-            }
-        }
+                return frame;
+            },
+            [&](size_t i, const TexelNormals& normals, float r) {
+                alpha.pixels[i] = fitTexel(normals, lobes, r);
+            },
+            [&](size_t i, int x, int y) {
+                alpha.pixels[i] = lobes.alphaAt(x, y); // one normal: its own lobe
+            });
         bake.levels[k] = {std::make_shared<const Image>(std::move(normal)),
                           std::make_shared<const Image>(std::move(alpha))};
         if (options.progress) options.progress(k + 1, count);

@@ -15,23 +15,7 @@ namespace {
 
 Status prepareGgxFit(const Material& m, const RenderTextures& textures,
                      const RenderOptions& options, ShaderSetup& setup) {
-    if (m.brdf != Brdf::Ggx)
-        return Status::failure(
-            std::string("render: ggx-fit stores a GGX roughness fitted to a GGX material, the "
-                        "material is ") +
-            brdfName(m.brdf));
-    // Fitted to one material roughness (not to a roughness map): the material must be it.
-    const auto base = textures.bake.parameters.find("base_roughness");
-    if (!textures.bake.parameters.count("roughness_map") &&
-        base != textures.bake.parameters.end() &&
-        std::abs(float(base->second) - m.roughness) > 1e-4f) {
-        char text[256];
-        std::snprintf(text, sizeof text,
-                      "render: the ggx-fit bake was fitted to GGX alpha %g, the material's is %g: "
-                      "bake it with --base-roughness %g",
-                      base->second, double(m.roughness), double(m.roughness));
-        return Status::failure(text);
-    }
+    if (Status s = checkFittedMaterial("ggx-fit", m, textures); !s) return s;
     setup.roughnessIsAlpha = true;
     return prepareSplitSumSetup(m, textures, options, setup);
 }
@@ -45,6 +29,26 @@ void inspectGgxFit(nlohmann::json& out, const LoadedBake& bake, int x, int y,
 }
 
 } // namespace
+
+Status checkFittedMaterial(const char* method, const Material& m, const RenderTextures& textures) {
+    if (m.brdf != Brdf::Ggx)
+        return Status::failure(std::string("render: ") + method +
+                               " stores a GGX lobe fitted to a GGX material, the material is " +
+                               brdfName(m.brdf));
+    // Fitted to one material roughness (not to a roughness map): the material must be it.
+    const auto base = textures.bake.parameters.find("base_roughness");
+    if (!textures.bake.parameters.count("roughness_map") &&
+        base != textures.bake.parameters.end() &&
+        std::abs(float(base->second) - m.roughness) > 1e-4f) {
+        char text[256];
+        std::snprintf(text, sizeof text,
+                      "render: the %s bake was fitted to GGX alpha %g, the material's is %g: "
+                      "bake it with --base-roughness %g",
+                      method, base->second, double(m.roughness), double(m.roughness));
+        return Status::failure(text);
+    }
+    return Status::success();
+}
 
 MethodUnit ggxFitUnit() {
     MethodUnit u{};

@@ -17,10 +17,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
 #include "ndfmip/bake.h"
+#include "ndfmip/pyramid.h"
 
 namespace ndfmip::ndf_rings {
 
@@ -247,6 +249,13 @@ float minimiseOnScan(const F& f, float lo, float hi, int scan, int parabolicStep
     return xb;
 }
 
+// The loop a fit's bake runs per level: every texel's unit mean normal into `normal` (3
+// channels); at level 0 `own(i, x, y)` (one normal: the material's own lobe), above it
+// `fit(i, normals, r)` with the texel's normals gathered on the rings of `frameOf(n)` and r = |Na|.
+template <class FrameOf, class Fit, class Own>
+void fitLevel(const Pyramid& pyramid, const MaterialLobes& lobes, int k, Image& normal,
+              const FrameOf& frameOf, const Fit& fit, const Own& own);
+
 // ---- the inline definitions, on every texel's path ----------------------------------------
 
 namespace detail {
@@ -333,6 +342,37 @@ inline Rings rings(float width, int count) {
         cosLo = cosHi, sinLo = sinHi;
     }
     return out;
+}
+
+template <class FrameOf, class Fit, class Own>
+void fitLevel(const Pyramid& pyramid, const MaterialLobes& lobes, int k, Image& normal,
+              const FrameOf& frameOf, const Fit& fit, const Own& own) {
+    const Image& mean = levelMean(pyramid, k);
+    const Image& base = *pyramid.base;
+    const int width = mean.width;
+    const int64_t texels = int64_t(mean.texelCount());
+#pragma omp parallel
+    {
+        TexelNormals normals = texelNormals(lobes);
+#pragma omp for schedule(dynamic, 16)
+        for (int64_t i = 0; i < texels; ++i) {
+            const float* na = &mean.pixels[3 * size_t(i)];
+            float* n = &normal.pixels[3 * size_t(i)];
+            normalizeOrFlat(na, n);
+            const int x = int(i % width), y = int(i / width);
+            if (k == 0) {
+                own(size_t(i), x, y);
+                continue;
+            }
+            const RingFrame frame = frameOf(n);
+            const Footprint f = footprint(pyramid, k, x, y);
+            for (int by = f.y0; by < f.y1; ++by)
+                for (int bx = f.x0; bx < f.x1; ++bx)
+                    addNormal(normals, lobes, base.at(bx, by), lobes.alphaAt(bx, by), frame);
+            fit(size_t(i), normals, std::min(length3(na), 1.f));
+            clearTexel(normals);
+        }
+    }
 }
 
 } // namespace ndfmip::ndf_rings

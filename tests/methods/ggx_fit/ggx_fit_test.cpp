@@ -34,14 +34,7 @@ BakeOptions fitted(float alpha) {
 }
 
 SharedImage filled(int width, int height, const std::function<glm::vec3(int, int)>& normal) {
-    auto image = std::make_shared<Image>(width, height, 3);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const glm::vec3 n = glm::normalize(normal(x, y));
-            float* p = image->at(x, y);
-            p[0] = n.x, p[1] = n.y, p[2] = n.z;
-        }
-    return image;
+    return test::filledNormals(width, height, normal);
 }
 
 float alphaAt(const Bake& bake, int level, int x, int y) {
@@ -188,20 +181,11 @@ AgainstBruteForce againstBruteForce(const std::filesystem::path& dir,
                                     const std::vector<float>& alphas,
                                     const std::function<float(int, int)>& roughness) {
     AgainstBruteForce out;
-    struct Case {
-        const char* file;
-        bool greenDown;
-    };
-    for (const Case& c :
-         {Case{"stktex_generic_rockA_Normal.png", false}, Case{"Ground010_1K_Normal.png", true}}) {
-        DecodeOptions decode;
-        decode.greenDown = c.greenDown;
-        Result<Image> map = loadNormalMap((dir / c.file).string(), decode, nullptr);
+    for (const test::SharedMap& c : test::kReferenceMaps) {
+        Result<Image> map = test::sharedMapCrop(dir, c, 256, 384, 128);
         EXPECT_TRUE(map.ok()) << map.error().message;
         if (!map.ok()) return out;
-        auto crop = std::make_shared<Image>(128, 128, 3);
-        for (int y = 0; y < 128; ++y)
-            for (int x = 0; x < 128; ++x) std::copy_n(map->at(x + 256, y + 384), 3, crop->at(x, y));
+        const auto crop = std::make_shared<Image>(std::move(map.value()));
         const Pyramid pyramid = buildPyramid(crop);
         for (float a0 : alphas) {
             BakeOptions options = fitted(a0);

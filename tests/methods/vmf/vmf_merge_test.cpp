@@ -142,20 +142,10 @@ TEST(VmfMerge, PyramidFitIsCloseToAMultiRestartReferenceOnRealMaps) {
     // independent EM, in smoothed-NDF error (ndfError). Farthest-point seeds are 1.2-2.2x off.
     auto dir = test::sharedNormalMaps();
     if (dir.empty()) GTEST_SKIP() << "../shared/data/normalmaps not present";
-    struct Case {
-        const char* file;
-        bool greenDown;
-    };
-    for (const Case& c :
-         {Case{"stktex_generic_rockA_Normal.png", false}, Case{"Ground010_1K_Normal.png", true}}) {
-        DecodeOptions decode;
-        decode.greenDown = c.greenDown;
-        Result<Image> full = loadNormalMap((dir / c.file).string(), decode, nullptr);
-        ASSERT_TRUE(full.ok()) << full.error().message;
-        Image crop(256, 256, 3);
-        for (int y = 0; y < 256; ++y)
-            for (int x = 0; x < 256; ++x)
-                for (int k = 0; k < 3; ++k) crop.at(x, y)[k] = full->at(x, y)[k];
+    for (const test::SharedMap& c : test::kReferenceMaps) {
+        Result<Image> cropped = test::sharedMapCrop(dir, c, 0, 0, 256);
+        ASSERT_TRUE(cropped.ok()) << cropped.error().message;
+        const Image& crop = cropped.value();
         const Pyramid pyramid = buildPyramid(crop);
         for (int J : {4, 8}) {
             double logRatio[2] = {0, 0}; // merge, farthest point
