@@ -47,6 +47,12 @@ Result<Image> sharedMapCrop(const std::filesystem::path& dir, const SharedMap& m
     return crop;
 }
 
+double ggxReference(double cosH, double alpha) {
+    if (cosH <= 0.) return 0.;
+    const double a2 = alpha * alpha, d = cosH * cosH * (a2 - 1.) + 1.;
+    return a2 / (3.14159265358979323846 * d * d);
+}
+
 SharedImage filledNormals(int width, int height, const std::function<glm::vec3(int, int)>& normal) {
     auto image = std::make_shared<Image>(width, height, 3);
     for (int y = 0; y < height; ++y)

@@ -42,6 +42,10 @@ inline constexpr SharedMap kReferenceMaps[2] = {{"stktex_generic_rockA_Normal.pn
 Result<Image> sharedMapCrop(const std::filesystem::path& dir, const SharedMap& map, int x0, int y0,
                             int size);
 
+// GGX over half vectors written out in double, apart from the shading library: alpha^2 / (pi
+// (c^2 (alpha^2 - 1) + 1)^2), 0 for c <= 0.
+double ggxReference(double cosH, double alpha);
+
 // A width x height map of the unit normals normal(x, y) (normalised).
 SharedImage filledNormals(int width, int height, const std::function<glm::vec3(int, int)>& normal);
 

@@ -129,12 +129,6 @@ TEST(GgxAniso, NonPowerOfTwoMapsGiveFiniteTensorsEverywhere) {
 
 // ---- Against an independent fit on real maps ---------------------------------------------
 
-double ggxD(double c, double alpha) {
-    if (c <= 0.) return 0.;
-    const double a2 = alpha * alpha, d = c * c * (a2 - 1.) + 1.;
-    return a2 / (kPiD * d * d);
-}
-
 // The NDF L2 distance over the sphere, written out in double with every normal of the footprint
 // and every azimuth (no modes left out): 48 rings of equal width in theta up to 60 degrees past
 // the footprint's widest normal, 32 azimuths each, about the mean normal in the frame the
@@ -161,7 +155,7 @@ struct DenseObjective {
                 const glm::dvec3 h = std::cos(theta) * axis +
                                      std::sin(theta) * (std::cos(phi) * t + std::sin(phi) * b);
                 double sum = 0.;
-                for (const glm::dvec3& n : normals) sum += ggxD(glm::dot(h, n), a0);
+                for (const glm::dvec3& n : normals) sum += test::ggxReference(glm::dot(h, n), a0);
                 directions.push_back(h);
                 weight.push_back((std::cos(lo) - std::cos(hi)) / kAzimuths);
                 target.push_back(sum / double(normals.size()));

@@ -21,12 +21,6 @@ namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
 
-double ggxD(double c, double alpha) {
-    if (c <= 0.) return 0.;
-    const double a2 = alpha * alpha, d = c * c * (a2 - 1.) + 1.;
-    return a2 / (kPiD * d * d);
-}
-
 BakeOptions fitted(float alpha) {
     BakeOptions o;
     o.baseRoughness = alpha;
@@ -135,7 +129,7 @@ struct DenseObjective {
                 const glm::dvec3 h = std::cos(theta) * axis +
                                      std::sin(theta) * (std::cos(phi) * t + std::sin(phi) * b);
                 for (size_t i = 0; i < normals.size(); ++i)
-                    sum += ggxD(glm::dot(h, normals[i]), alphas[i]);
+                    sum += test::ggxReference(glm::dot(h, normals[i]), alphas[i]);
             }
             cosTheta.push_back(std::cos(theta));
             weight.push_back(std::cos(lo) - std::cos(hi));
@@ -146,7 +140,7 @@ struct DenseObjective {
     double error(double alpha) const {
         double e = 0.;
         for (size_t j = 0; j < target.size(); ++j) {
-            const double d = ggxD(cosTheta[j], alpha) - target[j];
+            const double d = test::ggxReference(cosTheta[j], alpha) - target[j];
             e += weight[j] * d * d;
         }
         return e;
@@ -321,7 +315,7 @@ TEST(GgxFit, ShaderIsAnEnginesGgxLobeAtTheStoredRoughness) {
     const glm::vec3 got = shader->shade(setup, m, p, glm::vec3(0.f), l, v);
     EXPECT_NEAR(got.x, expected.x, 1e-5f * expected.x);
     EXPECT_NEAR(shader->lobe(setup, m, p, glm::normalize(l + v)),
-                float(ggxD(glm::normalize(l + v).z, 0.3)), 1e-4f);
+                float(test::ggxReference(glm::normalize(l + v).z, 0.3)), 1e-4f);
 }
 
 TEST(GgxFit, ShaderRefusesAnotherMaterial) {

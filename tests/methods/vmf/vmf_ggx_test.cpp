@@ -8,17 +8,12 @@
 #include <gtest/gtest.h>
 
 #include "ndfmip/glsl.h"
+#include "test_support.h"
 
 namespace ndfmip {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-double ggx(double c, double alpha) {
-    if (c <= 0.) return 0.;
-    const double a2 = alpha * alpha, d = c * c * (a2 - 1.) + 1.;
-    return a2 / (kPi * d * d);
-}
 
 // The convolution at mu.h = cos(thetaH): the integral over normals n of vMF(n; z, kappa)
 // D_GGX(n.h), by the midpoint rule in (angle from z, azimuth), the angle range cut where the vMF
@@ -38,7 +33,7 @@ double convolution(double thetaH, double alpha, double kappa) {
         for (int j = 0; j < np; ++j) {
             const double p = (j + 0.5) * dp;
             const glm::dvec3 n(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
-            ring += ggx(glm::dot(n, h), alpha);
+            ring += test::ggxReference(glm::dot(n, h), alpha);
         }
         sum += weight * ring;
     }
@@ -56,7 +51,8 @@ Gap gapToConvolution(double alpha, double kappa) {
         const double theta = (i + 0.5) * 1.4 / 16.;
         const double truth = convolution(theta, alpha, kappa);
         const double mine = glsl().ndfmipGgxVmf(float(std::cos(theta)), float(alpha), float(kappa));
-        const double old = ggx(std::cos(theta), std::sqrt(alpha * alpha + 2. / kappa));
+        const double old =
+            test::ggxReference(std::cos(theta), std::sqrt(alpha * alpha + 2. / kappa));
         const double w = std::sin(theta);
         num += w * (mine - truth) * (mine - truth);
         numOld += w * (old - truth) * (old - truth);
@@ -92,7 +88,8 @@ TEST(VmfGgx, SphereMassIsGgxsIntegralOverTheSphere) {
         const int n = 200000;
         for (int i = 0; i < n; ++i) {
             const double t = (i + 0.5) * (kPi / 2.) / n;
-            integral += 2. * kPi * std::sin(t) * (kPi / 2.) / n * ggx(std::cos(t), alpha);
+            integral +=
+                2. * kPi * std::sin(t) * (kPi / 2.) / n * test::ggxReference(std::cos(t), alpha);
         }
         EXPECT_NEAR(glsl().ndfmipGgxSphereMass(float(alpha)), integral, 1e-4 * integral)
             << "alpha " << alpha;
@@ -103,9 +100,9 @@ TEST(VmfGgx, SphereMassIsGgxsIntegralOverTheSphere) {
 TEST(VmfGgx, ASingleNormalLeavesGgx) {
     for (double alpha : {0.05, 0.2, 0.5})
         for (double c : {1., 0.99, 0.9, 0.6}) {
-            const double expected = ggx(c, alpha);
+            const double expected = test::ggxReference(c, alpha);
             EXPECT_NEAR(glsl().ndfmipGgxVmf(float(c), float(alpha), 1e5f / float(alpha * alpha)),
-                        expected, 1e-3 * ggx(1., alpha))
+                        expected, 1e-3 * test::ggxReference(1., alpha))
                 << "alpha " << alpha << " cos " << c;
         }
 }
@@ -135,7 +132,7 @@ TEST(VmfGgx, KeepsTheIntegralOverTheSphere) {
                 const double ring = 2. * kPi * std::sin(t) * kPi / n;
                 convolved +=
                     ring * glsl().ndfmipGgxVmf(float(std::cos(t)), float(alpha), float(kappa));
-                original += ring * ggx(std::cos(t), alpha);
+                original += ring * test::ggxReference(std::cos(t), alpha);
             }
             // Kept by construction (ndfmipGgxSphereMass); the equivalent roughness adds up to
             // 75%.
