@@ -26,7 +26,7 @@ struct GltfFiltered {
     std::vector<GltfMaterialReport> materials;
     std::vector<std::string> warnings; // one line each, e.g. normals facing into the surface
     int decodedImages = 0;             // images decoded: each distinct image once
-    int bakes = 0; // Toksvig bakes: one per distinct normal image, material map and options
+    int bakes = 0; // the method's bakes: one per distinct normal image, material map and options
     int replacedImages = 0; // images of an earlier ndfmip gltf pass found and replaced
 };
 

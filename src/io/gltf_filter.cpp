@@ -768,6 +768,20 @@ class Filter {
         int anisotropyTexture = -1;
     };
 
+    // One level of KHR_materials_anisotropy from each texel's lobe, `lobeOf(i)`: `level` (the
+    // material map's RGBA) gets G = roughnessG(sqrt(alpha_b)); returns the anisotropyTexture's
+    // level (RGBA: (d + 1)/2, s, 1).
+    template <class LobeOf, class RoughnessG>
+    static Image khrAnisotropyLevel(Image& level, LobeOf lobeOf, RoughnessG roughnessG) {
+        Image texture(level.width, level.height, 4);
+        for (size_t i = 0; i < level.texelCount(); ++i) {
+            const KhrAnisotropy lobe = lobeOf(i);
+            level.pixels[4 * i + 1] = roughnessG(lobe.roughness);
+            khrAnisotropyTexel(lobe, &texture.pixels[4 * i]);
+        }
+        return texture;
+    }
+
     // --method sggx, level by level: the anisotropic GGX lobe of squared-roughness tensor
     // E[alpha^2] I + 2 Sigma (Sigma the slopes' covariance, the lean bake's moments; sggx.glsl)
     // as KHR_materials_anisotropy stores it. Returns the material levels (R, B, A as averaged,
@@ -787,15 +801,14 @@ class Filter {
             const Image& moments = *lean.levels[size_t(k)][0];
             const Image& cross = *lean.levels[size_t(k)][1];
             Image level = *averaged[size_t(k)];
-            Image texture(level.width, level.height, 4);
-            for (size_t i = 0; i < level.texelCount(); ++i) {
-                const KhrAnisotropy lobe = khrAnisotropyOfMoments(
-                    &moments.pixels[4 * i], cross.pixels[i], alpha2.pixels[i]);
-                level.pixels[4 * i + 1] = roughnessG(lobe.roughness);
-                khrAnisotropyTexel(lobe, &texture.pixels[4 * i]);
-            }
+            anisotropy.push_back(khrAnisotropyLevel(
+                level,
+                [&](size_t i) {
+                    return khrAnisotropyOfMoments(&moments.pixels[4 * i], cross.pixels[i],
+                                                  alpha2.pixels[i]);
+                },
+                roughnessG));
             material.push_back(std::move(level));
-            anisotropy.push_back(std::move(texture));
         }
         return material;
     }
@@ -811,15 +824,14 @@ class Filter {
         for (size_t k = 0; k < bake.levels.size(); ++k) {
             const Image& a = *bake.levels[k][size_t(tensor)];
             Image level = *averaged[k];
-            Image texture(level.width, level.height, 4);
-            for (size_t i = 0; i < level.texelCount(); ++i) {
-                const float* t = &a.pixels[3 * i];
-                const KhrAnisotropy lobe = khrAnisotropy(t[0], t[2], t[1]);
-                level.pixels[4 * i + 1] = roughnessG(lobe.roughness);
-                khrAnisotropyTexel(lobe, &texture.pixels[4 * i]);
-            }
+            anisotropy.push_back(khrAnisotropyLevel(
+                level,
+                [&](size_t i) {
+                    const float* t = &a.pixels[3 * i];
+                    return khrAnisotropy(t[0], t[2], t[1]);
+                },
+                roughnessG));
             material.push_back(std::move(level));
-            anisotropy.push_back(std::move(texture));
         }
         return material;
     }
@@ -850,8 +862,13 @@ class Filter {
             }
             scaled = buildPyramid(SharedImage(s));
         }
-        const Bake bake = bakeMethod(roughness_, scaled ? *scaled : pyramid, options);
-        ++result_.bakes;
+        // sggx reads the lean bake's moments (sggxLevels): no roughness bake of its own.
+        const bool moments = anisotropy_ && roughness_ != Method::GgxAniso;
+        Bake bake;
+        if (!moments) {
+            bake = bakeMethod(roughness_, scaled ? *scaled : pyramid, options);
+            ++result_.bakes;
+        }
         const int ggx = findPlane(bake.planes, "roughness_ggx");
         const int levels = int(pyramid.levels.size());
 
@@ -866,10 +883,9 @@ class Filter {
         };
         if (anisotropy_) {
             std::vector<Image> anisotropy;
-            material = roughness_ == Method::GgxAniso
-                           ? fittedAnisotropyLevels(bake, averaged, roughnessG, anisotropy)
-                           : sggxLevels(scaled ? *scaled : pyramid, *alpha, averaged, roughnessG,
-                                        anisotropy);
+            material = moments ? sggxLevels(scaled ? *scaled : pyramid, *alpha, averaged,
+                                            roughnessG, anisotropy)
+                               : fittedAnisotropyLevels(bake, averaged, roughnessG, anisotropy);
             out.anisotropyLevel0 = anisotropy.front();
             out.anisotropy = addLevels(std::move(anisotropy), TextureFormat::Rgba8Unorm,
                                        "ndfmip RGBA8 anisotropy mips of material " +

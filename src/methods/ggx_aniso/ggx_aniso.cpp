@@ -49,18 +49,16 @@ Tensor fitTexel(const TexelNormals& normals, const MaterialLobes& lobes, float r
     if (!(normals.total > 0.f)) return isotropic(lobes.alpha);
     const Rings ring = rings(toksvigWidth(normals, r), kRings);
     float mean[kRings], cos2[kRings], sin2[kRings];
-    float tan2[kRings], inverseCos4[kRings];
+    float cos2Theta[kRings], tan2[kRings], inverseCos4[kRings];
     for (int j = 0; j < kRings; ++j) {
         const RingModes modes = ringModes(normals, lobes, ring.theta[j]);
         mean[j] = modes.mean, cos2[j] = modes.cos2, sin2[j] = modes.sin2;
         const float c2 = ring.cosTheta[j] * ring.cosTheta[j];
-        tan2[j] = (1.f - c2) / c2, inverseCos4[j] = 1.f / (c2 * c2);
+        cos2Theta[j] = c2, tan2[j] = (1.f - c2) / c2, inverseCos4[j] = 1.f / (c2 * c2);
     }
     // Isotropic first: mode 0 alone (an isotropic lobe has no mode 2).
     // GGX written out (ndfmipGgx: a^2 / (pi (c^2 (a^2 - 1) + 1)^2), c > 0 on every ring) into
     // an array the compiler vectorises, then summed in order.
-    float cos2Theta[kRings];
-    for (int j = 0; j < kRings; ++j) cos2Theta[j] = ring.cosTheta[j] * ring.cosTheta[j];
     auto isotropicError = [&](float logAlpha) {
         const float a2 = std::exp(2.f * logAlpha);
         float term[kRings];
