@@ -1,9 +1,8 @@
-// The GPU renderer under an environment, the split-sum way (environment_splitsum.h; Karis 2013):
-// the same lookups as src/env/splitsum_lighting.cpp and splitsum_shading.cpp, in float, with the
-// per-texel factors both take from splitsum.glsl (the roughness a lobe reads, the root mean
-// square of n.v, the SH bands' vMF factors). Included
-// by the renderer (with #define NDFMIP_ENVIRONMENT) after raycast.glsl and before the method's
-// glue, whose ndfmipShadeEnvironment(p, albedo, hit, view) calls these.
+// The GPU renderer under an environment: the split sum's lookups (environment_splitsum.h; Karis
+// 2013), the same as src/env/splitsum_lighting.cpp's, in float, which the shading of
+// splitsum_shading.glsl (one source with the CPU's) reads; and the SH-lighting way. Included by the
+// renderer (with #define NDFMIP_ENVIRONMENT) after raycast.glsl and before splitsum_shading.glsl
+// and the method's glue, whose ndfmipShadeEnvironment(p, albedo, hit, view) calls them.
 //
 // Textures, all read with texelFetch so the filtering is the CPU's to rounding:
 //   ndfmipEnvChain   the rule's prefiltered chain, equirect (environment frame, rotation
@@ -33,6 +32,12 @@ vec3 ndfmipWorldToEnvironment(vec3 w) { return vec3(-w.x, w.z, w.y); }
 // A tangent-frame direction in the environment frame (tangentToEnvironment).
 vec3 ndfmipTangentToEnvironment(NdfmipHit hit, vec3 t) {
     return ndfmipWorldToEnvironment(t.x * hit.tangent + t.y * hit.bitangent + t.z * hit.normal);
+}
+
+// The hit's tangent frame in the environment frame, as splitsum_shading.glsl takes it (toEnv).
+mat3 ndfmipTangentFrame(NdfmipHit hit) {
+    return mat3(ndfmipWorldToEnvironment(hit.tangent), ndfmipWorldToEnvironment(hit.bitangent),
+                ndfmipWorldToEnvironment(hit.normal));
 }
 
 // equirectCoordinates: u in [0, 1), v in [0, 1].
@@ -170,8 +175,8 @@ vec3 ndfmipPrefilteredRadiance(vec3 reflected, float r, float normalVariance) {
     return ndfmipSampleChain(lod, normalize(reflected));
 }
 
-// specularAlbedo: the table bilinear with clamped edges at (n.v, r).
-float ndfmipSpecularAlbedo(float mu, float r) {
+// specularAlbedo: the table bilinear with clamped edges at (n.v, r); the table is the material's.
+float ndfmipSpecularAlbedo(NdfmipMaterial m, float mu, float r) {
     ivec2 size = textureSize(ndfmipEnvAlbedo, 0);
     vec2 x = clamp(vec2(clamp(mu, 0.0f, 1.0f), clamp(r, 0.0f, 1.0f)) * vec2(size) - 0.5f, vec2(0.0f),
                    vec2(size - 1));
@@ -200,85 +205,6 @@ vec3 ndfmipIrradiance(vec3 n, vec3 band) {
         e[c] = ndfmipShConvolve(g, a, 2, n);
     }
     return max(e, vec3(0.0f));
-}
-
-// albedo/pi E(n) about the unit tangent-frame normal n.
-vec3 ndfmipEnvDiffuse(NdfmipHit hit, vec3 albedo, vec3 n, vec3 band) {
-    return albedo * (1.0f / NDFMIP_PI) * ndfmipIrradiance(ndfmipTangentToEnvironment(hit, n), band);
-}
-
-// specularTerm: LD(reflect(-v, n), r) E(rms n.v, albedoR) about the unit tangent-frame normal
-// n, the albedo factor at the material's roughness albedoR and the root mean square of n.v over
-// normals of mean length `len` about n (ndfmipRmsCosine); r blurs the radiance only.
-vec3 ndfmipEnvSpecular(NdfmipMaterial m, NdfmipHit hit, vec3 n, vec3 view, float r, float albedoR, float len,
-                       float normalVariance) {
-    float mu = dot(n, view);
-    vec3 reflected = 2.0f * mu * n - view;
-    vec3 ld = ndfmipPrefilteredRadiance(ndfmipTangentToEnvironment(hit, reflected), r, normalVariance);
-    return m.specular * ld * ndfmipSpecularAlbedo(ndfmipRmsCosine(mu, len), albedoR);
-}
-
-// shadeNaiveSplitSum.
-vec3 ndfmipShadeNaiveEnvironment(NdfmipMaterial m, vec3 albedo, vec3 filtered, NdfmipHit hit, vec3 view) {
-    vec3 n = ndfmipUnitOrFlat(filtered);
-    vec3 out3 = ndfmipEnvDiffuse(hit, albedo, n, vec3(1.0f));
-    if (!ndfmipHasLobe(m)) return out3;
-    float r = ndfmipBasePerceptual(m);
-    return out3 + ndfmipEnvSpecular(m, hit, n, view, r, r, 1.0f, 0.0f);
-}
-
-// shadeRoughnessMipsSplitSum: the radiance at the stored roughness, the albedo factor at the
-// material's over the spread that widened it (ndfmipLengthFromRoughness, the ours mapping).
-vec3 ndfmipShadeRoughnessMipsEnvironment(NdfmipMaterial m, vec3 albedo, vec3 filtered, float stored, bool isAlpha,
-                                         NdfmipHit hit, vec3 view) {
-    // Blinn-Phong keeps its exponent: the naive shading.
-    if (!ndfmipHasLobe(m) || m.brdf == NDFMIP_BLINN_PHONG) return ndfmipShadeNaiveEnvironment(m, albedo, filtered, hit, view);
-    vec3 n = ndfmipUnitOrFlat(filtered);
-    vec3 out3 = ndfmipEnvDiffuse(hit, albedo, n, vec3(1.0f));
-    float base = ndfmipBasePerceptual(m);
-    float s = clamp(stored, 0.0f, 1.0f);
-    float alpha = max(isAlpha ? s : s * s, 1e-4f);
-    float len = ndfmipLengthFromRoughness(alpha, m.roughness);
-    return out3 + ndfmipEnvSpecular(m, hit, n, view, ndfmipAlphaPerceptual(alpha), base, len, 0.0f);
-}
-
-// shadeToksvigSplitSum: diffuse about Na/|Na| with band 1 scaled by |Na| (its exact mean) and
-// band 2 as a vMF of that mean length; the radiance of the lobe widened as ndfmipShadeToksvig
-// (T eq. 6 or the roughness mapping), or for log2sigma with the normals' sigma^2 (T eq. 1) added to
-// the spread; the albedo factor the material's over normals of mean length |Na|.
-vec3 ndfmipShadeToksvigEnvironment(NdfmipMaterial m, vec3 albedo, vec3 na, NdfmipHit hit, vec3 view, int mapping,
-                                   float varianceScale) {
-    float len = min(length(na), 1.0f);
-    vec3 n = ndfmipUnitOrFlat(na);
-    vec3 band = vec3(1.0f);
-    if (ndfmipEnvBandFactors != 0 && len < 1.0f) band = ndfmipVmfBandFactors(ndfmipToksvigKappa(len));
-    if (ndfmipEnvBandFactors != 0) band.y = len;
-    vec3 out3 = ndfmipEnvDiffuse(hit, albedo, n, band);
-    if (!ndfmipHasLobe(m)) return out3;
-    float r = m.brdf == NDFMIP_BLINN_PHONG
-                  ? ndfmipBlinnPhongPerceptual(ndfmipToksvigFactor(len, m.exponent) * m.exponent)
-                  : ndfmipAlphaPerceptual(ndfmipMappedRoughness(mapping, len, m.roughness, varianceScale));
-    float base = ndfmipBasePerceptual(m);
-    if (ndfmipEnvRule != 0) return out3 + ndfmipEnvSpecular(m, hit, n, view, r, base, len, 0.0f);
-    return out3 + ndfmipEnvSpecular(m, hit, n, view, base, base, len, len > 0.0f ? ndfmipToksvigSigma2(len) : 1e6f);
-}
-
-// One lobe of shadeVmfSplitSum, weight included: diffuse at mu band-attenuated by the vMF,
-// specular along the reflection about mu at the widened lobe's roughness (H eqs. 29-30).
-vec3 ndfmipShadeVmfLobeEnvironment(NdfmipMaterial m, vec3 albedo, vec4 lobeTexel, NdfmipHit hit, vec3 view) {
-    NdfmipLobe lobe = ndfmipUnpackLobe(lobeTexel);
-    if (!(lobe.alpha > 0.0f)) return vec3(0.0f);
-    vec3 band = ndfmipEnvBandFactors != 0 ? ndfmipVmfBandFactors(lobe.kappa) : vec3(1.0f);
-    vec3 term = ndfmipEnvDiffuse(hit, albedo, lobe.mu, band);
-    if (ndfmipHasLobe(m)) {
-        float kappa = max(lobe.kappa, 1e-6f);
-        float r = m.brdf == NDFMIP_BLINN_PHONG
-                      ? ndfmipBlinnPhongPerceptual(kappa * m.exponent / (kappa + m.exponent))
-                      : ndfmipAlphaPerceptual(ndfmipVmfWidenedAlpha(m.roughness, kappa));
-        // The albedo factor at the material's roughness over the lobe's normals, mean length A(kappa).
-        term += ndfmipEnvSpecular(m, hit, lobe.mu, view, r, ndfmipBasePerceptual(m), ndfmipVmfBandFactors(kappa).y, 0.0f);
-    }
-    return lobe.alpha * term;
 }
 
 // environmentRadiance: the map's texel along world direction w (nearest, as stored).

@@ -7,7 +7,7 @@ vec3 ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v) {
 // Under an environment (render/environment.glsl): an engine's split sum at the tensor's
 // isotropic alpha.
 vec3 ndfmipShadeEnvironment(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, vec3 view) {
-    return ndfmipShadeRoughnessMipsEnvironment(ndfmipMaterial, albedo, p[0].xyz, ndfmipGgxAnisoAlpha(p[1].xyz), true, hit,
-                                               view);
+    return ndfmipShadeRoughnessMipsEnvironment(ndfmipMaterial, albedo, p[0].xyz, ndfmipGgxAnisoAlpha(p[1].xyz), true,
+                                               ndfmipTangentFrame(hit), view);
 }
 #endif

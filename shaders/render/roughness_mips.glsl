@@ -8,7 +8,7 @@ vec3 ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v) {
 #ifdef NDFMIP_ENVIRONMENT
 // Under an environment (render/environment.glsl).
 vec3 ndfmipShadeEnvironment(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, vec3 view) {
-    return ndfmipShadeRoughnessMipsEnvironment(ndfmipMaterial, albedo, p[0].xyz, p[1].x, ndfmipRoughnessIsAlpha != 0, hit,
-                                               view);
+    return ndfmipShadeRoughnessMipsEnvironment(ndfmipMaterial, albedo, p[0].xyz, p[1].x, ndfmipRoughnessIsAlpha != 0,
+                                               ndfmipTangentFrame(hit), view);
 }
 #endif

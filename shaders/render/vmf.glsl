@@ -23,7 +23,7 @@ vec3 ndfmipShadeEnvironment(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, v
 #ifdef NDFMIP_ENVIRONMENT_SH
         sum += ndfmipShadeVmfLobeEnvironmentSh(ndfmipMaterial, lobeAlbedo, p[j], hit);
 #else
-        sum += ndfmipShadeVmfLobeEnvironment(ndfmipMaterial, lobeAlbedo, p[j], hit, view);
+        sum += ndfmipShadeVmfLobeEnvironment(ndfmipMaterial, lobeAlbedo, p[j], ndfmipTangentFrame(hit), view);
 #endif
     }
     return sum;

@@ -397,7 +397,8 @@ Status addFragmentParts(RenderProgram& program, const Scene& scene, int methodLa
     program.fragmentParts.emplace_back("<defines>", defines);
     std::vector<std::string> files(std::begin(kLibraryFiles), std::end(kLibraryFiles));
     if (environment)
-        files.insert(files.end(), {"render/cube_faces.glsl", "render/environment.glsl"});
+        files.insert(files.end(), {"render/cube_faces.glsl", "render/environment.glsl",
+                                   "splitsum_shading.glsl"});
     files.push_back(shader.glsl);
     files.push_back("render/main.frag");
     for (const std::string& file : files) {

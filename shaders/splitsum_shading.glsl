@@ -1,0 +1,106 @@
+// ndfmip shading library: each method under an environment the split-sum way (Karis 2013;
+// environment_splitsum.h), one source for the CPU renderer (src/env/splitsum_shading.cpp, through
+// glsl.h) and the GPU renderer (after render/environment.glsl). Needs brdf.glsl, toksvig.glsl,
+// vmf.glsl and splitsum.glsl, and the lighting's lookups, which each side defines on its own data
+// (the CPU's prepared chains, the GPU's textures):
+//   vec3 ndfmipPrefilteredRadiance(vec3 reflected, float r, float normalVariance)
+//       the rule's chain along `reflected` (environment frame) at perceptual roughness r, or for
+//       log2sigma at the spread of r's lobe widened by normalVariance
+//   float ndfmipSpecularAlbedo(NdfmipMaterial m, float mu, float r)
+//       the split sum's second factor at n.v = mu and perceptual roughness r
+//   vec3 ndfmipIrradiance(vec3 n, vec3 band)
+//       the irradiance about n (environment frame), SH band l scaled by band[l]
+//   int ndfmipEnvRule          0 log2sigma, 1 filament, 2 unity, 3 unreal (EnvironmentLod)
+//   int ndfmipEnvBandFactors   1: diffuse about a vMF band-attenuated
+// `toEnv` takes tangent-frame directions (z the geometric normal) to the environment frame: its
+// columns are the hit's tangent, bitangent and normal there.
+
+// albedo/pi E(n) about the unit tangent-frame normal n.
+vec3 ndfmipEnvDiffuse(mat3 toEnv, vec3 albedo, vec3 n, vec3 band) {
+    return albedo * (1.0f / NDFMIP_PI) * ndfmipIrradiance(toEnv * n, band);
+}
+
+// The specular term about the unit tangent-frame normal n: m.specular LD(reflect(-v, n), r) E(rms
+// n.v, albedoR). The albedo factor is the mean of the texel's own lobes, not the widened lobe's:
+// every normal a filtered texel covers carries the material's lobe (perceptual roughness albedoR),
+// whose albedo grows as (n.v)^2, so it is read at the material's roughness and the root mean square
+// of n.v over the normals, those of a vMF of mean length `len` about n (ndfmipRmsCosine). The
+// widened lobe's own albedo at n.v of the mean normal lost 13-15% of the truth's energy at large
+// footprints (docs/RESULTS.md): a wide lobe about the mean normal loses what falls below its
+// horizon, the texel's narrow lobes do not. The widened roughness r only blurs the radiance, LD.
+// One normal (len 1, r = albedoR): the plain split sum.
+vec3 ndfmipEnvSpecular(NdfmipMaterial m, mat3 toEnv, vec3 n, vec3 view, float r, float albedoR, float len,
+                       float normalVariance) {
+    float mu = dot(n, view);
+    vec3 reflected = 2.0f * mu * n - view;
+    vec3 ld = ndfmipPrefilteredRadiance(toEnv * reflected, r, normalVariance);
+    return m.specular * ld * ndfmipSpecularAlbedo(m, ndfmipRmsCosine(mu, len), albedoR);
+}
+
+// Standard mipmap: the filtered normal renormalised, the material's own roughness.
+vec3 ndfmipShadeNaiveEnvironment(NdfmipMaterial m, vec3 albedo, vec3 filtered, mat3 toEnv, vec3 view) {
+    vec3 n = ndfmipUnitOrFlat(filtered);
+    vec3 out3 = ndfmipEnvDiffuse(toEnv, albedo, n, vec3(1.0f));
+    if (!ndfmipHasLobe(m)) return out3;
+    float r = ndfmipBasePerceptual(m);
+    return out3 + ndfmipEnvSpecular(m, toEnv, n, view, r, r, 1.0f, 0.0f);
+}
+
+// Roughness mips: the radiance at the stored roughness (perceptual, alpha = stored^2, unless
+// isAlpha, as ndfmipShadeRoughnessMips), the albedo factor at the material's over the spread that
+// widened it (ndfmipLengthFromRoughness, the ours mapping). Blinn-Phong keeps its exponent: the
+// naive shading.
+vec3 ndfmipShadeRoughnessMipsEnvironment(NdfmipMaterial m, vec3 albedo, vec3 filtered, float stored, bool isAlpha,
+                                         mat3 toEnv, vec3 view) {
+    if (!ndfmipHasLobe(m) || m.brdf == NDFMIP_BLINN_PHONG) return ndfmipShadeNaiveEnvironment(m, albedo, filtered, toEnv, view);
+    vec3 n = ndfmipUnitOrFlat(filtered);
+    vec3 out3 = ndfmipEnvDiffuse(toEnv, albedo, n, vec3(1.0f));
+    float base = ndfmipBasePerceptual(m);
+    float s = clamp(stored, 0.0f, 1.0f);
+    float alpha = max(isAlpha ? s : s * s, 1e-4f);
+    float len = ndfmipLengthFromRoughness(alpha, m.roughness);
+    return out3 + ndfmipEnvSpecular(m, toEnv, n, view, ndfmipAlphaPerceptual(alpha), base, len, 0.0f);
+}
+
+// Toksvig: diffuse about Na/|Na|, irradiance being linear in n in band 1, whose mean over the
+// normals is exactly its value at Na (band 1 scaled by |Na|), band 2 as a vMF of that mean length;
+// the radiance of the lobe widened as ndfmipShadeToksvig (T eq. 6 or the roughness mapping), or
+// for log2sigma the material's spread plus the normals' sigma^2 = (1 - |Na|)/|Na| (T eq. 1), which
+// for Blinn-Phong is T eq. 5's 1/s' = 1/s + sigma^2 and for Beckmann/GGX the ours mapping with
+// c = 2; the albedo factor the material's over normals of mean length |Na|.
+vec3 ndfmipShadeToksvigEnvironment(NdfmipMaterial m, vec3 albedo, vec3 na, mat3 toEnv, vec3 view, int mapping,
+                                   float varianceScale) {
+    float len = min(length(na), 1.0f);
+    vec3 n = ndfmipUnitOrFlat(na);
+    vec3 band = vec3(1.0f);
+    if (ndfmipEnvBandFactors != 0 && len < 1.0f) band = ndfmipVmfBandFactors(ndfmipToksvigKappa(len));
+    if (ndfmipEnvBandFactors != 0) band.y = len;
+    vec3 out3 = ndfmipEnvDiffuse(toEnv, albedo, n, band);
+    if (!ndfmipHasLobe(m)) return out3;
+    float r = m.brdf == NDFMIP_BLINN_PHONG
+                  ? ndfmipBlinnPhongPerceptual(ndfmipToksvigFactor(len, m.exponent) * m.exponent)
+                  : ndfmipAlphaPerceptual(ndfmipMappedRoughness(mapping, len, m.roughness, varianceScale));
+    float base = ndfmipBasePerceptual(m);
+    if (ndfmipEnvRule != 0) return out3 + ndfmipEnvSpecular(m, toEnv, n, view, r, base, len, 0.0f);
+    return out3 + ndfmipEnvSpecular(m, toEnv, n, view, base, base, len, len > 0.0f ? ndfmipToksvigSigma2(len) : 1e6f);
+}
+
+// One vMF lobe, its weight included: diffuse at mu, band-attenuated by the vMF (its Legendre
+// moments A(kappa), 1 - 3 A(kappa)/kappa); specular along the reflection about mu at the widened
+// lobe's roughness (H eqs. 29-30, as ndfmipVmfWidenedAlpha), the albedo factor at the material's
+// roughness over the lobe's normals, whose mean length is A(kappa).
+vec3 ndfmipShadeVmfLobeEnvironment(NdfmipMaterial m, vec3 albedo, vec4 lobeTexel, mat3 toEnv, vec3 view) {
+    NdfmipLobe lobe = ndfmipUnpackLobe(lobeTexel);
+    if (!(lobe.alpha > 0.0f)) return vec3(0.0f);
+    vec3 band = ndfmipEnvBandFactors != 0 ? ndfmipVmfBandFactors(lobe.kappa) : vec3(1.0f);
+    vec3 term = ndfmipEnvDiffuse(toEnv, albedo, lobe.mu, band);
+    if (ndfmipHasLobe(m)) {
+        float kappa = max(lobe.kappa, 1e-6f);
+        float r = m.brdf == NDFMIP_BLINN_PHONG
+                      ? ndfmipBlinnPhongPerceptual(kappa * m.exponent / (kappa + m.exponent))
+                      : ndfmipAlphaPerceptual(ndfmipVmfWidenedAlpha(m.roughness, kappa));
+        term += ndfmipEnvSpecular(m, toEnv, lobe.mu, view, r, ndfmipBasePerceptual(m), ndfmipVmfBandFactors(kappa).y,
+                                  0.0f);
+    }
+    return lobe.alpha * term;
+}
