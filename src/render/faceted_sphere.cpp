@@ -1,8 +1,10 @@
-// A faceted UV sphere with interpolated (Phong) vertex normals: the mesh, ray-triangle
-// intersection (Moller-Trumbore) and the interpolated normal on a triangle's plane.
+// A faceted UV sphere with interpolated (Phong) vertex normals: the mesh, and its ray-triangle
+// intersection and interpolated normal, which are the GPU renderer's faceted_trace.glsl.
 #include <cmath>
-#include <limits>
 
+#include <glm/glm.hpp>
+
+#include "ndfmip/glsl.h"
 #include "ndfmip/interpolated.h"
 
 namespace ndfmip {
@@ -43,70 +45,71 @@ FacetedSphereMesh facetedSphereMesh(const Geometry& g) {
     return mesh;
 }
 
+namespace glsl_detail {
+
+using glm::abs;
+using glm::cross;
+using glm::isinf;
+using glm::isnan;
+using glm::ivec3;
+using glm::uintBitsToFloat;
+
+// faceted_trace.glsl over a FacetedSphereMesh: the data members stand in for the GPU's uniforms
+// of the same names, the accessors for its texture.
+struct FacetedTrace : ShaderLibrary {
+    explicit FacetedTrace(const FacetedSphereMesh& m)
+        : mesh(m), ndfmipTriangleCount(int(m.triangles.size())), ndfmipCenter(m.center),
+          ndfmipRadius(m.radius) {}
+
+    struct NdfmipRay {
+        vec3 origin;
+        vec3 direction;
+    };
+
+    const FacetedSphereMesh& mesh;
+    int ndfmipTriangleCount;
+    vec3 ndfmipCenter;
+    float ndfmipRadius;
+
+    ivec3 ndfmipTriangle(int k) const { return mesh.triangles[size_t(k)]; }
+    vec3 ndfmipVertex(int i) const { return mesh.positions[size_t(i)]; }
+    vec3 ndfmipVertexNormal(int i) const { return mesh.normals[size_t(i)]; }
+    vec3 ndfmipFaceNormal(int k) const { return mesh.faceNormals[size_t(k)]; }
+
+// clang-format off
+#include "render/faceted_trace.glsl"
+    // clang-format on
+};
+
+} // namespace glsl_detail
+
 namespace {
 
-// Moller-Trumbore: t and the barycentrics (u, v) of p1 and p2; no bounds on u, v.
-bool rayPlaneBarycentrics(const FacetedSphereMesh& mesh, int triangle, const Ray& ray, float& t,
-                          float& u, float& v) {
-    const glm::ivec3 tri = mesh.triangles[size_t(triangle)];
-    const glm::vec3 p0 = mesh.positions[tri.x];
-    const glm::vec3 e1 = mesh.positions[tri.y] - p0, e2 = mesh.positions[tri.z] - p0;
-    const glm::vec3 p = glm::cross(ray.direction, e2);
-    const float det = glm::dot(e1, p);
-    if (std::abs(det) < 1e-20f) return false;
-    const float inv = 1.f / det;
-    const glm::vec3 s = ray.origin - p0;
-    u = glm::dot(s, p) * inv;
-    const glm::vec3 q = glm::cross(s, e1);
-    v = glm::dot(ray.direction, q) * inv;
-    t = glm::dot(e2, q) * inv;
-    return true;
-}
+using glsl_detail::FacetedTrace;
 
-glm::vec3 interpolate(const FacetedSphereMesh& mesh, int triangle, float u, float v) {
-    const glm::ivec3 tri = mesh.triangles[size_t(triangle)];
-    return (1.f - u - v) * mesh.normals[tri.x] + u * mesh.normals[tri.y] + v * mesh.normals[tri.z];
+FacetedTrace::NdfmipRay glslRay(const Ray& ray) {
+    return {ray.origin, ray.direction};
 }
 
 } // namespace
 
 FacetedHit intersectFacetedSphere(const FacetedSphereMesh& mesh, const Ray& ray) {
+    const FacetedTrace::NdfmipFacetedHit h =
+        FacetedTrace(mesh).ndfmipIntersectFaceted(glslRay(ray));
     FacetedHit hit;
-    // Every facet lies inside the circumscribed sphere: rays that miss it miss them all.
-    const glm::vec3 oc = ray.origin - mesh.center;
-    const float b = glm::dot(oc, ray.direction);
-    const float c = glm::dot(oc, oc) - mesh.radius * mesh.radius;
-    if (c > 0.f && (b > 0.f || b * b - c * glm::dot(ray.direction, ray.direction) < 0.f))
-        return hit;
-    float best = std::numeric_limits<float>::infinity();
-    float bestU = 0.f, bestV = 0.f;
-    for (int k = 0; k < int(mesh.triangles.size()); ++k) {
-        float t, u, v;
-        if (!rayPlaneBarycentrics(mesh, k, ray, t, u, v)) continue;
-        // A small tolerance on the edges keeps rays through a shared edge from slipping between.
-        constexpr float kEdge = -1e-6f;
-        if (u < kEdge || v < kEdge || u + v > 1.f - kEdge || !(t > 0.f) || t >= best) continue;
-        best = t;
-        hit.triangle = k;
-        bestU = u;
-        bestV = v;
-    }
-    if (hit.triangle < 0) return hit;
+    if (!h.hit) return hit;
     hit.hit = true;
-    hit.t = best;
-    hit.position = ray.origin + best * ray.direction;
-    hit.faceNormal = mesh.faceNormals[size_t(hit.triangle)];
-    hit.interpolated = interpolate(mesh, hit.triangle, bestU, bestV);
+    hit.t = h.t;
+    hit.position = h.position;
+    hit.triangle = h.triangle;
+    hit.faceNormal = h.faceNormal;
+    hit.interpolated = h.interpolated;
     return hit;
 }
 
 glm::vec3 interpolatedNormalOnPlane(const FacetedSphereMesh& mesh, int triangle, const Ray& ray,
                                     glm::vec3 fallback) {
-    float t, u, v;
-    if (!rayPlaneBarycentrics(mesh, triangle, ray, t, u, v) || !std::isfinite(u) ||
-        !std::isfinite(v))
-        return fallback;
-    return interpolate(mesh, triangle, u, v);
+    return FacetedTrace(mesh).ndfmipInterpolatedOnPlane(triangle, glslRay(ray), fallback);
 }
 
 } // namespace ndfmip

@@ -219,9 +219,13 @@ Result<RenderProgram> interpolatedProgram(const Scene& scene, const std::string&
         program.normalCube =
             std::make_shared<const NormalCubeMap>(buildNormalCubeMap(cube.cubeSize));
 
-    std::vector<std::string> files = {"brdf.glsl",           "toksvig.glsl",
-                                      "render/raycast.glsl", "render/cube_faces.glsl",
-                                      "render/faceted.glsl", "render/interpolated.frag"};
+    std::vector<std::string> files = {"brdf.glsl",
+                                      "toksvig.glsl",
+                                      "render/raycast.glsl",
+                                      "render/cube_faces.glsl",
+                                      "render/faceted.glsl",
+                                      "render/faceted_trace.glsl",
+                                      "render/interpolated.frag"};
     program.fragmentParts.emplace_back("<defines>", "");
     for (const std::string& file : files) {
         Result<std::string> text = embedded(file);
