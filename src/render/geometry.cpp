@@ -1,6 +1,10 @@
-// Camera rays, ray-object intersection with a tangent frame, and ray-differential footprints.
+// Camera rays, ray-object intersection with a tangent frame, and ray-differential footprints:
+// the camera's frame here, the rest the GPU renderer's render/ray_geometry.glsl compiled as C++.
 #include <cmath>
 
+#include <glm/glm.hpp>
+
+#include "ndfmip/glsl.h"
 #include "ndfmip/render.h"
 
 namespace ndfmip {
@@ -21,86 +25,83 @@ CameraFrame cameraFrame(const Camera& c) {
     return f;
 }
 
+namespace glsl_detail {
+
+using glm::abs;
+using glm::cross;
+using glm::ivec3;
+
+// ray_geometry.glsl over a CameraFrame and a Geometry: the data members stand in for the GPU's
+// uniforms of the same names.
+struct RayGeometry : ShaderLibrary {
+    explicit RayGeometry(const CameraFrame& f)
+        : ndfmipCameraType(f.type == CameraType::Orthographic ? 1 : 0), ndfmipEye(f.eye),
+          ndfmipForward(f.forward), ndfmipRight(f.right), ndfmipUp(f.up),
+          ndfmipHalfSize(f.halfWidth, f.halfHeight), ndfmipImageSize(f.width, f.height) {}
+    explicit RayGeometry(const Geometry& g)
+        : ndfmipGeometryType(g.type == GeometryType::Plane ? 0 : 1), ndfmipCenter(g.center),
+          ndfmipNormal(g.normal), ndfmipTangent(g.tangent), ndfmipPlaneSize(g.size),
+          ndfmipTiling(g.tiling), ndfmipRadius(g.radius) {}
+
+    int ndfmipCameraType = 0;
+    vec3 ndfmipEye{0.f}, ndfmipForward{0.f}, ndfmipRight{0.f}, ndfmipUp{0.f};
+    vec2 ndfmipHalfSize{0.f}, ndfmipImageSize{0.f};
+    int ndfmipGeometryType = 0;
+    vec3 ndfmipCenter{0.f}, ndfmipNormal{0.f}, ndfmipTangent{0.f};
+    vec2 ndfmipPlaneSize{0.f}, ndfmipTiling{0.f};
+    float ndfmipRadius = 0.f;
+
+// clang-format off
+#include "render/ray_geometry.glsl"
+    // clang-format on
+};
+
+} // namespace glsl_detail
+
+namespace {
+
+using glsl_detail::RayGeometry;
+
+SurfaceHit surfaceHit(const RayGeometry::NdfmipHit& h) {
+    SurfaceHit out;
+    if (!h.hit) return out;
+    out.hit = true;
+    out.t = h.t;
+    out.position = h.position;
+    out.uv = h.uv;
+    out.tangent = h.tangent;
+    out.bitangent = h.bitangent;
+    out.normal = h.normal;
+    out.dpdu = h.dpdu;
+    out.dpdv = h.dpdv;
+    return out;
+}
+
+} // namespace
+
 Ray cameraRay(const CameraFrame& f, float px, float py) {
-    // Image-plane coordinates in [-1, 1], y up.
-    const float sx = 2.f * px / f.width - 1.f;
-    const float sy = 1.f - 2.f * py / f.height;
-    const glm::vec3 across = f.right * (sx * f.halfWidth) + f.up * (sy * f.halfHeight);
-    if (f.type == CameraType::Orthographic) return {f.eye + across, f.forward};
-    return {f.eye, glm::normalize(f.forward + across)};
+    const RayGeometry::NdfmipRay ray = RayGeometry(f).ndfmipCameraRay(px, py);
+    return {ray.origin, ray.direction};
 }
 
 SurfaceHit intersect(const Geometry& g, const Ray& ray) {
-    SurfaceHit h;
-    if (g.type == GeometryType::Plane) {
-        float denom = glm::dot(ray.direction, g.normal);
-        if (std::abs(denom) < 1e-12f) return h;
-        float t = glm::dot(g.center - ray.origin, g.normal) / denom;
-        if (!(t > 0.f)) return h;
-        glm::vec3 p = ray.origin + t * ray.direction;
-        glm::vec3 bitangent = glm::cross(g.normal, g.tangent);
-        glm::vec3 d = p - g.center;
-        float s = glm::dot(d, g.tangent) / g.size.x + 0.5f; // 0 .. 1 along the tangent
-        float r = 0.5f - glm::dot(d, bitangent) / g.size.y; // 0 at the bitangent's edge
-        if (s < 0.f || s > 1.f || r < 0.f || r > 1.f) return h;
-        h.hit = true;
-        h.t = t;
-        h.position = p;
-        h.uv = {s * g.tiling.x, r * g.tiling.y};
-        h.tangent = g.tangent;
-        h.bitangent = bitangent;
-        h.normal = g.normal;
-        h.dpdu = g.tangent * (g.size.x / g.tiling.x);
-        h.dpdv = -bitangent * (g.size.y / g.tiling.y);
-        return h;
-    }
-    // Sphere: nearest positive root of |o + t d - c|^2 = R^2.
-    glm::vec3 oc = ray.origin - g.center;
-    float b = glm::dot(oc, ray.direction);
-    float c = glm::dot(oc, oc) - g.radius * g.radius;
-    float disc = b * b - c;
-    if (disc < 0.f) return h;
-    float root = std::sqrt(disc);
-    float t = -b - root;
-    if (!(t > 0.f)) t = -b + root;
-    if (!(t > 0.f)) return h;
-    glm::vec3 p = ray.origin + t * ray.direction;
-    glm::vec3 n = glm::normalize(p - g.center);
-    float theta = std::acos(glm::clamp(n.z, -1.f, 1.f));
-    float phi = std::atan2(n.y, n.x);
-    if (phi < 0.f) phi += 2.f * kPi;
-    float sinTheta = std::sin(theta), cosTheta = std::cos(theta);
-    float sinPhi = std::sin(phi), cosPhi = std::cos(phi);
-    h.hit = true;
-    h.t = t;
-    h.position = p;
-    h.uv = {phi / (2.f * kPi) * g.tiling.x, theta / kPi * g.tiling.y};
-    h.normal = n;
-    h.tangent = {-sinPhi, cosPhi, 0.f};
-    h.bitangent = glm::cross(h.normal, h.tangent); // towards the north pole: decreasing v
-    h.dpdu = glm::vec3(-sinPhi, cosPhi, 0.f) * (g.radius * sinTheta * 2.f * kPi / g.tiling.x);
-    h.dpdv =
-        glm::vec3(cosTheta * cosPhi, cosTheta * sinPhi, -sinTheta) * (g.radius * kPi / g.tiling.y);
-    return h;
+    return surfaceHit(RayGeometry(g).ndfmipIntersect({ray.origin, ray.direction}));
 }
 
 UvFootprint uvFootprint(const CameraFrame& camera, const SurfaceHit& hit, float px, float py) {
-    // Where the neighbouring pixels' rays meet the tangent plane at the hit, as uv offsets:
-    // solve dp = du dpdu + dv dpdv in the least-squares sense (2x2 normal equations).
-    auto offset = [&](float qx, float qy) {
-        Ray r = cameraRay(camera, qx, qy);
-        float denom = glm::dot(r.direction, hit.normal);
-        if (std::abs(denom) < 1e-12f) return glm::vec2(0.f);
-        float t = glm::dot(hit.position - r.origin, hit.normal) / denom;
-        glm::vec3 dp = r.origin + t * r.direction - hit.position;
-        float a = glm::dot(hit.dpdu, hit.dpdu), b = glm::dot(hit.dpdu, hit.dpdv);
-        float c = glm::dot(hit.dpdv, hit.dpdv);
-        float ru = glm::dot(dp, hit.dpdu), rv = glm::dot(dp, hit.dpdv);
-        float det = a * c - b * b;
-        if (std::abs(det) < 1e-20f) return glm::vec2(0.f);
-        return glm::vec2((c * ru - b * rv) / det, (a * rv - b * ru) / det);
-    };
-    return {offset(px + 1.f, py), offset(px, py + 1.f)};
+    // Where the neighbouring pixels' rays meet the tangent plane at the hit, as uv offsets.
+    RayGeometry::NdfmipHit h;
+    h.hit = hit.hit;
+    h.t = hit.t;
+    h.position = hit.position;
+    h.uv = hit.uv;
+    h.tangent = hit.tangent;
+    h.bitangent = hit.bitangent;
+    h.normal = hit.normal;
+    h.dpdu = hit.dpdu;
+    h.dpdv = hit.dpdv;
+    RayGeometry rays(camera);
+    return {rays.ndfmipUvOffset(h, px + 1.f, py), rays.ndfmipUvOffset(h, px, py + 1.f)};
 }
 
 float mipLod(const UvFootprint& f, int width, int height) {

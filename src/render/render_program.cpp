@@ -15,9 +15,9 @@ namespace {
 
 // The library's files in the order they depend on each other, then the ray caster.
 const char* const kLibraryFiles[] = {
-    "brdf.glsl",      "naive.glsl",    "toksvig.glsl",       "toksvig_lut.glsl",
-    "sh.glsl",        "vmf.glsl",      "lean.glsl",          "sggx.glsl",
-    "ggx_aniso.glsl", "splitsum.glsl", "render/raycast.glsl"};
+    "brdf.glsl",      "naive.glsl",    "toksvig.glsl",        "toksvig_lut.glsl",
+    "sh.glsl",        "vmf.glsl",      "lean.glsl",           "sggx.glsl",
+    "ggx_aniso.glsl", "splitsum.glsl", "render/raycast.glsl", "render/ray_geometry.glsl"};
 
 Result<std::string> embedded(const std::string& path) {
     for (const EmbeddedShader& s : embeddedShaders())
@@ -222,6 +222,7 @@ Result<RenderProgram> interpolatedProgram(const Scene& scene, const std::string&
     std::vector<std::string> files = {"brdf.glsl",
                                       "toksvig.glsl",
                                       "render/raycast.glsl",
+                                      "render/ray_geometry.glsl",
                                       "render/cube_faces.glsl",
                                       "render/faceted.glsl",
                                       "render/faceted_trace.glsl",
