@@ -3,25 +3,32 @@
 #include <cassert>
 #include <cmath>
 
+#include <glm/glm.hpp>
+
+#include "ndfmip/glsl.h"
 #include "ndfmip/interpolated.h"
 
 namespace ndfmip {
+namespace glsl_detail {
+
+using glm::abs;
+using glm::log2;
+
+// cube_faces.glsl and normal_cube_lod.glsl over a map of level-0 face side `size`: the data
+// member stands in for the GPU's uniform of the same name.
+struct NormalCubeLod : ShaderLibrary {
+    explicit NormalCubeLod(int size) : ndfmipNormalCubeSize(size) {}
+    int ndfmipNormalCubeSize;
+// clang-format off
+#include "render/cube_faces.glsl"
+#include "render/normal_cube_lod.glsl"
+    // clang-format on
+};
+
+} // namespace glsl_detail
 
 glm::vec3 cubeFaceDirection(int face, float a, float b) {
-    switch (face) { // the inverse of cubeFaceCoordinates (OpenGL's face table)
-    case 0:
-        return {1.f, -b, -a};
-    case 1:
-        return {-1.f, -b, a};
-    case 2:
-        return {a, 1.f, b};
-    case 3:
-        return {a, -1.f, -b};
-    case 4:
-        return {a, -b, 1.f};
-    default:
-        return {-a, -b, -1.f};
-    }
+    return glsl_detail::NormalCubeLod(0).ndfmipCubeFaceDirection(face, a, b);
 }
 
 void cubeFaceCoordinates(glm::vec3 d, int& face, float& a, float& b) {
@@ -159,25 +166,7 @@ glm::vec3 sampleNormalCubeMap(const NormalCubeMap& map, glm::vec3 d, float lod) 
 }
 
 float normalCubeMapLod(const NormalCubeMap& map, glm::vec3 n, glm::vec3 nx, glm::vec3 ny) {
-    int face;
-    float a, b;
-    cubeFaceCoordinates(n, face, a, b);
-    // The neighbours projected onto n's face (its plane extended), as a GPU differentiates the
-    // face coordinates of the pixel quad within the face the centre selects.
-    const glm::vec3 axis = cubeFaceDirection(face, 0.f, 0.f);
-    const glm::vec3 right = cubeFaceDirection(face, 1.f, 0.f) - axis,
-                    down = cubeFaceDirection(face, 0.f, 1.f) - axis;
-    auto project = [&](glm::vec3 d) {
-        const float ma = glm::dot(d, axis);
-        if (!(ma > 0.f))
-            return glm::vec2(a, b) + glm::vec2(1e6f); // behind the face: a huge footprint
-        return glm::vec2(glm::dot(d, right), glm::dot(d, down)) / ma;
-    };
-    const glm::vec2 centre = project(n);
-    const float texels = 0.5f * float(map.levels.front().size); // per unit of face coordinate
-    const float rho =
-        texels * std::max(glm::length(project(nx) - centre), glm::length(project(ny) - centre));
-    return rho > 1.f ? std::log2(rho) : 0.f;
+    return glsl_detail::NormalCubeLod(map.levels.front().size).ndfmipNormalCubeLod(n, nx, ny);
 }
 
 } // namespace ndfmip

@@ -226,6 +226,7 @@ Result<RenderProgram> interpolatedProgram(const Scene& scene, const std::string&
                                       "render/cube_faces.glsl",
                                       "render/faceted.glsl",
                                       "render/faceted_trace.glsl",
+                                      "render/normal_cube_lod.glsl",
                                       "render/interpolated.frag"};
     program.fragmentParts.emplace_back("<defines>", "");
     for (const std::string& file : files) {
