@@ -53,6 +53,12 @@ double ggxReference(double cosH, double alpha) {
     return a2 / (3.14159265358979323846 * d * d);
 }
 
+BakeOptions withBaseRoughness(float alpha) {
+    BakeOptions o;
+    o.baseRoughness = alpha;
+    return o;
+}
+
 SharedImage filledNormals(int width, int height, const std::function<glm::vec3(int, int)>& normal) {
     auto image = std::make_shared<Image>(width, height, 3);
     for (int y = 0; y < height; ++y)

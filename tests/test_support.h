@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "ndfmip/bake.h"
 #include "ndfmip/image.h"
 #include "ndfmip/result.h"
 
@@ -48,6 +49,9 @@ double ggxReference(double cosH, double alpha);
 
 // A width x height map of the unit normals normal(x, y) (normalised).
 SharedImage filledNormals(int width, int height, const std::function<glm::vec3(int, int)>& normal);
+
+// A bake's options with the material's base GGX roughness `alpha`, everything else the default.
+BakeOptions withBaseRoughness(float alpha);
 
 // ../shared/data/envmaps beside the checkout (equirectangular HDR maps), or empty.
 std::filesystem::path sharedEnvMaps();

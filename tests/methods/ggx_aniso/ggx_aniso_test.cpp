@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <functional>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -22,16 +21,6 @@ namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
 
-BakeOptions fitted(float alpha) {
-    BakeOptions o;
-    o.baseRoughness = alpha;
-    return o;
-}
-
-SharedImage filled(int width, int height, const std::function<glm::vec3(int, int)>& normal) {
-    return test::filledNormals(width, height, normal);
-}
-
 // The stored tensor (A_tt, A_tb, A_bb) of a texel.
 glm::vec3 tensorAt(const Bake& bake, int level, int x, int y) {
     const float* a = bake.levels[level][1]->at(x, y);
@@ -40,9 +29,10 @@ glm::vec3 tensorAt(const Bake& bake, int level, int x, int y) {
 
 TEST(GgxAniso, OneNormalPerTexelIsTheMaterialsIsotropicLobe) {
     const glm::vec3 tilt = glm::normalize(glm::vec3(0.3f, -0.2f, 1.f));
-    const Pyramid pyramid = buildPyramid(filled(32, 32, [&](int, int) { return tilt; }));
+    const Pyramid pyramid =
+        buildPyramid(test::filledNormals(32, 32, [&](int, int) { return tilt; }));
     for (float alpha : {0.05f, 0.1f, 0.3f, 0.7f}) {
-        const Bake bake = bakeGgxAniso(pyramid, fitted(alpha));
+        const Bake bake = bakeGgxAniso(pyramid, test::withBaseRoughness(alpha));
         ASSERT_EQ(bake.levels.size(), pyramid.levels.size());
         for (size_t k = 0; k < bake.levels.size(); ++k) {
             const glm::vec3 a = tensorAt(bake, int(k), 0, 0);
@@ -62,13 +52,14 @@ TEST(GgxAniso, NormalsSpreadAlongXWidenTheLobeAlongX) {
     for (const bool alongY : {false, true}) {
         float previous = 0.1f;
         for (float theta : {0.05f, 0.1f, 0.2f, 0.35f}) {
-            const Pyramid pyramid = buildPyramid(filled(8, 8, [&](int x, int y) {
+            const Pyramid pyramid = buildPyramid(test::filledNormals(8, 8, [&](int x, int y) {
                 const float s = (alongY ? y : x) % 2 ? 1.f : -1.f;
                 const float d = s * std::sin(theta);
                 return alongY ? glm::vec3(0.f, d, std::cos(theta))
                               : glm::vec3(d, 0.f, std::cos(theta));
             }));
-            const glm::vec3 a = tensorAt(bakeGgxAniso(pyramid, fitted(0.1f)), 1, 0, 0);
+            const glm::vec3 a =
+                tensorAt(bakeGgxAniso(pyramid, test::withBaseRoughness(0.1f)), 1, 0, 0);
             const float along = std::sqrt(alongY ? a.z : a.x),
                         across = std::sqrt(alongY ? a.x : a.z);
             EXPECT_GT(along, previous) << "theta " << theta;
@@ -83,24 +74,25 @@ TEST(GgxAniso, NormalsSpreadAlongXWidenTheLobeAlongX) {
 TEST(GgxAniso, ATurnedSpreadTurnsTheTensor) {
     // The same spread along the diagonal x = y: the tensor's off-diagonal carries it.
     const float theta = 0.25f;
-    const Pyramid pyramid = buildPyramid(filled(8, 8, [&](int x, int) {
+    const Pyramid pyramid = buildPyramid(test::filledNormals(8, 8, [&](int x, int) {
         const float d = (x % 2 ? 1.f : -1.f) * std::sin(theta) / std::sqrt(2.f);
         return glm::vec3(d, d, std::cos(theta));
     }));
-    const glm::vec3 a = tensorAt(bakeGgxAniso(pyramid, fitted(0.1f)), 1, 0, 0);
+    const glm::vec3 a = tensorAt(bakeGgxAniso(pyramid, test::withBaseRoughness(0.1f)), 1, 0, 0);
     EXPECT_NEAR(a.x, a.z, 1e-3f * a.x);
     EXPECT_GT(a.y, 0.3f * a.x); // the wide axis on the diagonal
 }
 
 TEST(GgxAniso, AConstantRoughnessMapIsThatRoughness) {
-    const Pyramid pyramid = buildPyramid(filled(16, 16, [](int x, int y) {
+    const Pyramid pyramid = buildPyramid(test::filledNormals(16, 16, [](int x, int y) {
         return glm::vec3(0.5f * std::sin(x), 0.3f * std::cos(y), 1.f);
     }));
     BakeOptions map;
     auto r = std::make_shared<Image>(16, 16, 1);
     std::fill(r->pixels.begin(), r->pixels.end(), 0.2f);
     map.roughnessMap = r;
-    const Bake withMap = bakeGgxAniso(pyramid, map), constant = bakeGgxAniso(pyramid, fitted(0.2f));
+    const Bake withMap = bakeGgxAniso(pyramid, map),
+               constant = bakeGgxAniso(pyramid, test::withBaseRoughness(0.2f));
     for (size_t k = 0; k < constant.levels.size(); ++k) {
         const auto& a = constant.levels[k][1]->pixels;
         const auto& b = withMap.levels[k][1]->pixels;
@@ -111,10 +103,10 @@ TEST(GgxAniso, AConstantRoughnessMapIsThatRoughness) {
 }
 
 TEST(GgxAniso, NonPowerOfTwoMapsGiveFiniteTensorsEverywhere) {
-    const Pyramid pyramid = buildPyramid(filled(13, 7, [](int x, int y) {
+    const Pyramid pyramid = buildPyramid(test::filledNormals(13, 7, [](int x, int y) {
         return glm::vec3(0.8f * std::sin(1.7f * x), 0.5f * std::cos(2.3f * y), 1.f);
     }));
-    const Bake bake = bakeGgxAniso(pyramid, fitted(0.05f));
+    const Bake bake = bakeGgxAniso(pyramid, test::withBaseRoughness(0.05f));
     for (const auto& level : bake.levels)
         for (size_t i = 0; i < level[1]->texelCount(); ++i) {
             const float* a =
@@ -245,8 +237,8 @@ TEST(GgxAniso, MatchesAMultiStartFitOnRealMaps) {
         const auto crop = std::make_shared<Image>(std::move(map.value()));
         const Pyramid pyramid = buildPyramid(crop);
         for (float a0 : {0.05f, 0.1f, 0.3f}) {
-            const Bake bake = bakeGgxAniso(pyramid, fitted(a0));
-            const Bake isoBake = bakeGgxFit(pyramid, fitted(a0));
+            const Bake bake = bakeGgxAniso(pyramid, test::withBaseRoughness(a0));
+            const Bake isoBake = bakeGgxFit(pyramid, test::withBaseRoughness(a0));
             for (int level : {2, 4, 6}) {
                 // Four texels of levels 2 and 4, one of level 6 (4096 normals).
                 const int side = 128 >> level, step = level == 6 ? side : side / 2;
@@ -320,7 +312,7 @@ TEST(GgxAniso, BlendedTensorsAgainstTheFitOfTheUnion) {
     ASSERT_TRUE(normals) << normals.error().message;
     const Pyramid pyramid = buildPyramid(normals.value());
     for (float alpha : {0.1f, 0.3f}) {
-        const double e = tensorBlendError(bakeGgxAniso(pyramid, fitted(alpha)));
+        const double e = tensorBlendError(bakeGgxAniso(pyramid, test::withBaseRoughness(alpha)));
         std::printf("ggx-aniso tensor blend, pyramidwall_256, alpha %.1f: %.4f\n", alpha, e);
         EXPECT_TRUE(std::isfinite(e));
         EXPECT_LT(e, 0.6);
@@ -334,7 +326,7 @@ TEST(GgxAniso, BlendedTensorsAgainstTheFitOfTheUnion) {
         const Pyramid shared = buildPyramid(map.value());
         for (float alpha : {0.1f, 0.3f})
             std::printf("ggx-aniso tensor blend, %s, alpha %.1f: %.4f\n", file, alpha,
-                        tensorBlendError(bakeGgxAniso(shared, fitted(alpha))));
+                        tensorBlendError(bakeGgxAniso(shared, test::withBaseRoughness(alpha))));
     }
 }
 
@@ -343,11 +335,11 @@ TEST(GgxAniso, TwoNarrowLobesApartAgainstTheMultiStartFit) {
     // a two-peaked NDF no single lobe follows well; the fit stays near the best one (measured
     // 1.02 / 1.03 / 1.06).
     for (float theta : {0.1f, 0.2f, 0.35f}) {
-        const Pyramid pyramid = buildPyramid(filled(8, 8, [&](int x, int) {
+        const Pyramid pyramid = buildPyramid(test::filledNormals(8, 8, [&](int x, int) {
             const float d = (x % 2 ? 1.f : -1.f) * std::sin(theta);
             return glm::vec3(d, 0.f, std::cos(theta));
         }));
-        const glm::vec3 a = tensorAt(bakeGgxAniso(pyramid, fitted(0.1f)), 1, 0, 0);
+        const glm::vec3 a = tensorAt(bakeGgxAniso(pyramid, test::withBaseRoughness(0.1f)), 1, 0, 0);
         const std::vector<glm::dvec3> normals = {glm::dvec3(std::sin(theta), 0., std::cos(theta)),
                                                  glm::dvec3(-std::sin(theta), 0., std::cos(theta))};
         const DenseObjective objective(normals, 0.1, glm::dvec3(0., 0., 1.));

@@ -21,16 +21,6 @@ namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
 
-BakeOptions fitted(float alpha) {
-    BakeOptions o;
-    o.baseRoughness = alpha;
-    return o;
-}
-
-SharedImage filled(int width, int height, const std::function<glm::vec3(int, int)>& normal) {
-    return test::filledNormals(width, height, normal);
-}
-
 float alphaAt(const Bake& bake, int level, int x, int y) {
     return bake.levels[level][1]->at(x, y)[0];
 }
@@ -39,9 +29,10 @@ TEST(GgxFit, OneNormalPerTexelIsTheMaterialsRoughness) {
     // A constant (tilted) map: every footprint holds one direction, whose filtered NDF is the
     // material's own lobe about it.
     const glm::vec3 tilt = glm::normalize(glm::vec3(0.3f, -0.2f, 1.f));
-    const Pyramid pyramid = buildPyramid(filled(32, 32, [&](int, int) { return tilt; }));
+    const Pyramid pyramid =
+        buildPyramid(test::filledNormals(32, 32, [&](int, int) { return tilt; }));
     for (float alpha : {0.05f, 0.1f, 0.3f, 0.7f}) {
-        const Bake bake = bakeGgxFit(pyramid, fitted(alpha));
+        const Bake bake = bakeGgxFit(pyramid, test::withBaseRoughness(alpha));
         ASSERT_EQ(bake.levels.size(), pyramid.levels.size());
         for (size_t k = 0; k < bake.levels.size(); ++k) {
             EXPECT_NEAR(alphaAt(bake, int(k), 0, 0), alpha, 3e-3f * alpha)
@@ -53,10 +44,10 @@ TEST(GgxFit, OneNormalPerTexelIsTheMaterialsRoughness) {
 }
 
 TEST(GgxFit, LevelZeroAndNormalsAreTheStandardMipmaps) {
-    const Pyramid pyramid = buildPyramid(filled(16, 8, [](int x, int y) {
+    const Pyramid pyramid = buildPyramid(test::filledNormals(16, 8, [](int x, int y) {
         return glm::vec3(0.6f * std::sin(x), 0.4f * std::cos(y), 1.f);
     }));
-    const Bake bake = bakeGgxFit(pyramid, fitted(0.2f));
+    const Bake bake = bakeGgxFit(pyramid, test::withBaseRoughness(0.2f));
     const Bake naive = bakeNaive(pyramid, {});
     for (size_t k = 0; k < bake.levels.size(); ++k) {
         const Image& n = *bake.levels[k][0];
@@ -76,11 +67,11 @@ TEST(GgxFit, NormalsAtPlusMinusThetaWidenTheLobeMonotonically) {
     // directions, wider the further apart they are; the fit is the material's lobe at theta = 0.
     float previous = 0.f;
     for (float theta : {0.f, 0.05f, 0.1f, 0.2f, 0.35f}) {
-        const Pyramid pyramid = buildPyramid(filled(8, 8, [&](int x, int y) {
+        const Pyramid pyramid = buildPyramid(test::filledNormals(8, 8, [&](int x, int y) {
             const float s = (x + y) % 2 ? 1.f : -1.f;
             return glm::vec3(s * std::sin(theta), 0.f, std::cos(theta));
         }));
-        const float alpha = alphaAt(bakeGgxFit(pyramid, fitted(0.1f)), 1, 0, 0);
+        const float alpha = alphaAt(bakeGgxFit(pyramid, test::withBaseRoughness(0.1f)), 1, 0, 0);
         if (theta == 0.f) {
             EXPECT_NEAR(alpha, 0.1f, 3e-4f);
         }
@@ -91,10 +82,10 @@ TEST(GgxFit, NormalsAtPlusMinusThetaWidenTheLobeMonotonically) {
 }
 
 TEST(GgxFit, NonPowerOfTwoMapsGiveFiniteRoughnessEverywhere) {
-    const Pyramid pyramid = buildPyramid(filled(13, 7, [](int x, int y) {
+    const Pyramid pyramid = buildPyramid(test::filledNormals(13, 7, [](int x, int y) {
         return glm::vec3(0.8f * std::sin(1.7f * x), 0.5f * std::cos(2.3f * y), 1.f);
     }));
-    const Bake bake = bakeGgxFit(pyramid, fitted(0.05f));
+    const Bake bake = bakeGgxFit(pyramid, test::withBaseRoughness(0.05f));
     for (const auto& level : bake.levels)
         for (float a : level[1]->pixels) {
             EXPECT_TRUE(std::isfinite(a));
@@ -182,7 +173,7 @@ AgainstBruteForce againstBruteForce(const std::filesystem::path& dir,
         const auto crop = std::make_shared<Image>(std::move(map.value()));
         const Pyramid pyramid = buildPyramid(crop);
         for (float a0 : alphas) {
-            BakeOptions options = fitted(a0);
+            BakeOptions options = test::withBaseRoughness(a0);
             if (roughness) {
                 auto r = std::make_shared<Image>(128, 128, 1);
                 for (int y = 0; y < 128; ++y)
@@ -262,14 +253,15 @@ TEST(GgxFit, MatchesABruteForceFitWithARoughnessMap) {
 }
 
 TEST(GgxFit, AConstantRoughnessMapIsThatRoughness) {
-    const Pyramid pyramid = buildPyramid(filled(16, 16, [](int x, int y) {
+    const Pyramid pyramid = buildPyramid(test::filledNormals(16, 16, [](int x, int y) {
         return glm::vec3(0.5f * std::sin(x), 0.3f * std::cos(y), 1.f);
     }));
     BakeOptions map;
     auto r = std::make_shared<Image>(16, 16, 1);
     std::fill(r->pixels.begin(), r->pixels.end(), 0.2f);
     map.roughnessMap = r;
-    const Bake withMap = bakeGgxFit(pyramid, map), constant = bakeGgxFit(pyramid, fitted(0.2f));
+    const Bake withMap = bakeGgxFit(pyramid, map),
+               constant = bakeGgxFit(pyramid, test::withBaseRoughness(0.2f));
     EXPECT_EQ(withMap.parameters.at("roughness_map"), 1.0);
     for (size_t k = 0; k < constant.levels.size(); ++k)
         for (size_t i = 0; i < constant.levels[k][1]->pixels.size(); ++i)
@@ -278,7 +270,8 @@ TEST(GgxFit, AConstantRoughnessMapIsThatRoughness) {
                 << "level " << k << " texel " << i;
     // Two materials side by side, one normal everywhere: each texel is its own alpha until a
     // footprint spans both.
-    const Pyramid flat = buildPyramid(filled(8, 8, [](int, int) { return glm::vec3(0, 0, 1); }));
+    const Pyramid flat =
+        buildPyramid(test::filledNormals(8, 8, [](int, int) { return glm::vec3(0, 0, 1); }));
     auto halves = std::make_shared<Image>(8, 8, 1);
     for (int y = 0; y < 8; ++y)
         for (int x = 0; x < 8; ++x) halves->at(x, y)[0] = x < 4 ? 0.1f : 0.3f;
