@@ -764,6 +764,7 @@ PYBIND11_MODULE(_ndfmip, m) {
         .def_readwrite("lobe_filter", &EvalOptions::lobeFilter)
         .def_readwrite("view", &EvalOptions::view)
         .def_readwrite("elevation", &EvalOptions::elevation)
+        .def_readwrite("light_polar", &EvalOptions::lightPolar)
         .def("set_decode", [](EvalOptions& o, bool greenDown, bool twoChannel, bool signedValues,
                               std::optional<float> height, bool clamp) {
             o.decode = decodeOptions(greenDown, twoChannel, signedValues, height, clamp);

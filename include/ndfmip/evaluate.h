@@ -79,6 +79,9 @@ struct EvalOptions {
     // lower tilts it about the texel grid's x axis (a pixel covers footprint / sin(elevation)
     // texels along the view), the light near the view's mirror direction. 5 .. 90.
     float elevation = 90.f;
+    // Straight down (elevation 90), the directional light's angle from the normal in degrees
+    // (--light-polar), 30 degrees in azimuth from the texel grid's x axis. 0 .. 85.
+    float lightPolar = 25.f;
     std::vector<float> offset{0.31f,
                               0.17f}; // the pixel grid's shift from the texel grid, in pixels
     std::vector<std::string> externalRoughness;  // NAME=PATTERN

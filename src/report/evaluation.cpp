@@ -83,7 +83,7 @@ loadRoughnessMips(const std::string& pattern, const std::vector<std::pair<int, i
 // texels across and footprint / sin(elevation) along the view, and the truth is still one exact
 // integral per pixel (exactBoxView).
 Scene evalScene(int mapWidth, int mapHeight, int footprint, int pixels, glm::vec2 shift,
-                float elevation = 90.f) {
+                float elevation = 90.f, float lightPolar = 25.f) {
     Scene s;
     const float pixelWorld = float(footprint) / float(mapWidth);
     const float viewWorld = pixelWorld * float(pixels);
@@ -102,9 +102,10 @@ Scene evalScene(int mapWidth, int mapHeight, int footprint, int pixels, glm::vec
     const float size = 2.f * std::ceil(0.5f * viewWorld * stretch + 1.f);
     s.geometry.size = {size, size};
     s.geometry.tiling = {size, size * float(mapWidth) / float(mapHeight)};
-    // Straight down: 25 degrees off the normal. Tilted: near the mirror direction of the view
-    // (the glancing highlight a distant floor shows), 30 degrees aside in azimuth.
-    const float polar = glm::radians(down ? 25.f : 90.f - elevation),
+    // Straight down: `lightPolar` degrees off the normal (25 by default). Tilted: near the mirror
+    // direction of the view (the glancing highlight a distant floor shows), 30 degrees aside in
+    // azimuth.
+    const float polar = glm::radians(down ? lightPolar : 90.f - elevation),
                 azimuth = glm::radians(down ? 30.f : 120.f);
     Light light;
     light.direction = {std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth),
@@ -316,8 +317,9 @@ MapData loadAndBake(const Plan& plan, size_t mapIndex, const Lighting& lighting)
 Scene footprintScene(const Plan& plan, const MapData& map, int footprint,
                      const Lighting& lighting) {
     const EvalOptions& a = plan.options;
-    Scene scene = evalScene(map.normals->width, map.normals->height, footprint,
-                            viewPixels(map, footprint, a.maxPixels), plan.shift, a.elevation);
+    Scene scene =
+        evalScene(map.normals->width, map.normals->height, footprint,
+                  viewPixels(map, footprint, a.maxPixels), plan.shift, a.elevation, a.lightPolar);
     if (lighting.environment) { // the environment replaces the directional light
         scene.lights.clear();
         scene.environment.path = a.environment;

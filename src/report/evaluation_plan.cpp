@@ -33,6 +33,10 @@ void checkRanges(const EvalOptions& a) {
     range("--frames", a.frames, 0, 256);
     if (a.coherence) range("--coherent", *a.coherence, 0.0, 1e6);
     range("--elevation", a.elevation, 5.0, 90.0);
+    range("--light-polar", a.lightPolar, 0.0, 85.0);
+    if (a.elevation < 90.f && a.lightPolar != 25.f)
+        fail("--light-polar: only a straight-down view (--elevation 90) takes it; a tilted view's "
+             "light follows the view's mirror direction");
     if (a.taps) range("--taps", *a.taps, 1, 16);
     if (a.lodBias) range("--lod-bias", *a.lodBias, -16.0, 16.0);
 }

@@ -40,7 +40,8 @@ json reportJson(const Plan& plan, const Lighting& lighting, const Gathered& gath
     char viewText[96], lightText[96];
     if (a.elevation >= 90.f) {
         std::snprintf(viewText, sizeof viewText, "orthographic, straight down");
-        std::snprintf(lightText, sizeof lightText, "directional, 25 deg off the normal");
+        std::snprintf(lightText, sizeof lightText, "directional, %g deg off the normal",
+                      a.lightPolar);
     } else {
         std::snprintf(viewText, sizeof viewText, "orthographic, %g deg above the plane",
                       a.elevation);
@@ -51,6 +52,7 @@ json reportJson(const Plan& plan, const Lighting& lighting, const Gathered& gath
     root["setup"] = {{"view", viewText},
                      {"light", lightText},
                      {"elevation_degrees", a.elevation},
+                     {"light_polar_degrees", a.lightPolar},
                      {"footprints", a.footprints},
                      {"methods", a.methods},
                      {"frames", a.frames},

@@ -1178,6 +1178,49 @@ TEST(Cli, EvalAtAnElevationKeepsAnExactTruth) {
     EXPECT_FALSE(fs::exists(tmp.path / "bad"));
 }
 
+// The straight-down view's light at another angle: the report says so, a flat map is still drawn
+// exactly by every method, the bumpy map's errors move with the light, and a tilted view (whose
+// light follows its mirror direction) refuses it.
+TEST(Cli, EvalLightPolarMovesTheStraightDownLight) {
+    TempDir tmp("eval-light-polar");
+    writePng16(tmp.file("flat.png"), encodeNormals(flatNormals(16, 16)));
+    const std::string maps =
+        shellQuoted(tmp.file("flat.png")) + " " +
+        shellQuoted(std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png");
+    const std::string options = " -q --no-webgl --methods naive,toksvig,exact --brdfs ggx "
+                                "--roughness 0.3 --footprints 16 --frames 0 --pixels 32 -o ";
+    auto naiveError = [&](const std::string& extra, const std::string& name) {
+        CliRun r = cli("eval " + maps + extra + options + shellQuoted(tmp.file(name)));
+        EXPECT_EQ(r.status, 0) << r.output;
+        const json report = json::parse(fileBytes(tmp.path / name / "report.json"));
+        double bumpy = -1.;
+        for (const json& c : report["cases"]) {
+            const std::string method = c["method"];
+            if (method == "groundtruth") continue;
+            if (c["map"].get<std::string>().find("flat") != std::string::npos)
+                EXPECT_LT(c["rel_rmse"].get<double>(), 1e-5) << name << " " << method;
+            else if (method == "naive")
+                bumpy = c["rel_rmse"].get<double>();
+        }
+        return std::make_pair(report, bumpy);
+    };
+    const auto [tilted, tiltedError] = naiveError(" --light-polar 60", "polar60");
+    EXPECT_EQ(tilted["setup"]["light_polar_degrees"], 60.0);
+    EXPECT_EQ(tilted["setup"]["light"], "directional, 60 deg off the normal");
+    const auto [standard, standardError] = naiveError("", "polar25");
+    EXPECT_EQ(standard["setup"]["light_polar_degrees"], 25.0);
+    EXPECT_GT(tiltedError, 0.0);
+    EXPECT_GT(standardError, 0.0);
+    EXPECT_GT(std::abs(tiltedError - standardError), 1e-3 * standardError);
+    expectCleanFailure(cli("eval " + maps + " --elevation 30 --light-polar 10" + options +
+                           shellQuoted(tmp.file("bad"))),
+                       {"--light-polar"});
+    expectCleanFailure(
+        cli("eval " + maps + " --light-polar 89" + options + shellQuoted(tmp.file("bad"))),
+        {"--light-polar"});
+    EXPECT_FALSE(fs::exists(tmp.path / "bad"));
+}
+
 TEST(Cli, RenderReportsBadScenesInOneLine) {
     TempDir tmp("render-bad");
     writeFile(tmp.path / "bad.json", R"({"camera": {"width": "abc"}})");

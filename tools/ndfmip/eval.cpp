@@ -121,6 +121,11 @@ void addEvalCommand(CLI::App& app) {
          "(orthographic, the truth still exact), the light near the view's mirror direction")
         ->check(CLI::Range(5.f, 90.f))
         ->capture_default_str();
+    c->add_option("--light-polar", a->lightPolar,
+                  "a straight-down view's light: its angle from the normal in degrees (30 deg in "
+                  "azimuth from the map's x axis)")
+        ->check(CLI::Range(0.f, 85.f))
+        ->capture_default_str();
     c->add_option(
          "--view", a->view,
          "lab (the renderer's default rule), engine (what an engine's one trilinear lookup gives: "
