@@ -36,9 +36,9 @@ namespace ndfmip {
 // How a roughness picks a level of a prefiltered chain, and so how that chain is prefiltered
 // (every chain's level k holds the GGX lobe of the roughness its own rule assigns to k).
 enum class EnvironmentLod {
-    Log2Sigma, // Toksvig ("Environment Maps"): lod = log2(sigma / theta0) on the plain box mip
+    Log2Sigma, // Toksvig ("Environment Maps"): lod = log2(2 sigma / theta0) on the plain box mip
                // chain (on cube faces, environment_cube_chain.h), sigma the angular spread of the
-               // reflected lobe, theta0 a level-0 texel's
+               // reflected lobe, theta0 a level-0 texel's (log2SigmaLevel)
     Filament,  // lod = r (2 - r) (N - 1) (Filament's perceptualRoughnessToLod)
     Unity,     // mip = r (1.7 - 0.7 r) 6 (perceptualRoughnessToMipmapLevel, 7 levels)
     Unreal,    // mip = N - 1 - (1 - 1.2 log2 r) (ComputeReflectionCaptureMipFromRoughness)
@@ -57,7 +57,12 @@ double environmentLodLevel(EnvironmentLod rule, double perceptualRoughness, int 
 // Its inverse: the perceptual roughness the rule assigns to level k (0 for k = 0, at most 1).
 double environmentLodRoughness(EnvironmentLod rule, int level, int levels);
 
-// Toksvig's rule: log2(sigma / texelAngle) clamped to [0, levels - 1].
+// Toksvig's rule, lod "a function of log2 sigma": log2(kLog2SigmaSpan sigma / texelAngle) clamped
+// to [0, levels - 1]. A trilinear read at level L of a box chain averages texels of width
+// w = 2^L texelAngle, blended by a tent of half-width w: a spread of variance w^2/12 + w^2/6 =
+// w^2/4 per axis, which equals the lobe's sigma^2 at w = 2 sigma. (With log2(sigma / texelAngle)
+// the reads were one level too sharp: twice the error under venice, docs/RESULTS.md.)
+constexpr double kLog2SigmaSpan = 2.;
 double log2SigmaLevel(double sigma, double texelAngle, int levels);
 
 // The angular spread (radians, per axis) of the reflected direction: a lobe over half vectors of

@@ -156,15 +156,15 @@ vec3 ndfmipSampleChain(float lod, vec3 d) {
 }
 
 // prefilteredRadiance: the rule's level for perceptual roughness r (environmentLodLevel), or
-// Toksvig's log2(sigma / theta0) with sigma = 2 sqrt(alpha^2/2 + normalVariance)
-// (reflectedSpread, log2SigmaLevel).
+// Toksvig's log2(2 sigma / theta0) with sigma = 2 sqrt(alpha^2/2 + normalVariance)
+// (reflectedSpread, log2SigmaLevel: the read's variance matches the lobe's).
 vec3 ndfmipPrefilteredRadiance(vec3 reflected, float r, float normalVariance) {
     float last = float(ndfmipEnvLevels - 1);
     float lod = 0.0f;
     if (ndfmipEnvRule == 0) {
         float alpha = r * r;
         float sigma = 2.0f * sqrt(max(alpha * alpha / 2.0f, 0.0f) + max(normalVariance, 0.0f));
-        lod = sigma > 0.0f ? clamp(log2(sigma / ndfmipEnvTexelAngle), 0.0f, last) : 0.0f;
+        lod = sigma > 0.0f ? clamp(log2(2.0f * sigma / ndfmipEnvTexelAngle), 0.0f, last) : 0.0f;
     } else {
         r = clamp(r, 0.0f, 1.0f);
         if (ndfmipEnvRule == 1) lod = r * (2.0f - r) * last;

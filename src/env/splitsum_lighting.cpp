@@ -109,7 +109,7 @@ double environmentLodRoughness(EnvironmentLod rule, int level, int levels) {
 double log2SigmaLevel(double sigma, double texelAngle, int levels) {
     assert(texelAngle > 0. && levels >= 1);
     if (!(sigma > 0.)) return 0.;
-    return std::clamp(std::log2(sigma / texelAngle), 0., double(levels - 1));
+    return std::clamp(std::log2(kLog2SigmaSpan * sigma / texelAngle), 0., double(levels - 1));
 }
 
 double reflectedSpread(double lobeVariance, double normalVariance) {

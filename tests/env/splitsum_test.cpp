@@ -127,6 +127,12 @@ TEST(SplitSumLod, Log2SigmaDoublingSpreadAddsALevel) {
         EXPECT_NEAR(log2SigmaLevel(2. * sigma, theta0, 12), log2SigmaLevel(sigma, theta0, 12) + 1.,
                     1e-12);
     EXPECT_EQ(log2SigmaLevel(100., theta0, 6), 5.); // clamped to the chain
+    // At its level the trilinear box read spreads as the lobe does: texels w = 2^L theta0 wide,
+    // box plus tent, w^2/12 + w^2/6 = w^2/4 per axis, equal to sigma^2.
+    for (double sigma : {0.08, 0.15, 0.3}) {
+        const double w = std::exp2(log2SigmaLevel(sigma, theta0, 12)) * theta0;
+        EXPECT_NEAR(w * w / 12. + w * w / 6., sigma * sigma, 1e-12 * sigma * sigma) << sigma;
+    }
     // Reflection doubles the angle: a normal spread of sigma^2 alone gives 2 sigma.
     EXPECT_NEAR(reflectedSpread(0., 0.01), 0.2, 1e-12);
     EXPECT_NEAR(reflectedSpread(0.0075, 0.0025), 0.2, 1e-12);
