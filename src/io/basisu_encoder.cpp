@@ -4,6 +4,7 @@
 #include "io/basisu_encoder.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
@@ -66,6 +67,14 @@ std::string lastLine(const fs::path& log) {
     return last.size() > 200 ? last.substr(0, 200) : last;
 }
 
+// waitpid that a signal does not interrupt: the child's exit status, or -1 when it cannot be had.
+int exitStatus(pid_t pid) {
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR) return -1;
+    return status;
+}
+
 } // namespace
 
 Result<std::string> basisuEncoder() {
@@ -113,10 +122,7 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
     // level 0, which takes most of the time, is still encoding.
     std::vector<pid_t> pids;
     auto waitAll = [&pids] {
-        for (pid_t pid : pids) {
-            int status = 0;
-            ::waitpid(pid, &status, 0);
-        }
+        for (pid_t pid : pids) exitStatus(pid);
     };
     auto stemOf = [&scratch](size_t k) {
         return (scratch.path / ("level" + std::to_string(k))).string();
@@ -151,6 +157,8 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
         argv.push_back(nullptr);
         posix_spawn_file_actions_t actions;
         posix_spawn_file_actions_init(&actions);
+        // Nothing to read: an encoder never waits on the caller's standard input.
+        posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
         posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
                                          0644);
         posix_spawn_file_actions_adddup2(&actions, 1, 2);
@@ -165,15 +173,16 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
         pids.push_back(pid);
     }
     std::vector<int> statuses(levels.size(), -1);
-    for (size_t k = 0; k < pids.size(); ++k) ::waitpid(pids[k], &statuses[k], 0);
+    for (size_t k = 0; k < pids.size(); ++k) statuses[k] = exitStatus(pids[k]);
     std::vector<std::string> out;
     for (size_t k = 0; k < levels.size(); ++k) {
         const std::string stem = stemOf(k);
         const std::string size =
             std::to_string(levels[k].width) + "x" + std::to_string(levels[k].height);
         const int status = statuses[k];
-        if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-            const std::string why = WIFEXITED(status)
+        if (status < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+            const std::string why = status < 0 ? "its exit status could not be read"
+                                    : WIFEXITED(status)
                                         ? "exit " + std::to_string(WEXITSTATUS(status))
                                         : "signal " + std::to_string(WTERMSIG(status));
             const std::string said = lastLine(stem + ".log");
