@@ -93,18 +93,11 @@ FacetedTrace::NdfmipRay glslRay(const Ray& ray) {
 
 } // namespace
 
+// The GLSL hit has FacetedHit's fields in its order, and on a miss FacetedHit's defaults.
 FacetedHit intersectFacetedSphere(const FacetedSphereMesh& mesh, const Ray& ray) {
     const FacetedTrace::NdfmipFacetedHit h =
         FacetedTrace(mesh).ndfmipIntersectFaceted(glslRay(ray));
-    FacetedHit hit;
-    if (!h.hit) return hit;
-    hit.hit = true;
-    hit.t = h.t;
-    hit.position = h.position;
-    hit.triangle = h.triangle;
-    hit.faceNormal = h.faceNormal;
-    hit.interpolated = h.interpolated;
-    return hit;
+    return {h.hit, h.t, h.position, h.triangle, h.faceNormal, h.interpolated};
 }
 
 glm::vec3 interpolatedNormalOnPlane(const FacetedSphereMesh& mesh, int triangle, const Ray& ray,

@@ -58,48 +58,23 @@ struct RayGeometry : ShaderLibrary {
 
 } // namespace glsl_detail
 
-namespace {
-
 using glsl_detail::RayGeometry;
-
-SurfaceHit surfaceHit(const RayGeometry::NdfmipHit& h) {
-    SurfaceHit out;
-    if (!h.hit) return out;
-    out.hit = true;
-    out.t = h.t;
-    out.position = h.position;
-    out.uv = h.uv;
-    out.tangent = h.tangent;
-    out.bitangent = h.bitangent;
-    out.normal = h.normal;
-    out.dpdu = h.dpdu;
-    out.dpdv = h.dpdv;
-    return out;
-}
-
-} // namespace
 
 Ray cameraRay(const CameraFrame& f, float px, float py) {
     const RayGeometry::NdfmipRay ray = RayGeometry(f).ndfmipCameraRay(px, py);
     return {ray.origin, ray.direction};
 }
 
+// The GLSL hit has SurfaceHit's fields in its order, and on a miss SurfaceHit's defaults.
 SurfaceHit intersect(const Geometry& g, const Ray& ray) {
-    return surfaceHit(RayGeometry(g).ndfmipIntersect({ray.origin, ray.direction}));
+    const RayGeometry::NdfmipHit h = RayGeometry(g).ndfmipIntersect({ray.origin, ray.direction});
+    return {h.hit, h.t, h.position, h.uv, h.tangent, h.bitangent, h.normal, h.dpdu, h.dpdv};
 }
 
 UvFootprint uvFootprint(const CameraFrame& camera, const SurfaceHit& hit, float px, float py) {
     // Where the neighbouring pixels' rays meet the tangent plane at the hit, as uv offsets.
-    RayGeometry::NdfmipHit h;
-    h.hit = hit.hit;
-    h.t = hit.t;
-    h.position = hit.position;
-    h.uv = hit.uv;
-    h.tangent = hit.tangent;
-    h.bitangent = hit.bitangent;
-    h.normal = hit.normal;
-    h.dpdu = hit.dpdu;
-    h.dpdv = hit.dpdv;
+    const RayGeometry::NdfmipHit h{hit.hit,       hit.t,      hit.position, hit.uv,  hit.tangent,
+                                   hit.bitangent, hit.normal, hit.dpdu,     hit.dpdv};
     RayGeometry rays(camera);
     return {rays.ndfmipUvOffset(h, px + 1.f, py), rays.ndfmipUvOffset(h, px, py + 1.f)};
 }

@@ -14,13 +14,19 @@ namespace glsl_detail {
 using glm::abs;
 using glm::log2;
 
-// cube_faces.glsl and normal_cube_lod.glsl over a map of level-0 face side `size`: the data
-// member stands in for the GPU's uniform of the same name.
-struct NormalCubeLod : ShaderLibrary {
+// cube_faces.glsl: OpenGL's cube face table.
+struct CubeFaces : ShaderLibrary {
+// clang-format off
+#include "render/cube_faces.glsl"
+    // clang-format on
+};
+
+// normal_cube_lod.glsl over a map of level-0 face side `size`: the data member stands in for the
+// GPU's uniform of the same name.
+struct NormalCubeLod : CubeFaces {
     explicit NormalCubeLod(int size) : ndfmipNormalCubeSize(size) {}
     int ndfmipNormalCubeSize;
 // clang-format off
-#include "render/cube_faces.glsl"
 #include "render/normal_cube_lod.glsl"
     // clang-format on
 };
@@ -28,7 +34,7 @@ struct NormalCubeLod : ShaderLibrary {
 } // namespace glsl_detail
 
 glm::vec3 cubeFaceDirection(int face, float a, float b) {
-    return glsl_detail::NormalCubeLod(0).ndfmipCubeFaceDirection(face, a, b);
+    return glsl_detail::CubeFaces().ndfmipCubeFaceDirection(face, a, b);
 }
 
 void cubeFaceCoordinates(glm::vec3 d, int& face, float& a, float& b) {

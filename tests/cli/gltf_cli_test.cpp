@@ -549,11 +549,11 @@ StripesQuad stripesQuad(const test::TempDir& dir) {
     for (size_t i = 0; i < orm.texelCount(); ++i)
         orm.pixels[3 * i] = 1.f, orm.pixels[3 * i + 1] = 77.f / 255.f, orm.pixels[3 * i + 2] = 0.f;
     StripesQuad out;
-    Result<SourceImage> source = decodeImage(encodePng(stripes, 8).value(), "stripes");
+    const std::string normalPng = encodePng(stripes, 8).value();
+    Result<SourceImage> source = decodeImage(normalPng, "stripes");
     out.decoded = decodeNormalMap(source.value(), DecodeOptions{}, "stripes", nullptr).value();
-    out.gltf = test::writeGltf(
-        dir.path, test::quadAsset(),
-        {{"normal.png", encodePng(stripes, 8).value()}, {"orm.png", encodePng(orm, 8).value()}});
+    out.gltf = test::writeGltf(dir.path, test::quadAsset(),
+                               {{"normal.png", normalPng}, {"orm.png", encodePng(orm, 8).value()}});
     return out;
 }
 
