@@ -173,7 +173,8 @@ const char* cubeFaceName(int face); // "px", "nx", "py", "ny", "pz", "nz"
 glm::dvec3 cubeFaceDirection(int face, double s, double t);
 
 // Its inverse for any non-zero d: the face d points into (the largest |component|; ties go to
-// the earlier face) and (s, t) in [0, 1]^2.
+// the earlier face) and (s, t) in [0, 1]^2; the zero vector gives +Z's centre. The float
+// versions (interpolated.h) and the GPU's are the same source, shaders/render/cube_faces.glsl.
 void cubeFaceCoordinates(glm::dvec3 d, int& face, double& s, double& t);
 
 // The solid angle of texel (x, y) of a size x size face; the 6 size^2 texels sum to 4 pi.

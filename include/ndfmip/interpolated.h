@@ -84,7 +84,9 @@ constexpr int kNormalCubeMapSize = 128;
 NormalCubeMap buildNormalCubeMap(int size);
 
 // The direction through face coordinates (a, b) in [-1, 1]^2 (a to the right, b down), and back:
-// the face whose axis has the largest |component| and the coordinates of `d` on it.
+// the face whose axis has the largest |component| (ties to the earlier axis; the zero vector to
+// +Z's centre) and the coordinates of `d` on it. One source with the GPU's and environment.h's
+// double versions: shaders/render/cube_faces.glsl.
 glm::vec3 cubeFaceDirection(int face, float a, float b);
 void cubeFaceCoordinates(glm::vec3 d, int& face, float& a, float& b);
 

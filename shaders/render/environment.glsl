@@ -80,21 +80,9 @@ uniform sampler2DArray ndfmipEnvCube;
 
 // cubeFaceCoordinates: the face d points into and (s, t) on it, clamped to [0, 1].
 int ndfmipCubeFaceCoordinates(vec3 d, out vec2 st) {
-    vec3 m = abs(d);
-    int face;
-    vec2 ab;
-    if (m.x >= m.y && m.x >= m.z) {
-        face = d.x > 0.0f ? 0 : 1;
-        ab = vec2((d.x > 0.0f ? -d.z : d.z) / m.x, d.y / m.x);
-    } else if (m.y >= m.z) {
-        face = d.y > 0.0f ? 2 : 3;
-        ab = vec2(d.x / m.y, (d.y > 0.0f ? -d.z : d.z) / m.y);
-    } else {
-        face = d.z > 0.0f ? 4 : 5;
-        ab = vec2((d.z > 0.0f ? d.x : -d.x) / m.z, d.y / m.z);
-    }
-    st = clamp(vec2(0.5f * (ab.x + 1.0f), 0.5f * (1.0f - ab.y)), vec2(0.0f), vec2(1.0f));
-    return face;
+    NdfmipCubeFacePoint p = ndfmipCubeFacePoint(d);
+    st = clamp(0.5f * (p.ab + 1.0f), vec2(0.0f), vec2(1.0f));
+    return p.face;
 }
 
 // cube_mip_chain.cpp's texelAt: texel (x, y) of `face` at mip k (n wide); one past an edge, the
@@ -103,7 +91,7 @@ vec3 ndfmipCubeTexel(int k, int n, int face, int x, int y) {
     if (x < 0 || x >= n || y < 0 || y >= n) {
         vec2 st;
         vec2 ab = 2.0f * ((vec2(x, y) + 0.5f) / float(n)) - 1.0f; // the texel centre on the extended face
-        face = ndfmipCubeFaceCoordinates(normalize(ndfmipCubeFaceDirection(face, ab.x, ab.y)), st);
+        face = ndfmipCubeFaceCoordinates(normalize(ndfmipCubeFaceDirection(face, ab)), st);
         x = clamp(int(st.x * float(n)), 0, n - 1);
         y = clamp(int(st.y * float(n)), 0, n - 1);
     }

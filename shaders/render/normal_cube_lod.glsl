@@ -3,14 +3,6 @@
 // faceted.glsl). Needs cube_faces.glsl and int ndfmipNormalCubeSize, level 0's face side in
 // texels (the CPU's map, the GPU's uniform).
 
-// The face d points into, as cubeFaceCoordinates picks it (ndfmipCubeFaceDirection's table).
-int ndfmipCubeFace(vec3 d) {
-    vec3 m = abs(d);
-    if (m.x >= m.y && m.x >= m.z) return d.x >= 0.0f ? 0 : 1;
-    if (m.y >= m.z) return d.y >= 0.0f ? 2 : 3;
-    return d.z >= 0.0f ? 4 : 5;
-}
-
 // A neighbour d projected onto the face whose centre is `axis` (its plane extended), in the face's
 // coordinates (right, down); behind the face, a huge offset from `centre`.
 vec2 ndfmipCubeFaceOffset(vec3 d, vec3 axis, vec3 right, vec3 down, vec2 centre) {
@@ -24,10 +16,10 @@ vec2 ndfmipCubeFaceOffset(vec3 d, vec3 axis, vec3 right, vec3 down, vec2 centre)
 // footprint's longer axis in level-0 texels rho, log2(rho) (0 when rho <= 1). A GPU's own cube
 // LOD (implicit derivatives) differs by driver; this one is the same on both sides to rounding.
 float ndfmipNormalCubeLod(vec3 n, vec3 nx, vec3 ny) {
-    int face = ndfmipCubeFace(n);
-    vec3 axis = ndfmipCubeFaceDirection(face, 0.0f, 0.0f);
-    vec3 right = ndfmipCubeFaceDirection(face, 1.0f, 0.0f) - axis;
-    vec3 down = ndfmipCubeFaceDirection(face, 0.0f, 1.0f) - axis;
+    int face = ndfmipCubeFacePoint(n).face;
+    vec3 axis = ndfmipCubeFaceDirection(face, vec2(0.0f));
+    vec3 right = ndfmipCubeFaceDirection(face, vec2(1.0f, 0.0f)) - axis;
+    vec3 down = ndfmipCubeFaceDirection(face, vec2(0.0f, 1.0f)) - axis;
     float ma = dot(n, axis);
     vec2 centre = ma > 0.0f ? vec2(dot(n, right), dot(n, down)) / ma : vec2(0.0f);
     float texels = 0.5f * float(ndfmipNormalCubeSize); // per unit of face coordinate

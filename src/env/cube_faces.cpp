@@ -4,9 +4,27 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/glm.hpp>
+
 #include "ndfmip/environment.h"
 
 namespace ndfmip {
+namespace glsl_detail {
+
+using glm::abs;
+using glm::max;
+
+// cube_faces.glsl in double: its vec2 and vec3 stand for glm's double vectors here, so the
+// offline faces are laid out to double precision with the GPU's table and rule.
+struct CubeFacesDouble {
+    using vec2 = glm::dvec2;
+    using vec3 = glm::dvec3;
+// clang-format off
+#include "render/cube_faces.glsl"
+    // clang-format on
+};
+
+} // namespace glsl_detail
 
 const char* cubeFaceName(int face) {
     static constexpr const char* kNames[kCubeFaces] = {"px", "nx", "py", "ny", "pz", "nz"};
@@ -14,46 +32,15 @@ const char* cubeFaceName(int face) {
 }
 
 glm::dvec3 cubeFaceDirection(int face, double s, double t) {
-    const double a = 2. * s - 1., b = 1. - 2. * t;
-    glm::dvec3 d;
-    switch (face) {
-    case 0:
-        d = {1., b, -a};
-        break;
-    case 1:
-        d = {-1., b, a};
-        break;
-    case 2:
-        d = {a, 1., -b};
-        break;
-    case 3:
-        d = {a, -1., b};
-        break;
-    case 4:
-        d = {a, b, 1.};
-        break;
-    default:
-        d = {-a, b, -1.};
-        break;
-    }
-    return glm::normalize(d);
+    return glm::normalize(
+        glsl_detail::CubeFacesDouble().ndfmipCubeFaceDirection(face, {2. * s - 1., 2. * t - 1.}));
 }
 
 void cubeFaceCoordinates(glm::dvec3 d, int& face, double& s, double& t) {
-    const glm::dvec3 m = glm::abs(d);
-    double a, b; // the face-plane coordinates of cubeFaceDirection
-    if (m.x >= m.y && m.x >= m.z) {
-        face = d.x > 0. ? 0 : 1;
-        a = (d.x > 0. ? -d.z : d.z) / m.x, b = d.y / m.x;
-    } else if (m.y >= m.z) {
-        face = d.y > 0. ? 2 : 3;
-        a = d.x / m.y, b = (d.y > 0. ? -d.z : d.z) / m.y;
-    } else {
-        face = d.z > 0. ? 4 : 5;
-        a = (d.z > 0. ? d.x : -d.x) / m.z, b = d.y / m.z;
-    }
-    s = std::clamp(0.5 * (a + 1.), 0., 1.);
-    t = std::clamp(0.5 * (1. - b), 0., 1.);
+    const auto p = glsl_detail::CubeFacesDouble().ndfmipCubeFacePoint(d);
+    face = p.face;
+    s = std::clamp(0.5 * (p.ab.x + 1.), 0., 1.);
+    t = std::clamp(0.5 * (p.ab.y + 1.), 0., 1.);
 }
 
 namespace {

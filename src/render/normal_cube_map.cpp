@@ -14,7 +14,7 @@ namespace glsl_detail {
 using glm::abs;
 using glm::log2;
 
-// cube_faces.glsl: OpenGL's cube face table.
+// cube_faces.glsl: OpenGL's cube face table and its inverse, in float.
 struct CubeFaces : ShaderLibrary {
 // clang-format off
 #include "render/cube_faces.glsl"
@@ -34,28 +34,12 @@ struct NormalCubeLod : CubeFaces {
 } // namespace glsl_detail
 
 glm::vec3 cubeFaceDirection(int face, float a, float b) {
-    return glsl_detail::CubeFaces().ndfmipCubeFaceDirection(face, a, b);
+    return glsl_detail::CubeFaces().ndfmipCubeFaceDirection(face, glm::vec2(a, b));
 }
 
 void cubeFaceCoordinates(glm::vec3 d, int& face, float& a, float& b) {
-    const glm::vec3 m = glm::abs(d);
-    float sc, tc, ma;
-    if (m.x >= m.y && m.x >= m.z) {
-        face = d.x >= 0.f ? 0 : 1;
-        ma = m.x, sc = d.x >= 0.f ? -d.z : d.z, tc = -d.y;
-    } else if (m.y >= m.z) {
-        face = d.y >= 0.f ? 2 : 3;
-        ma = m.y, sc = d.x, tc = d.y >= 0.f ? d.z : -d.z;
-    } else {
-        face = d.z >= 0.f ? 4 : 5;
-        ma = m.z, sc = d.z >= 0.f ? d.x : -d.x, tc = -d.y;
-    }
-    if (!(ma > 0.f)) { // the zero vector: any face will do
-        face = 4, a = 0.f, b = 0.f;
-        return;
-    }
-    a = sc / ma;
-    b = tc / ma;
+    const auto p = glsl_detail::CubeFaces().ndfmipCubeFacePoint(d);
+    face = p.face, a = p.ab.x, b = p.ab.y;
 }
 
 namespace {
