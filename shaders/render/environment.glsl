@@ -1,8 +1,10 @@
 // The GPU renderer under an environment: the split sum's lookups (environment_splitsum.h; Karis
 // 2013), the same as src/env/splitsum_lighting.cpp's, in float, which the shading of
-// splitsum_shading.glsl (one source with the CPU's) reads; and the SH-lighting way. Included by the
-// renderer (with #define NDFMIP_ENVIRONMENT) after raycast.glsl and before splitsum_shading.glsl
-// and the method's glue, whose ndfmipShadeEnvironment(p, albedo, hit, view) calls them.
+// splitsum_shading.glsl (one source with the CPU's) reads; and the SH lighting's rows, which
+// sh_lighting_shading.glsl (one source with the CPU's) reads. Included by the renderer (with
+// #define NDFMIP_ENVIRONMENT) after raycast.glsl and before splitsum_shading.glsl (and
+// sh_lighting_shading.glsl) and the method's glue, whose ndfmipShadeEnvironment(p, albedo, hit,
+// view) calls them.
 //
 // Textures, all read with texelFetch so the filtering is the CPU's to rounding:
 //   ndfmipEnvChain   the rule's prefiltered chain, equirect (environment frame, rotation
@@ -208,7 +210,7 @@ vec3 ndfmipEnvironmentBackground(vec3 w) {
 }
 
 // ---- the SH-lighting way (environment_sh_shading.h; Han et al. Sec. 8, eqs. 35 and 37) -------
-// ndfmipEnvSh holds the prepared lighting's coefficients of order NDFMIP_ENV_SH_ORDER, one
+// The lighting's rows and basis as sh_lighting_shading.glsl reads them. ndfmipEnvSh holds the prepared lighting's coefficients of order NDFMIP_ENV_SH_ORDER, one
 // column per coefficient: row 0 L_lm, rows 1 .. 3 L'_lm of the axes x, y, z (the mean-normal
 // cosine: NDFMIP_ENV_SH_AXES) or row 1 L'_lm alone. For vmf they are in the environment frame;
 // for sh on a plane in its tangent frame (rotated on the CPU, sh_rotation.h, once per frame); for
@@ -232,6 +234,19 @@ uniform float ndfmipEnvShDiffuse[NDFMIP_SH_MAX_ORDER + 1];  // the material's A_
 uniform float ndfmipEnvShSpecular[NDFMIP_SH_MAX_ORDER + 1];
 
 vec3 ndfmipEnvShPrepared(int i, int row) { return texelFetch(ndfmipEnvSh, ivec2(i, row), 0).rgb; }
+
+// sh_lighting_shading.glsl's hooks: float scalars, sh.glsl's basis, the order and cosine constants.
+#define NdfmipReal float
+#define NDFMIP_ENV_SH_BANDS (NDFMIP_SH_MAX_ORDER + 1)
+#define NDFMIP_ENV_SH_COEFFICIENTS NDFMIP_SH_MAX_COEFFICIENTS
+#define NdfmipEnvShBasis NdfmipShBasis
+const int ndfmipEnvShOrder = NDFMIP_ENV_SH_ORDER;
+#ifdef NDFMIP_ENV_SH_AXES
+const int ndfmipEnvShAxes = 1;
+#else
+const int ndfmipEnvShAxes = 0;
+#endif
+NdfmipShBasis ndfmipEnvShBasisAt(vec3 w) { return ndfmipShBasisAt(w, NDFMIP_ENV_SH_ORDER); }
 
 #ifdef NDFMIP_ENVIRONMENT_SH_PER_HIT
 // sh on a sphere: each hit has its own tangent frame T, so the lighting is rotated into it here,
@@ -281,138 +296,4 @@ void ndfmipEnvShRotate(NdfmipHit hit) {
 vec3 ndfmipEnvShRow(int i, int row) { return ndfmipEnvShPrepared(i, row); }
 #endif
 
-// L'_lm for a mean normal (the environment frame: the axes' index): Sum_k n_k L'_k, or the
-// prepared L'.
-vec3 ndfmipEnvReparameterised(int i, vec3 meanNormal) {
-#ifdef NDFMIP_ENV_SH_AXES
-    return meanNormal.x * ndfmipEnvShRow(i, 1) + meanNormal.y * ndfmipEnvShRow(i, 2) +
-           meanNormal.z * ndfmipEnvShRow(i, 3);
-#else
-    return ndfmipEnvShRow(i, 1);
-#endif
-}
-
-// The two sums of a vMF lobe about unit w (environment frame): Sum_l aD_l Sum_m L_lm Y_lm(w) and
-// Sum_l aS_l Sum_m L'_lm Y_lm(w), the basis of sh.glsl's ndfmipShBasisAt.
-struct NdfmipShSums {
-    vec3 diffuse;
-    vec3 specular;
-};
-
-NdfmipShSums ndfmipEnvShSums(float aD[NDFMIP_SH_MAX_ORDER + 1], float aS[NDFMIP_SH_MAX_ORDER + 1], vec3 w,
-                             vec3 meanNormal) {
-    NdfmipShBasis basis = ndfmipShBasisAt(w, NDFMIP_ENV_SH_ORDER);
-    NdfmipShSums sums;
-    sums.diffuse = vec3(0.0f);
-    sums.specular = vec3(0.0f);
-    for (int l = 0; l <= NDFMIP_ENV_SH_ORDER; ++l) {
-        vec3 radiance = vec3(0.0f);
-        vec3 reparameterised = vec3(0.0f);
-        for (int m = -NDFMIP_ENV_SH_ORDER; m <= NDFMIP_ENV_SH_ORDER; ++m) { // unrolled (sh.glsl)
-            if (m * m <= l * l) {
-                int i = l * (l + 1) + m;
-                radiance += basis.y[i] * ndfmipEnvShPrepared(i, 0);
-                reparameterised += basis.y[i] * ndfmipEnvReparameterised(i, meanNormal);
-            }
-        }
-        sums.diffuse += aD[l] * radiance;
-        sums.specular += aS[l] * reparameterised;
-    }
-    return sums;
-}
-
-// shadeShEnvironment: the lighting in the hit's tangent frame, where g is (the plane's from the
-// CPU, a sphere's rotated per hit above). Diffuse Sum A_l^diffuse g_lm L_lm (H eq. 35), specular
-// Sum A_l^specular g_lm L'_lm (H eq. 37) with the cosine from footnote 5's mipmapped normal, each
-// clamped at 0. Bands up to NDFMIP_ENV_SH_ORDER (at most the bake's order).
-// On a sphere (NDFMIP_ENVIRONMENT_SH_PER_HIT) the caller has rotated the lighting into hit's frame
-// (ndfmipEnvShRotate, once per hit in main.frag's ndfmipLookup).
-vec3 ndfmipShadeShEnvironment(NdfmipMaterial m, vec3 albedo, float g[NDFMIP_SH_MAX_COEFFICIENTS], NdfmipHit hit) {
-    vec3 meanNormal = ndfmipTangentToEnvironment(hit, ndfmipShMeanNormal(g[1], g[2], g[3]));
-    vec3 diffuse = vec3(0.0f);
-    vec3 specular = vec3(0.0f);
-    for (int l = 0; l <= NDFMIP_ENV_SH_ORDER; ++l) {
-        vec3 d = vec3(0.0f);
-        vec3 s = vec3(0.0f);
-        // Not unrolled: per texel this is 90 iterations at order 8, and unrolled at each of
-        // main.frag's call sites it made llvmpipe's compile several times slower.
-        for (int i = l * l; i <= l * (l + 2); ++i) {
-            d += g[i] * ndfmipEnvShRow(i, 0);
-            s += g[i] * ndfmipEnvReparameterised(i, meanNormal);
-        }
-        diffuse += ndfmipEnvShDiffuse[l] * d;
-        specular += ndfmipEnvShSpecular[l] * s;
-    }
-    if (m.brdf == NDFMIP_LAMBERT) return albedo * max(diffuse, vec3(0.0f));
-    return albedo * max(diffuse, vec3(0.0f)) + m.specular * max(specular, vec3(0.0f));
-}
-// vmfBandFactors: A_l of the normalised vMF, i_l(kappa) / i_0(kappa), l <= order (at most
-// NDFMIP_SH_MAX_ORDER). From kappa = 32 the terminating series of i_l in e^-2kappa; below,
-// Miller's backward recurrence r_l = i_l / i_(l-1) = 1 / ((2l + 1)/kappa + r_(l+1)) from 0,
-// A_l = A_(l-1) r_l. The CPU starts it at order + 2 ceil(kappa) + 60 (double precision);
-// order + ceil(kappa) + 4 agrees with that to 1e-17. Loop counts matter here: llvmpipe's loop
-// limiter (65535 iterations per invocation, all loops together) cut the CPU's start short under
-// texel shading, which runs this per texel and lobe (errors of 10-50%).
-struct NdfmipVmfBands {
-    float a[NDFMIP_SH_MAX_ORDER + 1];
-};
-
-NdfmipVmfBands ndfmipVmfBands(float kappa, int order) {
-    NdfmipVmfBands bands;
-    for (int l = 0; l <= NDFMIP_SH_MAX_ORDER; ++l) bands.a[l] = l == 0 ? 1.0f : 0.0f;
-    if (kappa == 0.0f) return bands;
-    if (kappa >= 32.0f) {
-        float decay = exp(-2.0f * kappa);
-        for (int n = 1; n <= order; ++n) {
-            float term = 1.0f;
-            float minus = 1.0f;
-            float plus = 1.0f;
-            for (int j = 0; j < n; ++j) {
-                term *= float(n + j + 1) * float(n - j) / (float(j + 1) * 2.0f * kappa);
-                minus += j % 2 == 0 ? -term : term;
-                plus += term;
-            }
-            bands.a[n] = (minus - (n % 2 == 0 ? 1.0f : -1.0f) * decay * plus) / (1.0f - decay);
-        }
-        return bands;
-    }
-    float ratio = 0.0f;
-    for (int l = order + int(ceil(kappa)) + 4; l >= 1; --l) {
-        ratio = 1.0f / ((2.0f * float(l) + 1.0f) / kappa + ratio);
-        if (l <= order) bands.a[l] = ratio;
-    }
-    for (int l = 1; l <= order; ++l) bands.a[l] *= bands.a[l - 1];
-    return bands;
-}
-
-// One lobe of shadeVmfEnvironmentSh, weight included: no rotation, only Y_lm(mu) in the
-// environment frame (footnote 10). Diffuse Sum A_l^vMF A_l^diffuse Sum_m L_lm Y_lm(mu) (H eq. 35);
-// specular Sum A_l^eff Sum_m L'_lm Y_lm(mu) (H eq. 37), A^eff the widened Blinn-Phong lobe of
-// H eq. 29 or, for Beckmann and GGX, the exact convolution A_l^vMF A_l^specular.
-vec3 ndfmipShadeVmfLobeEnvironmentSh(NdfmipMaterial m, vec3 albedo, vec4 lobeTexel, NdfmipHit hit) {
-    NdfmipLobe lobe = ndfmipUnpackLobe(lobeTexel);
-    if (!(lobe.alpha > 0.0f)) return vec3(0.0f);
-    int order = NDFMIP_ENV_SH_ORDER;
-    vec3 mu = normalize(ndfmipTangentToEnvironment(hit, lobe.mu));
-    NdfmipVmfBands bands = ndfmipVmfBands(lobe.kappa, max(order, 1)); // as the CPU's vmfBandFactors call
-    vec3 meanNormal = bands.a[1] * mu; // A(kappa) mu, the lobe's mean normal
-    float s = lobe.kappa * m.exponent / (lobe.kappa + m.exponent);
-    float widened = 1.0f; // blinnPhongCoefficients(s): A_0 = 1, A_1 = (s + 1)/(s + 2), A_l+2 = A_l (s - l)/(s + l + 3)
-    float widenedOdd = (s + 1.0f) / (s + 2.0f);
-    float aD[NDFMIP_SH_MAX_ORDER + 1];
-    float aS[NDFMIP_SH_MAX_ORDER + 1];
-    for (int l = 0; l <= order; ++l) {
-        aD[l] = bands.a[l] * ndfmipEnvShDiffuse[l];
-        aS[l] = bands.a[l] * ndfmipEnvShSpecular[l];
-        if (m.brdf == NDFMIP_BLINN_PHONG) {
-            aS[l] = l % 2 == 0 ? widened : widenedOdd;
-            if (l % 2 == 0) widened *= (s - float(l)) / (s + float(l) + 3.0f);
-            else widenedOdd *= (s - float(l)) / (s + float(l) + 3.0f);
-        }
-    }
-    NdfmipShSums sums = ndfmipEnvShSums(aD, aS, mu, meanNormal);
-    vec3 out3 = albedo * max(sums.diffuse, vec3(0.0f));
-    if (m.brdf != NDFMIP_LAMBERT) out3 += m.specular * max(sums.specular, vec3(0.0f));
-    return lobe.alpha * out3;
-}
 #endif // NDFMIP_ENVIRONMENT_SH

@@ -21,8 +21,12 @@ vec3 ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v) {
                          ndfmipShOrder, l, v);
 }
 #ifdef NDFMIP_ENVIRONMENT
-// Under an environment (render/environment.glsl, the SH-lighting way).
+// Under an environment, the SH-lighting way (sh_lighting_shading.glsl).
 vec3 ndfmipShadeEnvironment(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, vec3 view) {
-    return ndfmipShadeShEnvironment(ndfmipMaterial, albedo, ndfmipShCoefficients(p), hit);
+    float g[NDFMIP_SH_MAX_COEFFICIENTS] = ndfmipShCoefficients(p);
+    // The lighting is in the hit's tangent frame, as g is: the plane's rotated on the CPU, a
+    // sphere's per hit (ndfmipEnvShRotate, once per hit in main.frag's ndfmipLookup).
+    vec3 meanNormal = ndfmipTangentToEnvironment(hit, ndfmipShMeanNormal(g[1], g[2], g[3]));
+    return ndfmipShadeShLighting(ndfmipMaterial.brdf, albedo, ndfmipMaterial.specular, g, meanNormal);
 }
 #endif

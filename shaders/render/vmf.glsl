@@ -21,7 +21,14 @@ vec3 ndfmipShadeEnvironment(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, v
         lobeAlbedo = p[j].x > 0.0f ? p[NDFMIP_LOBES + j].rgb / p[j].x * ndfmipMaterialAlbedo : vec3(0.0f);
 #endif
 #ifdef NDFMIP_ENVIRONMENT_SH
-        sum += ndfmipShadeVmfLobeEnvironmentSh(ndfmipMaterial, lobeAlbedo, p[j], hit);
+        NdfmipLobe lobe = ndfmipUnpackLobe(p[j]);
+        if (lobe.alpha > 0.0f) {
+            vec3 mu = normalize(ndfmipTangentToEnvironment(hit, lobe.mu)); // the environment frame
+            NdfmipVmfBands bands = ndfmipVmfBands(lobe.kappa, max(ndfmipEnvShOrder, 1));
+            NdfmipEnvShTransfer t = ndfmipVmfLobeTransfer(ndfmipMaterial.brdf, ndfmipMaterial.exponent, lobe.kappa, bands, true);
+            sum += ndfmipShadeVmfLobeShLighting(ndfmipMaterial.brdf, lobeAlbedo, ndfmipMaterial.specular, mu, lobe.alpha,
+                                                bands.a[1], t);
+        }
 #else
         sum += ndfmipShadeVmfLobeEnvironment(ndfmipMaterial, lobeAlbedo, p[j], ndfmipTangentFrame(hit), view);
 #endif

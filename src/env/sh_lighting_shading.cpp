@@ -1,50 +1,72 @@
 // The SH and vMF methods shaded by SH lighting (environment_sh_shading.h; Han et al. eqs. 35, 37).
+// The shading is sh_lighting_shading.glsl, the GPU renderer's own source, compiled here as C++
+// (glsl.h) in double and up to order 30, over the prepared lighting's rows.
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 
+#include <glm/gtc/type_ptr.hpp>
+
 #include "ndfmip/brdf.h"
 #include "ndfmip/environment_sh_shading.h"
+#include "ndfmip/glsl.h"
 #include "ndfmip/sh_brdf.h"
 #include "ndfmip/sh_rotation.h"
 #include "ndfmip/spherical_harmonics.h"
-#include "ndfmip/vmf.h"
 
 namespace ndfmip {
-namespace {
+namespace glsl_detail {
 
-// Sum over l <= order of A_l Sum_m c_lm x_lm, x RGB.
-glm::dvec3 weightedDot(const std::vector<double>& A, int order, const double* c,
-                       const glm::dvec3* x) {
-    glm::dvec3 sum(0.);
-    for (int l = 0; l <= order; ++l) {
-        glm::dvec3 band(0.);
-        for (int i = shIndex(l, -l); i <= shIndex(l, l); ++i) band += c[i] * x[i];
-        sum += A[size_t(l)] * band;
+using glm::ceil;
+
+// The arrays' lengths of sh_lighting_shading.glsl on the CPU: every band up to kMaxShOrder.
+#define NDFMIP_ENV_SH_BANDS (kMaxShOrder + 1)
+#define NDFMIP_ENV_SH_COEFFICIENTS (shCount(kMaxShOrder))
+
+// sh_lighting_shading.glsl in double: its NdfmipReal, vec3 and the basis stand for double, glm's
+// double vector and spherical_harmonics.h's evaluateSh here; the data members for the GPU's
+// uniforms of the same names. Row r of coefficient i is the RGB triple at rows[r] + stride i.
+struct ShLightingShading {
+    using NdfmipReal = double;
+    using vec3 = glm::dvec3;
+    struct NdfmipEnvShBasis {
+        double y[shCount(kMaxShOrder)];
+    };
+
+    ShLightingShading(int order, bool axes, const ShShading& a)
+        : ndfmipEnvShOrder(order), ndfmipEnvShAxes(axes ? 1 : 0),
+          ndfmipEnvShDiffuse(a.diffuse.data()), ndfmipEnvShSpecular(a.specular.data()) {}
+
+    int ndfmipEnvShOrder;
+    int ndfmipEnvShAxes;
+    const double* ndfmipEnvShDiffuse;
+    const double* ndfmipEnvShSpecular;
+    const double* rows[4] = {};
+    size_t stride = 3;
+
+    vec3 ndfmipEnvShRow(int i, int row) const {
+        const double* p = rows[row] + stride * size_t(i);
+        return {p[0], p[1], p[2]};
     }
-    return sum;
-}
+    NdfmipEnvShBasis ndfmipEnvShBasisAt(vec3 w) const {
+        NdfmipEnvShBasis basis;
+        evaluateSh(w, ndfmipEnvShOrder, basis.y);
+        return basis;
+    }
 
-glm::vec3 clampedColour(glm::dvec3 x) {
-    return glm::vec3(glm::max(x, glm::dvec3(0.)));
-}
+// clang-format off
+#include "sh_lighting_shading.glsl"
+    // clang-format on
+};
 
-// The L'_lm a pixel's specular term reads: the prepared one, or for the MeanNormal cosine the
-// axes' combined with the mean normal (environment frame).
-glm::dvec3 reparameterisedAt(const ShLighting& lighting, int i, glm::dvec3 meanNormal) {
-    if (lighting.cosine != SpecularCosine::MeanNormal) return lighting.reparameterised[size_t(i)];
-    return meanNormal.x * lighting.reparameterisedAxes[0][size_t(i)] +
-           meanNormal.y * lighting.reparameterisedAxes[1][size_t(i)] +
-           meanNormal.z * lighting.reparameterisedAxes[2][size_t(i)];
-}
+#undef NDFMIP_ENV_SH_BANDS
+#undef NDFMIP_ENV_SH_COEFFICIENTS
 
-GlslLibrary::NdfmipLobe unpacked(const float* p) {
-    return glsl().ndfmipUnpackLobe(glm::vec4(p[0], p[1], p[2], p[3]));
-}
-
-} // namespace
+} // namespace glsl_detail
 
 namespace {
+
+using glsl_detail::ShLightingShading;
 
 // The lighting re-expressed in one tangent frame, L_t(d) = L(T d): L, then L' (or, for the
 // MeanNormal cosine, its three axes, combined after the rotation since rotation is linear), as
@@ -91,70 +113,29 @@ glm::vec3 shadeShEnvironment(const Material& m, glm::vec3 albedo, const float* g
                              const glm::mat3& tangentToEnvironment, const ShLighting& lighting) {
     const int order = std::min(a.order, lighting.order), count = shCount(order);
     assert(int(lighting.radiance.size()) >= count);
+    // L and L' in the tangent frame, where the NDF's coefficients are.
+    const FrameLighting& frame = lightingInFrame(lighting, tangentToEnvironment, order);
+    ShLightingShading shading(order, frame.channels == 12, a);
+    for (int r = 0; r < frame.channels / 3; ++r) shading.rows[r] = frame.values.data() + 3 * r;
+    shading.stride = size_t(frame.channels);
+    double coefficients[shCount(kMaxShOrder)];
+    for (int i = 0; i < count; ++i) coefficients[i] = double(g[i]);
     // Footnote 5's mipmapped normal, (g_11, g_1-1, g_10) / sqrt(3 / 4 pi), in the environment
-    // frame.
+    // frame (sh.glsl's ndfmipShMeanNormal).
     const glm::dvec3 meanNormal =
         glm::dmat3(tangentToEnvironment) *
         (glm::dvec3(g[shIndex(1, 1)], g[shIndex(1, -1)], g[shIndex(1, 0)]) /
          std::sqrt(3. / (4. * M_PI)));
-    // L and L' in the tangent frame, where the NDF's coefficients are.
-    const FrameLighting& frame = lightingInFrame(lighting, tangentToEnvironment, order);
-    glm::dvec3 radiance[shCount(kMaxShOrder)], reparameterised[shCount(kMaxShOrder)];
-    double coefficients[shCount(kMaxShOrder)];
-    for (int i = 0; i < count; ++i) {
-        const double* p = &frame.values[size_t(frame.channels) * size_t(i)];
-        radiance[i] = glm::dvec3(p[0], p[1], p[2]);
-        reparameterised[i] = frame.channels == 12
-                                 ? meanNormal.x * glm::dvec3(p[3], p[4], p[5]) +
-                                       meanNormal.y * glm::dvec3(p[6], p[7], p[8]) +
-                                       meanNormal.z * glm::dvec3(p[9], p[10], p[11])
-                                 : glm::dvec3(p[3], p[4], p[5]);
-        coefficients[i] = double(g[i]);
-    }
-    const glm::vec3 diffuse =
-        clampedColour(weightedDot(a.diffuse, order, coefficients, radiance)); // H eq. 35
-    if (m.brdf == Brdf::Lambert) return albedo * diffuse;
-    const glm::vec3 specular =
-        clampedColour(weightedDot(a.specular, order, coefficients, reparameterised)); // H eq. 37
-    return albedo * diffuse + m.specular * specular;
+    return glm::vec3(shading.ndfmipShadeShLighting(
+        int(m.brdf), glm::dvec3(albedo), glm::dvec3(m.specular), coefficients, meanNormal));
 }
 
 void vmfBandFactors(double kappa, int order, double* out) {
     assert(kappa >= 0. && std::isfinite(kappa) && order >= 0 && order <= kMaxShOrder);
-    out[0] = 1.;
-    if (order == 0) return;
-    if (kappa == 0.) {
-        std::fill(out + 1, out + order + 1, 0.);
-        return;
-    }
-    if (kappa >= 32.) {
-        // i_n(k) = (e^k S_-(n) - (-1)^n e^-k S_+(n)) / (2k), S_-+ = Sum_j (-+1)^j (n+j)! / (j!
-        // (n-j)! (2k)^j), and i_0 = sinh(k)/k: the ratio in terms of e^-2k, which cannot overflow.
-        // The alternating sum cancels most at the smallest k and largest n: 3.5e-12 at k = 32, n =
-        // 30 against projectTransfer, 1e-15 from k = 200 on.
-        const double decay = std::exp(-2. * kappa);
-        for (int n = 1; n <= order; ++n) {
-            double term = 1., minus = 1., plus = 1.;
-            for (int j = 0; j < n; ++j) {
-                term *= double(n + j + 1) * double(n - j) / (double(j + 1) * 2. * kappa);
-                minus += (j % 2 == 0 ? -term : term);
-                plus += term;
-            }
-            out[n] = (minus - (n % 2 == 0 ? 1. : -1.) * decay * plus) / (1. - decay);
-        }
-        return;
-    }
-    // Miller: r_l = i_l / i_(l-1) = 1 / ((2l + 1)/k + r_(l+1)) from i_(l-1) - i_(l+1) = (2l+1)/k
-    // i_l, started at 0 far enough above both l and k that the start's error has died out (the
-    // ratios fall below 1/2 past l ~ k).
-    const int start = order + 2 * int(std::ceil(kappa)) + 60;
-    double ratio = 0.;
-    double ratios[kMaxShOrder + 1];
-    for (int l = start; l >= 1; --l) {
-        ratio = 1. / ((2. * l + 1.) / kappa + ratio);
-        if (l <= order) ratios[l] = ratio;
-    }
-    for (int l = 1; l <= order; ++l) out[l] = out[l - 1] * ratios[l];
+    const ShShading none;
+    const ShLightingShading::NdfmipVmfBands bands =
+        ShLightingShading(order, false, none).ndfmipVmfBands(kappa, order);
+    std::copy(bands.a, bands.a + order + 1, out);
 }
 
 glm::vec3 shadeVmfEnvironmentSh(const Material& m, glm::vec3 baseAlbedo, const float* lobes,
@@ -162,58 +143,45 @@ glm::vec3 shadeVmfEnvironmentSh(const Material& m, glm::vec3 baseAlbedo, const f
                                 const glm::mat3& tangentToEnvironment, const ShLighting& lighting,
                                 const ShShading& a, VmfSpecularTransfer transfer) {
     const int order = std::min(a.order, lighting.order);
+    // The lighting in the environment frame, where the lobes' mu are mapped.
+    const bool axes = lighting.cosine == SpecularCosine::MeanNormal;
+    ShLightingShading shading(order, axes, a);
+    shading.rows[0] = glm::value_ptr(lighting.radiance[0]);
+    for (int k = 0; k < (axes ? 3 : 1); ++k)
+        shading.rows[1 + k] =
+            glm::value_ptr(axes ? lighting.reparameterisedAxes[k][0] : lighting.reparameterised[0]);
+    const bool widen = transfer == VmfSpecularTransfer::Widened;
     glm::dvec3 out(0.);
-    double basis[shCount(kMaxShOrder)], band[kMaxShOrder + 1];
-    std::vector<double> specularA(size_t(order) + 1);
     for (int j = 0; j < count; ++j) {
-        const GlslLibrary::NdfmipLobe lobe = unpacked(lobes + 4 * j);
+        const GlslLibrary::NdfmipLobe lobe = glsl().ndfmipUnpackLobe(
+            glm::vec4(lobes[4 * j], lobes[4 * j + 1], lobes[4 * j + 2], lobes[4 * j + 3]));
         if (!(lobe.alpha > 0.f)) continue;
         const double kappa = double(lobe.kappa);
         // mu in the environment frame: the lobe is radially symmetric, so no rotation of the
         // lighting is needed, only Y_lm(mu) (the paper's footnote 10).
         const glm::dvec3 mu = glm::normalize(glm::dvec3(tangentToEnvironment * lobe.mu));
-        evaluateSh(mu, order, basis);
-        vmfBandFactors(kappa, std::max(order, 1), band);
-        const glm::dvec3 meanNormal = band[1] * mu; // A(kappa) mu: the lobe's mean normal
-        glm::dvec3 diffuse(0.), specular(0.);
-        for (int l = 0; l <= order; ++l) {
-            glm::dvec3 sum(0.);
-            for (int i = shIndex(l, -l); i <= shIndex(l, l); ++i)
-                sum += lighting.radiance[size_t(i)] * basis[i];
-            diffuse += band[l] * a.diffuse[size_t(l)] * sum; // H eq. 35
-        }
-        if (m.brdf != Brdf::Lambert) {
-            if (transfer == VmfSpecularTransfer::Convolved || m.brdf == Brdf::Tabulated) {
-                for (int l = 0; l <= order; ++l)
-                    specularA[size_t(l)] =
-                        a.specular[size_t(l)] *
-                        (m.brdf == Brdf::Tabulated && transfer == VmfSpecularTransfer::Widened
-                             ? 1.
-                             : band[l]);
-            } else if (m.brdf == Brdf::BlinnPhong) {
-                const double s = double(m.exponent);
-                specularA = blinnPhongCoefficients(kappa * s / (kappa + s), order); // H eq. 29
-            } else {
-                // H eq. 30 and its GGX analogue, as shadeVmf (the same floor on kappa).
-                const double alpha = std::sqrt(double(m.roughness) * double(m.roughness) +
-                                               2. / std::max(kappa, 1e-6));
-                const bool beckmann = m.brdf == Brdf::Beckmann;
-                specularA = projectTransfer(
-                    [&](double t) {
-                        return beckmann ? beckmannTransfer(t, alpha) : ggxTransfer(t, alpha);
-                    },
-                    order);
-            }
-            for (int l = 0; l <= order; ++l) {
-                glm::dvec3 sum(0.);
-                for (int i = shIndex(l, -l); i <= shIndex(l, l); ++i)
-                    sum += reparameterisedAt(lighting, i, meanNormal) * basis[i];
-                specular += specularA[size_t(l)] * sum; // H eq. 37
-            }
+        const auto bands = shading.ndfmipVmfBands(kappa, std::max(order, 1));
+        auto t =
+            shading.ndfmipVmfLobeTransfer(int(m.brdf), double(m.exponent), kappa, bands, widen);
+        if (widen && m.brdf == Brdf::Tabulated) { // a table is not widened
+            std::copy(a.specular.begin(), a.specular.begin() + order + 1, t.specular);
+        } else if (widen && m.brdf != Brdf::BlinnPhong && m.brdf != Brdf::Lambert) {
+            // H eq. 30 and its GGX analogue, as shadeVmf (the same floor on kappa), projected:
+            // the slow reference the convolution is checked against.
+            const double alpha =
+                std::sqrt(double(m.roughness) * double(m.roughness) + 2. / std::max(kappa, 1e-6));
+            const bool beckmann = m.brdf == Brdf::Beckmann;
+            const std::vector<double> widened = projectTransfer(
+                [&](double c) {
+                    return beckmann ? beckmannTransfer(c, alpha) : ggxTransfer(c, alpha);
+                },
+                order);
+            std::copy(widened.begin(), widened.end(), t.specular);
         }
         const glm::vec3 albedo = colors ? colors[j] * m.albedo : baseAlbedo;
-        out += double(lobe.alpha) * (glm::dvec3(albedo) * glm::max(diffuse, glm::dvec3(0.)) +
-                                     glm::dvec3(m.specular) * glm::max(specular, glm::dvec3(0.)));
+        out += shading.ndfmipShadeVmfLobeShLighting(int(m.brdf), glm::dvec3(albedo),
+                                                    glm::dvec3(m.specular), mu, double(lobe.alpha),
+                                                    bands.a[1], t);
     }
     return glm::vec3(out);
 }

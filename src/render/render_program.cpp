@@ -405,6 +405,7 @@ Status addFragmentParts(RenderProgram& program, const Scene& scene, int methodLa
     if (environment)
         files.insert(files.end(), {"render/cube_faces.glsl", "render/environment.glsl",
                                    "splitsum_shading.glsl"});
+    if (shLighting) files.push_back("sh_lighting_shading.glsl");
     files.push_back(shader.glsl);
     files.push_back("render/main.frag");
     for (const std::string& file : files) {
