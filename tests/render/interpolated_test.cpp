@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "ndfmip/compare.h"
+#include "ndfmip/environment.h"
 #include "ndfmip/interpolated.h"
 #include "test_support.h"
 
@@ -103,6 +104,35 @@ TEST(NormalCubeMap, FaceCoordinatesRoundTrip) {
                 EXPECT_NEAR(a2, a, 1e-6f);
                 EXPECT_NEAR(b2, b, 1e-6f);
             }
+}
+
+// The float lookup (the normal cube map's) and the double one (the environment's cube faces,
+// environment.h) are one GLSL source compiled twice: the same face everywhere, (s, t) = ((a + 1)/2,
+// (b + 1)/2) to float rounding, and the zero vector on +Z's centre in both.
+TEST(NormalCubeMap, FloatAndDoubleFaceLookupsAgree) {
+    std::mt19937 rng(11);
+    for (int i = 0; i < 5000; ++i) {
+        const glm::vec3 d = randomDirection(rng) * (i % 2 == 0 ? 1.f : 7.f);
+        int f, g;
+        float a, b;
+        double s, t;
+        cubeFaceCoordinates(d, f, a, b);
+        cubeFaceCoordinates(glm::dvec3(d), g, s, t);
+        ASSERT_EQ(f, g) << "direction " << i;
+        EXPECT_NEAR(0.5 * (a + 1.), s, 1e-6) << "direction " << i;
+        EXPECT_NEAR(0.5 * (b + 1.), t, 1e-6) << "direction " << i;
+    }
+    int f, g;
+    float a, b;
+    double s, t;
+    cubeFaceCoordinates(glm::vec3(0.f), f, a, b);
+    cubeFaceCoordinates(glm::dvec3(0.), g, s, t);
+    EXPECT_EQ(f, 4);
+    EXPECT_EQ(g, 4);
+    EXPECT_EQ(a, 0.f);
+    EXPECT_EQ(b, 0.f);
+    EXPECT_EQ(s, 0.5);
+    EXPECT_EQ(t, 0.5);
 }
 
 TEST(NormalCubeMap, LevelZeroLookupsAreUnitVectorsInTheirDirection) {
