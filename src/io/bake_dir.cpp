@@ -556,7 +556,7 @@ json manifestJson(const Bake& bake, const BakeSource& source, bool withPlanes) {
 // Whether `dir` may be replaced: it is empty, or it holds an earlier bake and nothing else (its
 // manifest says ndfmip wrote it, and every file in it is one the manifest lists). Anything more
 // means the folder is someone's work, and it is never deleted.
-Status checkReplaceable(const fs::path& dir) {
+Status checkBakeReplaceable(const fs::path& dir) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
         return Status::failure(dir.string() + ": exists and is not a directory");
@@ -648,7 +648,7 @@ void recoverInterruptedBake(const std::string& dir) {
 
 Status writeBake(const std::string& dirName, const Bake& bake, const BakeSource& source,
                  const BakeWriteOptions& options) {
-    return writeFolderWhole(dirName, checkReplaceable, [&](const fs::path& staging) -> Status {
+    return writeFolderWhole(dirName, checkBakeReplaceable, [&](const fs::path& staging) -> Status {
         for (size_t k = 0; k < bake.levels.size() && options.exr; ++k)
             for (size_t p = 0; p < bake.planes.size(); ++p)
                 if (Status s = saveExr((staging / planeFile(bake.planes[p], int(k))).string(),

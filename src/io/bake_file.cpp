@@ -32,7 +32,7 @@ struct BakeProblem {
     std::string message;
 };
 
-[[noreturn]] void fail(std::string message) {
+[[noreturn]] void failBake(std::string message) {
     throw BakeProblem{std::move(message)};
 }
 
@@ -46,8 +46,8 @@ std::set<std::string> commaList(const std::string& list, const char* option,
         if (!allowed.count(word)) {
             std::string expected;
             for (const std::string& w : allowed) expected += (expected.empty() ? "" : ", ") + w;
-            fail(std::string(option) + " " + quote(word) + ": expected " + expected +
-                 " (comma-separated)");
+            failBake(std::string(option) + " " + quote(word) + ": expected " + expected +
+                     " (comma-separated)");
         }
         words.insert(word);
         if (comma == std::string::npos) return words;
@@ -73,8 +73,8 @@ std::string number(double value) {
 // `value` within [lo, hi] (NaN is not), or a problem naming the option.
 void requireRange(const char* option, double value, double lo, double hi) {
     if (!(value >= lo && value <= hi))
-        fail(std::string(option) + " " + number(value) + ": expected " + number(lo) + " .. " +
-             number(hi));
+        failBake(std::string(option) + " " + number(value) + ": expected " + number(lo) + " .. " +
+                 number(hi));
 }
 
 void requireOneOf(const char* option, const std::string& value,
@@ -82,16 +82,16 @@ void requireOneOf(const char* option, const std::string& value,
     if (allowed.count(value)) return;
     std::string expected;
     for (const std::string& w : allowed) expected += (expected.empty() ? "" : ", ") + w;
-    fail(std::string(option) + " " + quote(value) + ": expected " + expected);
+    failBake(std::string(option) + " " + quote(value) + ": expected " + expected);
 }
 
 void checkFileOptions(const BakeFileOptions& a) {
     auto method = methodFromString(a.method);
-    if (!method) fail("unknown method " + quote(a.method) + " (" + methodNames() + ")");
+    if (!method) failBake("unknown method " + quote(a.method) + " (" + methodNames() + ")");
     // The ranges the command line's parser holds its options to, for callers without it; the
     // method's own options as its table says (and those of other methods refused).
     if (Status s = checkParameterValues(*method, a.parameters, ParameterNaming::Flag); !s)
-        fail(s.error);
+        failBake(s.error);
     requireRange("--base-roughness", a.baseRoughness, 0.0, 1.0);
     if (a.maxExponent != 0.f) requireRange("--max-exponent", a.maxExponent, 1e-3, 1e6);
     if (a.decode.height) requireRange("--height", a.decode.heightScale, 1e-6, 1e6);
@@ -106,46 +106,50 @@ void checkFileOptions(const BakeFileOptions& a) {
     requireOneOf("--normal-format", a.normalFormat, {"bc5", "rg16", "rgba8", "uastc"});
     requireOneOf("--roughness-format", a.roughnessFormat, {"bc4", "r16f", "uastc"});
 
-    if (!a.albedo.empty() && *method != Method::Vmf) fail("--albedo applies to --method vmf only");
+    if (!a.albedo.empty() && *method != Method::Vmf)
+        failBake("--albedo applies to --method vmf only");
     // Without --export the bake is the EXR planes; with it, exactly what it lists.
     std::set<std::string> exports = commaList(a.exportFormat.empty() ? "exr" : a.exportFormat,
                                               "--export", {"png16", "ktx2", "dds", "exr"});
     commaList(a.exportTextures, "--export-textures", {"normal", "roughness", "planes"});
     if (a.zstd != 0 && !exports.count("ktx2"))
-        fail("--zstd supercompresses KTX2 files: add ktx2 to --export");
+        failBake("--zstd supercompresses KTX2 files: add ktx2 to --export");
     // DDS has no UASTC format: the normal and roughness go to KTX2 only.
     if (exports.count("dds") && (a.normalFormat == "uastc" || a.roughnessFormat == "uastc"))
-        fail(std::string(a.normalFormat == "uastc" ? "--normal-format" : "--roughness-format") +
-             " uastc is a KTX2 format (DDS holds no UASTC): --export ktx2");
+        failBake(std::string(a.normalFormat == "uastc" ? "--normal-format" : "--roughness-format") +
+                 " uastc is a KTX2 format (DDS holds no UASTC): --export ktx2");
     if (!a.engine.empty()) {
         if (!findEnginePreset(a.engine))
-            fail("--engine " + quote(a.engine) + ": expected " + enginePresetNames());
+            failBake("--engine " + quote(a.engine) + ": expected " + enginePresetNames());
         if (*method != Method::Toksvig && *method != Method::Naive && *method != Method::Lean &&
             *method != Method::GgxFit && *method != Method::GgxAniso)
-            fail("--engine writes a normal map and a roughness map: --method toksvig, ggx-fit (or "
-                 "naive), or ggx-aniso or lean (one anisotropic lobe per texel, in the engine's "
-                 "anisotropy inputs)");
+            failBake(
+                "--engine writes a normal map and a roughness map: --method toksvig, ggx-fit (or "
+                "naive), or ggx-aniso or lean (one anisotropic lobe per texel, in the engine's "
+                "anisotropy inputs)");
         if (!exports.count("ktx2") && !exports.count("dds")) exports.insert("ktx2");
     }
     if (exports.count("png16") &&
         (*method == Method::Sh || *method == Method::Vmf || *method == Method::Lean))
-        fail("--export png16 needs a method that stores a normal (naive, toksvig)");
+        failBake("--export png16 needs a method that stores a normal (naive, toksvig)");
     if (!a.roughnessMap.empty() && *method != Method::Toksvig &&
         !bakeFitsMaterialRoughness(*method))
-        fail("--roughness-map applies to --method toksvig, ggx-fit and ggx-aniso (their roughness "
-             "planes)");
+        failBake(
+            "--roughness-map applies to --method toksvig, ggx-fit and ggx-aniso (their roughness "
+            "planes)");
     if (bakeFitsMaterialRoughness(*method) && a.baseRoughness == 0.f && a.roughnessMap.empty())
-        fail(std::string("--method ") + methodName(*method) +
-             " fits one GGX lobe to the material's: give its --base-roughness (at least 0.01) "
-             "or --roughness-map");
+        failBake(std::string("--method ") + methodName(*method) +
+                 " fits one GGX lobe to the material's: give its --base-roughness (at least 0.01) "
+                 "or --roughness-map");
     if (bakeFitsMaterialRoughness(*method) && a.roughnessMap.empty() &&
         a.baseRoughness < kMinFittedRoughness)
-        fail("--base-roughness " + number(a.baseRoughness) + ": --method " + methodName(*method) +
-             " fits a GGX alpha of at least 0.01");
+        failBake("--base-roughness " + number(a.baseRoughness) + ": --method " +
+                 methodName(*method) + " fits a GGX alpha of at least 0.01");
     if (!a.roughnessMap.empty() && a.baseRoughness != 0.f)
-        fail("--roughness-map and --base-roughness both set the material's roughness: give one");
+        failBake(
+            "--roughness-map and --base-roughness both set the material's roughness: give one");
     if (!a.gloss.empty() && a.maxExponent <= 0.f)
-        fail("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");
+        failBake("--gloss needs --max-exponent S0 (the exponent of gloss 1.0)");
 }
 
 BakeWriteOptions writeOptionsOf(const BakeFileOptions& a) {
@@ -218,7 +222,7 @@ std::string cacheKeyOf(const BakeFileOptions& a, const std::string& sourceHash) 
          {std::pair{"gloss", &a.gloss}, {"albedo", &a.albedo}, {"roughness_map", &a.roughnessMap}})
         if (!path->empty()) {
             Result<std::string> hash = sha256File(*path);
-            if (!hash) fail(hash.error().message);
+            if (!hash) failBake(hash.error().message);
             text += std::string("\n") + name + " " + hash.value();
         }
     return sha256Text(text);
@@ -226,28 +230,28 @@ std::string cacheKeyOf(const BakeFileOptions& a, const std::string& sourceHash) 
 
 void applyGloss(Image& normals, const BakeFileOptions& a) {
     Result<SourceImage> gloss = loadImage(a.gloss);
-    if (!gloss) fail(gloss.error().message);
+    if (!gloss) failBake(gloss.error().message);
     const Image& g = gloss->image;
     if (g.width != normals.width || g.height != normals.height)
-        fail(a.gloss + ": gloss map is " + std::to_string(g.width) + "x" +
-             std::to_string(g.height) + " but the normal map is " + std::to_string(normals.width) +
-             "x" + std::to_string(normals.height));
+        failBake(a.gloss + ": gloss map is " + std::to_string(g.width) + "x" +
+                 std::to_string(g.height) + " but the normal map is " +
+                 std::to_string(normals.width) + "x" + std::to_string(normals.height));
     for (size_t i = 0; i < g.texelCount(); ++i)
         if (!std::isfinite(g.pixels[i * g.channels]))
-            fail(a.gloss + ": NaN or infinite gloss value at texel (" +
-                 std::to_string(i % g.width) + ", " + std::to_string(i / g.width) + ")");
+            failBake(a.gloss + ": NaN or infinite gloss value at texel (" +
+                     std::to_string(i % g.width) + ", " + std::to_string(i / g.width) + ")");
     applyGlossMap(normals, g, a.maxExponent);
 }
 
 // The roughness map (a packed material map), read once for all the channels taken from it.
 SourceImage loadMaterialMap(const BakeFileOptions& a, int width, int height) {
     Result<SourceImage> map = loadImage(a.roughnessMap);
-    if (!map) fail(map.error().message);
+    if (!map) failBake(map.error().message);
     const Image& image = map->image;
     if (image.width != width || image.height != height)
-        fail(a.roughnessMap + ": roughness map is " + std::to_string(image.width) + "x" +
-             std::to_string(image.height) + " but the normal map is " + std::to_string(width) +
-             "x" + std::to_string(height));
+        failBake(a.roughnessMap + ": roughness map is " + std::to_string(image.width) + "x" +
+                 std::to_string(image.height) + " but the normal map is " + std::to_string(width) +
+                 "x" + std::to_string(height));
     return std::move(map.value());
 }
 
@@ -256,15 +260,15 @@ std::shared_ptr<Image> materialChannel(const BakeFileOptions& a, const Image& ma
                                        const std::string& channelName, const char* option) {
     const int channel = int(std::string("rgba").find(channelName[0]));
     if (channel >= map.channels)
-        fail(a.roughnessMap + ": " + option + " " + channelName + " but the map has " +
-             std::to_string(map.channels) + " channel(s)");
+        failBake(a.roughnessMap + ": " + option + " " + channelName + " but the map has " +
+                 std::to_string(map.channels) + " channel(s)");
     auto out = std::make_shared<Image>(map.width, map.height, 1);
     for (size_t i = 0; i < map.texelCount(); ++i) {
         const float v = map.pixels[i * size_t(map.channels) + size_t(channel)];
         if (!std::isfinite(v))
-            fail(a.roughnessMap + ": NaN or infinite value at texel (" +
-                 std::to_string(i % size_t(map.width)) + ", " +
-                 std::to_string(i / size_t(map.width)) + ") in " + option);
+            failBake(a.roughnessMap + ": NaN or infinite value at texel (" +
+                     std::to_string(i % size_t(map.width)) + ", " +
+                     std::to_string(i / size_t(map.width)) + ") in " + option);
         out->pixels[i] = std::clamp(v, 0.f, 1.f);
     }
     return out;
@@ -307,12 +311,12 @@ BakeFileReport bakeOrThrow(const std::string& input, const std::string& output,
     checkFileOptions(a);
     // Before anything is cleaned up or created under a path that a NUL would cut short.
     for (const std::string* path : {&input, &output, &a.gloss, &a.albedo, &a.roughnessMap})
-        if (Status s = checkUntrustedPath(*path); !s) fail(s.error);
+        if (Status s = checkUntrustedPath(*path); !s) failBake(s.error);
     const Method method = *methodFromString(a.method);
     BakeWriteOptions write = writeOptionsOf(a);
     recoverInterruptedBake(output);
     Result<std::string> hash = sha256File(input);
-    if (!hash) fail(hash.error().message);
+    if (!hash) failBake(hash.error().message);
     BakeFileReport report;
     report.method = method;
     report.cacheKey = cacheKeyOf(a, hash.value());
@@ -329,8 +333,8 @@ BakeFileReport bakeOrThrow(const std::string& input, const std::string& output,
         if (!parent.empty() && !std::filesystem::exists(parent, ec) &&
             !std::filesystem::create_directories(parent, ec) &&
             !std::filesystem::is_directory(parent, ec))
-            fail(output + ": cannot create the folder " + parent.string() + " (" + ec.message() +
-                 ")");
+            failBake(output + ": cannot create the folder " + parent.string() + " (" +
+                     ec.message() + ")");
     }
 
     // The bake's peak from the options alone, checked against --max-memory by the decoder once
@@ -339,7 +343,7 @@ BakeFileReport bakeOrThrow(const std::string& input, const std::string& output,
                               plannedBytesPerTexel(method, a));
     long long start = nowNanoseconds();
     Result<Image> decoded = loadNormalMap(input, a.decode, &report.decode);
-    if (!decoded) fail(decoded.error().message);
+    if (!decoded) failBake(decoded.error().message);
     if (a.decoded) a.decoded(report.decode);
     Image normals = std::move(decoded.value());
     if (!a.gloss.empty()) applyGloss(normals, a);
@@ -353,7 +357,7 @@ BakeFileReport bakeOrThrow(const std::string& input, const std::string& output,
     options.parameters = a.parameters;
     if (!a.albedo.empty()) {
         Result<SharedImage> albedo = loadAlbedo(a.albedo, width, height);
-        if (!albedo) fail(albedo.error().message);
+        if (!albedo) failBake(albedo.error().message);
         options.albedo = albedo.value();
     }
     std::optional<SourceImage> materialMap;
@@ -362,7 +366,7 @@ BakeFileReport bakeOrThrow(const std::string& input, const std::string& output,
         options.roughnessMap = roughnessAlpha(a, materialMap->image);
     }
     options.progress = a.progress;
-    if (Status s = checkBakeMemory(input, method, options, width, height); !s) fail(s.error);
+    if (Status s = checkBakeMemory(input, method, options, width, height); !s) failBake(s.error);
     Bake bake = bakeMethod(method, pyramid, options);
     if (!a.gloss.empty()) bake.parameters["max_exponent"] = a.maxExponent;
     report.bakeMs = millisecondsSince(start);
@@ -375,10 +379,11 @@ BakeFileReport bakeOrThrow(const std::string& input, const std::string& output,
           std::tuple{&a.occlusionChannel, "--occlusion-channel", &write.occlusion}}) {
         if (channel->empty()) continue;
         if (!materialMap)
-            fail(std::string(option) + " reads a channel of --roughness-map, which is not given");
+            failBake(std::string(option) +
+                     " reads a channel of --roughness-map, which is not given");
         *chain = albedoMips(pyramid, materialChannel(a, materialMap->image, *channel, option));
     }
-    if (Status s = writeBake(output, bake, source, write); !s) fail(s.error);
+    if (Status s = writeBake(output, bake, source, write); !s) failBake(s.error);
     report.writeMs = millisecondsSince(start);
     report.width = width;
     report.height = height;
@@ -459,34 +464,35 @@ Result<BakeFileReport> bakeFile(const std::string& input, const std::string& out
 Status checkBakeOptions(Method method, const BakeOptions& o, int width, int height) {
     try {
         if (Status s = checkParameterValues(method, o.parameters, ParameterNaming::Key); !s)
-            fail(s.error);
+            failBake(s.error);
         requireRange("base_roughness", o.baseRoughness, 0.0, 1.0);
         if (bakeFitsMaterialRoughness(method) && !o.roughnessMap &&
             o.baseRoughness < kMinFittedRoughness)
-            fail(std::string(methodName(method)) +
-                 " fits one GGX lobe to the material's: base_roughness must be at least 0.01");
+            failBake(std::string(methodName(method)) +
+                     " fits one GGX lobe to the material's: base_roughness must be at least 0.01");
         if (o.roughnessMap) {
             const Image& r = *o.roughnessMap;
             if (method != Method::Toksvig && !bakeFitsMaterialRoughness(method))
-                fail("roughness: applies to methods toksvig, ggx-fit and ggx-aniso (their "
-                     "roughness planes)");
+                failBake("roughness: applies to methods toksvig, ggx-fit and ggx-aniso (their "
+                         "roughness planes)");
             if (r.width != width || r.height != height || r.channels != 1)
-                fail("roughness: " + std::to_string(r.width) + "x" + std::to_string(r.height) +
-                     "x" + std::to_string(r.channels) + " but the normal map is " +
-                     std::to_string(width) + "x" + std::to_string(height) +
-                     " (one channel of alpha expected)");
+                failBake("roughness: " + std::to_string(r.width) + "x" + std::to_string(r.height) +
+                         "x" + std::to_string(r.channels) + " but the normal map is " +
+                         std::to_string(width) + "x" + std::to_string(height) +
+                         " (one channel of alpha expected)");
             for (size_t i = 0; i < r.pixels.size(); ++i)
                 if (!(r.pixels[i] >= 0.f && r.pixels[i] <= 1.f))
-                    fail("roughness: value " + number(r.pixels[i]) + " at texel (" +
-                         std::to_string(i % size_t(width)) + ", " +
-                         std::to_string(i / size_t(width)) + ") is not in 0 .. 1");
+                    failBake("roughness: value " + number(r.pixels[i]) + " at texel (" +
+                             std::to_string(i % size_t(width)) + ", " +
+                             std::to_string(i / size_t(width)) + ") is not in 0 .. 1");
         }
         if (o.albedo) {
-            if (method != Method::Vmf) fail("albedo: applies to method vmf only");
-            if (Status s = checkAlbedoSize(*o.albedo, width, height, "albedo"); !s) fail(s.error);
+            if (method != Method::Vmf) failBake("albedo: applies to method vmf only");
+            if (Status s = checkAlbedoSize(*o.albedo, width, height, "albedo"); !s)
+                failBake(s.error);
             for (float v : o.albedo->pixels)
                 if (!(v >= 0.f) || !std::isfinite(v))
-                    fail("albedo: NaN, infinite or negative value");
+                    failBake("albedo: NaN, infinite or negative value");
         }
         return checkBakeMemory("bake", method, o, width, height);
     } catch (const BakeProblem& p) {

@@ -23,7 +23,7 @@ struct ManifestProblem {
     std::string problem;
 };
 
-[[noreturn]] void fail(const std::string& problem) {
+[[noreturn]] void failManifest(const std::string& problem) {
     throw ManifestProblem{problem};
 }
 
@@ -51,37 +51,38 @@ std::string plainNumber(double x) {
 
 const json& member(const json& object, const std::string& path, const char* key) {
     auto it = object.find(key);
-    if (it == object.end()) fail("missing key " + quote(at(path, key)));
+    if (it == object.end()) failManifest("missing key " + quote(at(path, key)));
     return *it;
 }
 
 const json& objectAt(const json& object, const std::string& path, const char* key) {
     const json& v = member(object, path, key);
-    if (!v.is_object()) fail(quote(at(path, key)) + " must be an object, not " + shown(v));
+    if (!v.is_object()) failManifest(quote(at(path, key)) + " must be an object, not " + shown(v));
     return v;
 }
 
 const json& arrayAt(const json& object, const std::string& path, const char* key) {
     const json& v = member(object, path, key);
-    if (!v.is_array()) fail(quote(at(path, key)) + " must be an array, not " + shown(v));
+    if (!v.is_array()) failManifest(quote(at(path, key)) + " must be an array, not " + shown(v));
     return v;
 }
 
 std::string textAt(const json& object, const std::string& path, const char* key) {
     const json& v = member(object, path, key);
-    if (!v.is_string()) fail(quote(at(path, key)) + " must be a string, not " + shown(v));
+    if (!v.is_string()) failManifest(quote(at(path, key)) + " must be a string, not " + shown(v));
     return v.get<std::string>();
 }
 
 bool flagAt(const json& object, const std::string& path, const char* key) {
     const json& v = member(object, path, key);
-    if (!v.is_boolean()) fail(quote(at(path, key)) + " must be true or false, not " + shown(v));
+    if (!v.is_boolean())
+        failManifest(quote(at(path, key)) + " must be true or false, not " + shown(v));
     return v.get<bool>();
 }
 
 double numberAt(const json& object, const std::string& path, const char* key) {
     const json& v = member(object, path, key);
-    if (!v.is_number()) fail(quote(at(path, key)) + " must be a number, not " + shown(v));
+    if (!v.is_number()) failManifest(quote(at(path, key)) + " must be a number, not " + shown(v));
     return v.get<double>();
 }
 
@@ -90,8 +91,8 @@ int64_t integerAt(const json& object, const std::string& path, const char* key, 
                   int64_t hi) {
     const double x = numberAt(object, path, key);
     if (!(x == std::floor(x) && x >= double(lo) && x <= double(hi)))
-        fail(quote(at(path, key)) + " must be an integer from " + std::to_string(lo) + " to " +
-             std::to_string(hi) + ", not " + shown(member(object, path, key)));
+        failManifest(quote(at(path, key)) + " must be an integer from " + std::to_string(lo) +
+                     " to " + std::to_string(hi) + ", not " + shown(member(object, path, key)));
     return int64_t(x);
 }
 
@@ -105,8 +106,8 @@ bool plainName(const std::string& name) {
 std::string fileAt(const json& object, const std::string& path, const char* key) {
     std::string name = textAt(object, path, key);
     if (!plainName(name))
-        fail(quote(at(path, key)) + " is " + quote(name) +
-             ", not a plain file name inside the bake folder");
+        failManifest(quote(at(path, key)) + " is " + quote(name) +
+                     ", not a plain file name inside the bake folder");
     return name;
 }
 
@@ -122,7 +123,7 @@ void readParameters(const json& m, LoadedBake& bake) {
     const json& parameters = objectAt(m, "", "parameters");
     for (const auto& [key, value] : parameters.items()) {
         if (!value.is_number())
-            fail(quote(at("parameters", key)) + " must be a number, not " + shown(value));
+            failManifest(quote(at("parameters", key)) + " must be a number, not " + shown(value));
         bake.parameters[key] = value.get<double>();
     }
     // Those the method's commands use, in the ranges a bake writes.
@@ -134,12 +135,12 @@ void readParameters(const json& m, LoadedBake& bake) {
         }
         const double x = numberAt(parameters, "parameters", r.key);
         if (!(x >= r.min && x <= r.max))
-            fail(quote(at("parameters", r.key)) + " must be in [" + plainNumber(r.min) + ", " +
-                 plainNumber(r.max) + "], not " + shown(x));
+            failManifest(quote(at("parameters", r.key)) + " must be in [" + plainNumber(r.min) +
+                         ", " + plainNumber(r.max) + "], not " + shown(x));
     }
     if (parameters.contains("max_exponent")) {
         const double s = numberAt(parameters, "parameters", "max_exponent");
-        if (!(s > 0.0 && s <= 1e6)) fail("'parameters.max_exponent' must be in (0, 1e6]");
+        if (!(s > 0.0 && s <= 1e6)) failManifest("'parameters.max_exponent' must be in (0, 1e6]");
     }
 }
 
@@ -148,14 +149,14 @@ void readPlanes(const json& m, LoadedBake& bake) {
     for (size_t i = 0; i < planes.size() && i < 256; ++i) { // sh order 30 has 241
         const std::string path = at("planes", i);
         if (!planes[i].is_object())
-            fail(quote(path) + " must be an object, not " + shown(planes[i]));
+            failManifest(quote(path) + " must be an object, not " + shown(planes[i]));
         PlaneInfo plane;
         plane.name = textAt(planes[i], path, "name");
         const json& channels = arrayAt(planes[i], path, "channels");
         for (size_t c = 0; c < channels.size() && c < 8; ++c) {
             if (!channels[c].is_string())
-                fail(quote(at(at(path, "channels"), c)) + " must be a string, not " +
-                     shown(channels[c]));
+                failManifest(quote(at(at(path, "channels"), c)) + " must be a string, not " +
+                             shown(channels[c]));
             plane.channels.push_back(channels[c].get<std::string>());
         }
         if (channels.size() > 8) plane.channels.resize(9); // never a valid count, caught below
@@ -173,8 +174,8 @@ void readPlanes(const json& m, LoadedBake& bake) {
                bake.planes[p].linear == expected[p].linear;
     if (!same) {
         const std::string what = unit.describe(bake.parameters);
-        fail("'planes' do not match a " + what + ": expected " + planeList(expected) + "; found " +
-             (planes.empty() ? std::string("none") : planeList(bake.planes)));
+        failManifest("'planes' do not match a " + what + ": expected " + planeList(expected) +
+                     "; found " + (planes.empty() ? std::string("none") : planeList(bake.planes)));
     }
 }
 
@@ -186,7 +187,7 @@ void readSource(const json& m, LoadedBake& bake) {
     bake.source.width = int(integerAt(src, "source", "width", 1, limits.maxSide));
     bake.source.height = int(integerAt(src, "source", "height", 1, limits.maxSide));
     if (Status size = checkImageSize("'source'", bake.source.width, bake.source.height); !size)
-        fail(size.error);
+        failManifest(size.error);
     if (src.contains("gloss")) bake.source.gloss = textAt(src, "source", "gloss");
 
     const json& conv = objectAt(m, "", "conventions");
@@ -197,11 +198,11 @@ void readSource(const json& m, LoadedBake& bake) {
     d.height = flagAt(conv, "conventions", "height");
     const double scale = numberAt(conv, "conventions", "height_scale");
     if (!(scale > 0.0 && scale <= 1e6))
-        fail("'conventions.height_scale' must be in (0, 1e6], not " + shown(scale));
+        failManifest("'conventions.height_scale' must be in (0, 1e6], not " + shown(scale));
     d.heightScale = float(scale);
     const std::string address = textAt(conv, "conventions", "address");
     if (address != "wrap" && address != "clamp")
-        fail("'conventions.address' must be \"wrap\" or \"clamp\", not " + quote(address));
+        failManifest("'conventions.address' must be \"wrap\" or \"clamp\", not " + quote(address));
     d.address = address == "clamp" ? AddressMode::Clamp : AddressMode::Wrap;
 }
 
@@ -211,13 +212,13 @@ void readLevels(const json& m, LoadedBake& bake) {
     int w = bake.source.width, h = bake.source.height;
     const size_t count = size_t(levelCount(w, h));
     if (levels.size() != count)
-        fail("'levels' has " + std::to_string(levels.size()) + " entries; a " + std::to_string(w) +
-             "x" + std::to_string(h) + " source has " + std::to_string(count) +
-             " levels down to 1x1");
+        failManifest("'levels' has " + std::to_string(levels.size()) + " entries; a " +
+                     std::to_string(w) + "x" + std::to_string(h) + " source has " +
+                     std::to_string(count) + " levels down to 1x1");
     for (size_t k = 0; k < count; ++k) {
         const std::string path = at("levels", k);
         if (!levels[k].is_object())
-            fail(quote(path) + " must be an object, not " + shown(levels[k]));
+            failManifest(quote(path) + " must be an object, not " + shown(levels[k]));
         integerAt(levels[k], path, "level", int64_t(k), int64_t(k));
         integerAt(levels[k], path, "width", w, w);
         integerAt(levels[k], path, "height", h, h);
@@ -225,13 +226,15 @@ void readLevels(const json& m, LoadedBake& bake) {
         const json& files = objectAt(levels[k], path, "files");
         std::vector<std::string> names;
         if (bake.storage == "none" && !files.empty())
-            fail(quote(at(path, "files")) + " must be empty: the manifest's storage is \"none\"");
+            failManifest(quote(at(path, "files")) +
+                         " must be empty: the manifest's storage is \"none\"");
         for (const PlaneInfo& plane : bake.planes)
             if (bake.storage != "none")
                 names.push_back(fileAt(files, at(path, "files"), plane.name.c_str()));
         for (const auto& item : files.items())
             if (findPlane(bake.planes, item.key()) < 0)
-                fail(quote(at(at(path, "files"), item.key())) + " names no plane of the bake");
+                failManifest(quote(at(at(path, "files"), item.key())) +
+                             " names no plane of the bake");
         bake.levelFiles.push_back(std::move(names));
         w = std::max(1, w / 2);
         h = std::max(1, h / 2);
@@ -241,7 +244,8 @@ void readLevels(const json& m, LoadedBake& bake) {
 void readStorage(const json& m, LoadedBake& bake) {
     bake.storage = m.contains("storage") ? textAt(m, "", "storage") : "float";
     if (bake.storage != "float" && bake.storage != "half" && bake.storage != "none")
-        fail("'storage' must be \"float\", \"half\" or \"none\", not " + quote(bake.storage));
+        failManifest("'storage' must be \"float\", \"half\" or \"none\", not " +
+                     quote(bake.storage));
 }
 
 void readExports(const json& m, LoadedBake& bake) {
@@ -249,18 +253,18 @@ void readExports(const json& m, LoadedBake& bake) {
     const json& exports = objectAt(m, "", "exports");
     for (const auto& [format, list] : exports.items()) {
         if (format != "png16" && format != "ktx2" && format != "dds")
-            fail("unknown export " + quote(at("exports", format)));
+            failManifest("unknown export " + quote(at("exports", format)));
         const std::string key = "exports." + format;
-        if (!list.is_array()) fail(quote(key) + " must be an array, not " + shown(list));
+        if (!list.is_array()) failManifest(quote(key) + " must be an array, not " + shown(list));
         const std::string folder = format + "/";
         for (size_t i = 0; i < list.size(); ++i) {
             const std::string path = at(key, i);
             if (!list[i].is_string())
-                fail(quote(path) + " must be a string, not " + shown(list[i]));
+                failManifest(quote(path) + " must be a string, not " + shown(list[i]));
             const std::string name = list[i].get<std::string>();
             if (name.rfind(folder, 0) != 0 || !plainName(name.substr(folder.size())))
-                fail(quote(path) + " is " + quote(name) + ", not " + folder +
-                     " and a plain file name");
+                failManifest(quote(path) + " is " + quote(name) + ", not " + folder +
+                             " and a plain file name");
             bake.exports.push_back(name);
         }
     }
@@ -282,13 +286,13 @@ Result<LoadedBake> parseBakeManifest(const std::string& text, const std::string&
     }
     LoadedBake bake;
     try {
-        if (!m.is_object()) fail("expected a JSON object, not " + shown(m));
+        if (!m.is_object()) failManifest("expected a JSON object, not " + shown(m));
         const std::string method = textAt(m, "", "method");
         std::optional<Method> known = methodFromString(method);
-        if (!known) fail("unknown method " + quote(method) + " (naive, toksvig, sh, vmf)");
+        if (!known) failManifest("unknown method " + quote(method) + " (naive, toksvig, sh, vmf)");
         bake.method = *known;
         const std::string tool = textAt(m, "", "tool");
-        if (tool != "ndfmip") fail("written by " + quote(tool) + ", not ndfmip");
+        if (tool != "ndfmip") failManifest("written by " + quote(tool) + ", not ndfmip");
         readParameters(m, bake);
         readPlanes(m, bake);
         readSource(m, bake);

@@ -241,7 +241,7 @@ json manifestJson(const EnvironmentBake& bake, const EnvironmentSource& source, 
 
 // Whether `dir` may be replaced: empty, or an earlier environment folder holding only the files
 // its manifest lists. Anything else is someone's work and is never deleted.
-Status checkReplaceable(const fs::path& dir) {
+Status checkEnvironmentReplaceable(const fs::path& dir) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
         return Status::failure(dir.string() + ": exists and is not a directory");
@@ -319,34 +319,36 @@ Status checkStorable(const EnvironmentBake& bake, const EnvironmentSource& sourc
 Status writeEnvironment(const std::string& dirName, const EnvironmentBake& bake,
                         const EnvironmentSource& source, bool half) {
     if (Status s = checkStorable(bake, source, half); !s) return s;
-    return writeFolderWhole(dirName, checkReplaceable, [&](const fs::path& staging) -> Status {
-        const std::vector<LevelFaces> faces =
-            bake.cube ? cubeFaces(bake) : std::vector<LevelFaces>{};
-        for (size_t k = 0; k < bake.levels.size(); ++k) {
-            if (bake.equirect)
-                if (Status s = saveExr((staging / levelFile(k)).string(), bake.levels[k].radiance,
-                                       {}, half);
-                    !s)
-                    return s;
-            if (bake.cube)
-                for (int face = 0; face < kCubeFaces; ++face)
-                    if (Status s = saveExr((staging / faceFile(k, face)).string(),
-                                           faces[k][size_t(face)], {}, half);
+    return writeFolderWhole(
+        dirName, checkEnvironmentReplaceable, [&](const fs::path& staging) -> Status {
+            const std::vector<LevelFaces> faces =
+                bake.cube ? cubeFaces(bake) : std::vector<LevelFaces>{};
+            for (size_t k = 0; k < bake.levels.size(); ++k) {
+                if (bake.equirect)
+                    if (Status s = saveExr((staging / levelFile(k)).string(),
+                                           bake.levels[k].radiance, {}, half);
                         !s)
                         return s;
-        }
-        if (Status s = saveExr((staging / "dfg.exr").string(), bake.dfg, {}, half); !s) return s;
-        if (bake.ktx2 || bake.dds)
-            if (Status s = writeTextureFiles(staging, bake, faces); !s) return s;
-        if (Status s =
-                writeFileAtomic((staging / "sh.json").string(), shJson(bake.sh).dump(2) + "\n");
-            !s)
-            return s;
-        const std::string manifest =
-            manifestJson(bake, source, half).dump(2, ' ', false, json::error_handler_t::replace) +
-            "\n";
-        return writeFileAtomic((staging / kManifest).string(), manifest);
-    });
+                if (bake.cube)
+                    for (int face = 0; face < kCubeFaces; ++face)
+                        if (Status s = saveExr((staging / faceFile(k, face)).string(),
+                                               faces[k][size_t(face)], {}, half);
+                            !s)
+                            return s;
+            }
+            if (Status s = saveExr((staging / "dfg.exr").string(), bake.dfg, {}, half); !s)
+                return s;
+            if (bake.ktx2 || bake.dds)
+                if (Status s = writeTextureFiles(staging, bake, faces); !s) return s;
+            if (Status s =
+                    writeFileAtomic((staging / "sh.json").string(), shJson(bake.sh).dump(2) + "\n");
+                !s)
+                return s;
+            const std::string manifest = manifestJson(bake, source, half)
+                                             .dump(2, ' ', false, json::error_handler_t::replace) +
+                                         "\n";
+            return writeFileAtomic((staging / kManifest).string(), manifest);
+        });
 }
 
 } // namespace ndfmip

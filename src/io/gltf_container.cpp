@@ -21,13 +21,6 @@ using json = nlohmann::ordered_json;
 
 namespace ndfmip {
 
-std::string oneLine(std::string text) {
-    std::replace(text.begin(), text.end(), '\n', ' ');
-    std::replace(text.begin(), text.end(), '\r', ' ');
-    while (!text.empty() && (text.back() == ' ' || text.back() == '.')) text.pop_back();
-    return text;
-}
-
 namespace {
 
 uint32_t readU32(std::string_view bytes, size_t at) {

@@ -19,9 +19,6 @@ constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
 constexpr uint32_t kJsonChunk = 0x4E4F534A; // "JSON"
 constexpr uint32_t kBinChunk = 0x004E4942;  // "BIN\0"
 
-// A parser's message as one line of ours: line breaks as spaces, no closing full stop.
-std::string oneLine(std::string text);
-
 struct GltfContainer {
     nlohmann::ordered_json json;      // the JSON (a GLB's first chunk), parsed once
     std::vector<std::string> buffers; // every buffer's bytes, resolved

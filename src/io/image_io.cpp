@@ -47,17 +47,6 @@
 namespace ndfmip {
 namespace {
 
-std::string oneLine(std::string text) {
-    std::replace(text.begin(), text.end(), '\n', ' ');
-    std::replace(text.begin(), text.end(), '\r', ' ');
-    while (!text.empty() && (text.back() == ' ' || text.back() == '.')) text.pop_back();
-    return text;
-}
-
-Error fail(const std::string& path, const std::string& problem) {
-    return Error{path + ": " + oneLine(problem)};
-}
-
 std::string errnoText(int err) {
     return std::strerror(err);
 }
@@ -164,9 +153,9 @@ Result<SourceImage> loadPng(const std::string& path, std::string_view bytes) {
     PngReadJob job;
     job.bytes = bytes;
     if (!decodePngSamples(job))
-        return fail(path, std::string("corrupt or truncated PNG (") + job.message + ")");
+        return fileError(path, std::string("corrupt or truncated PNG (") + job.message + ")");
     if (job.channels < 1 || job.channels > 4 || (job.bits != 8 && job.bits != 16))
-        return fail(path, "unsupported PNG sample layout");
+        return fileError(path, "unsupported PNG sample layout");
     SourceImage out;
     out.format = "png";
     out.bitsPerChannel = job.bits;
@@ -202,7 +191,7 @@ Result<std::vector<std::string>> exrChannelsToRead(const std::string& path,
     if (all.size() == 1) return all;
     std::string names;
     for (const auto& n : all) names += (names.empty() ? "" : ", ") + n;
-    return fail(path, "no R,G,B or Y channels in EXR (has: " + names + ")");
+    return fileError(path, "no R,G,B or Y channels in EXR (has: " + names + ")");
 }
 
 // OpenEXR reading from memory: the file was read (and checked to be a regular file of bounded
@@ -241,14 +230,15 @@ Result<SourceImage> loadExrUnchecked(const std::string& path, std::string_view b
     const Imath::Box2i window = first.dataWindow();
     int64_t width = int64_t(window.max.x) - window.min.x + 1;
     int64_t height = int64_t(window.max.y) - window.min.y + 1;
-    if (width <= 0 || height <= 0) return fail(path, "image is empty (0x0)");
+    if (width <= 0 || height <= 0) return fileError(path, "image is empty (0x0)");
     if (Status size = checkDecodedSize(path, width, height); !size) return Error{size.error};
     stream.seekg(0);
     Imf::InputFile file(stream, 1);
-    if (file.header().dataWindow() != window) return fail(path, "inconsistent OpenEXR headers");
+    if (file.header().dataWindow() != window)
+        return fileError(path, "inconsistent OpenEXR headers");
     // Every chunk must be there before pixels are allocated: a 10 KB file declaring a large
     // image is refused here, not after gigabytes of zeros.
-    if (!file.isComplete()) return fail(path, "truncated or incomplete OpenEXR file");
+    if (!file.isComplete()) return fileError(path, "truncated or incomplete OpenEXR file");
     auto names = exrChannelsToRead(path, file.header().channels());
     if (!names) return names.error();
     SourceImage out;
@@ -274,8 +264,8 @@ Result<SourceImage> loadExr(const std::string& path, std::string_view bytes) {
     try {
         return loadExrUnchecked(path, bytes);
     } catch (const std::exception& e) {
-        return fail(path, std::string("corrupt or unreadable OpenEXR file (") +
-                              shortened(e.what(), 200) + ")");
+        return fileError(path, std::string("corrupt or unreadable OpenEXR file (") +
+                                   shortened(e.what(), 200) + ")");
     }
 }
 
@@ -307,35 +297,36 @@ Result<SourceImage> loadWithStb(const std::string& path, std::string_view bytes)
     SourceImage out;
     out.format = stbFormat(bytes);
     if (out.format != "jpeg" && out.format != "bmp" && out.format != "tga")
-        return fail(path, "unsupported image format (" + out.format +
-                              "; ndfmip reads PNG, JPEG, TGA, BMP, OpenEXR and Radiance HDR)");
-    if (bytes.size() > size_t(INT32_MAX)) return fail(path, "file too large for its format");
+        return fileError(path, "unsupported image format (" + out.format +
+                                   "; ndfmip reads PNG, JPEG, TGA, BMP, OpenEXR and Radiance HDR)");
+    if (bytes.size() > size_t(INT32_MAX)) return fileError(path, "file too large for its format");
     // Truncated JPEG and BMP files are told by their structure alone; a TGA only once stb has
     // recognised it as one (TGA has no signature).
     const std::string problem = out.format == "bmp"    ? bmpProblem(bytes)
                                 : out.format == "jpeg" ? jpegProblem(bytes)
                                                        : "";
-    if (!problem.empty()) return fail(path, problem);
+    if (!problem.empty()) return fileError(path, problem);
     auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int size = int(bytes.size());
     int w = 0, h = 0, c = 0;
     if (!stbi_info_from_memory(data, size, &w, &h, &c)) {
-        if (out.format == "tga") return fail(path, "unsupported or unrecognised image format");
-        return fail(path, "corrupt " + out.format + " file (" + stbReason() + ")");
+        if (out.format == "tga") return fileError(path, "unsupported or unrecognised image format");
+        return fileError(path, "corrupt " + out.format + " file (" + stbReason() + ")");
     }
     if (Status s = checkDecodedSize(path, w, h); !s) return Error{s.error};
-    if (out.format == "tga" && !tgaProblem(bytes).empty()) return fail(path, tgaProblem(bytes));
+    if (out.format == "tga" && !tgaProblem(bytes).empty())
+        return fileError(path, tgaProblem(bytes));
     if (stbi_is_16_bit_from_memory(data, size)) {
         stbi_us* s = stbi_load_16_from_memory(data, size, &w, &h, &c, 0);
         if (s) out.image = imageFromStb(s, w, h, c, 65535.f);
         out.bitsPerChannel = 16;
         stbi_image_free(s);
-        if (!s) return fail(path, "corrupt image (" + stbReason() + ")");
+        if (!s) return fileError(path, "corrupt image (" + stbReason() + ")");
     } else {
         stbi_uc* b = stbi_load_from_memory(data, size, &w, &h, &c, 0);
         if (b) out.image = imageFromStb(b, w, h, c, 255.f);
         stbi_image_free(b);
-        if (!b) return fail(path, "corrupt image (" + stbReason() + ")");
+        if (!b) return fileError(path, "corrupt image (" + stbReason() + ")");
     }
     return out;
 }
@@ -352,7 +343,7 @@ Result<SourceImage> loadRadiance(const std::string& path, std::string_view bytes
 }
 
 Result<SourceImage> decodeDetected(std::string_view bytes, const std::string& name) {
-    if (bytes.empty()) return fail(name, "file is empty");
+    if (bytes.empty()) return fileError(name, "file is empty");
     if (startsWith(bytes, "\x76\x2F\x31\x01")) return loadExr(name, bytes);
     if (startsWith(bytes, "\x89PNG\r\n\x1A\n")) return loadPng(name, bytes);
     if (startsWith(bytes, "#?RADIANCE") || startsWith(bytes, "#?RGBE"))
@@ -550,12 +541,12 @@ bool writePngStream(PngWriteJob& job) {
 Result<SourceImage> decodeImage(std::string_view bytes, const std::string& name) {
     try {
         auto loaded = decodeDetected(bytes, name);
-        if (loaded && loaded->image.empty()) return fail(name, "image is empty (0x0)");
+        if (loaded && loaded->image.empty()) return fileError(name, "image is empty (0x0)");
         return loaded;
     } catch (const std::bad_alloc&) {
         return Error{outOfMemoryMessage(name)};
     } catch (const std::exception& e) {
-        return fail(name, std::string("cannot read (") + shortened(e.what(), 200) + ")");
+        return fileError(name, std::string("cannot read (") + shortened(e.what(), 200) + ")");
     }
 }
 
@@ -642,7 +633,7 @@ Result<std::string> sha256File(const std::string& path) {
     std::FILE* file = ::fdopen(fd.value(), "rb");
     if (!file) {
         ::close(fd.value());
-        return fail(path, "cannot read: " + errnoText(errno));
+        return fileError(path, "cannot read: " + errnoText(errno));
     }
     EVP_MD_CTX* ctx = EVP_MD_CTX_new();
     bool ok = ctx && EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr) == 1;
@@ -656,7 +647,7 @@ Result<std::string> sha256File(const std::string& path) {
     unsigned int length = 0;
     ok = ok && !readError && EVP_DigestFinal_ex(ctx, digest, &length) == 1;
     EVP_MD_CTX_free(ctx);
-    if (!ok) return fail(path, readError ? "read error" : "SHA-256 failed");
+    if (!ok) return fileError(path, readError ? "read error" : "SHA-256 failed");
     return hexDigest(digest, length);
 }
 

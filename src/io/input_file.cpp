@@ -1,6 +1,7 @@
 // Regular files only, read with a bound; JSON nesting measured before parsing.
 #include "io/input_file.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -112,6 +113,17 @@ std::string jsonNestingProblem(std::string_view text, int maxDepth) {
             --depth;
     }
     return "";
+}
+
+std::string oneLine(std::string text) {
+    for (char& c : text)
+        if (static_cast<unsigned char>(c) < 0x20) c = ' ';
+    while (!text.empty() && (text.back() == ' ' || text.back() == '.')) text.pop_back();
+    return text;
+}
+
+Error fileError(const std::string& path, const std::string& problem) {
+    return Error{path + ": " + oneLine(problem)};
 }
 
 } // namespace ndfmip

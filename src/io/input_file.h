@@ -25,4 +25,11 @@ Result<int> openRegularFile(const std::string& path);
 // not count; the text need not be valid JSON.
 std::string jsonNestingProblem(std::string_view text, int maxDepth);
 
+// A parser's or a system's message as one line of ours: control characters (line breaks, and
+// those quoted from a file) as spaces, no closing full stop.
+std::string oneLine(std::string text);
+
+// "PATH: problem" on one line: the form of every error about a file.
+Error fileError(const std::string& path, const std::string& problem);
+
 } // namespace ndfmip

@@ -7,12 +7,10 @@
 #include <cstdint>
 #include <cstdio>
 
+#include "io/input_file.h"
+
 namespace ndfmip {
 namespace {
-
-Error fail(const std::string& name, const std::string& problem) {
-    return Error{name + ": " + problem};
-}
 
 // Row-major scan so the message names the first bad texel a user would look at.
 Result<bool> checkFinite(const Image& image, int usedChannels, const std::string& name) {
@@ -21,8 +19,9 @@ Result<bool> checkFinite(const Image& image, int usedChannels, const std::string
             const float* t = image.at(x, y);
             for (int c = 0; c < usedChannels; ++c) {
                 if (!std::isfinite(t[c]))
-                    return fail(name, "texel (" + std::to_string(x) + ", " + std::to_string(y) +
-                                          ") is not a finite number (NaN or Inf)");
+                    return fileError(name, "texel (" + std::to_string(x) + ", " +
+                                               std::to_string(y) +
+                                               ") is not a finite number (NaN or Inf)");
             }
         }
     }
@@ -95,9 +94,9 @@ Result<Image> decodeVectors(const SourceImage& source, const DecodeOptions& opti
     if (in.channels < used) {
         std::string count = std::to_string(in.channels);
         if (options.twoChannel)
-            return fail(name, "has " + count + " channel(s); --two-channel needs at least 2");
-        return fail(name, "has " + count + " channel(s); a normal map needs 3 (use " +
-                              "--two-channel for RG maps or --height for height maps)");
+            return fileError(name, "has " + count + " channel(s); --two-channel needs at least 2");
+        return fileError(name, "has " + count + " channel(s); a normal map needs 3 (use " +
+                                   "--two-channel for RG maps or --height for height maps)");
     }
     if (auto finite = checkFinite(in, used, name); !finite) return finite.error();
     // Integer formats cannot hold negative values, so signedValues only applies to floats.
@@ -151,9 +150,9 @@ Image heightToNormals(const Image& height, float scale, AddressMode address) {
 Result<Image> decodeNormalMap(const SourceImage& source, const DecodeOptions& options,
                               const std::string& name, DecodeReport* report) {
     const Image& in = source.image;
-    if (in.empty()) return fail(name, "image is empty (0x0)");
+    if (in.empty()) return fileError(name, "image is empty (0x0)");
     if (in.pixels.size() != in.texelCount() * size_t(in.channels))
-        return fail(name, "pixel buffer does not match the image size");
+        return fileError(name, "pixel buffer does not match the image size");
     auto decoded =
         options.height ? decodeHeight(source, options, name) : decodeVectors(source, options, name);
     if (!decoded) return decoded;
@@ -163,12 +162,12 @@ Result<Image> decodeNormalMap(const SourceImage& source, const DecodeOptions& op
         char values[96];
         std::snprintf(values, sizeof values, "%g, %g, %g", t[0], t[std::min(1, in.channels - 1)],
                       t[std::min(2, in.channels - 1)]);
-        return fail(name, "texel (" + std::to_string(bad % in.width) + ", " +
-                              std::to_string(bad / in.width) + ") holds (" + values +
-                              "), too large for a normal (its length overflows a float)");
+        return fileError(name, "texel (" + std::to_string(bad % in.width) + ", " +
+                                   std::to_string(bad / in.width) + ") holds (" + values +
+                                   "), too large for a normal (its length overflows a float)");
     }
     if (counts.degenerate == counts.texels)
-        return fail(name, "every normal is zero-length (not a normal map?)");
+        return fileError(name, "every normal is zero-length (not a normal map?)");
     if (report) *report = counts;
     return decoded;
 }

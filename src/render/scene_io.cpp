@@ -593,13 +593,6 @@ class DuplicateKeys {
     }
 };
 
-// Control characters (from keys or string values quoted in a message) would break the line.
-std::string oneLine(std::string text) {
-    for (char& c : text)
-        if (static_cast<unsigned char>(c) < 0x20) c = ' ';
-    return text;
-}
-
 } // namespace
 
 Result<Scene> parseScene(const std::string& jsonText, const std::string& name,
