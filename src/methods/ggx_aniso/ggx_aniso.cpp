@@ -1,4 +1,5 @@
-// ggx-aniso: per texel and level, the one anisotropic GGX lobe about the level's mean normal that
+// ggx-aniso: per texel and level, the one anisotropic GGX lobe about the level's axis (ggx-fit's:
+// a mode of the footprint's normals near their mean, ndf_rings.h's modeAxis) that
 // best matches the texel's exact filtered NDF (ndf_rings.h): two roughnesses and the direction of
 // the wider, stored as the squared-roughness tensor A in the frame (t, b) about the normal
 // (shaders/ggx_aniso.glsl), which a hardware blend keeps a tensor.
@@ -138,7 +139,10 @@ Bake bakeGgxAniso(const Pyramid& pyramid, const BakeOptions& options) {
     bake.parameters["base_roughness"] = options.baseRoughness;
     if (options.roughnessMap) bake.parameters["roughness_map"] = 1.0;
     bake.planes = {
-        {"normal", {"n.x", "n.y", "n.z"}, "mean normal renormalised to unit length", true},
+        {"normal",
+         {"n.x", "n.y", "n.z"},
+         "the lobe's axis: a mode of the footprint's normals near their mean, unit length",
+         true},
         {"alpha_tensor",
          {"A_tt", "A_tb", "A_bb"},
          "squared-roughness tensor of the one anisotropic GGX lobe about the normal closest to "

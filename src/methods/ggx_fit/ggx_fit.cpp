@@ -1,11 +1,12 @@
-// ggx-fit: per texel and level, the one isotropic GGX lobe about the level's mean normal that
-// best matches the texel's exact filtered NDF. Filtering is the spherical convolution of the
-// footprint's normal distribution with the material's lobe (Han et al. Sec. 3); with the
-// footprint's normals n_i that is the mean of the material's GGX lobes about them,
-// T(h) = mean_i D_a0(h . n_i). The stored alpha minimises the L2 distance over the sphere between
-// D_alpha(h . n) and T(h), n the footprint's mean normal (what an engine's normal mip holds): one
-// lobe an engine loads as it is, in place of Toksvig's alpha^2 = a0^2 + 2 sigma^2, which follows
-// the footprint's variance but not its shape.
+// ggx-fit: per texel and level, one isotropic GGX lobe that matches the texel's exact filtered
+// NDF. Filtering is the spherical convolution of the footprint's normal distribution with the
+// material's lobe (Han et al. Sec. 3); with the footprint's normals n_i that is the mean of the
+// material's GGX lobes about them, T(h) = mean_i D_a0(h . n_i). The lobe's axis n is a mode of
+// the footprint's normals near their mean (ndf_rings.h's modeAxis: where the highlight peaks),
+// stored as the level's normal (what an engine's normal mip holds); its alpha minimises the L2
+// distance over the sphere between D_alpha(h . n) and T(h): one lobe an engine loads as it is,
+// in place of Toksvig's alpha^2 = a0^2 + 2 sigma^2 about the mean normal, which follows the
+// footprint's variance but not its shape.
 //
 // The lobe fitted is isotropic about n, so only T's ring means about n matter (mode 0 of
 // ndf_rings.h, tabulated once per bake: time linear in the footprint).
@@ -23,10 +24,10 @@ namespace {
 
 using namespace ndf_rings;
 
-constexpr int kRings = 16; // rings of the fit about the mean normal
+constexpr int kRings = 16; // rings of the fit about the axis
 
 // The fitted alpha of one texel: `r` its mean normal's length |Na|. The error is the squared
-// difference on the rings about the mean normal, weighted by their solid angles: the L2
+// difference on the rings about the axis, weighted by their solid angles: the L2
 // distance of the two NDFs over the sphere.
 float fitTexel(const TexelNormals& normals, const MaterialLobes& lobes, float r) {
     if (!(normals.total > 0.f)) return lobes.alpha;
@@ -54,7 +55,10 @@ Bake bakeGgxFit(const Pyramid& pyramid, const BakeOptions& options) {
     bake.parameters["base_roughness"] = options.baseRoughness;
     if (options.roughnessMap) bake.parameters["roughness_map"] = 1.0;
     bake.planes = {
-        {"normal", {"n.x", "n.y", "n.z"}, "mean normal renormalised to unit length", true},
+        {"normal",
+         {"n.x", "n.y", "n.z"},
+         "the lobe's axis: a mode of the footprint's normals near their mean, unit length",
+         true},
         {"roughness_ggx",
          {"alpha"},
          "GGX alpha of the one lobe about the normal closest to the texel's filtered NDF",

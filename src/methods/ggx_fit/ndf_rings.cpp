@@ -1,4 +1,4 @@
-// A texel's filtered NDF on rings about its mean normal (ndf_rings.h).
+// A texel's filtered NDF on rings about the lobe's axis (ndf_rings.h).
 #include "methods/ggx_fit/ndf_rings.h"
 
 #include "ndfmip/glsl.h"

@@ -1,9 +1,10 @@
-// A texel's exact filtered GGX NDF, read on rings about its mean normal: what ggx-fit and
-// ggx-aniso fit their one lobe to. Filtering is the spherical convolution of the footprint's
+// A texel's exact filtered GGX NDF, read on rings about the lobe's axis (a mode of the
+// footprint's normals near their mean, modeAxis): what ggx-fit and ggx-aniso fit their one lobe
+// to. Filtering is the spherical convolution of the footprint's
 // normal distribution with the material's lobe (Han et al. Sec. 3); with the footprint's normals
 // n_i that is the mean of the material's GGX lobes about them, T(h) = mean_i D_a0(h . n_i).
 //
-// A lobe centred on the mean normal n is even in the azimuth phi about n, so only T's even
+// A lobe centred on the axis n is even in the azimuth phi about n, so only T's even
 // azimuthal modes on the rings about n meet it: mode 0 (the ring means, all an isotropic lobe
 // sees) and mode 2 (T's means times cos 2 phi and sin 2 phi: the elliptic part an anisotropic
 // lobe sees). A normal at angle beta from n and azimuth phi_i adds to the ring at theta
@@ -69,7 +70,7 @@ struct MaterialLobes {
 // A material alpha below kMinFittedRoughness (the commands refuse it) is taken as that.
 MaterialLobes materialLobes(const BakeOptions& options, bool secondMode);
 
-// One texel's normals as angles from its mean normal: a histogram on the table's betas, each
+// One texel's normals as angles from the axis: a histogram on the table's betas, each
 // normal split linearly between its two neighbouring steps; with mode 2 the same weights times
 // cos 2 phi_i and sin 2 phi_i.
 struct AngleHistogram {
@@ -133,7 +134,7 @@ inline void addAngle(AngleHistogram& h, const RingTable& table, float beta, floa
     ++h.entries;
 }
 
-// The frame the azimuths are measured in: `axis` the mean normal, `tangent` and `bitangent`
+// The frame the azimuths are measured in: `axis` the lobe's (modeAxis), `tangent` and `bitangent`
 // (used with mode 2 only) the directions of phi = 0 and phi = pi/2 about it.
 struct RingFrame {
     float axis[3];
@@ -195,6 +196,9 @@ inline RingModes ringModes(const TexelNormals& normals, const MaterialLobes& lob
 // Toksvig's width sqrt(a0^2 + 2 sigma^2) (T eq. 1, roughness.h) for the normals' RMS alpha a0
 // and |Na| = r: how far the rings reach.
 inline float toksvigWidth(const TexelNormals& normals, float r);
+// The same before the normals are gathered: a0 the material's alpha, or with a roughness map
+// the RMS of its alphas over footprint f.
+inline float lobeWidth(const MaterialLobes& lobes, const Footprint& f, float r);
 
 // The rings a fit reads: `count` (at most kMaxRings) of equal width in theta up to tan(theta) =
 // kReach x `width`, with the squared-difference weights of an L2 distance over the sphere (their
@@ -249,9 +253,46 @@ float minimiseOnScan(const F& f, float lo, float hi, int scan, int parabolicStep
     return xb;
 }
 
-// The loop a fit's bake runs per level: every texel's unit mean normal into `normal` (3
-// channels); at level 0 `own(i, x, y)` (one normal: the material's own lobe), above it
-// `fit(i, normals, r)` with the texel's normals gathered on the rings of `frameOf(n)` and r = |Na|.
+// The lobe's axis: a mode of the footprint's level-0 normals, found by mean shift from their mean
+// normal `axis` (unit, overwritten) with a GGX kernel of the lobe's width `width` (Toksvig's for
+// the footprint): h <- normalize(Sum_i D_width(h . n_i) n_i). Where the normals are skewed (a
+// flat texel with one steep side) their mean leans towards the few and an isotropic lobe about it
+// puts its peak, and the highlight, where few normals are; about the mode the peak sits on the
+// many and the fitted width takes the rest. kModeSteps steps: more gain nothing measurable
+// (docs/RESULTS.md).
+constexpr int kModeSteps = 3;
+
+inline void modeAxis(const Image& base, const Footprint& f, float width, float* axis) {
+    const float w2m1 = width * width - 1.f;
+    float h0 = axis[0], h1 = axis[1], h2 = axis[2];
+    for (int step = 0; step < kModeSteps; ++step) {
+        float s0 = 0.f, s1 = 0.f, s2 = 0.f;
+        for (int y = f.y0; y < f.y1; ++y) {
+            const float* row = base.at(f.x0, y);
+            float r0 = 0.f, r1 = 0.f, r2 = 0.f; // per row: float sums of at most a row's terms
+            for (int x = 0; x < f.x1 - f.x0; ++x) {
+                const float* u = row + 3 * x;
+                const float c = std::max(u[0] * h0 + u[1] * h1 + u[2] * h2, 0.f);
+                const float d = 1.f + w2m1 * c * c;
+                const float w = 1.f / (d * d); // D_width(c) up to its constant factor
+                r0 += w * u[0], r1 += w * u[1], r2 += w * u[2];
+            }
+            s0 += r0, s1 += r1, s2 += r2;
+        }
+        const float length = std::sqrt(s0 * s0 + s1 * s1 + s2 * s2);
+        if (!(length > 0.f) || !std::isfinite(length)) return; // keep the mean normal
+        const float moved =
+            std::abs(s0 / length - h0) + std::abs(s1 / length - h1) + std::abs(s2 / length - h2);
+        h0 = s0 / length, h1 = s1 / length, h2 = s2 / length;
+        axis[0] = h0, axis[1] = h1, axis[2] = h2;
+        if (moved < 1e-4f) return; // settled: a further step moves it less
+    }
+}
+
+// The loop a fit's bake runs per level: every texel's lobe axis into `normal` (3 channels: its
+// unit mean normal moved to a mode, modeAxis); at level 0 `own(i, x, y)` (one normal: the
+// material's own lobe), above it `fit(i, normals, r)` with the texel's normals gathered on the
+// rings of `frameOf(axis)` and r = |Na|.
 template <class FrameOf, class Fit, class Own>
 void fitLevel(const Pyramid& pyramid, const MaterialLobes& lobes, int k, Image& normal,
               const FrameOf& frameOf, const Fit& fit, const Own& own);
@@ -320,9 +361,23 @@ inline RingModes ringModes(const TexelNormals& normals, const MaterialLobes& lob
     return sum;
 }
 
+namespace detail {
+// sqrt(a0^2 + 2 sigma^2) for mean squared alpha a2 and |Na| = r, at most 2.
+inline float widthOf(float a2, float r) {
+    return std::min(std::sqrt(a2 + 2.f * (1.f - r) / std::max(r, 1e-3f)), 2.f);
+}
+} // namespace detail
+
 inline float toksvigWidth(const TexelNormals& normals, float r) {
-    const float a0 = std::sqrt(normals.alpha2 / normals.total); // RMS alpha
-    return std::min(std::sqrt(a0 * a0 + 2.f * (1.f - r) / std::max(r, 1e-3f)), 2.f);
+    return detail::widthOf(normals.alpha2 / normals.total, r);
+}
+
+inline float lobeWidth(const MaterialLobes& lobes, const Footprint& f, float r) {
+    if (!lobes.map) return detail::widthOf(lobes.alpha * lobes.alpha, r);
+    double sum = 0.;
+    for (int y = f.y0; y < f.y1; ++y)
+        for (int x = f.x0; x < f.x1; ++x) sum += double(lobes.alphaAt(x, y)) * lobes.alphaAt(x, y);
+    return detail::widthOf(float(sum / double(f.count())), r);
 }
 
 inline Rings rings(float width, int count) {
@@ -364,12 +419,14 @@ void fitLevel(const Pyramid& pyramid, const MaterialLobes& lobes, int k, Image& 
                 own(size_t(i), x, y);
                 continue;
             }
-            const RingFrame frame = frameOf(n);
             const Footprint f = footprint(pyramid, k, x, y);
+            const float r = std::min(length3(na), 1.f);
+            modeAxis(base, f, lobeWidth(lobes, f, r), n);
+            const RingFrame frame = frameOf(n);
             for (int by = f.y0; by < f.y1; ++by)
                 for (int bx = f.x0; bx < f.x1; ++bx)
                     addNormal(normals, lobes, base.at(bx, by), lobes.alphaAt(bx, by), frame);
-            fit(size_t(i), normals, std::min(length3(na), 1.f));
+            fit(size_t(i), normals, r);
             clearTexel(normals);
         }
     }

@@ -253,7 +253,11 @@ TEST(GgxAniso, MatchesAMultiStartFitOnRealMaps) {
                                 normals.push_back(glm::normalize(glm::dvec3(p[0], p[1], p[2])));
                                 sum += normals.back();
                             }
-                        const DenseObjective objective(normals, a0, glm::normalize(sum));
+                        // Both bakes' lobes about their axis (the same normal plane), Toksvig's
+                        // about the mean normal, its own.
+                        const float* stored = bake.levels[size_t(level)][0]->at(x, y);
+                        const glm::dvec3 axis(stored[0], stored[1], stored[2]);
+                        const DenseObjective objective(normals, a0, axis);
                         const double best = objective.bestError();
                         const glm::vec3 a = tensorAt(bake, level, x, y);
                         const double ours = objective.error(glm::dmat2(a.x, a.y, a.y, a.z));
@@ -263,7 +267,8 @@ TEST(GgxAniso, MatchesAMultiStartFitOnRealMaps) {
                         worst = std::max(worst, std::sqrt(ours / best));
                         mine += std::sqrt(ours), reference += std::sqrt(best);
                         iso += std::sqrt(objective.error(glm::dmat2(isoAlpha * isoAlpha)));
-                        toksvig += std::sqrt(objective.error(glm::dmat2(tk * tk)));
+                        toksvig += std::sqrt(DenseObjective(normals, a0, glm::normalize(sum))
+                                                 .error(glm::dmat2(tk * tk)));
                         ++texels;
                     }
             }
