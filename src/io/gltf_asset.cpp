@@ -117,7 +117,7 @@ Result<GltfAsset> readGltf(const std::string& path, bool allowOutside) {
     try {
         return readAsset(path, allowOutside);
     } catch (const json::exception& e) { // a property of an unexpected type
-        return Error{path + ": " + oneLine(e.what())};
+        return fileError(path, e.what());
     }
 }
 

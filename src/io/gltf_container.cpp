@@ -165,10 +165,10 @@ Result<fs::path> uriFile(const std::string& uri, const fs::path& folder, bool al
     }
     if (!allowOutside) {
         // A link inside the folder may still point out of it: compare the real paths.
-        std::error_code fileError, folderError;
-        const fs::path real = fs::weakly_canonical(file, fileError);
-        const fs::path root = fs::weakly_canonical(folder.empty() ? "." : folder, folderError);
-        if (!fileError && !folderError) {
+        std::error_code fileCode, folderCode;
+        const fs::path real = fs::weakly_canonical(file, fileCode);
+        const fs::path root = fs::weakly_canonical(folder.empty() ? "." : folder, folderCode);
+        if (!fileCode && !folderCode) {
             const auto [r, f] = std::mismatch(root.begin(), root.end(), real.begin(), real.end());
             if (r != root.end())
                 return Error{"a file whose real path " + quote(real.string()) + " lies" + outside};
@@ -327,7 +327,7 @@ Result<GltfContainer> readGltfContainer(const std::string& path, bool allowOutsi
     try {
         return readContainer(path, allowOutside);
     } catch (const json::exception& e) { // a property of an unexpected type
-        return Error{path + ": " + oneLine(e.what())};
+        return fileError(path, e.what());
     }
 }
 
