@@ -50,30 +50,18 @@ Tensor fitTexel(const TexelNormals& normals, const MaterialLobes& lobes, float r
     if (!(normals.total > 0.f)) return isotropic(lobes.alpha);
     const Rings ring = rings(toksvigWidth(normals, r), kRings);
     float mean[kRings], cos2[kRings], sin2[kRings];
-    float cos2Theta[kRings], tan2[kRings], inverseCos4[kRings];
+    float tan2[kRings], inverseCos4[kRings];
     for (int j = 0; j < kRings; ++j) {
         const RingModes modes = ringModes(normals, lobes, ring.theta[j]);
         mean[j] = modes.mean, cos2[j] = modes.cos2, sin2[j] = modes.sin2;
         const float c2 = ring.cosTheta[j] * ring.cosTheta[j];
-        cos2Theta[j] = c2, tan2[j] = (1.f - c2) / c2, inverseCos4[j] = 1.f / (c2 * c2);
+        tan2[j] = (1.f - c2) / c2, inverseCos4[j] = 1.f / (c2 * c2);
     }
     // Isotropic first: mode 0 alone (an isotropic lobe has no mode 2).
-    // GGX written out (ndfmipGgx: a^2 / (pi (c^2 (a^2 - 1) + 1)^2), c > 0 on every ring) into
-    // an array the compiler vectorises, then summed in order.
-    auto isotropicError = [&](float logAlpha) {
-        const float a2 = std::exp(2.f * logAlpha);
-        float term[kRings];
-        for (int j = 0; j < kRings; ++j) {
-            const float d = cos2Theta[j] * (a2 - 1.f) + 1.f;
-            const float difference = a2 / (kPi * d * d) - mean[j];
-            term[j] = ring.weight[j] * difference * difference;
-        }
-        float e = 0.f;
-        for (float t : term) e += t;
-        return e;
-    };
+    const auto target = isotropicTarget<kRings>(ring, mean);
+    auto isotropicFit = [&](float logAlpha) { return isotropicError(target, logAlpha); };
     const float lo = std::log(std::max(0.5f * normals.narrowest, kMinAlpha));
-    float u = minimiseOnScan(isotropicError, lo, 0.f, 6, 4);
+    float u = minimiseOnScan(isotropicFit, lo, 0.f, 6, 4);
     // The direction: mode 2 summed over the rings with the weights a small stretch of the
     // isotropic lobe changes its mode 2 by (dD2/dv at v = 0, up to a constant:
     // tan^2 theta / (cos^4 theta P^3), P = 1 + tan^2 theta / alpha^2).
@@ -96,17 +84,16 @@ Tensor fitTexel(const TexelNormals& normals, const MaterialLobes& lobes, float r
         const float inverse1 = eu * ev, inverse2 = eu / ev; // a1^-2, a2^-2
         const float sum = 0.5f * (inverse1 + inverse2), difference = 0.5f * (inverse1 - inverse2);
         const float k = eu * (1.f / kPi);
-        // Ring by ring into an array (a loop the compiler vectorises), then summed in order.
-        float term[kRings];
+        // Ring by ring, a loop the compiler vectorises.
+        float e = 0.f;
+#pragma omp simd reduction(+ : e)
         for (int j = 0; j < kRings; ++j) {
             const float p = 1.f + tan2[j] * sum, q = tan2[j] * difference;
             const float x = (p - q) * (p + q);
             const float g = k * inverseCos4[j] / (x * std::sqrt(x));
             const float d0 = g * p - mean[j], d2 = -g * q - along[j];
-            term[j] = ring.weight[j] * (d0 * d0 + 2.f * d2 * d2);
+            e += ring.weight[j] * (d0 * d0 + 2.f * d2 * d2);
         }
-        float e = 0.f;
-        for (float t : term) e += t;
         return e;
     };
     // Each roughness within [kMinAlpha, 1] (no engine input stores a wider lobe).

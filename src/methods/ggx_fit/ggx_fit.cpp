@@ -16,7 +16,6 @@
 
 #include "methods/ggx_fit/ndf_rings.h"
 #include "ndfmip/bake.h"
-#include "ndfmip/glsl.h"
 
 namespace ndfmip {
 
@@ -32,17 +31,10 @@ constexpr int kRings = 16; // rings of the fit about the axis
 float fitTexel(const TexelNormals& normals, const MaterialLobes& lobes, float r) {
     if (!(normals.total > 0.f)) return lobes.alpha;
     const Rings ring = rings(toksvigWidth(normals, r), kRings);
-    float target[kRings];
-    for (int j = 0; j < kRings; ++j) target[j] = ringModes(normals, lobes, ring.theta[j]).mean;
-    auto error = [&](float logAlpha) {
-        const float a = std::exp(logAlpha);
-        float e = 0.f;
-        for (int j = 0; j < kRings; ++j) {
-            const float d = glsl().ndfmipGgx(ring.cosTheta[j], a) - target[j];
-            e += ring.weight[j] * d * d;
-        }
-        return e;
-    };
+    float mean[kRings];
+    for (int j = 0; j < kRings; ++j) mean[j] = ringModes(normals, lobes, ring.theta[j]).mean;
+    const auto target = isotropicTarget<kRings>(ring, mean);
+    auto error = [&](float logAlpha) { return isotropicError(target, logAlpha); };
     const float lo = std::log(std::max(0.5f * normals.narrowest, kMinAlpha));
     return std::min(std::exp(minimiseOnScan(error, lo, 0.f, 8, 6)), 1.f);
 }

@@ -89,6 +89,9 @@ struct AngleHistogram {
 };
 
 constexpr size_t kFewNormals = 64;
+// A normal of the few costs about as much as this many steps of the histogram (whose sums the
+// compiler vectorises).
+constexpr size_t kFewCost = 8;
 
 // One texel's normals: a histogram per table, and their lobes' mean alpha^2.
 struct TexelNormals {
@@ -107,13 +110,14 @@ inline float fastAcos(float x) {
     const float a = std::abs(x);
     const float r =
         std::sqrt(1.f - a) * (1.5707288f + a * (-0.2121144f + a * (0.0742610f - 0.0187293f * a)));
-    return x < 0.f ? 3.14159265358979f - r : r;
+    const float reflected = 3.14159265358979f - r; // made either way: a select, not a branch
+    return x < 0.f ? reflected : r;
 }
 
 // A normal at angle beta from the axis, with weight w (and with mode 2 doubled azimuth (c2, s2)).
 template <bool kSecondMode>
-inline void addAngle(AngleHistogram& h, const RingTable& table, float beta, float w, float c2,
-                     float s2) {
+[[gnu::always_inline]] inline void addAngle(AngleHistogram& h, const RingTable& table, float beta,
+                                            float w, float c2, float s2) {
     const float u = std::min(beta / table.step, float(table.steps));
     const int b = std::min(int(u), table.steps - 1);
     const float f = u - float(b);
@@ -142,24 +146,53 @@ struct RingFrame {
     float bitangent[3];
 };
 
-// Adds a level-0 normal `n` (not necessarily unit) of lobe alpha `a`.
+// A row of `count` level-0 normals (not necessarily unit; the zero vector reads as the flat
+// normal, as normalizeOrFlat has it) as angles `beta` from the frame's axis and, with mode 2,
+// doubled azimuths (c2, s2) about it: a loop the compiler vectorises, ahead of the histogram's
+// scattered adds.
+struct RowAngles {
+    std::vector<float> beta, c2, s2;
+};
+
 template <bool kSecondMode>
-inline void addNormalWithModes(TexelNormals& t, const MaterialLobes& lobes, const float* n, float a,
-                               const RingFrame& frame) {
-    float unit[3];
-    normalizeOrFlat(n, unit);
+inline void rowAngles(const float* row, int count, const RingFrame& frame, RowAngles& out) {
+    out.beta.resize(size_t(count));
+    if constexpr (kSecondMode) out.c2.resize(size_t(count)), out.s2.resize(size_t(count));
+    float* beta = out.beta.data();
+    float* c2 = out.c2.data();
+    float* s2 = out.s2.data();
     const float* axis = frame.axis;
-    const float c = unit[0] * axis[0] + unit[1] * axis[1] + unit[2] * axis[2];
-    const float beta = fastAcos(std::clamp(c, -1.f, 1.f));
-    float c2 = 0.f, s2 = 0.f;
-    if constexpr (kSecondMode) {
-        const float* tx = frame.tangent;
-        const float* bx = frame.bitangent;
-        const float x = unit[0] * tx[0] + unit[1] * tx[1] + unit[2] * tx[2];
-        const float y = unit[0] * bx[0] + unit[1] * bx[1] + unit[2] * bx[2];
-        const float rho2 = x * x + y * y;
-        if (rho2 > 1e-12f) c2 = (x * x - y * y) / rho2, s2 = 2.f * x * y / rho2;
+    const float* tx = frame.tangent;
+    const float* bx = frame.bitangent;
+#pragma omp simd
+    for (int i = 0; i < count; ++i) {
+        const float* n = row + 3 * i;
+        const float length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        // Every division made, then selected: a branch around one would keep the loop scalar.
+        const bool flat = !(length > 0.f);
+        const float divisor = flat ? 1.f : length;
+        const float q0 = n[0] / divisor, q1 = n[1] / divisor, q2 = n[2] / divisor;
+        const float u0 = flat ? 0.f : q0, u1 = flat ? 0.f : q1, u2 = flat ? 1.f : q2;
+        const float c = u0 * axis[0] + u1 * axis[1] + u2 * axis[2];
+        beta[i] = fastAcos(std::min(std::max(c, -1.f), 1.f));
+        if constexpr (kSecondMode) {
+            const float x = u0 * tx[0] + u1 * tx[1] + u2 * tx[2];
+            const float y = u0 * bx[0] + u1 * bx[1] + u2 * bx[2];
+            const float rho2 = x * x + y * y;
+            const bool polar = !(rho2 > 1e-12f);
+            const float r = polar ? 1.f : rho2;
+            const float cosine = (x * x - y * y) / r, sine = 2.f * x * y / r;
+            c2[i] = polar ? 0.f : cosine;
+            s2[i] = polar ? 0.f : sine;
+        }
     }
+}
+
+// Adds a normal at angle `beta` from the axis (with mode 2 doubled azimuth (c2, s2)) of lobe
+// alpha `a`.
+template <bool kSecondMode>
+[[gnu::always_inline]] inline void addAngleOf(TexelNormals& t, const MaterialLobes& lobes,
+                                              float beta, float a, float c2, float s2) {
     t.alpha2 += a * a;
     t.total += 1.f;
     t.narrowest = std::min(t.narrowest, a);
@@ -178,12 +211,28 @@ inline void addNormalWithModes(TexelNormals& t, const MaterialLobes& lobes, cons
     }
 }
 
-inline void addNormal(TexelNormals& t, const MaterialLobes& lobes, const float* n, float a,
-                      const RingFrame& frame) {
+// Adds the footprint's level-0 normals, row by row.
+template <bool kSecondMode>
+inline void addFootprintWithModes(TexelNormals& t, const MaterialLobes& lobes, const Image& base,
+                                  const Footprint& f, const RingFrame& frame, RowAngles& scratch) {
+    const int count = f.width();
+    for (int y = f.y0; y < f.y1; ++y) {
+        rowAngles<kSecondMode>(base.at(f.x0, y), count, frame, scratch);
+        for (int i = 0; i < count; ++i) {
+            const float c2 = kSecondMode ? scratch.c2[size_t(i)] : 0.f;
+            const float s2 = kSecondMode ? scratch.s2[size_t(i)] : 0.f;
+            addAngleOf<kSecondMode>(t, lobes, scratch.beta[size_t(i)], lobes.alphaAt(f.x0 + i, y),
+                                    c2, s2);
+        }
+    }
+}
+
+inline void addFootprint(TexelNormals& t, const MaterialLobes& lobes, const Image& base,
+                         const Footprint& f, const RingFrame& frame, RowAngles& scratch) {
     if (lobes.secondMode)
-        addNormalWithModes<true>(t, lobes, n, a, frame);
+        addFootprintWithModes<true>(t, lobes, base, f, frame, scratch);
     else
-        addNormalWithModes<false>(t, lobes, n, a, frame);
+        addFootprintWithModes<false>(t, lobes, base, f, frame, scratch);
 }
 
 // T's modes on the ring at theta: its mean, and with mode 2 its means times cos 2 phi and
@@ -210,6 +259,35 @@ struct Rings {
     float theta[kMaxRings], cosTheta[kMaxRings], weight[kMaxRings];
 };
 inline Rings rings(float width, int count);
+
+// An isotropic lobe about the axis against T's ring means on kCount rings: the squared
+// differences, weighted by the rings' solid angles (the L2 distance of the two NDFs over the
+// sphere).
+template <int kCount> struct IsotropicTarget {
+    float cos2Theta[kCount], weight[kCount], mean[kCount];
+};
+template <int kCount>
+IsotropicTarget<kCount> isotropicTarget(const Rings& ring, const float* mean) {
+    IsotropicTarget<kCount> target;
+    for (int j = 0; j < kCount; ++j) {
+        target.cos2Theta[j] = ring.cosTheta[j] * ring.cosTheta[j];
+        target.weight[j] = ring.weight[j], target.mean[j] = mean[j];
+    }
+    return target;
+}
+// The error of alpha = exp(logAlpha): GGX written out (ndfmipGgx: a^2 / (pi (c^2 (a^2 - 1) +
+// 1)^2), c > 0 on every ring) in a loop of fixed length the compiler vectorises.
+template <int kCount> float isotropicError(const IsotropicTarget<kCount>& target, float logAlpha) {
+    const float a2 = std::exp(2.f * logAlpha), k = a2 * (1.f / 3.14159265358979f);
+    float e = 0.f;
+#pragma omp simd reduction(+ : e)
+    for (int j = 0; j < kCount; ++j) {
+        const float d = target.cos2Theta[j] * (a2 - 1.f) + 1.f;
+        const float difference = k / (d * d) - target.mean[j];
+        e += target.weight[j] * difference * difference;
+    }
+    return e;
+}
 
 // The least of f over [lo, hi]: a scan of `scan` + 1 points, then parabolic steps in the bracket
 // about its best point (Brent's idea without his safeguards: the errors fitted here are smooth
@@ -270,6 +348,7 @@ inline void modeAxis(const Image& base, const Footprint& f, float width, float* 
         for (int y = f.y0; y < f.y1; ++y) {
             const float* row = base.at(f.x0, y);
             float r0 = 0.f, r1 = 0.f, r2 = 0.f; // per row: float sums of at most a row's terms
+#pragma omp simd reduction(+ : r0, r1, r2)
             for (int x = 0; x < f.x1 - f.x0; ++x) {
                 const float* u = row + 3 * x;
                 const float c = std::max(u[0] * h0 + u[1] * h1 + u[2] * h2, 0.f);
@@ -318,7 +397,8 @@ inline RingModes ringModes(const TexelNormals& normals, const MaterialLobes& lob
         const float s = u - float(t);
         const float* below = table.ring(t);
         const float* above = table.ring(t + 1);
-        const bool few = h.entries <= kFewNormals && 2 * h.entries < size_t(h.last - h.first + 1);
+        const bool few =
+            h.entries <= kFewNormals && kFewCost * h.entries < size_t(h.last - h.first + 1);
         float meanBelow = 0.f, meanAbove = 0.f;
         if (few) {
             if (lobes.map) {
@@ -330,9 +410,11 @@ inline RingModes ringModes(const TexelNormals& normals, const MaterialLobes& lob
                     meanBelow += detail::at(below, e), meanAbove += detail::at(above, e);
             }
         } else {
+            const float* counts = h.counts.data();
+#pragma omp simd reduction(+ : meanBelow, meanAbove)
             for (int b = h.first; b <= h.last; ++b) {
-                meanBelow += h.counts[size_t(b)] * below[b];
-                meanAbove += h.counts[size_t(b)] * above[b];
+                meanBelow += counts[b] * below[b];
+                meanAbove += counts[b] * above[b];
             }
         }
         sum.mean += meanBelow + s * (meanAbove - meanBelow);
@@ -349,9 +431,12 @@ inline RingModes ringModes(const TexelNormals& normals, const MaterialLobes& lob
                 cb += rb * c2, ca += ra * c2, sb += rb * s2, sa += ra * s2;
             }
         } else {
+            const float* cos2 = h.cos2.data();
+            const float* sin2 = h.sin2.data();
+#pragma omp simd reduction(+ : cb, ca, sb, sa)
             for (int b = h.first; b <= h.last; ++b) {
-                cb += h.cos2[size_t(b)] * secondBelow[b], ca += h.cos2[size_t(b)] * secondAbove[b];
-                sb += h.sin2[size_t(b)] * secondBelow[b], sa += h.sin2[size_t(b)] * secondAbove[b];
+                cb += cos2[b] * secondBelow[b], ca += cos2[b] * secondAbove[b];
+                sb += sin2[b] * secondBelow[b], sa += sin2[b] * secondAbove[b];
             }
         }
         sum.cos2 += cb + s * (ca - cb);
@@ -409,6 +494,7 @@ void fitLevel(const Pyramid& pyramid, const MaterialLobes& lobes, int k, Image& 
 #pragma omp parallel
     {
         TexelNormals normals = texelNormals(lobes);
+        RowAngles scratch;
 #pragma omp for schedule(dynamic, 16)
         for (int64_t i = 0; i < texels; ++i) {
             const float* na = &mean.pixels[3 * size_t(i)];
@@ -423,9 +509,7 @@ void fitLevel(const Pyramid& pyramid, const MaterialLobes& lobes, int k, Image& 
             const float r = std::min(length3(na), 1.f);
             modeAxis(base, f, lobeWidth(lobes, f, r), n);
             const RingFrame frame = frameOf(n);
-            for (int by = f.y0; by < f.y1; ++by)
-                for (int bx = f.x0; bx < f.x1; ++bx)
-                    addNormal(normals, lobes, base.at(bx, by), lobes.alphaAt(bx, by), frame);
+            addFootprint(normals, lobes, base, f, frame, scratch);
             fit(size_t(i), normals, r);
             clearTexel(normals);
         }
