@@ -644,7 +644,7 @@ py::dict compare(py::handle a, py::handle b, std::optional<int> channel) {
     return d;
 }
 
-py::object evaluate(EvalOptions o) {
+py::object runEvaluation(EvalOptions o) {
     Result<EvalResult> result = Error{};
     {
         py::gil_scoped_release release;
@@ -769,6 +769,6 @@ PYBIND11_MODULE(_ndfmip, m) {
                               std::optional<float> height, bool clamp) {
             o.decode = decodeOptions(greenDown, twoChannel, signedValues, height, clamp);
         });
-    m.def("evaluate", &evaluate, "options"_a);
+    m.def("evaluate", &runEvaluation, "options"_a);
     m.def("set_limits", &setLimits, "max_pixels"_a, "max_memory_gib"_a);
 }

@@ -4,27 +4,62 @@
 // in double, up to order 30). No `float` is named here: scalars are NdfmipReal, which the GPU
 // defines as float and the CPU as double. Each side defines on its own data:
 //   int ndfmipEnvShOrder                  the bands summed (the GPU's constant NDFMIP_ENV_SH_ORDER)
-//   int ndfmipEnvShAxes                   1: the mean-normal cosine, L' as the three axes' rows
+//   int ndfmipEnvShAxes                   the cosine (environment_sh_shading.h): 0 one L' (the
+//                                         half vector's or none); 1 MeanNormal, the three axes'
+//                                         L'; 2 Reflecting, the axes' and the half vector's L'
 //   vec3 ndfmipEnvShRow(int i, int row)   coefficient i of the lighting in the frame shading is
 //                                         in: row 0 L_lm; row 1 L'_lm, or with axes rows 1 .. 3
-//                                         L'_lm of the axes x, y, z
+//                                         L'_lm of the axes x, y, z and with 2 row 4 the half
+//                                         vector's
 //   ndfmipEnvShDiffuse[l], ndfmipEnvShSpecular[l]   the material's A_l (ShShading)
 //   NdfmipEnvShBasis ndfmipEnvShBasisAt(vec3 w)     Y_lm(w) for l <= ndfmipEnvShOrder at
 //                                         .y[l (l + 1) + m] (sh.glsl's basis)
 //   NDFMIP_ENV_SH_BANDS, NDFMIP_ENV_SH_COEFFICIENTS the arrays' lengths (at least the order's)
 
-// L'_lm for a mean normal (environment frame): Sum_k n_k L'_k with the axes, or the prepared L'.
-vec3 ndfmipEnvReparameterised(int i, vec3 meanNormal) {
+// The specular cosine c = normal.w_i + halfVector h.w_i (environment frame) of an NDF lobe of
+// concentration kappa about unit mu whose mean normal is meanLength mu, under the material's lobe
+// of concentration lobeKappa (brdf.glsl's ndfmipLobeConcentration). MeanNormal: the mean normal's
+// cosine. Reflecting: the normals' that reflect, A(kappa + s) (share mu + (1 - share) h) with
+// share = kappa / (kappa + s) (environment_sh_shading.h; brdf.glsl's ndfmipSpecularCosine with
+// the product lobe's length and direction taken at h = mu). kappa >= 1e30 is a single normal.
+struct NdfmipEnvCosine {
+    vec3 normal;
+    NdfmipReal halfVector;
+};
+
+NdfmipEnvCosine ndfmipEnvCosine(vec3 mu, NdfmipReal kappa, NdfmipReal meanLength, NdfmipReal lobeKappa) {
+    NdfmipEnvCosine c;
+    c.normal = meanLength * mu;
+    c.halfVector = 0.0f;
+    if (ndfmipEnvShAxes != 2 || !(kappa < 1e30f)) return c;
+    NdfmipReal k = kappa + lobeKappa;
+    // Langevin's A(k) = coth k - 1/k (brdf.glsl's ndfmipLangevin, in NdfmipReal).
+    NdfmipReal a = k < 1e-3f ? k / 3.0f : (k > 20.0f ? 1.0f : 1.0f / tanh(k)) - 1.0f / k;
+    NdfmipReal share = k > 0.0f ? kappa / k : 1.0f;
+    c.normal = (a * share) * mu;
+    c.halfVector = a * (1.0f - share);
+    return c;
+}
+
+// L'_lm for the cosine c (environment frame): the prepared L' alone, or Sum_k c.normal_k L'_k
+// over the axes, with Reflecting plus c.halfVector L'_h.
+vec3 ndfmipEnvReparameterised(int i, NdfmipEnvCosine c) {
     if (ndfmipEnvShAxes == 0) return ndfmipEnvShRow(i, 1);
-    return meanNormal.x * ndfmipEnvShRow(i, 1) + meanNormal.y * ndfmipEnvShRow(i, 2) +
-           meanNormal.z * ndfmipEnvShRow(i, 3);
+    vec3 axes = c.normal.x * ndfmipEnvShRow(i, 1) + c.normal.y * ndfmipEnvShRow(i, 2) +
+                c.normal.z * ndfmipEnvShRow(i, 3);
+    if (ndfmipEnvShAxes == 1) return axes;
+    return axes + c.halfVector * ndfmipEnvShRow(i, 4);
 }
 
 // The sh bake's texel g (coefficients in the frame of the lighting's rows) with its mean normal
-// (footnote 5's mipmapped normal, environment frame): diffuse Sum A_l^diffuse g_lm L_lm (H eq. 35),
-// specular Sum A_l^specular g_lm L'_lm (H eq. 37), each clamped at 0 per channel.
+// (footnote 5's mipmapped normal, environment frame) read as a lobe of concentration kappa
+// (Banerjee's, for its length): diffuse Sum A_l^diffuse g_lm L_lm (H eq. 35), specular
+// Sum A_l^specular g_lm L'_lm (H eq. 37), each clamped at 0 per channel.
 vec3 ndfmipShadeShLighting(int brdf, vec3 albedo, vec3 specularColour, NdfmipReal g[NDFMIP_ENV_SH_COEFFICIENTS],
-                           vec3 meanNormal) {
+                           vec3 meanNormal, NdfmipReal kappa, NdfmipReal lobeKappa) {
+    NdfmipReal meanLength = length(meanNormal);
+    vec3 mu = meanLength > 0.0f ? meanNormal / meanLength : vec3(0.0f, 0.0f, 1.0f);
+    NdfmipEnvCosine cosine = ndfmipEnvCosine(mu, kappa, meanLength, lobeKappa);
     vec3 diffuse = vec3(0.0f);
     vec3 specular = vec3(0.0f);
     for (int l = 0; l <= ndfmipEnvShOrder; ++l) {
@@ -34,7 +69,7 @@ vec3 ndfmipShadeShLighting(int brdf, vec3 albedo, vec3 specularColour, NdfmipRea
         // main.frag's call sites it made llvmpipe's compile several times slower.
         for (int i = l * l; i <= l * (l + 2); ++i) {
             d += g[i] * ndfmipEnvShRow(i, 0);
-            s += g[i] * ndfmipEnvReparameterised(i, meanNormal);
+            s += g[i] * ndfmipEnvReparameterised(i, cosine);
         }
         diffuse += ndfmipEnvShDiffuse[l] * d;
         specular += ndfmipEnvShSpecular[l] * s;
@@ -110,14 +145,15 @@ NdfmipEnvShTransfer ndfmipVmfLobeTransfer(int brdf, NdfmipReal exponent, NdfmipR
     return t;
 }
 
-// One lobe of weight alpha about unit mu (environment frame), with the lobe's mean normal
-// A(kappa) mu = bands.a[1] mu for the cosine: no rotation of the lighting, only Y_lm(mu)
-// (footnote 10). Diffuse Sum_l t.diffuse_l Sum_m L_lm Y_lm(mu) (H eq. 35), specular Sum_l
-// t.specular_l Sum_m L'_lm Y_lm(mu) (H eq. 37), each clamped at 0 per channel.
+// One lobe of weight alpha and concentration kappa about unit mu (environment frame), its mean
+// normal A(kappa) mu = meanLength mu (bands.a[1]) for the cosine: no rotation of the lighting,
+// only Y_lm(mu) (footnote 10). Diffuse Sum_l t.diffuse_l Sum_m L_lm Y_lm(mu) (H eq. 35), specular
+// Sum_l t.specular_l Sum_m L'_lm Y_lm(mu) (H eq. 37), each clamped at 0 per channel.
 vec3 ndfmipShadeVmfLobeShLighting(int brdf, vec3 albedo, vec3 specularColour, vec3 mu, NdfmipReal alpha,
-                                  NdfmipReal meanLength, NdfmipEnvShTransfer t) {
+                                  NdfmipReal kappa, NdfmipReal meanLength, NdfmipReal lobeKappa,
+                                  NdfmipEnvShTransfer t) {
     NdfmipEnvShBasis basis = ndfmipEnvShBasisAt(mu);
-    vec3 meanNormal = meanLength * mu;
+    NdfmipEnvCosine cosine = ndfmipEnvCosine(mu, kappa, meanLength, lobeKappa);
     vec3 diffuse = vec3(0.0f);
     vec3 specular = vec3(0.0f);
     for (int l = 0; l <= ndfmipEnvShOrder; ++l) {
@@ -127,7 +163,7 @@ vec3 ndfmipShadeVmfLobeShLighting(int brdf, vec3 albedo, vec3 specularColour, ve
             if (m * m <= l * l) {
                 int i = l * (l + 1) + m;
                 radiance += basis.y[i] * ndfmipEnvShRow(i, 0);
-                reparameterised += basis.y[i] * ndfmipEnvReparameterised(i, meanNormal);
+                reparameterised += basis.y[i] * ndfmipEnvReparameterised(i, cosine);
             }
         }
         diffuse += t.diffuse[l] * radiance;

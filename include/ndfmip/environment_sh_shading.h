@@ -24,6 +24,19 @@
 //               Exact for one normal where no light below its horizon reaches the lobe; the
 //               paper's own choice for point lights (footnote 5) and the default: the closest
 //               to the truth of the three (docs/ENVIRONMENT.md has the measured gaps).
+//   Reflecting  c = A(kappa + s) (share mu.w_i + (1 - share) h.w_i), share = kappa / (kappa + s):
+//               the mean n.w_i over the normals that reflect w_i into w_o, as the point-light
+//               shading's ndfmipSpecularCosine (brdf.glsl) takes it. The NDF (a lobe of
+//               concentration kappa about mu: the vMF method's lobes, the SH method's Na read as
+//               one) times the material's lobe (concentration s about h) is a lobe about
+//               kappa mu + s h with mean normal A(|.|) times its direction, here with |.| and
+//               its direction's normalisation taken at h = mu. Linear in the lighting: L' is
+//               prepared for the three axes and for the half vector (four times the preparation
+//               of one), and a pixel combines Sum_k c_k L'_k + c_h L'_h. A single normal (kappa
+//               -> infinity) gives MeanNormal's exact cosine; a spread NDF under a sharp lobe
+//               reads the cosines of the normals near h, which MeanNormal's one mean cosine
+//               misses (for a footprint of normals tilted +-theta seen from above: cos 2 theta
+//               where they reflect at cos theta).
 //   None        c = 1: H eq. 36 as printed, no cosine.
 // The fixed-view approximation: L' depends on w_o, and one w_o (environment frame) serves the
 // whole image. Lighting prepared for the pixel's own view (prepareShLighting with w_o = the
@@ -45,7 +58,11 @@ namespace ndfmip {
 
 // ---- lighting -----------------------------------------------------------------------------------
 
-enum class SpecularCosine { HalfVector, MeanNormal, None };
+enum class SpecularCosine { HalfVector, MeanNormal, None, Reflecting };
+
+// How many L' a cosine prepares: 3 (MeanNormal: the axes), 4 (Reflecting: the axes, then the half
+// vector's), otherwise 1.
+int reparameterisedSets(SpecularCosine cosine);
 
 // Coefficients (l <= order, at shIndex(l, m)) on the basis of spherical_harmonics.h in the
 // environment frame (environment.h, Environment::rotation applied).
@@ -56,10 +73,16 @@ struct ShLighting {
     glm::dvec3 view{0., 0., 1.}; // w_o of `reparameterised`, environment frame, unit
     SpecularCosine cosine = SpecularCosine::MeanNormal;
     std::vector<glm::dvec3> radiance;        // L_lm (projectEnvironmentSh)
-    std::vector<glm::dvec3> reparameterised; // L'_lm for `view` (MeanNormal: empty)
-    // MeanNormal only: L'_k for c = w_i.e_k, k = x, y, z of the environment frame.
+    std::vector<glm::dvec3> reparameterised; // L'_lm for `view` (Reflecting: c = w_i.h;
+                                             // MeanNormal: empty)
+    // MeanNormal and Reflecting: L'_k for c = w_i.e_k, k = x, y, z of the environment frame.
     std::vector<glm::dvec3> reparameterisedAxes[3];
 };
+
+// Set k of reparameterisedSets(lighting.cosine): the axes first where there are axes, then
+// `reparameterised`.
+const std::vector<glm::dvec3>& reparameterisedSet(const ShLighting& lighting, int k);
+std::vector<glm::dvec3>& reparameterisedSet(ShLighting& lighting, int k);
 
 // L and L' of the map. L' is projected texel by texel, in the variable w_i where the map is
 // given: L'_lm = Integral L(w_i) 4 (w_i.h) c Y_lm(h(w_i)) dh = Integral L(w_i) c Y_lm(h) dw_i, each

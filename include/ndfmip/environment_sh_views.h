@@ -4,8 +4,9 @@
 // (environment_sh_shading.h); one prepared view serves a whole image only approximately
 // (docs/ENVIRONMENT.md, "the fixed-view approximation"). Here L' is prepared for a set of views
 // spread over the sphere, and the lighting for any other view is the weighted sum of its
-// neighbours' coefficients. The shading is linear in L' (H eq. 37, and Sum_k Na_k L'_k for the
-// MeanNormal cosine), so interpolating the coefficients is interpolating the shading.
+// neighbours' coefficients. The shading is linear in L' (H eq. 37, and in each of the sets of the
+// MeanNormal and Reflecting cosines), so interpolating the coefficients is interpolating the
+// shading.
 //
 // The set: the points of a geodesic grid on the octahedron, normalised. Frequency f cuts each of
 // the octahedron's eight faces (|x| + |y| + |z| = 1) into f^2 triangles; the 4 f^2 + 2 corners are

@@ -11,6 +11,7 @@
 
 #include "ndfmip/bake.h"
 #include "ndfmip/environment.h"
+#include "ndfmip/environment_sh_shading.h"
 #include "ndfmip/html_report.h"
 #include "ndfmip/pyramid.h"
 #include "ndfmip/shading.h"
@@ -96,8 +97,9 @@ struct EvalOptions {
     // under an environment get rows; the others are listed in EvalResult::skipped.
     std::string environment;
     EnvironmentOptions environmentOptions;
-    int shViews = 0;                             // RenderOptions::shViews of every method row
-    std::function<void(const std::string&)> log; // a progress line per map
+    int shViews = 0; // RenderOptions::shViews of every method row
+    SpecularCosine shCosine = SpecularCosine::Reflecting; // RenderOptions::shCosine, likewise
+    std::function<void(const std::string&)> log;          // a progress line per map
     std::function<void(const std::string& map, const DecodeReport&)> decoded;
 };
 

@@ -15,6 +15,7 @@
 #include <glm/glm.hpp>
 
 #include "ndfmip/bake.h"
+#include "ndfmip/environment_sh_shading.h"
 #include "ndfmip/environment_splitsum.h"
 #include "ndfmip/roughness.h"
 #include "ndfmip/scene.h"
@@ -114,6 +115,8 @@ struct RenderOptions {
     // octahedral grid with N or more, environment_sh_views.h) and each pixel reads the lighting
     // interpolated at its own view. At most kMaxShViews (1026); CPU only.
     int shViews = 0;
+    // SH lighting's specular cosine (environment_sh_shading.h): the normals' that reflect.
+    SpecularCosine shCosine = SpecularCosine::Reflecting;
     EnvironmentEstimator environmentEstimator = EnvironmentEstimator::Mis;
 };
 

@@ -212,7 +212,8 @@ vec3 ndfmipEnvironmentBackground(vec3 w) {
 // ---- the SH-lighting way (environment_sh_shading.h; Han et al. Sec. 8, eqs. 35 and 37) -------
 // The lighting's rows and basis as sh_lighting_shading.glsl reads them. ndfmipEnvSh holds the prepared lighting's coefficients of order NDFMIP_ENV_SH_ORDER, one
 // column per coefficient: row 0 L_lm, rows 1 .. 3 L'_lm of the axes x, y, z (the mean-normal
-// cosine: NDFMIP_ENV_SH_AXES) or row 1 L'_lm alone. For vmf they are in the environment frame;
+// cosine: NDFMIP_ENV_SH_AXES; the reflecting normals' cosine: NDFMIP_ENV_SH_REFLECTING, with row
+// 4 the half vector's L'_lm) or row 1 L'_lm alone. For vmf they are in the environment frame;
 // for sh on a plane in its tangent frame (rotated on the CPU, sh_rotation.h, once per frame); for
 // sh on a sphere (NDFMIP_ENVIRONMENT_SH_PER_HIT) in the environment frame, followed by a row of
 // the rotation's points and its pseudo-inverse, and rotated here into each hit's frame.
@@ -222,7 +223,9 @@ vec3 ndfmipEnvironmentBackground(vec3 w) {
 // Mesa's llvmpipe, whose loop limiter ends a fragment's loops after 65535 iterations in all:
 // only the loops left (the rotation's points, the taps, the probes' texels) count against it.
 #ifdef NDFMIP_ENVIRONMENT_SH
-#ifdef NDFMIP_ENV_SH_AXES
+#if defined(NDFMIP_ENV_SH_REFLECTING)
+#define NDFMIP_ENV_SH_ROWS 5
+#elif defined(NDFMIP_ENV_SH_AXES)
 #define NDFMIP_ENV_SH_ROWS 4
 #else
 #define NDFMIP_ENV_SH_ROWS 2
@@ -241,7 +244,9 @@ vec3 ndfmipEnvShPrepared(int i, int row) { return texelFetch(ndfmipEnvSh, ivec2(
 #define NDFMIP_ENV_SH_COEFFICIENTS NDFMIP_SH_MAX_COEFFICIENTS
 #define NdfmipEnvShBasis NdfmipShBasis
 const int ndfmipEnvShOrder = NDFMIP_ENV_SH_ORDER;
-#ifdef NDFMIP_ENV_SH_AXES
+#if defined(NDFMIP_ENV_SH_REFLECTING)
+const int ndfmipEnvShAxes = 2;
+#elif defined(NDFMIP_ENV_SH_AXES)
 const int ndfmipEnvShAxes = 1;
 #else
 const int ndfmipEnvShAxes = 0;
@@ -266,11 +271,13 @@ void ndfmipEnvShRotate(NdfmipHit hit) {
         for (int l = 0; l <= NDFMIP_ENV_SH_ORDER; ++l) {
             // Band l of each row at T d_k: Sum_m L_lm Y_lm(T d_k).
             vec3 band[NDFMIP_ENV_SH_ROWS];
-            for (int row = 0; row < NDFMIP_ENV_SH_ROWS; ++row) band[row] = vec3(0.0f);
-            for (int m = -NDFMIP_ENV_SH_ORDER; m <= NDFMIP_ENV_SH_ORDER; ++m) { // unrolled (sh.glsl)
-                if (m * m <= l * l) {
-                    int i = l * (l + 1) + m;
-                    for (int row = 0; row < NDFMIP_ENV_SH_ROWS; ++row) band[row] += basis.y[i] * ndfmipEnvShPrepared(i, row);
+            for (int row = 0; row < NDFMIP_ENV_SH_ROWS; ++row) {
+                band[row] = vec3(0.0f);
+                for (int m = -NDFMIP_ENV_SH_ORDER; m <= NDFMIP_ENV_SH_ORDER; ++m) { // unrolled (sh.glsl)
+                    if (m * m <= l * l) {
+                        int i = l * (l + 1) + m;
+                        band[row] += basis.y[i] * ndfmipEnvShPrepared(i, row);
+                    }
                 }
             }
             // L_t,lm = Sum_k pseudoInverse_l[m, k] (band l at T d_k); a loop per row keeps each

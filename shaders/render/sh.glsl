@@ -27,6 +27,8 @@ vec3 ndfmipShadeEnvironment(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, v
     // The lighting is in the hit's tangent frame, as g is: the plane's rotated on the CPU, a
     // sphere's per hit (ndfmipEnvShRotate, once per hit in main.frag's ndfmipLookup).
     vec3 meanNormal = ndfmipTangentToEnvironment(hit, ndfmipShMeanNormal(g[1], g[2], g[3]));
-    return ndfmipShadeShLighting(ndfmipMaterial.brdf, albedo, ndfmipMaterial.specular, g, meanNormal);
+    float kappa = ndfmipKappaFromLength(length(meanNormal));
+    return ndfmipShadeShLighting(ndfmipMaterial.brdf, albedo, ndfmipMaterial.specular, g, meanNormal, kappa,
+                                 ndfmipLobeConcentration(ndfmipMaterial));
 }
 #endif

@@ -27,7 +27,7 @@ vec3 ndfmipShadeEnvironment(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, v
             NdfmipVmfBands bands = ndfmipVmfBands(lobe.kappa, max(ndfmipEnvShOrder, 1));
             NdfmipEnvShTransfer t = ndfmipVmfLobeTransfer(ndfmipMaterial.brdf, ndfmipMaterial.exponent, lobe.kappa, bands, true);
             sum += ndfmipShadeVmfLobeShLighting(ndfmipMaterial.brdf, lobeAlbedo, ndfmipMaterial.specular, mu, lobe.alpha,
-                                                bands.a[1], t);
+                                                lobe.kappa, bands.a[1], ndfmipLobeConcentration(ndfmipMaterial), t);
         }
 #else
         sum += ndfmipShadeVmfLobeEnvironment(ndfmipMaterial, lobeAlbedo, p[j], ndfmipTangentFrame(hit), view);

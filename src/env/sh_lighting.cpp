@@ -17,27 +17,23 @@ uint64_t nextShLightingId() {
 
 namespace {
 
-// The weight of L(w_i) in the integral over w_i of L' Y_lm(h): the Jacobian 4 (w_i.h) cancels
-// against dh = dw_i / (4 (w_i.h)), leaving the cosine c alone.
-// MeanNormal runs once per axis with `axis` = 0, 1, 2 (the component of w_i).
-double cosineFactor(SpecularCosine cosine, double halfCosine, glm::dvec3 wi, int axis) {
-    if (cosine == SpecularCosine::HalfVector) return halfCosine;
-    return cosine == SpecularCosine::MeanNormal ? wi[axis] : 1.;
+// The weight of L(w_i) in the integral over w_i of L' Y_lm(h) for set k of the cosine (its
+// reparameterisedSets): the Jacobian 4 (w_i.h) cancels against dh = dw_i / (4 (w_i.h)), leaving
+// the cosine c alone. The axes' sets are the components of w_i.
+bool hasAxes(SpecularCosine cosine) {
+    return cosine == SpecularCosine::MeanNormal || cosine == SpecularCosine::Reflecting;
 }
 
-int lightingCount(SpecularCosine cosine) {
-    return cosine == SpecularCosine::MeanNormal ? 3 : 1;
+double cosineFactor(SpecularCosine cosine, double halfCosine, glm::dvec3 wi, int k) {
+    if (hasAxes(cosine) && k < 3) return wi[k];
+    return cosine == SpecularCosine::None ? 1. : halfCosine;
 }
 
-// The summed projections into `reparameterised` or, for MeanNormal, its three axes.
+// The summed projections, set after set, into the lighting's sets.
 void store(ShLighting& lighting, const std::vector<glm::dvec3>& sums, int count) {
-    if (lighting.cosine != SpecularCosine::MeanNormal) {
-        lighting.reparameterised.assign(sums.begin(), sums.begin() + count);
-        return;
-    }
-    for (int k = 0; k < 3; ++k)
-        lighting.reparameterisedAxes[k].assign(sums.begin() + k * count,
-                                               sums.begin() + (k + 1) * count);
+    for (int k = 0; k < reparameterisedSets(lighting.cosine); ++k)
+        reparameterisedSet(lighting, k)
+            .assign(sums.begin() + k * count, sums.begin() + (k + 1) * count);
 }
 
 // Two unit vectors completing w to a right-handed orthonormal frame.
@@ -48,6 +44,23 @@ void frameAbout(glm::dvec3 w, glm::dvec3& t1, glm::dvec3& t2) {
 }
 
 } // namespace
+
+int reparameterisedSets(SpecularCosine cosine) {
+    if (cosine == SpecularCosine::MeanNormal) return 3;
+    return cosine == SpecularCosine::Reflecting ? 4 : 1;
+}
+
+std::vector<glm::dvec3>& reparameterisedSet(ShLighting& lighting, int k) {
+    assert(k >= 0 && k < reparameterisedSets(lighting.cosine));
+    return hasAxes(lighting.cosine) && k < 3 ? lighting.reparameterisedAxes[k]
+                                             : lighting.reparameterised;
+}
+
+const std::vector<glm::dvec3>& reparameterisedSet(const ShLighting& lighting, int k) {
+    assert(k >= 0 && k < reparameterisedSets(lighting.cosine));
+    return hasAxes(lighting.cosine) && k < 3 ? lighting.reparameterisedAxes[k]
+                                             : lighting.reparameterised;
+}
 
 ShLighting prepareShLighting(const Environment& env, int order, glm::dvec3 fixedView,
                              SpecularCosine cosine) {
@@ -70,7 +83,7 @@ ShLighting prepareReparameterisedSh(const Environment& env, int order, glm::dvec
     const Image& map = env.radiance;
     const int width = map.width, height = map.height, count = shCount(order);
     const glm::dvec3 o = lighting.view;
-    const int sets = lightingCount(cosine), stride = sets * count;
+    const int sets = reparameterisedSets(cosine), stride = sets * count;
     std::vector<glm::dvec3> rowSums(size_t(height) * size_t(stride), glm::dvec3(0.));
 #pragma omp parallel for schedule(dynamic, 4)
     for (int y = 0; y < height; ++y) {
@@ -110,7 +123,7 @@ ShLighting prepareShLighting(const RadianceFunction& radiance, int order, glm::d
     lighting.view = glm::normalize(fixedView);
     lighting.cosine = cosine;
     const int count = shCount(order), phis = 2 * nodes;
-    const int sets = lightingCount(cosine);
+    const int sets = reparameterisedSets(cosine);
     lighting.radiance.assign(size_t(count), glm::dvec3(0.));
     std::vector<glm::dvec3> sums(size_t(sets * count), glm::dvec3(0.));
     const glm::dvec3 o = lighting.view;

@@ -10,6 +10,7 @@
 #include "ndfmip/brdf.h"
 #include "ndfmip/environment_sh_shading.h"
 #include "ndfmip/glsl.h"
+#include "ndfmip/method_shading.h"
 #include "ndfmip/sh_brdf.h"
 #include "ndfmip/sh_rotation.h"
 #include "ndfmip/spherical_harmonics.h"
@@ -33,15 +34,17 @@ struct ShLightingShading {
         double y[shCount(kMaxShOrder)];
     };
 
-    ShLightingShading(int order, bool axes, const ShShading& a)
-        : ndfmipEnvShOrder(order), ndfmipEnvShAxes(axes ? 1 : 0),
+    ShLightingShading(int order, SpecularCosine cosine, const ShShading& a)
+        : ndfmipEnvShOrder(order), ndfmipEnvShAxes(cosine == SpecularCosine::Reflecting   ? 2
+                                                   : cosine == SpecularCosine::MeanNormal ? 1
+                                                                                          : 0),
           ndfmipEnvShDiffuse(a.diffuse.data()), ndfmipEnvShSpecular(a.specular.data()) {}
 
     int ndfmipEnvShOrder;
     int ndfmipEnvShAxes;
     const double* ndfmipEnvShDiffuse;
     const double* ndfmipEnvShSpecular;
-    const double* rows[4] = {};
+    const double* rows[5] = {};
     size_t stride = 3;
 
     vec3 ndfmipEnvShRow(int i, int row) const {
@@ -68,8 +71,8 @@ namespace {
 
 using glsl_detail::ShLightingShading;
 
-// The lighting re-expressed in one tangent frame, L_t(d) = L(T d): L, then L' (or, for the
-// MeanNormal cosine, its three axes, combined after the rotation since rotation is linear), as
+// The lighting re-expressed in one tangent frame, L_t(d) = L(T d): L, then the cosine's
+// reparameterisedSets (the axes' are combined after the rotation since rotation is linear), as
 // interleaved channels. Rotating costs ~10 us at order 8, so each thread keeps the last frame's:
 // a plane has one frame for every pixel.
 struct FrameLighting {
@@ -85,18 +88,15 @@ const FrameLighting& lightingInFrame(const ShLighting& lighting,
     if (cached.lighting == lighting.id && cached.order == order &&
         cached.frame == tangentToEnvironment)
         return cached;
-    const bool axes = lighting.cosine == SpecularCosine::MeanNormal;
-    const int count = shCount(order), channels = axes ? 12 : 6;
+    const int sets = reparameterisedSets(lighting.cosine);
+    const int count = shCount(order), channels = 3 * (1 + sets);
     cached.values.assign(size_t(channels) * size_t(count), 0.);
     for (int i = 0; i < count; ++i) {
         double* p = &cached.values[size_t(channels) * size_t(i)];
         for (int c = 0; c < 3; ++c) {
             p[c] = lighting.radiance[size_t(i)][c];
-            if (axes)
-                for (int k = 0; k < 3; ++k)
-                    p[3 + 3 * k + c] = lighting.reparameterisedAxes[k][size_t(i)][c];
-            else
-                p[3 + c] = lighting.reparameterised[size_t(i)][c];
+            for (int k = 0; k < sets; ++k)
+                p[3 + 3 * k + c] = reparameterisedSet(lighting, k)[size_t(i)][c];
         }
     }
     rotateSh(glm::transpose(glm::dmat3(tangentToEnvironment)), order, cached.values.data(),
@@ -115,7 +115,7 @@ glm::vec3 shadeShEnvironment(const Material& m, glm::vec3 albedo, const float* g
     assert(int(lighting.radiance.size()) >= count);
     // L and L' in the tangent frame, where the NDF's coefficients are.
     const FrameLighting& frame = lightingInFrame(lighting, tangentToEnvironment, order);
-    ShLightingShading shading(order, frame.channels == 12, a);
+    ShLightingShading shading(order, lighting.cosine, a);
     for (int r = 0; r < frame.channels / 3; ++r) shading.rows[r] = frame.values.data() + 3 * r;
     shading.stride = size_t(frame.channels);
     double coefficients[shCount(kMaxShOrder)];
@@ -126,15 +126,18 @@ glm::vec3 shadeShEnvironment(const Material& m, glm::vec3 albedo, const float* g
         glm::dmat3(tangentToEnvironment) *
         (glm::dvec3(g[shIndex(1, 1)], g[shIndex(1, -1)], g[shIndex(1, 0)]) /
          std::sqrt(3. / (4. * M_PI)));
-    return glm::vec3(shading.ndfmipShadeShLighting(
-        int(m.brdf), glm::dvec3(albedo), glm::dvec3(m.specular), coefficients, meanNormal));
+    // Read as one lobe of Banerjee's kappa for its length (sh.glsl's point-light cosine too).
+    const double kappa = double(glsl().ndfmipKappaFromLength(float(glm::length(meanNormal))));
+    return glm::vec3(shading.ndfmipShadeShLighting(int(m.brdf), glm::dvec3(albedo),
+                                                   glm::dvec3(m.specular), coefficients, meanNormal,
+                                                   kappa, lobeConcentration(m)));
 }
 
 void vmfBandFactors(double kappa, int order, double* out) {
     assert(kappa >= 0. && std::isfinite(kappa) && order >= 0 && order <= kMaxShOrder);
     const ShShading none;
     const ShLightingShading::NdfmipVmfBands bands =
-        ShLightingShading(order, false, none).ndfmipVmfBands(kappa, order);
+        ShLightingShading(order, SpecularCosine::None, none).ndfmipVmfBands(kappa, order);
     std::copy(bands.a, bands.a + order + 1, out);
 }
 
@@ -144,12 +147,11 @@ glm::vec3 shadeVmfEnvironmentSh(const Material& m, glm::vec3 baseAlbedo, const f
                                 const ShShading& a, VmfSpecularTransfer transfer) {
     const int order = std::min(a.order, lighting.order);
     // The lighting in the environment frame, where the lobes' mu are mapped.
-    const bool axes = lighting.cosine == SpecularCosine::MeanNormal;
-    ShLightingShading shading(order, axes, a);
+    ShLightingShading shading(order, lighting.cosine, a);
     shading.rows[0] = glm::value_ptr(lighting.radiance[0]);
-    for (int k = 0; k < (axes ? 3 : 1); ++k)
-        shading.rows[1 + k] =
-            glm::value_ptr(axes ? lighting.reparameterisedAxes[k][0] : lighting.reparameterised[0]);
+    for (int k = 0; k < reparameterisedSets(lighting.cosine); ++k)
+        shading.rows[1 + k] = glm::value_ptr(reparameterisedSet(lighting, k)[0]);
+    const double lobeKappa = double(lobeConcentration(m));
     const bool widen = transfer == VmfSpecularTransfer::Widened;
     glm::dvec3 out(0.);
     for (int j = 0; j < count; ++j) {
@@ -181,7 +183,7 @@ glm::vec3 shadeVmfEnvironmentSh(const Material& m, glm::vec3 baseAlbedo, const f
         const glm::vec3 albedo = colors ? colors[j] * m.albedo : baseAlbedo;
         out += shading.ndfmipShadeVmfLobeShLighting(int(m.brdf), glm::dvec3(albedo),
                                                     glm::dvec3(m.specular), mu, double(lobe.alpha),
-                                                    bands.a[1], t);
+                                                    kappa, bands.a[1], lobeKappa, t);
     }
     return glm::vec3(out);
 }

@@ -140,20 +140,13 @@ void interpolateShLighting(const ShViewSet& set, glm::dvec3 view, ShLighting& ou
     out.view = glm::normalize(view);
     out.cosine = set.cosine;
     out.radiance = set.radiance;
-    if (set.cosine == SpecularCosine::MeanNormal) {
-        out.reparameterised.clear();
-        for (int k = 0; k < 3; ++k)
-            blend(out.reparameterisedAxes[k], set, w,
-                  [k](const ShLighting& prepared) -> const std::vector<glm::dvec3>& {
-                      return prepared.reparameterisedAxes[k];
-                  });
-    } else {
-        blend(out.reparameterised, set, w,
-              [](const ShLighting& prepared) -> const std::vector<glm::dvec3>& {
-                  return prepared.reparameterised;
+    out.reparameterised.clear();
+    for (std::vector<glm::dvec3>& axis : out.reparameterisedAxes) axis.clear();
+    for (int k = 0; k < reparameterisedSets(set.cosine); ++k)
+        blend(reparameterisedSet(out, k), set, w,
+              [k](const ShLighting& prepared) -> const std::vector<glm::dvec3>& {
+                  return reparameterisedSet(prepared, k);
               });
-        for (std::vector<glm::dvec3>& axis : out.reparameterisedAxes) axis.clear();
-    }
 }
 
 ShLighting interpolateShLighting(const ShViewSet& set, glm::dvec3 view) {

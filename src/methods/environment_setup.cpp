@@ -25,10 +25,10 @@ Status prepareShLightingSetup(const Material& material, const RenderTextures& te
             "render: SH lighting needs a Lambert, Blinn-Phong, Beckmann or GGX material");
     if (options.shViews > 0)
         setup.shViews = cachedShViewSet(*textures.environment, kEnvironmentShOrder,
-                                        shViewFrequency(options.shViews));
+                                        shViewFrequency(options.shViews), options.shCosine);
     else
-        setup.shLighting =
-            cachedShLighting(*textures.environment, kEnvironmentShOrder, setup.environmentView);
+        setup.shLighting = cachedShLighting(*textures.environment, kEnvironmentShOrder,
+                                            setup.environmentView, options.shCosine);
     return Status::success();
 }
 

@@ -46,22 +46,20 @@ std::string environmentRefusal(const MethodShader& shader, const std::string& me
 }
 
 // The SH lighting as rows (environment.glsl's ndfmipEnvSh), coefficients l <= order: L, then
-// the axes' L' (the mean-normal cosine) or L'. With `frame` (the columns of a tangent frame in
-// the environment frame) every row re-expressed in that frame, f_t(d) = f(T d), as the CPU's
-// shadeShEnvironment does (sh_rotation.h).
+// its reparameterisedSets (the axes' L' and, for the reflecting normals' cosine, the half
+// vector's; or one L'). With `frame` (the columns of a tangent frame in the environment frame)
+// every row re-expressed in that frame, f_t(d) = f(T d), as the CPU's shadeShEnvironment does
+// (sh_rotation.h).
 Image shLightingRows(const ShLighting& lighting, int order, const glm::mat3* frame) {
-    const bool axes = lighting.cosine == SpecularCosine::MeanNormal;
-    const int count = shCount(order), rows = axes ? 4 : 2;
+    const int sets = reparameterisedSets(lighting.cosine);
+    const int count = shCount(order), rows = 1 + sets;
     std::vector<double> values(size_t(3 * rows) * size_t(count), 0.);
     for (int i = 0; i < count; ++i)
         for (int c = 0; c < 3; ++c) {
             double* p = &values[size_t(3 * rows) * size_t(i)];
             p[c] = lighting.radiance[size_t(i)][c];
-            if (axes)
-                for (int k = 0; k < 3; ++k)
-                    p[3 + 3 * k + c] = lighting.reparameterisedAxes[k][size_t(i)][c];
-            else
-                p[3 + c] = lighting.reparameterised[size_t(i)][c];
+            for (int k = 0; k < sets; ++k)
+                p[3 + 3 * k + c] = reparameterisedSet(lighting, k)[size_t(i)][c];
         }
     if (frame)
         rotateSh(glm::transpose(glm::dmat3(*frame)), order, values.data(), values.data(), 3 * rows);
@@ -399,6 +397,8 @@ Status addFragmentParts(RenderProgram& program, const Scene& scene, int methodLa
                    std::to_string(shRotationSampling(environmentShOrder).points.size()) + "\n";
         if (setup.shLighting->cosine == SpecularCosine::MeanNormal)
             defines += "#define NDFMIP_ENV_SH_AXES\n";
+        if (setup.shLighting->cosine == SpecularCosine::Reflecting)
+            defines += "#define NDFMIP_ENV_SH_REFLECTING\n";
     }
     program.fragmentParts.emplace_back("<defines>", defines);
     std::vector<std::string> files(std::begin(kLibraryFiles), std::end(kLibraryFiles));

@@ -185,6 +185,7 @@ RenderOptions rowOptionsOf(const Plan& plan) {
     RenderOptions o = plan.filtering;
     o.seed = plan.options.seed;
     o.shViews = plan.options.shViews;
+    o.shCosine = plan.options.shCosine;
     return o;
 }
 

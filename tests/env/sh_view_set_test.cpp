@@ -164,8 +164,8 @@ TEST(ShViewSet, AtAPreparedViewEqualsPrepareShLighting) {
     const Environment env = mapOf(48, sunSky);
     const int order = 4, f = 2;
     const std::vector<glm::dvec3> grid = shViewDirections(f);
-    for (SpecularCosine cosine :
-         {SpecularCosine::MeanNormal, SpecularCosine::HalfVector, SpecularCosine::None}) {
+    for (SpecularCosine cosine : {SpecularCosine::MeanNormal, SpecularCosine::HalfVector,
+                                  SpecularCosine::None, SpecularCosine::Reflecting}) {
         const ShViewSet set = prepareShViewSet(env, order, f, cosine);
         ASSERT_EQ(set.views.size(), grid.size());
         for (size_t i : {size_t(0), size_t(5), size_t(11), grid.size() - 1}) {

@@ -10,6 +10,7 @@
 
 #include "ndfmip/bake.h"
 #include "ndfmip/clock.h" // nowNanoseconds, millisecondsSince
+#include "ndfmip/environment_sh_shading.h"
 #include "ndfmip/method_parameters.h"
 #include "ndfmip/normal_map.h"
 #include "ndfmip/roughness.h"
@@ -81,12 +82,15 @@ struct EnvironmentShadingArgs {
     std::string lod = "filament";
     std::string vmfWay = "prefiltered";
     int shViews = 0;
+    SpecularCosine shCosine = SpecularCosine::Reflecting;
     // The choices into `o`; throws on an unknown name.
     void apply(RenderOptions& o) const;
 };
 void addEnvironmentShadingOptions(CLI::App* command, EnvironmentShadingArgs& args);
 // --sh-views N alone (eval; render takes it with the options above).
 void addShViewsOption(CLI::App* command, int& views);
+// --sh-cosine NAME (render and eval): SH lighting's specular cosine.
+void addShCosineOption(CLI::App* command, SpecularCosine& cosine);
 
 // The methods' own options a command takes (`use`: a ParameterCommand bit), registered from
 // their parameter tables: one option per flag, its range and help from the table.

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <map>
 
 #include "ndfmip/environment_sh_views.h"
 #include "ndfmip/io.h"
@@ -229,6 +230,21 @@ void addEnvironmentShadingOptions(CLI::App* c, EnvironmentShadingArgs& a) {
                   "or by SH lighting (sh, Han et al. eqs. 34-37)")
         ->capture_default_str();
     addShViewsOption(c, a.shViews);
+    addShCosineOption(c, a.shCosine);
+}
+
+void addShCosineOption(CLI::App* c, SpecularCosine& cosine) {
+    const std::map<std::string, SpecularCosine> names{{"reflecting", SpecularCosine::Reflecting},
+                                                      {"mean-normal", SpecularCosine::MeanNormal},
+                                                      {"half-vector", SpecularCosine::HalfVector},
+                                                      {"none", SpecularCosine::None}};
+    c->add_option("--sh-cosine", cosine,
+                  "under an environment, the specular cosine of SH lighting (sh, vmf with "
+                  "--vmf-environment sh): reflecting (the normals' that reflect the light into "
+                  "the view), mean-normal (the mean normal's; Han et al. footnote 5), half-vector "
+                  "or none (eq. 36 as printed)")
+        ->transform(CLI::CheckedTransformer(names))
+        ->default_str("reflecting");
 }
 
 void addShViewsOption(CLI::App* c, int& views) {
@@ -248,6 +264,7 @@ void EnvironmentShadingArgs::apply(RenderOptions& o) const {
     if (!environmentWayFromString(vmfWay, o.vmfEnvironment))
         throw Failure("--vmf-environment " + quote(vmfWay) + ": expected prefiltered or sh");
     o.shViews = shViews;
+    o.shCosine = shCosine;
 }
 
 EnvironmentOptions EnvironmentArgs::options(EnvironmentOptions base) const {
