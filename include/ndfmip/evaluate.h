@@ -99,7 +99,8 @@ struct EvalOptions {
     EnvironmentOptions environmentOptions;
     int shViews = 0; // RenderOptions::shViews of every method row
     SpecularCosine shCosine = SpecularCosine::Reflecting; // RenderOptions::shCosine, likewise
-    std::function<void(const std::string&)> log;          // a progress line per map
+    int environmentShOrder = 8;                  // RenderOptions::environmentShOrder, likewise
+    std::function<void(const std::string&)> log; // a progress line per map
     std::function<void(const std::string& map, const DecodeReport&)> decoded;
 };
 

@@ -117,6 +117,9 @@ struct RenderOptions {
     int shViews = 0;
     // SH lighting's specular cosine (environment_sh_shading.h): the normals' that reflect.
     SpecularCosine shCosine = SpecularCosine::Reflecting;
+    // SH lighting's order (and the vmf lobes' transfer's): the paper's l* = 8 (Sec. 8). At most
+    // kMaxShOrder (30) on the CPU, 10 on the GPU; the sh method reads min(its bake's, this).
+    int environmentShOrder = 8;
     EnvironmentEstimator environmentEstimator = EnvironmentEstimator::Mis;
 };
 

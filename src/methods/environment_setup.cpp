@@ -24,10 +24,10 @@ Status prepareShLightingSetup(const Material& material, const RenderTextures& te
         return Status::failure(
             "render: SH lighting needs a Lambert, Blinn-Phong, Beckmann or GGX material");
     if (options.shViews > 0)
-        setup.shViews = cachedShViewSet(*textures.environment, kEnvironmentShOrder,
+        setup.shViews = cachedShViewSet(*textures.environment, options.environmentShOrder,
                                         shViewFrequency(options.shViews), options.shCosine);
     else
-        setup.shLighting = cachedShLighting(*textures.environment, kEnvironmentShOrder,
+        setup.shLighting = cachedShLighting(*textures.environment, options.environmentShOrder,
                                             setup.environmentView, options.shCosine);
     return Status::success();
 }

@@ -94,9 +94,8 @@ const ShLighting& shLightingAt(const ShaderSetup& setup, glm::vec3 v,
 
 // The prepare steps the methods share under an environment (nothing without one): the
 // prefiltered levels of options.environmentLod's rule, or the SH lighting of order
-// kEnvironmentShOrder for setup.environmentView (the specular cosine options.shCosine,
+// options.environmentShOrder for setup.environmentView (the specular cosine options.shCosine,
 // environment_sh_shading.h) or, with options.shViews > 0, for the set of views.
-constexpr int kEnvironmentShOrder = 8; // Han et al. Sec. 8: l* = 8
 Status prepareSplitSumSetup(const Material& material, const RenderTextures& textures,
                             const RenderOptions& options, ShaderSetup& setup);
 Status prepareShLightingSetup(const Material& material, const RenderTextures& textures,

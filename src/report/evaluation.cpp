@@ -186,6 +186,7 @@ RenderOptions rowOptionsOf(const Plan& plan) {
     o.seed = plan.options.seed;
     o.shViews = plan.options.shViews;
     o.shCosine = plan.options.shCosine;
+    o.environmentShOrder = plan.options.environmentShOrder;
     return o;
 }
 

@@ -984,7 +984,10 @@ TEST(Cli, RenderUnderAnEnvironmentWithEveryRuleAndWay) {
          {"--method naive", "--method toksvig --env-lod log2sigma",
           "--method toksvig --env-lod unity", "--method toksvig --env-lod unreal",
           "--method vmf --vmf-environment sh", "--method vmf --env-lod filament", "--method sh",
-          "--method sh --sh-views 18", "--method vmf --vmf-environment sh --sh-views 6"}) {
+          "--method sh --sh-views 18", "--method vmf --vmf-environment sh --sh-views 6",
+          "--method sh --sh-cosine mean-normal",
+          "--method vmf --vmf-environment sh --sh-cosine "
+          "half-vector --env-sh-order 12"}) {
         r = cli("render " + scene + sky + " -q " + args + " -o " + shellQuoted(tmp.file("m.exr")));
         ASSERT_EQ(r.status, 0) << args << ": " << r.output;
         Result<SourceImage> image = loadImage(tmp.file("m.exr"));
@@ -1003,6 +1006,13 @@ TEST(Cli, RenderUnderAnEnvironmentWithEveryRuleAndWay) {
         expectCleanFailure(cli("render " + scene + sky + " --method sh --sh-views " + views +
                                " -o " + shellQuoted(tmp.file("x.exr"))),
                            {"--sh-views"});
+    expectCleanFailure(cli("render " + scene + sky + " --method sh --sh-cosine mean -o " +
+                           shellQuoted(tmp.file("x.exr"))),
+                       {"--sh-cosine", "mean"});
+    for (const char* order : {"0", "31", "eight"})
+        expectCleanFailure(cli("render " + scene + sky + " --method sh --env-sh-order " + order +
+                               " -o " + shellQuoted(tmp.file("x.exr"))),
+                           {"--env-sh-order"});
     expectCleanFailure(
         cli("render " + scene + sky + " --method lean -o " + shellQuoted(tmp.file("x.exr"))),
         {"lean", "environment"});
@@ -1084,6 +1094,13 @@ TEST(Cli, EvalUnderAnEnvironmentHasARowPerVariantAndSkipsTheRest) {
     };
     EXPECT_GT(shError("one"), 0.);
     EXPECT_NEAR(shError("six"), shError("one"), 1e-4);
+    // --sh-cosine and --env-sh-order reach the rows: another cosine or order, another image.
+    for (const char* option : {" --sh-cosine none", " --env-sh-order 3"}) {
+        ASSERT_EQ(
+            cli("eval " + map + sky + sh + option + " -o " + shellQuoted(tmp.file("other"))).status,
+            0);
+        EXPECT_GT(std::abs(shError("other") - shError("one")), 1e-3) << option;
+    }
     expectCleanFailure(
         cli("eval " + map + sky + sh + " --sh-views 2000 -o " + shellQuoted(tmp.file("r4"))),
         {"--sh-views"});

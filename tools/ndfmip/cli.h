@@ -83,14 +83,15 @@ struct EnvironmentShadingArgs {
     std::string vmfWay = "prefiltered";
     int shViews = 0;
     SpecularCosine shCosine = SpecularCosine::Reflecting;
+    int environmentShOrder = 8;
     // The choices into `o`; throws on an unknown name.
     void apply(RenderOptions& o) const;
 };
 void addEnvironmentShadingOptions(CLI::App* command, EnvironmentShadingArgs& args);
 // --sh-views N alone (eval; render takes it with the options above).
 void addShViewsOption(CLI::App* command, int& views);
-// --sh-cosine NAME (render and eval): SH lighting's specular cosine.
-void addShCosineOption(CLI::App* command, SpecularCosine& cosine);
+// --sh-cosine NAME and --env-sh-order N (render and eval): SH lighting's specular cosine and order.
+void addShLightingOptions(CLI::App* command, SpecularCosine& cosine, int& order);
 
 // The methods' own options a command takes (`use`: a ParameterCommand bit), registered from
 // their parameter tables: one option per flag, its range and help from the table.

@@ -151,7 +151,7 @@ void addEvalCommand(CLI::App& app) {
     addFilteringOptions(c, args->filtering);
     addEnvironmentOptions(c, args->environment);
     addShViewsOption(c, a->shViews);
-    addShCosineOption(c, a->shCosine);
+    addShLightingOptions(c, a->shCosine, a->environmentShOrder);
     c->add_option(
         "--external-roughness", a->externalRoughness,
         "NAME=PATTERN: another tool's perceptual-roughness mips (one file per level; PATTERN with "

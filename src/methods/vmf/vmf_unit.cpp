@@ -56,8 +56,8 @@ Status prepareVmf(const Material& m, const RenderTextures& textures, const Rende
     if (!textures.environment) return Status::success();
     if (options.vmfEnvironment == EnvironmentWay::Prefiltered)
         return prepareSplitSumSetup(m, textures, options, setup);
-    // The paper's way: the lobes' transfer functions against SH lighting of order 8.
-    Result<ShShading> sh = shShadingFor(m, kEnvironmentShOrder);
+    // The paper's way: the lobes' transfer functions against SH lighting of the options' order.
+    Result<ShShading> sh = shShadingFor(m, options.environmentShOrder);
     if (!sh) return Status::failure(sh.error().message);
     setup.sh = std::move(sh.value());
     return prepareShLightingSetup(m, textures, options, setup);
