@@ -60,6 +60,10 @@ namespace ndfmip {
 
 enum class SpecularCosine { HalfVector, MeanNormal, None, Reflecting };
 
+// The cosine's name on the command line and in eval's report: half-vector, mean-normal, none or
+// reflecting.
+const char* specularCosineName(SpecularCosine cosine);
+
 // How many L' a cosine prepares: 3 (MeanNormal: the axes), 4 (Reflecting: the axes, then the half
 // vector's), otherwise 1.
 int reparameterisedSets(SpecularCosine cosine);

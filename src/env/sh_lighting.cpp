@@ -45,6 +45,20 @@ void frameAbout(glm::dvec3 w, glm::dvec3& t1, glm::dvec3& t2) {
 
 } // namespace
 
+const char* specularCosineName(SpecularCosine cosine) {
+    switch (cosine) {
+    case SpecularCosine::HalfVector:
+        return "half-vector";
+    case SpecularCosine::MeanNormal:
+        return "mean-normal";
+    case SpecularCosine::None:
+        return "none";
+    case SpecularCosine::Reflecting:
+        return "reflecting";
+    }
+    return "none";
+}
+
 int reparameterisedSets(SpecularCosine cosine) {
     if (cosine == SpecularCosine::MeanNormal) return 3;
     return cosine == SpecularCosine::Reflecting ? 4 : 1;

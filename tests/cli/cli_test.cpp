@@ -1070,6 +1070,10 @@ TEST(Cli, EvalUnderAnEnvironmentHasARowPerVariantAndSkipsTheRest) {
               (std::set<std::string>{"groundtruth", "naive", "toksvig@unity", "vmf:2@sh"}));
     ASSERT_EQ(report["skipped"].size(), 1u);
     EXPECT_EQ(report["skipped"][0]["method"], "lean");
+    // The SH lighting's choices are on record.
+    EXPECT_EQ(report["setup"]["environment"]["sh_cosine"], "reflecting");
+    EXPECT_EQ(report["setup"]["environment"]["env_sh_order"], 8);
+    EXPECT_EQ(report["setup"]["environment"]["sh_views"], 0);
     // A variant needs an environment; an unknown variant is refused.
     expectCleanFailure(
         cli("eval " + map + " -q --methods toksvig@unity -o " + shellQuoted(tmp.file("r2"))),

@@ -235,10 +235,10 @@ void addEnvironmentShadingOptions(CLI::App* c, EnvironmentShadingArgs& a) {
 }
 
 void addShLightingOptions(CLI::App* c, SpecularCosine& cosine, int& order) {
-    const std::map<std::string, SpecularCosine> names{{"reflecting", SpecularCosine::Reflecting},
-                                                      {"mean-normal", SpecularCosine::MeanNormal},
-                                                      {"half-vector", SpecularCosine::HalfVector},
-                                                      {"none", SpecularCosine::None}};
+    std::map<std::string, SpecularCosine> names;
+    for (SpecularCosine each : {SpecularCosine::Reflecting, SpecularCosine::MeanNormal,
+                                SpecularCosine::HalfVector, SpecularCosine::None})
+        names[specularCosineName(each)] = each;
     c->add_option("--sh-cosine", cosine,
                   "under an environment, the specular cosine of SH lighting (sh, vmf with "
                   "--vmf-environment sh): reflecting (the normals' that reflect the light into "
