@@ -88,6 +88,12 @@ struct ShLighting {
 const std::vector<glm::dvec3>& reparameterisedSet(const ShLighting& lighting, int k);
 std::vector<glm::dvec3>& reparameterisedSet(ShLighting& lighting, int k);
 
+// L, then the reparameterisedSets, as interleaved channels for coefficients l <= order:
+// coefficient i's 3 (1 + sets) values at 3 (1 + sets) i, L's RGB first, then each set's. What
+// the shading reads (rotated into a tangent frame by sh_rotation.h's rotateSh where it must be)
+// and the GPU's rows. Precondition: order <= lighting.order.
+std::vector<double> interleavedShLighting(const ShLighting& lighting, int order);
+
 // L and L' of the map. L' is projected texel by texel, in the variable w_i where the map is
 // given: L'_lm = Integral L(w_i) 4 (w_i.h) c Y_lm(h(w_i)) dh = Integral L(w_i) c Y_lm(h) dw_i, each
 // texel's radiance times c Y_lm(h) at its centre times its solid angle.

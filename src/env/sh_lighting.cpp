@@ -76,6 +76,22 @@ const std::vector<glm::dvec3>& reparameterisedSet(const ShLighting& lighting, in
                                              : lighting.reparameterised;
 }
 
+std::vector<double> interleavedShLighting(const ShLighting& lighting, int order) {
+    assert(order <= lighting.order);
+    const int sets = reparameterisedSets(lighting.cosine);
+    const int count = shCount(order), channels = 3 * (1 + sets);
+    std::vector<double> values(size_t(channels) * size_t(count));
+    for (int i = 0; i < count; ++i) {
+        double* p = &values[size_t(channels) * size_t(i)];
+        for (int c = 0; c < 3; ++c) {
+            p[c] = lighting.radiance[size_t(i)][c];
+            for (int k = 0; k < sets; ++k)
+                p[3 + 3 * k + c] = reparameterisedSet(lighting, k)[size_t(i)][c];
+        }
+    }
+    return values;
+}
+
 ShLighting prepareShLighting(const Environment& env, int order, glm::dvec3 fixedView,
                              SpecularCosine cosine) {
     ShLighting lighting = prepareReparameterisedSh(env, order, fixedView, cosine);

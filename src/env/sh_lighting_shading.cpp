@@ -88,17 +88,8 @@ const FrameLighting& lightingInFrame(const ShLighting& lighting,
     if (cached.lighting == lighting.id && cached.order == order &&
         cached.frame == tangentToEnvironment)
         return cached;
-    const int sets = reparameterisedSets(lighting.cosine);
-    const int count = shCount(order), channels = 3 * (1 + sets);
-    cached.values.assign(size_t(channels) * size_t(count), 0.);
-    for (int i = 0; i < count; ++i) {
-        double* p = &cached.values[size_t(channels) * size_t(i)];
-        for (int c = 0; c < 3; ++c) {
-            p[c] = lighting.radiance[size_t(i)][c];
-            for (int k = 0; k < sets; ++k)
-                p[3 + 3 * k + c] = reparameterisedSet(lighting, k)[size_t(i)][c];
-        }
-    }
+    const int channels = 3 * (1 + reparameterisedSets(lighting.cosine));
+    cached.values = interleavedShLighting(lighting, order);
     rotateSh(glm::transpose(glm::dmat3(tangentToEnvironment)), order, cached.values.data(),
              cached.values.data(), channels);
     cached.lighting = lighting.id, cached.order = order, cached.frame = tangentToEnvironment,

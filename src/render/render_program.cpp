@@ -51,16 +51,8 @@ std::string environmentRefusal(const MethodShader& shader, const std::string& me
 // every row re-expressed in that frame, f_t(d) = f(T d), as the CPU's shadeShEnvironment does
 // (sh_rotation.h).
 Image shLightingRows(const ShLighting& lighting, int order, const glm::mat3* frame) {
-    const int sets = reparameterisedSets(lighting.cosine);
-    const int count = shCount(order), rows = 1 + sets;
-    std::vector<double> values(size_t(3 * rows) * size_t(count), 0.);
-    for (int i = 0; i < count; ++i)
-        for (int c = 0; c < 3; ++c) {
-            double* p = &values[size_t(3 * rows) * size_t(i)];
-            p[c] = lighting.radiance[size_t(i)][c];
-            for (int k = 0; k < sets; ++k)
-                p[3 + 3 * k + c] = reparameterisedSet(lighting, k)[size_t(i)][c];
-        }
+    const int count = shCount(order), rows = 1 + reparameterisedSets(lighting.cosine);
+    std::vector<double> values = interleavedShLighting(lighting, order);
     if (frame)
         rotateSh(glm::transpose(glm::dmat3(*frame)), order, values.data(), values.data(), 3 * rows);
     Image out(count, rows, 3);

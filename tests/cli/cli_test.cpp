@@ -996,22 +996,19 @@ TEST(Cli, RenderUnderAnEnvironmentWithEveryRuleAndWay) {
         // the SH truncation's approximations).
         EXPECT_NEAR(image->image.at(4, 4)[0], centre, 0.15f * centre) << args;
     }
-    expectCleanFailure(
-        cli("render " + scene + sky + " --env-lod bilinear -o " + shellQuoted(tmp.file("x.exr"))),
-        {"--env-lod", "bilinear"});
-    expectCleanFailure(cli("render " + scene + sky + " --method vmf --vmf-environment cube -o " +
-                           shellQuoted(tmp.file("x.exr"))),
+    // A render under the sky with these arguments, into x.exr (which must never appear).
+    auto renderWith = [&](const std::string& args) {
+        return cli("render " + scene + sky + " " + args + " -o " + shellQuoted(tmp.file("x.exr")));
+    };
+    expectCleanFailure(renderWith("--env-lod bilinear"), {"--env-lod", "bilinear"});
+    expectCleanFailure(renderWith("--method vmf --vmf-environment cube"),
                        {"--vmf-environment", "cube"});
     for (const char* views : {"-1", "1027", "many"})
-        expectCleanFailure(cli("render " + scene + sky + " --method sh --sh-views " + views +
-                               " -o " + shellQuoted(tmp.file("x.exr"))),
+        expectCleanFailure(renderWith(std::string("--method sh --sh-views ") + views),
                            {"--sh-views"});
-    expectCleanFailure(cli("render " + scene + sky + " --method sh --sh-cosine mean -o " +
-                           shellQuoted(tmp.file("x.exr"))),
-                       {"--sh-cosine", "mean"});
+    expectCleanFailure(renderWith("--method sh --sh-cosine mean"), {"--sh-cosine", "mean"});
     for (const char* order : {"0", "31", "eight"})
-        expectCleanFailure(cli("render " + scene + sky + " --method sh --env-sh-order " + order +
-                               " -o " + shellQuoted(tmp.file("x.exr"))),
+        expectCleanFailure(renderWith(std::string("--method sh --env-sh-order ") + order),
                            {"--env-sh-order"});
     expectCleanFailure(
         cli("render " + scene + sky + " --method lean -o " + shellQuoted(tmp.file("x.exr"))),
