@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -13,6 +14,8 @@
 #include <iterator>
 #include <string>
 #include <vector>
+
+#include <sys/wait.h>
 
 #include <gtest/gtest.h>
 
@@ -379,9 +382,10 @@ TEST(GltfBasisu, GltfTransformStepsKeepTheLevelsButDropTheFallback) {
     test::TempDir dir("gltf_transform");
     const std::string input = quadGltf(dir), out = dir.file("out.glb");
     std::string output;
-    ASSERT_EQ(test::runCli("gltf " + test::shellArg(input) + " -o " + test::shellArg(out) + " -q",
-                           &output),
-              0)
+    ASSERT_EQ(
+        test::runCliWithin(
+            180, "gltf " + test::shellArg(input) + " -o " + test::shellArg(out) + " -q", &output),
+        0)
         << output;
     const test::Glb ours = test::parseGlb(test::fileBytes(out));
     ASSERT_TRUE(ours.ok);
@@ -393,10 +397,18 @@ TEST(GltfBasisu, GltfTransformStepsKeepTheLevelsButDropTheFallback) {
     for (const char* step : {"copy", "dedup", "prune"}) {
         SCOPED_TRACE(step);
         const std::string after = dir.file(std::string(step) + ".glb"), log = dir.file("gt.log");
-        const std::string command = "node " + test::shellArg(cli) + " " + step + " " +
-                                    test::shellArg(out) + " " + test::shellArg(after) + " > " +
-                                    test::shellArg(log) + " 2>&1";
-        ASSERT_EQ(std::system(command.c_str()), 0) << test::fileBytes(log);
+        // Bounded: a node process that does not exit fails this step in two minutes, not the
+        // whole test at ctest's timeout; one such stall is retried, and the log says which.
+        const std::string command = "timeout -k 10 120 node " + test::shellArg(cli) + " " + step +
+                                    " " + test::shellArg(out) + " " + test::shellArg(after) +
+                                    " > " + test::shellArg(log) + " 2>&1";
+        int status = std::system(command.c_str());
+        if (WIFEXITED(status) && WEXITSTATUS(status) == 124) {
+            std::printf("glTF-Transform %s did not finish in 120 s; retried once\n", step);
+            status = std::system(command.c_str());
+        }
+        ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+            << "status " << status << ": " << test::fileBytes(log);
         const test::Glb glb = test::parseGlb(test::fileBytes(after));
         ASSERT_TRUE(glb.ok);
         const OrderedJson& used = glb.json["extensionsUsed"];
@@ -411,10 +423,9 @@ TEST(GltfBasisu, GltfTransformStepsKeepTheLevelsButDropTheFallback) {
             return n;
         };
         EXPECT_EQ(pngsOf(glb), std::string(step) == "prune" ? 0u : pngsOf(ours));
-        test::expectOneLineError(test::runCli("gltf " + test::shellArg(after) + " -o " +
-                                                  test::shellArg(dir.file("x.glb")),
-                                              &output),
-                                 output, {"has no core source image"});
+        test::expectCliRefuses("gltf " + test::shellArg(after) + " -o " +
+                                   test::shellArg(dir.file("x.glb")),
+                               {"has no core source image"});
     }
 }
 
