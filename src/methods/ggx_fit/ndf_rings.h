@@ -146,40 +146,85 @@ struct RingFrame {
     float bitangent[3];
 };
 
-// A row of `count` level-0 normals (not necessarily unit; the zero vector reads as the flat
-// normal, as normalizeOrFlat has it) as angles `beta` from the frame's axis and, with mode 2,
-// doubled azimuths (c2, s2) about it: a loop the compiler vectorises, ahead of the histogram's
-// scattered adds.
-struct RowAngles {
+// A footprint's level-0 normals as three planes (and, with a roughness map, their alphas),
+// gathered once per texel for the mode's steps and the histogram: their loops then run over one
+// long array instead of short rows of interleaved channels (a level-1 footprint is two rows of
+// two). A footprint of more than kPlaneNormals normals is gathered a band of rows at a time.
+constexpr size_t kPlaneNormals = size_t(1) << 16;
+
+struct FootprintPlanes {
+    std::vector<float> x, y, z, alpha;
+    Footprint band{0, 0, 0, -1}; // the rows now gathered (none at first)
+    // Scratch of angles, one band's worth: beta from the axis and, with mode 2, doubled azimuths.
     std::vector<float> beta, c2, s2;
+    size_t count() const { return x.size(); }
 };
 
-template <bool kSecondMode>
-inline void rowAngles(const float* row, int count, const RingFrame& frame, RowAngles& out) {
-    out.beta.resize(size_t(count));
-    if constexpr (kSecondMode) out.c2.resize(size_t(count)), out.s2.resize(size_t(count));
-    float* beta = out.beta.data();
-    float* c2 = out.c2.data();
-    float* s2 = out.s2.data();
-    const float* axis = frame.axis;
-    const float* tx = frame.tangent;
-    const float* bx = frame.bitangent;
+inline void gatherBand(const Image& base, const MaterialLobes& lobes, const Footprint& band,
+                       FootprintPlanes& p) {
+    const size_t count = band.count();
+    p.x.resize(count), p.y.resize(count), p.z.resize(count);
+    p.alpha.resize(lobes.map ? count : 0);
+    const int width = band.width();
+    size_t i = 0;
+    for (int y = band.y0; y < band.y1; ++y) {
+        const float* row = base.at(band.x0, y);
+        for (int x = 0; x < width; ++x, ++i)
+            p.x[i] = row[3 * x], p.y[i] = row[3 * x + 1], p.z[i] = row[3 * x + 2];
+        if (lobes.map)
+            for (int x = 0; x < width; ++x)
+                p.alpha[size_t(y - band.y0) * size_t(width) + size_t(x)] =
+                    lobes.alphaAt(band.x0 + x, y);
+    }
+    p.band = band;
+}
+
+// Calls fn(planes) on f's normals, a band of rows at a time; a footprint that fits in one band is
+// gathered once for every call on it.
+template <class Fn>
+inline void forEachBand(const Image& base, const MaterialLobes& lobes, const Footprint& f,
+                        FootprintPlanes& p, const Fn& fn) {
+    const int rows = std::max(1, int(kPlaneNormals / size_t(std::max(f.width(), 1))));
+    for (int y = f.y0; y < f.y1; y += rows) {
+        const Footprint band{f.x0, f.x1, y, std::min(y + rows, f.y1)};
+        if (band.x0 != p.band.x0 || band.x1 != p.band.x1 || band.y0 != p.band.y0 ||
+            band.y1 != p.band.y1)
+            gatherBand(base, lobes, band, p);
+        fn(p);
+    }
+}
+
+// The gathered normals (not necessarily unit; the zero vector reads as the flat normal, as
+// normalizeOrFlat has it) as angles `beta` from the frame's axis and, with mode 2, doubled
+// azimuths (c2, s2) about it: a loop the compiler vectorises, ahead of the histogram's scattered
+// adds. The doubled azimuth's cosine and sine are ratios of the normal's components, so only the
+// cosine from the axis divides by its length.
+template <bool kSecondMode> inline void bandAngles(const RingFrame& frame, FootprintPlanes& p) {
+    const int count = int(p.count());
+    p.beta.resize(size_t(count));
+    if constexpr (kSecondMode) p.c2.resize(size_t(count)), p.s2.resize(size_t(count));
+    const float *nx = p.x.data(), *ny = p.y.data(), *nz = p.z.data();
+    float* beta = p.beta.data();
+    float* c2 = p.c2.data();
+    float* s2 = p.s2.data();
+    const float a0 = frame.axis[0], a1 = frame.axis[1], a2 = frame.axis[2];
+    const float t0 = frame.tangent[0], t1 = frame.tangent[1], t2 = frame.tangent[2];
+    const float b0 = frame.bitangent[0], b1 = frame.bitangent[1], b2 = frame.bitangent[2];
 #pragma omp simd
     for (int i = 0; i < count; ++i) {
-        const float* n = row + 3 * i;
-        const float length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        const float length2 = nx[i] * nx[i] + ny[i] * ny[i] + nz[i] * nz[i];
+        const float length = std::sqrt(length2);
         // Every division made, then selected: a branch around one would keep the loop scalar.
         const bool flat = !(length > 0.f);
-        const float divisor = flat ? 1.f : length;
-        const float q0 = n[0] / divisor, q1 = n[1] / divisor, q2 = n[2] / divisor;
-        const float u0 = flat ? 0.f : q0, u1 = flat ? 0.f : q1, u2 = flat ? 1.f : q2;
-        const float c = u0 * axis[0] + u1 * axis[1] + u2 * axis[2];
+        const float u0 = flat ? 0.f : nx[i], u1 = flat ? 0.f : ny[i], u2 = flat ? 1.f : nz[i];
+        const float scale = flat ? 1.f : length;
+        const float c = (u0 * a0 + u1 * a1 + u2 * a2) / scale;
         beta[i] = fastAcos(std::min(std::max(c, -1.f), 1.f));
         if constexpr (kSecondMode) {
-            const float x = u0 * tx[0] + u1 * tx[1] + u2 * tx[2];
-            const float y = u0 * bx[0] + u1 * bx[1] + u2 * bx[2];
+            const float x = u0 * t0 + u1 * t1 + u2 * t2;
+            const float y = u0 * b0 + u1 * b1 + u2 * b2;
             const float rho2 = x * x + y * y;
-            const bool polar = !(rho2 > 1e-12f);
+            const bool polar = !(rho2 > 1e-12f * (flat ? 1.f : length2));
             const float r = polar ? 1.f : rho2;
             const float cosine = (x * x - y * y) / r, sine = 2.f * x * y / r;
             c2[i] = polar ? 0.f : cosine;
@@ -211,28 +256,28 @@ template <bool kSecondMode>
     }
 }
 
-// Adds the footprint's level-0 normals, row by row.
+// Adds the footprint's level-0 normals, a band at a time.
 template <bool kSecondMode>
 inline void addFootprintWithModes(TexelNormals& t, const MaterialLobes& lobes, const Image& base,
-                                  const Footprint& f, const RingFrame& frame, RowAngles& scratch) {
-    const int count = f.width();
-    for (int y = f.y0; y < f.y1; ++y) {
-        rowAngles<kSecondMode>(base.at(f.x0, y), count, frame, scratch);
-        for (int i = 0; i < count; ++i) {
-            const float c2 = kSecondMode ? scratch.c2[size_t(i)] : 0.f;
-            const float s2 = kSecondMode ? scratch.s2[size_t(i)] : 0.f;
-            addAngleOf<kSecondMode>(t, lobes, scratch.beta[size_t(i)], lobes.alphaAt(f.x0 + i, y),
+                                  const Footprint& f, const RingFrame& frame, FootprintPlanes& p) {
+    forEachBand(base, lobes, f, p, [&](FootprintPlanes& band) {
+        bandAngles<kSecondMode>(frame, band);
+        const size_t count = band.count();
+        for (size_t i = 0; i < count; ++i) {
+            const float c2 = kSecondMode ? band.c2[i] : 0.f;
+            const float s2 = kSecondMode ? band.s2[i] : 0.f;
+            addAngleOf<kSecondMode>(t, lobes, band.beta[i], lobes.map ? band.alpha[i] : lobes.alpha,
                                     c2, s2);
         }
-    }
+    });
 }
 
 inline void addFootprint(TexelNormals& t, const MaterialLobes& lobes, const Image& base,
-                         const Footprint& f, const RingFrame& frame, RowAngles& scratch) {
+                         const Footprint& f, const RingFrame& frame, FootprintPlanes& p) {
     if (lobes.secondMode)
-        addFootprintWithModes<true>(t, lobes, base, f, frame, scratch);
+        addFootprintWithModes<true>(t, lobes, base, f, frame, p);
     else
-        addFootprintWithModes<false>(t, lobes, base, f, frame, scratch);
+        addFootprintWithModes<false>(t, lobes, base, f, frame, p);
 }
 
 // T's modes on the ring at theta: its mean, and with mode 2 its means times cos 2 phi and
@@ -340,24 +385,31 @@ float minimiseOnScan(const F& f, float lo, float hi, int scan, int parabolicStep
 // (docs/RESULTS.md).
 constexpr int kModeSteps = 3;
 
-inline void modeAxis(const Image& base, const Footprint& f, float width, float* axis) {
+inline void modeAxis(const Image& base, const MaterialLobes& lobes, const Footprint& f, float width,
+                     FootprintPlanes& p, float* axis) {
     const float w2m1 = width * width - 1.f;
     float h0 = axis[0], h1 = axis[1], h2 = axis[2];
     for (int step = 0; step < kModeSteps; ++step) {
         float s0 = 0.f, s1 = 0.f, s2 = 0.f;
-        for (int y = f.y0; y < f.y1; ++y) {
-            const float* row = base.at(f.x0, y);
-            float r0 = 0.f, r1 = 0.f, r2 = 0.f; // per row: float sums of at most a row's terms
+        forEachBand(base, lobes, f, p, [&](const FootprintPlanes& band) {
+            const size_t count = band.count();
+            const float *nx = band.x.data(), *ny = band.y.data(), *nz = band.z.data();
+            // Float sums of at most kSumRun terms each, then added up.
+            constexpr size_t kSumRun = 4096;
+            for (size_t start = 0; start < count; start += kSumRun) {
+                const int run = int(std::min(kSumRun, count - start));
+                const float *ux = nx + start, *uy = ny + start, *uz = nz + start;
+                float r0 = 0.f, r1 = 0.f, r2 = 0.f;
 #pragma omp simd reduction(+ : r0, r1, r2)
-            for (int x = 0; x < f.x1 - f.x0; ++x) {
-                const float* u = row + 3 * x;
-                const float c = std::max(u[0] * h0 + u[1] * h1 + u[2] * h2, 0.f);
-                const float d = 1.f + w2m1 * c * c;
-                const float w = 1.f / (d * d); // D_width(c) up to its constant factor
-                r0 += w * u[0], r1 += w * u[1], r2 += w * u[2];
+                for (int i = 0; i < run; ++i) {
+                    const float c = std::max(ux[i] * h0 + uy[i] * h1 + uz[i] * h2, 0.f);
+                    const float d = 1.f + w2m1 * c * c;
+                    const float w = 1.f / (d * d); // D_width(c) up to its constant factor
+                    r0 += w * ux[i], r1 += w * uy[i], r2 += w * uz[i];
+                }
+                s0 += r0, s1 += r1, s2 += r2;
             }
-            s0 += r0, s1 += r1, s2 += r2;
-        }
+        });
         const float length = std::sqrt(s0 * s0 + s1 * s1 + s2 * s2);
         if (!(length > 0.f) || !std::isfinite(length)) return; // keep the mean normal
         const float moved =
@@ -494,7 +546,7 @@ void fitLevel(const Pyramid& pyramid, const MaterialLobes& lobes, int k, Image& 
 #pragma omp parallel
     {
         TexelNormals normals = texelNormals(lobes);
-        RowAngles scratch;
+        FootprintPlanes planes;
 #pragma omp for schedule(dynamic, 16)
         for (int64_t i = 0; i < texels; ++i) {
             const float* na = &mean.pixels[3 * size_t(i)];
@@ -507,9 +559,9 @@ void fitLevel(const Pyramid& pyramid, const MaterialLobes& lobes, int k, Image& 
             }
             const Footprint f = footprint(pyramid, k, x, y);
             const float r = std::min(length3(na), 1.f);
-            modeAxis(base, f, lobeWidth(lobes, f, r), n);
+            modeAxis(base, lobes, f, lobeWidth(lobes, f, r), planes, n);
             const RingFrame frame = frameOf(n);
-            addFootprint(normals, lobes, base, f, frame, scratch);
+            addFootprint(normals, lobes, base, f, frame, planes);
             fit(size_t(i), normals, r);
             clearTexel(normals);
         }
