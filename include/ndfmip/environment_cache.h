@@ -17,12 +17,13 @@
 
 namespace ndfmip {
 
-// prepareSplitSum(lighting.environment, options) with options.rules = {rule} and
-// options.blinnPhongLobe = blinnPhongLobe, the other options at their defaults; the same object
-// for every call with the same rule and lobe.
+// prepareSplitSum(lighting.environment, options) with options.rules = {rule},
+// options.blinnPhongLobe = blinnPhongLobe and options.dominantDirection = dominantDirection, the
+// other options at their defaults; the same object for every call with the same three.
 std::shared_ptr<const SplitSumLighting> cachedSplitSum(const EnvironmentLighting& lighting,
                                                        EnvironmentLod rule,
-                                                       bool blinnPhongLobe = false);
+                                                       bool blinnPhongLobe = false,
+                                                       bool dominantDirection = true);
 
 // prepareShLighting(lighting.environment, order, view, cosine); the same object for every call with
 // the same order, cosine and view (compared exactly: an eval's renders share their camera). Only

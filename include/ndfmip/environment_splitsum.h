@@ -92,6 +92,10 @@ struct SplitSumOptions {
     int albedoTableSize = 32;   // n.v x perceptual roughness entries
     int albedoSamples = 512;    // samples per entry
     bool vmfBandFactors = true; // diffuse about a vMF lobe (and Toksvig's Na) band-attenuated
+    // The radiance read along the lobe's dominant direction (its centroid, bent from the
+    // reflection towards the normal: lobeDominantShare) instead of the mirror direction; off reads
+    // along the reflection, the split sum as Karis wrote it.
+    bool dominantDirection = true;
     // The engine rules' levels convolved with the Blinn-Phong lobe of exponent
     // s_k = 2/alpha_k^2 - 2 (the inverse of blinnPhongAlpha) instead of GGX alpha_k = r_k^2: the
     // chain a Blinn-Phong material reads at its own lobe (it reads a level by the roughness
@@ -118,6 +122,9 @@ struct SplitSumLighting {
     // the DFG table in [0] (R scale, G bias, B their sum). Column x: n.v = (x + 0.5)/size, row
     // y: perceptual roughness (y + 0.5)/size (Blinn-Phong: sqrt(blinnPhongAlpha(s))).
     std::array<Image, 3> albedo;
+    // The dominant direction's share of the normal, per BRDF (index int(Brdf) - 1), the same
+    // columns and rows as the lobe's albedo table; zero without SplitSumOptions::dominantDirection.
+    std::array<Image, 3> dominant;
     std::vector<glm::dvec3> irradiance; // E_lm, order 2 (projectEnvironmentSh)
     double texelAngle = 0.;             // angular height of a level-0 texel, pi / (size / 2)
                             // (Log2Sigma's cube faces: pi/2 over size/4 texels, the same)
@@ -153,6 +160,17 @@ float specularAlbedo(const SplitSumLighting& lighting, Brdf brdf, float mu,
 // The directional albedo of the project's lobe, integral D(n.h) <n.l> dl, by `samples`
 // Hammersley samples of D(h) <n.h> (the table's entries).
 double lobeAlbedo(Brdf brdf, double mu, double perceptualRoughness, int samples);
+// The lobe's dominant direction at n.v = mu: the centroid of D(n.h) <n.l> over l (the same
+// samples), written as the share f of the normal in normalize(mix(reflect(-v, n), n, f)), in
+// [0, 1]. At grazing views the lobe's part below the horizon is cut and its cosine weighs the
+// directions nearer the normal: its centroid leaves the mirror direction towards n (Lagarde and
+// de Rousiers 2014 fit the same idea for a BRDF with masking and 1/(4 n.l n.v), which this lobe
+// has not).
+double lobeDominantShare(Brdf brdf, double mu, double perceptualRoughness, int samples);
+// The table's share for `brdf` at n.v = mu and perceptual roughness r (bilinear, clamped); 0 for
+// a material without a lobe.
+float dominantShare(const SplitSumLighting& lighting, Brdf brdf, float mu,
+                    float perceptualRoughness);
 
 // The prefiltered radiance of a lobe along `reflected` (environment frame): the rule's chain at
 // the level of perceptual roughness r, or for Log2Sigma at the level of

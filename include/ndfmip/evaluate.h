@@ -100,6 +100,7 @@ struct EvalOptions {
     int shViews = 0; // RenderOptions::shViews of every method row
     SpecularCosine shCosine = SpecularCosine::Reflecting; // RenderOptions::shCosine, likewise
     int environmentShOrder = 8;                  // RenderOptions::environmentShOrder, likewise
+    bool dominantDirection = true;               // RenderOptions::dominantDirection, likewise
     std::function<void(const std::string&)> log; // a progress line per map
     std::function<void(const std::string& map, const DecodeReport&)> decoded;
 };

@@ -120,6 +120,10 @@ struct RenderOptions {
     // SH lighting's order (and the vmf lobes' transfer's): the paper's l* = 8 (Sec. 8). At most
     // kMaxShOrder (30) on the CPU, 10 on the GPU; the sh method reads min(its bake's, this).
     int environmentShOrder = 8;
+    // The split-sum rows (naive, toksvig, roughness-mips, vmf the engine way, ggx-fit, ggx-aniso)
+    // read the prefiltered radiance along the lobe's dominant direction (SplitSumOptions::
+    // dominantDirection); false reads along the mirror direction.
+    bool dominantDirection = true;
     EnvironmentEstimator environmentEstimator = EnvironmentEstimator::Mis;
 };
 

@@ -11,7 +11,8 @@
 //                    applied), its level k the texture's mip k
 //   ndfmipEnvCube    instead, with NDFMIP_ENVIRONMENT_CUBE, the log2sigma rule's box chain on
 //                    cube faces: six layers, its level k the mip k
-//   ndfmipEnvAlbedo  the split sum's second factor: column n.v, row perceptual roughness
+//   ndfmipEnvAlbedo  the split sum's second factor (R) and the dominant direction's share of the
+//                    normal (G): column n.v, row perceptual roughness
 //   ndfmipEnvMap     the map itself (the background where it is visible)
 
 uniform sampler2D ndfmipEnvChain;
@@ -165,20 +166,24 @@ vec3 ndfmipPrefilteredRadiance(vec3 reflected, float r, float normalVariance) {
     return ndfmipSampleChain(lod, normalize(reflected));
 }
 
-// specularAlbedo: the table bilinear with clamped edges at (n.v, r); the table is the material's.
-float ndfmipSpecularAlbedo(NdfmipMaterial m, float mu, float r) {
+// The material's table bilinear with clamped edges at (n.v, r): the split sum's second factor
+// (specularAlbedo) in R, the dominant direction's share of the normal (dominantShare) in G.
+vec2 ndfmipEnvTable(float mu, float r) {
     ivec2 size = textureSize(ndfmipEnvAlbedo, 0);
     vec2 x = clamp(vec2(clamp(mu, 0.0f, 1.0f), clamp(r, 0.0f, 1.0f)) * vec2(size) - 0.5f, vec2(0.0f),
                    vec2(size - 1));
     ivec2 x0 = ivec2(x);
     ivec2 x1 = min(x0 + 1, size - 1);
     vec2 f = x - vec2(x0);
-    float a = texelFetch(ndfmipEnvAlbedo, x0, 0).r;
-    float b = texelFetch(ndfmipEnvAlbedo, ivec2(x1.x, x0.y), 0).r;
-    float c = texelFetch(ndfmipEnvAlbedo, ivec2(x0.x, x1.y), 0).r;
-    float e = texelFetch(ndfmipEnvAlbedo, x1, 0).r;
+    vec2 a = texelFetch(ndfmipEnvAlbedo, x0, 0).rg;
+    vec2 b = texelFetch(ndfmipEnvAlbedo, ivec2(x1.x, x0.y), 0).rg;
+    vec2 c = texelFetch(ndfmipEnvAlbedo, ivec2(x0.x, x1.y), 0).rg;
+    vec2 e = texelFetch(ndfmipEnvAlbedo, x1, 0).rg;
     return (1.0f - f.y) * ((1.0f - f.x) * a + f.x * b) + f.y * ((1.0f - f.x) * c + f.x * e);
 }
+
+float ndfmipSpecularAlbedo(NdfmipMaterial m, float mu, float r) { return ndfmipEnvTable(mu, r).x; }
+float ndfmipDominantShare(NdfmipMaterial m, float mu, float r) { return ndfmipEnvTable(mu, r).y; }
 
 // irradianceAt: Sum band_l E_lm Y_lm(n), clamped at 0 (truncation rings).
 vec3 ndfmipIrradiance(vec3 n, vec3 band) {

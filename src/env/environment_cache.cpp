@@ -13,6 +13,7 @@ struct EnvironmentCache::Entry {
         enum class Kind { SplitSum, Sh, ShViews } kind = Kind::SplitSum;
         EnvironmentLod rule = EnvironmentLod::Filament;     // SplitSum
         bool blinnPhongLobe = false;                        // SplitSum
+        bool dominantDirection = true;                      // SplitSum
         int order = 0;                                      // Sh, ShViews
         int frequency = 0;                                  // ShViews
         SpecularCosine cosine = SpecularCosine::MeanNormal; // Sh, ShViews
@@ -50,13 +51,17 @@ std::shared_ptr<Entry> entryFor(EnvironmentCache& cache, const Entry::Key& key) 
 } // namespace
 
 std::shared_ptr<const SplitSumLighting> cachedSplitSum(const EnvironmentLighting& lighting,
-                                                       EnvironmentLod rule, bool blinnPhongLobe) {
-    std::shared_ptr<Entry> e = entryFor(
-        lighting.cache, {.kind = Kind::SplitSum, .rule = rule, .blinnPhongLobe = blinnPhongLobe});
+                                                       EnvironmentLod rule, bool blinnPhongLobe,
+                                                       bool dominantDirection) {
+    std::shared_ptr<Entry> e = entryFor(lighting.cache, {.kind = Kind::SplitSum,
+                                                         .rule = rule,
+                                                         .blinnPhongLobe = blinnPhongLobe,
+                                                         .dominantDirection = dominantDirection});
     std::call_once(e->once, [&] {
         SplitSumOptions options;
         options.rules = {rule};
         options.blinnPhongLobe = blinnPhongLobe;
+        options.dominantDirection = dominantDirection;
         e->splitSum = std::make_shared<const SplitSumLighting>(
             prepareSplitSum(lighting.environment, options));
     });

@@ -126,9 +126,17 @@ double blinnPhongExponent(double alpha) {
 
 // ---- the lobe's directional albedo ----------------------------------------------------------
 
-double lobeAlbedo(Brdf brdf, double mu, double perceptualRoughness, int samples) {
+namespace {
+
+// The lobe's integral D(n.h) <n.l> dl over l and its first moment (x, z; y vanishes by symmetry),
+// for v = (sqrt(1 - mu^2), 0, mu).
+struct LobeMoments {
+    double albedo = 0., x = 0., z = 0.;
+};
+
+LobeMoments lobeMoments(Brdf brdf, double mu, double perceptualRoughness, int samples) {
     assert(samples >= 1);
-    if (brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx) return 0.;
+    if (brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx) return {};
     mu = std::clamp(mu, 1e-6, 1.);
     const double alpha = std::max(perceptualRoughness * perceptualRoughness, 1e-4);
     const double exponent = blinnPhongExponent(alpha);
@@ -136,7 +144,7 @@ double lobeAlbedo(Brdf brdf, double mu, double perceptualRoughness, int samples)
     // normalised Beckmann and GGX, (s + 1)/(s + 2) for Blinn-Phong (normalised over solid angle).
     const double norm = brdf == Brdf::BlinnPhong ? (exponent + 1.) / (exponent + 2.) : 1.;
     const glm::dvec3 v(std::sqrt(1. - mu * mu), 0., mu);
-    double sum = 0.;
+    LobeMoments sum;
     for (int i = 0; i < samples; ++i) {
         glm::dvec3 h;
         if (brdf == Brdf::Ggx) {
@@ -154,9 +162,31 @@ double lobeAlbedo(Brdf brdf, double mu, double perceptualRoughness, int samples)
         // l = reflect(-v, h), dl = 4 <v.h> dh: D <n.l> dl = (D <n.h>) 4 <v.h> <n.l> / <n.h> dh.
         const double vh = glm::dot(v, h), nl = 2. * vh * h.z - mu;
         if (vh <= 0. || nl <= 0. || h.z <= 0.) continue;
-        sum += 4. * vh * nl / h.z;
+        const double w = 4. * vh * nl / h.z;
+        sum.albedo += w;
+        sum.x += w * (2. * vh * h.x - v.x);
+        sum.z += w * nl;
     }
-    return norm * sum / samples;
+    const double scale = norm / samples;
+    return {sum.albedo * scale, sum.x * scale, sum.z * scale};
+}
+
+} // namespace
+
+double lobeAlbedo(Brdf brdf, double mu, double perceptualRoughness, int samples) {
+    return lobeMoments(brdf, mu, perceptualRoughness, samples).albedo;
+}
+
+double lobeDominantShare(Brdf brdf, double mu, double perceptualRoughness, int samples) {
+    const LobeMoments m = lobeMoments(brdf, mu, perceptualRoughness, samples);
+    mu = std::clamp(mu, 1e-6, 1.);
+    const double sinTheta = std::sqrt(1. - mu * mu);
+    if (!(m.albedo > 0.) || !(m.z > 0.) || sinTheta < 1e-6) return 0.;
+    // The centroid's angle phi from n (towards the mirror direction r, at theta = acos mu): the
+    // mix (1 - f) r + f n is at angle phi where tan phi = (1 - f) sin theta / ((1 - f) mu + f).
+    const double tanPhi = -m.x / m.z;
+    const double a = sinTheta - mu * tanPhi;
+    return std::clamp(a / (a + tanPhi), 0., 1.);
 }
 
 namespace {
@@ -167,6 +197,16 @@ Image lobeAlbedoTable(Brdf brdf, int size, int samples) {
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x)
             *table.at(x, y) = float(lobeAlbedo(brdf, (x + 0.5) / size, (y + 0.5) / size, samples));
+    return table;
+}
+
+Image lobeDominantTable(Brdf brdf, int size, int samples) {
+    Image table(size, size, 1);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x)
+            *table.at(x, y) =
+                float(lobeDominantShare(brdf, (x + 0.5) / size, (y + 0.5) / size, samples));
     return table;
 }
 
@@ -230,6 +270,11 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
         lighting.chains.push_back(std::move(chain));
     }
 
+    for (Brdf brdf : {Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx})
+        lighting.dominant[size_t(int(brdf) - 1)] =
+            options.dominantDirection
+                ? lobeDominantTable(brdf, options.albedoTableSize, options.albedoSamples)
+                : Image(options.albedoTableSize, options.albedoTableSize, 1);
     if (options.albedo == SpecularAlbedo::EngineDfg) {
         lighting.albedo[0] = dfgTable(options.albedoTableSize, options.albedoSamples);
     } else {
@@ -286,6 +331,13 @@ float specularAlbedo(const SplitSumLighting& lighting, Brdf brdf, float mu,
         return sampleTable(lighting.albedo[0], 2, mu, perceptualRoughness);
     if (brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx) return 0.f;
     return sampleTable(lighting.albedo[size_t(int(brdf) - 1)], 0, mu, perceptualRoughness);
+}
+
+float dominantShare(const SplitSumLighting& lighting, Brdf brdf, float mu,
+                    float perceptualRoughness) {
+    if (brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx) return 0.f;
+    return sampleTable(lighting.dominant[size_t(int(brdf) - 1)], 0, std::clamp(mu, 0.f, 1.f),
+                       std::clamp(perceptualRoughness, 0.f, 1.f));
 }
 
 glm::vec3 prefilteredRadiance(const SplitSumLighting& lighting, EnvironmentLod rule,

@@ -29,6 +29,9 @@ struct SplitSumShading : ShaderLibrary {
     float ndfmipSpecularAlbedo(NdfmipMaterial m, float mu, float r) const {
         return specularAlbedo(lighting, Brdf(m.brdf), mu, r);
     }
+    float ndfmipDominantShare(NdfmipMaterial m, float mu, float r) const {
+        return dominantShare(lighting, Brdf(m.brdf), mu, r);
+    }
     vec3 ndfmipIrradiance(vec3 n, vec3 band) const {
         return irradianceAt(lighting, glm::dvec3(n), glm::dvec3(band));
     }

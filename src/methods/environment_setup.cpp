@@ -13,7 +13,7 @@ Status prepareSplitSumSetup(const Material& material, const RenderTextures& text
     setup.environmentLod = options.environmentLod;
     // Only the chain it reads; a Blinn-Phong material's convolved with its own lobe.
     setup.splitSum = cachedSplitSum(*textures.environment, options.environmentLod,
-                                    material.brdf == Brdf::BlinnPhong);
+                                    material.brdf == Brdf::BlinnPhong, options.dominantDirection);
     return Status::success();
 }
 

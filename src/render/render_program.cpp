@@ -2,6 +2,7 @@
 #include "render/render_program.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include "ndfmip/environment_lighting.h"
@@ -87,18 +88,22 @@ Image shLightingRowsToRotate(const ShLighting& lighting, int order) {
     return out;
 }
 
-// The split sum's second factor for the material as one channel (splitsum_lighting.cpp's
-// specularAlbedo: the lobe's table of its BRDF, or the DFG table's scale + bias); an empty image
-// for a material without a lobe.
+// The split sum's second factor for the material (splitsum_lighting.cpp's specularAlbedo: the
+// lobe's table of its BRDF, or the DFG table's scale + bias) and the dominant direction's share
+// of the normal (dominantShare), as two channels; an empty image for a material without a lobe.
 Image albedoChannel(const SplitSumLighting& lighting, Brdf brdf) {
     const bool engine = lighting.albedoKind == SpecularAlbedo::EngineDfg;
-    if (!engine && brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx)
-        return Image(1, 1, 1);
+    if (brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx)
+        return Image(1, 1, 2);
     const Image& table = lighting.albedo[engine ? 0 : size_t(int(brdf) - 1)];
+    const Image& dominant = lighting.dominant[size_t(int(brdf) - 1)];
+    assert(dominant.width == table.width && dominant.height == table.height);
     const int channel = engine ? 2 : 0;
-    Image out(table.width, table.height, 1);
-    for (size_t i = 0; i < table.texelCount(); ++i)
-        out.pixels[i] = table.pixels[i * size_t(table.channels) + size_t(channel)];
+    Image out(table.width, table.height, 2);
+    for (size_t i = 0; i < table.texelCount(); ++i) {
+        out.pixels[2 * i] = table.pixels[i * size_t(table.channels) + size_t(channel)];
+        out.pixels[2 * i + 1] = dominant.pixels[i];
+    }
     return out;
 }
 

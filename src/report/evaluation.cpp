@@ -187,6 +187,7 @@ RenderOptions rowOptionsOf(const Plan& plan) {
     o.shViews = plan.options.shViews;
     o.shCosine = plan.options.shCosine;
     o.environmentShOrder = plan.options.environmentShOrder;
+    o.dominantDirection = plan.options.dominantDirection;
     return o;
 }
 

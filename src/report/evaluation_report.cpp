@@ -71,12 +71,14 @@ json reportJson(const Plan& plan, const Lighting& lighting, const Gathered& gath
                      {"seed", a.seed}};
     if (lighting.environment) {
         root["setup"]["light"] = "environment";
-        root["setup"]["environment"] = {{"path", a.environment},
-                                        {"intensity", a.environmentOptions.intensity},
-                                        {"rotation_degrees", a.environmentOptions.rotationDegrees},
-                                        {"sh_views", a.shViews},
-                                        {"sh_cosine", specularCosineName(a.shCosine)},
-                                        {"env_sh_order", a.environmentShOrder}};
+        root["setup"]["environment"] = {
+            {"path", a.environment},
+            {"intensity", a.environmentOptions.intensity},
+            {"rotation_degrees", a.environmentOptions.rotationDegrees},
+            {"sh_views", a.shViews},
+            {"sh_cosine", specularCosineName(a.shCosine)},
+            {"env_sh_order", a.environmentShOrder},
+            {"env_direction", a.dominantDirection ? "dominant" : "mirror"}};
         root["setup"]["truth_spp"] =
             a.spp > 0 ? json(a.spp) : json("max(64, footprint^2), at most 1024");
         root["setup"]["truth_max_rel_std_error"] = jsonNumber(gathered.truthNoise);

@@ -1007,6 +1007,7 @@ TEST(Cli, RenderUnderAnEnvironmentWithEveryRuleAndWay) {
         expectCleanFailure(renderWith(std::string("--method sh --sh-views ") + views),
                            {"--sh-views"});
     expectCleanFailure(renderWith("--method sh --sh-cosine mean"), {"--sh-cosine", "mean"});
+    expectCleanFailure(renderWith("--env-direction sideways"), {"--env-direction", "sideways"});
     for (const char* order : {"0", "31", "eight"})
         expectCleanFailure(renderWith(std::string("--method sh --env-sh-order ") + order),
                            {"--env-sh-order"});
@@ -1018,6 +1019,34 @@ TEST(Cli, RenderUnderAnEnvironmentWithEveryRuleAndWay) {
                            shellQuoted(tmp.file("x.exr"))),
                        {"nosky.exr"});
     EXPECT_FALSE(fs::exists(tmp.path / "x.exr"));
+    // --env-direction reaches the split sum: from a grazing camera under a sky brighter towards
+    // the zenith the mirror direction reads another part of it than the dominant direction (the
+    // default); from above they agree.
+    Image gradient(32, 16, 3);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 32; ++x)
+            for (int c = 0; c < 3; ++c) gradient.at(x, y)[c] = 0.2f + 0.3f * float(16 - y);
+    ASSERT_TRUE(saveExr(tmp.file("gradient.exr"), gradient));
+    json grazing = json::parse(fileBytes(tmp.path / "scene.json"));
+    grazing["camera"] = {{"type", "perspective"}, {"eye", {0, -3, 1.2}}, {"target", {0, 0, 0}},
+                         {"up", {0, 0, 1}},       {"fov", 45},           {"width", 16},
+                         {"height", 16}};
+    grazing["object"]["size"] = {8, 8};
+    writeFile(tmp.path / "grazing.json", grazing.dump());
+    auto centreOf = [&](const std::string& sceneFile, const std::string& direction) {
+        const CliRun run = cli("render " + shellQuoted(tmp.file(sceneFile)) + " --environment " +
+                               shellQuoted(tmp.file("gradient.exr")) + " -q --method naive" +
+                               direction + " -o " + shellQuoted(tmp.file("d.exr")));
+        EXPECT_EQ(run.status, 0) << run.output;
+        Result<SourceImage> image = loadImage(tmp.file("d.exr"));
+        return image.ok() ? image->image.at(8, 8)[0] : -1.f;
+    };
+    EXPECT_EQ(centreOf("grazing.json", ""), centreOf("grazing.json", " --env-direction dominant"));
+    EXPECT_GT(std::abs(centreOf("grazing.json", " --env-direction mirror") -
+                       centreOf("grazing.json", "")),
+              1e-3f * centreOf("grazing.json", ""));
+    EXPECT_NEAR(centreOf("scene.json", " --env-direction mirror"), centreOf("scene.json", ""),
+                1e-5f * centreOf("scene.json", ""));
 }
 
 // An --external-roughness row under --environment is lit by it (it once failed: "environment ...
@@ -1071,6 +1100,7 @@ TEST(Cli, EvalUnderAnEnvironmentHasARowPerVariantAndSkipsTheRest) {
     EXPECT_EQ(report["setup"]["environment"]["sh_cosine"], "reflecting");
     EXPECT_EQ(report["setup"]["environment"]["env_sh_order"], 8);
     EXPECT_EQ(report["setup"]["environment"]["sh_views"], 0);
+    EXPECT_EQ(report["setup"]["environment"]["env_direction"], "dominant");
     // A variant needs an environment; an unknown variant is refused.
     expectCleanFailure(
         cli("eval " + map + " -q --methods toksvig@unity -o " + shellQuoted(tmp.file("r2"))),

@@ -65,12 +65,14 @@ template <class F> glm::dvec3 sphereIntegral(const F& f, int thetaSteps = 200) {
 
 // The truth at one normal n (tangent frame): integral L(T l) shadeNormal(n, l, h) dl.
 glm::dvec3 bruteForce(const Material& m, glm::vec3 albedo, glm::vec3 n, glm::vec3 v,
-                      const glm::mat3& frame, const Radiance& radiance) {
-    return sphereIntegral([&](glm::dvec3 l) {
-        const glm::vec3 lf(l);
-        const glm::vec3 h = glm::normalize(lf + v);
-        return radiance(glm::dvec3(frame * lf)) * glm::dvec3(shadeNormal(m, albedo, n, lf, h));
-    });
+                      const glm::mat3& frame, const Radiance& radiance, int thetaSteps = 200) {
+    return sphereIntegral(
+        [&](glm::dvec3 l) {
+            const glm::vec3 lf(l);
+            const glm::vec3 h = glm::normalize(lf + v);
+            return radiance(glm::dvec3(frame * lf)) * glm::dvec3(shadeNormal(m, albedo, n, lf, h));
+        },
+        thetaSteps);
 }
 
 // ---- LOD rules ----------------------------------------------------------------------------
@@ -227,6 +229,113 @@ TEST(SplitSum, NaiveIsCloseToBruteForceOnASmoothEnvironment) {
             "split sum vs brute force, smooth sky, view %.1f rad: worst relative error %.4f\n",
             theta, worst);
     }
+}
+
+// ---- the dominant direction -----------------------------------------------------------------
+
+// The lobe's centroid by the midpoint rule over the sphere (shadeNormal's specular term, D(n.h)
+// <n.l>, about n = +z), independent of the table's Hammersley samples: its angle from the normal
+// against the angle of normalize(mix(r, n, lobeDominantShare)).
+TEST(SplitSumDominant, ShareMeetsTheLobesCentroid) {
+    double worst = 0.;
+    for (Brdf brdf : {Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx})
+        for (double r : {0.3, 0.45, 0.7})
+            for (double theta : {0.4, 0.9, 1.2, 1.4}) {
+                Material m = material(brdf);
+                m.roughness = float(r * r);
+                m.exponent = float(blinnPhongExponent(r * r));
+                const glm::vec3 n(0.f, 0.f, 1.f);
+                const glm::vec3 v(float(std::sin(theta)), 0.f, float(std::cos(theta)));
+                const glm::dvec3 centroid = sphereIntegral(
+                    [&](glm::dvec3 l) {
+                        const glm::vec3 lf(l);
+                        const glm::vec3 h = glm::normalize(lf + v);
+                        return l * double(shadeNormal(m, glm::vec3(0.f), n, lf, h).x);
+                    },
+                    200);
+                const double truth = std::atan2(-centroid.x, centroid.z);
+                const double f = lobeDominantShare(brdf, std::cos(theta), r, 4096);
+                const glm::dvec3 d = glm::mix(glm::dvec3(-std::sin(theta), 0., std::cos(theta)),
+                                              glm::dvec3(0., 0., 1.), f);
+                const double read = std::atan2(-d.x, d.z);
+                worst = std::max(worst, std::abs(read - truth));
+                EXPECT_NEAR(read, truth, 0.01)
+                    << brdfName(brdf) << " r " << r << " theta " << theta << " share " << f;
+                // Bent towards the normal, never past it, never beyond the mirror direction.
+                EXPECT_GE(f, 0.);
+                EXPECT_LE(read, theta + 1e-6);
+            }
+    std::printf("dominant direction against the centroid by quadrature: worst %.4f rad\n", worst);
+    // A narrow lobe's centroid is the mirror direction; the view along the normal bends nothing.
+    EXPECT_LT(lobeDominantShare(Brdf::Ggx, 0.5, 0.1, 4096), 0.01);
+    EXPECT_EQ(lobeDominantShare(Brdf::Ggx, 1.0, 0.5, 4096), 0.);
+    // Rougher lobes bend more, at every view.
+    for (double mu : {0.2, 0.5, 0.8})
+        EXPECT_LT(lobeDominantShare(Brdf::Ggx, mu, 0.3, 4096),
+                  lobeDominantShare(Brdf::Ggx, mu, 0.6, 4096))
+            << mu;
+}
+
+// A plane seen from 22 degrees above (n.v = 0.37, the perspective scenes' camera) under a sunset
+// sky (bright at the horizon) and a lamp overhead: the split sum read along the dominant
+// direction against the brute-force integral, and the same split sum read along the mirror
+// direction, which the horizon makes too bright and the lamp too dark. The centroid is a
+// first-order match: a sharp lamp's curvature still costs the rougher lobe (measured 1.21-1.30
+// with Filament's and Unity's levels, 0.40-0.70 along the mirror direction). The shared maps are
+// judged in renders against the MIS truth (docs/RESULTS.md): a quadrature over the sphere does not
+// resolve the studio's small lamps under the narrow lobes.
+TEST(SplitSumDominant, GrazingViewsMeetTheBruteForceIntegral) {
+    // Tangent z (the normal) is the environment's +Y.
+    const glm::mat3 frame(glm::vec3(1.f, 0.f, 0.f), glm::vec3(0.f, 0.f, -1.f),
+                          glm::vec3(0.f, 1.f, 0.f));
+    std::vector<std::pair<std::string, Environment>> skies = {
+        {"sunset", mapOf(256,
+                         [](glm::dvec3 d) {
+                             return glm::dvec3(d.y < 0. ? 0.05
+                                                        : 0.2 + 2. * std::exp(-8. * d.y * d.y));
+                         })},
+        {"lamp", mapOf(256, [](glm::dvec3 d) {
+             return glm::dvec3(0.1 + 3. * std::pow(std::max(d.y, 0.), 8.));
+         })}};
+    SplitSumOptions mirror = smallOptions();
+    mirror.dominantDirection = false;
+    const glm::vec3 n(0.f, 0.f, 1.f);
+    const float theta = 1.19f; // 68 degrees from the normal
+    const glm::vec3 v(0.f, std::sin(theta), std::cos(theta));
+    double sum = 0., sumMirror = 0., worst = 0., worstMirror = 0.;
+    int cases = 0;
+    for (const auto& [name, env] : skies) {
+        const SplitSumLighting bent = prepareSplitSum(env, smallOptions()),
+                               alongMirror = prepareSplitSum(env, mirror);
+        const Radiance sky = [&env](glm::dvec3 d) {
+            float c[3];
+            sampleEquirect(env.radiance, d, c);
+            return glm::dvec3(c[0], c[1], c[2]);
+        };
+        for (float alpha : {0.05f, 0.2f}) {
+            Material m = material(Brdf::Ggx);
+            m.roughness = alpha;
+            const double truth = bruteForce(m, glm::vec3(0.f), n, v, frame, sky).x;
+            for (EnvironmentLod rule : kEngineRules) {
+                const double read =
+                    shadeNaiveSplitSum(m, glm::vec3(0.f), n, v, frame, bent, rule).x / truth;
+                const double old =
+                    shadeNaiveSplitSum(m, glm::vec3(0.f), n, v, frame, alongMirror, rule).x / truth;
+                std::printf("%s, alpha %.2f, %s: split sum / truth %.3f (along the mirror "
+                            "direction %.3f)\n",
+                            name.c_str(), alpha, environmentLodName(rule), read, old);
+                sum += std::abs(std::log(read)), sumMirror += std::abs(std::log(old));
+                worst = std::max(worst, std::abs(std::log(read)));
+                worstMirror = std::max(worstMirror, std::abs(std::log(old)));
+                ++cases;
+            }
+        }
+    }
+    std::printf("mean |log(split / truth)| %.3f along the dominant direction, %.3f along the "
+                "mirror direction (worst %.3f, %.3f)\n",
+                sum / cases, sumMirror / cases, worst, worstMirror);
+    EXPECT_LT(sum, 0.5 * sumMirror);
+    EXPECT_LT(worst, 0.7 * worstMirror);
 }
 
 // Blinn-Phong read through GGX chains at alpha^2 = 2/(s + 2). Two errors, each against a direct

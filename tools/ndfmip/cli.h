@@ -84,6 +84,7 @@ struct EnvironmentShadingArgs {
     int shViews = 0;
     SpecularCosine shCosine = SpecularCosine::Reflecting;
     int environmentShOrder = 8;
+    bool dominantDirection = true;
     // The choices into `o`; throws on an unknown name.
     void apply(RenderOptions& o) const;
 };
@@ -92,6 +93,8 @@ void addEnvironmentShadingOptions(CLI::App* command, EnvironmentShadingArgs& arg
 void addShViewsOption(CLI::App* command, int& views);
 // --sh-cosine NAME and --env-sh-order N (render and eval): SH lighting's specular cosine and order.
 void addShLightingOptions(CLI::App* command, SpecularCosine& cosine, int& order);
+// --env-direction dominant|mirror: where the split-sum rows read the prefiltered radiance.
+void addEnvDirectionOption(CLI::App* command, bool& dominant);
 
 // The methods' own options a command takes (`use`: a ParameterCommand bit), registered from
 // their parameter tables: one option per flag, its range and help from the table.

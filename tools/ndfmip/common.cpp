@@ -232,6 +232,19 @@ void addEnvironmentShadingOptions(CLI::App* c, EnvironmentShadingArgs& a) {
         ->capture_default_str();
     addShViewsOption(c, a.shViews);
     addShLightingOptions(c, a.shCosine, a.environmentShOrder);
+    addEnvDirectionOption(c, a.dominantDirection);
+}
+
+void addEnvDirectionOption(CLI::App* c, bool& dominant) {
+    const std::map<std::string, bool> names = {{"dominant", true}, {"mirror", false}};
+    c->add_option("--env-direction", dominant,
+                  "under an environment, where the split-sum rows (every method but sh and vmf "
+                  "with --vmf-environment sh) read the prefiltered radiance: dominant (the "
+                  "lobe's centroid, bent from the mirror direction towards the normal at grazing "
+                  "views) or mirror (the reflection of the view, the split sum as Karis wrote it)")
+        ->transform(CLI::CheckedTransformer(names).description(""))
+        ->type_name("NAME")
+        ->default_str("dominant");
 }
 
 void addShLightingOptions(CLI::App* c, SpecularCosine& cosine, int& order) {
@@ -274,6 +287,7 @@ void EnvironmentShadingArgs::apply(RenderOptions& o) const {
     o.shViews = shViews;
     o.shCosine = shCosine;
     o.environmentShOrder = environmentShOrder;
+    o.dominantDirection = dominantDirection;
 }
 
 EnvironmentOptions EnvironmentArgs::options(EnvironmentOptions base) const {

@@ -152,6 +152,7 @@ void addEvalCommand(CLI::App& app) {
     addEnvironmentOptions(c, args->environment);
     addShViewsOption(c, a->shViews);
     addShLightingOptions(c, a->shCosine, a->environmentShOrder);
+    addEnvDirectionOption(c, a->dominantDirection);
     c->add_option(
         "--external-roughness", a->externalRoughness,
         "NAME=PATTERN: another tool's perceptual-roughness mips (one file per level; PATTERN with "
