@@ -304,7 +304,8 @@ TEST(SplitSumDominant, GrazingViewsMeetTheBruteForceIntegral) {
     const glm::vec3 v(0.f, std::sin(theta), std::cos(theta));
     double sum = 0., sumMirror = 0., worst = 0., worstMirror = 0.;
     int cases = 0;
-    for (const auto& [name, env] : skies) {
+    for (const auto& [name, map] : skies) {
+        const Environment& env = map; // a variable the lambda can capture
         const SplitSumLighting bent = prepareSplitSum(env, smallOptions()),
                                alongMirror = prepareSplitSum(env, mirror);
         const Radiance sky = [&env](glm::dvec3 d) {
