@@ -185,6 +185,7 @@ double lobeDominantShare(Brdf brdf, double mu, double perceptualRoughness, int s
     // The centroid's angle phi from n (towards the mirror direction r, at theta = acos mu): the
     // mix (1 - f) r + f n is at angle phi where tan phi = (1 - f) sin theta / ((1 - f) mu + f).
     const double tanPhi = -m.x / m.z;
+    if (!(tanPhi > 0.)) return 1.; // the centroid at the normal or past it: read along n
     const double a = sinTheta - mu * tanPhi;
     return std::clamp(a / (a + tanPhi), 0., 1.);
 }
