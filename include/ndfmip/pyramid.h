@@ -21,6 +21,7 @@ struct Footprint {
     int width() const { return x1 - x0; }
     int height() const { return y1 - y0; }
     size_t count() const { return size_t(width()) * size_t(height()); }
+    bool operator==(const Footprint&) const = default;
 };
 
 struct PyramidLevel {

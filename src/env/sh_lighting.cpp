@@ -64,16 +64,15 @@ int reparameterisedSets(SpecularCosine cosine) {
     return cosine == SpecularCosine::Reflecting ? 4 : 1;
 }
 
-std::vector<glm::dvec3>& reparameterisedSet(ShLighting& lighting, int k) {
+const std::vector<glm::dvec3>& reparameterisedSet(const ShLighting& lighting, int k) {
     assert(k >= 0 && k < reparameterisedSets(lighting.cosine));
     return hasAxes(lighting.cosine) && k < 3 ? lighting.reparameterisedAxes[k]
                                              : lighting.reparameterised;
 }
 
-const std::vector<glm::dvec3>& reparameterisedSet(const ShLighting& lighting, int k) {
-    assert(k >= 0 && k < reparameterisedSets(lighting.cosine));
-    return hasAxes(lighting.cosine) && k < 3 ? lighting.reparameterisedAxes[k]
-                                             : lighting.reparameterised;
+std::vector<glm::dvec3>& reparameterisedSet(ShLighting& lighting, int k) {
+    return const_cast<std::vector<glm::dvec3>&>(
+        reparameterisedSet(static_cast<const ShLighting&>(lighting), k));
 }
 
 std::vector<double> interleavedShLighting(const ShLighting& lighting, int order) {

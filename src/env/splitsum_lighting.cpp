@@ -177,8 +177,10 @@ double lobeAlbedo(Brdf brdf, double mu, double perceptualRoughness, int samples)
     return lobeMoments(brdf, mu, perceptualRoughness, samples).albedo;
 }
 
-double lobeDominantShare(Brdf brdf, double mu, double perceptualRoughness, int samples) {
-    const LobeMoments m = lobeMoments(brdf, mu, perceptualRoughness, samples);
+namespace {
+
+// The dominant direction's share of the normal from the lobe's moments at n.v = mu.
+double dominantShareOf(const LobeMoments& m, double mu) {
     mu = std::clamp(mu, 1e-6, 1.);
     const double sinTheta = std::sqrt(1. - mu * mu);
     if (!(m.albedo > 0.) || !(m.z > 0.) || sinTheta < 1e-6) return 0.;
@@ -190,25 +192,30 @@ double lobeDominantShare(Brdf brdf, double mu, double perceptualRoughness, int s
     return std::clamp(a / (a + tanPhi), 0., 1.);
 }
 
-namespace {
+} // namespace
 
-Image lobeAlbedoTable(Brdf brdf, int size, int samples) {
-    Image table(size, size, 1);
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x)
-            *table.at(x, y) = float(lobeAlbedo(brdf, (x + 0.5) / size, (y + 0.5) / size, samples));
-    return table;
+double lobeDominantShare(Brdf brdf, double mu, double perceptualRoughness, int samples) {
+    return dominantShareOf(lobeMoments(brdf, mu, perceptualRoughness, samples), mu);
 }
 
-Image lobeDominantTable(Brdf brdf, int size, int samples) {
-    Image table(size, size, 1);
+namespace {
+
+// The lobe's albedo and dominant share tables for `brdf`, from one set of moments per entry.
+struct LobeTables {
+    Image albedo, dominant;
+};
+
+LobeTables lobeTables(Brdf brdf, int size, int samples) {
+    LobeTables t{Image(size, size, 1), Image(size, size, 1)};
 #pragma omp parallel for schedule(dynamic, 1)
     for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x)
-            *table.at(x, y) =
-                float(lobeDominantShare(brdf, (x + 0.5) / size, (y + 0.5) / size, samples));
-    return table;
+        for (int x = 0; x < size; ++x) {
+            const double mu = (x + 0.5) / size;
+            const LobeMoments m = lobeMoments(brdf, mu, (y + 0.5) / size, samples);
+            *t.albedo.at(x, y) = float(m.albedo);
+            *t.dominant.at(x, y) = float(dominantShareOf(m, mu));
+        }
+    return t;
 }
 
 // Bilinear with clamped edges at (u, v) in [0, 1]^2, texel centres at (i + 0.5) / size.
@@ -271,18 +278,16 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
         lighting.chains.push_back(std::move(chain));
     }
 
-    for (Brdf brdf : {Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx})
-        lighting.dominant[size_t(int(brdf) - 1)] =
-            options.dominantDirection
-                ? lobeDominantTable(brdf, options.albedoTableSize, options.albedoSamples)
-                : Image(options.albedoTableSize, options.albedoTableSize, 1);
-    if (options.albedo == SpecularAlbedo::EngineDfg) {
-        lighting.albedo[0] = dfgTable(options.albedoTableSize, options.albedoSamples);
-    } else {
-        for (Brdf brdf : {Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx})
-            lighting.albedo[size_t(int(brdf) - 1)] =
-                lobeAlbedoTable(brdf, options.albedoTableSize, options.albedoSamples);
+    for (Brdf brdf : {Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx}) {
+        LobeTables t = lobeTables(brdf, options.albedoTableSize, options.albedoSamples);
+        const size_t i = size_t(int(brdf) - 1);
+        if (options.albedo == SpecularAlbedo::Lobe) lighting.albedo[i] = std::move(t.albedo);
+        lighting.dominant[i] = options.dominantDirection
+                                   ? std::move(t.dominant)
+                                   : Image(options.albedoTableSize, options.albedoTableSize, 1);
     }
+    if (options.albedo == SpecularAlbedo::EngineDfg)
+        lighting.albedo[0] = dfgTable(options.albedoTableSize, options.albedoSamples);
     return lighting;
 }
 

@@ -166,15 +166,15 @@ inline void gatherBand(const Image& base, const MaterialLobes& lobes, const Foot
     p.x.resize(count), p.y.resize(count), p.z.resize(count);
     p.alpha.resize(lobes.map ? count : 0);
     const int width = band.width();
-    size_t i = 0;
     for (int y = band.y0; y < band.y1; ++y) {
         const float* row = base.at(band.x0, y);
-        for (int x = 0; x < width; ++x, ++i)
-            p.x[i] = row[3 * x], p.y[i] = row[3 * x + 1], p.z[i] = row[3 * x + 2];
+        const size_t start = size_t(y - band.y0) * size_t(width);
+        float *px = &p.x[start], *py = &p.y[start], *pz = &p.z[start];
+        for (int i = 0; i < width; ++i)
+            px[i] = row[3 * i], py[i] = row[3 * i + 1], pz[i] = row[3 * i + 2];
         if (lobes.map)
-            for (int x = 0; x < width; ++x)
-                p.alpha[size_t(y - band.y0) * size_t(width) + size_t(x)] =
-                    lobes.alphaAt(band.x0 + x, y);
+            for (int i = 0; i < width; ++i)
+                p.alpha[start + size_t(i)] = lobes.alphaAt(band.x0 + i, y);
     }
     p.band = band;
 }
@@ -187,9 +187,7 @@ inline void forEachBand(const Image& base, const MaterialLobes& lobes, const Foo
     const int rows = std::max(1, int(kPlaneNormals / size_t(std::max(f.width(), 1))));
     for (int y = f.y0; y < f.y1; y += rows) {
         const Footprint band{f.x0, f.x1, y, std::min(y + rows, f.y1)};
-        if (band.x0 != p.band.x0 || band.x1 != p.band.x1 || band.y0 != p.band.y0 ||
-            band.y1 != p.band.y1)
-            gatherBand(base, lobes, band, p);
+        if (!(band == p.band)) gatherBand(base, lobes, band, p);
         fn(p);
     }
 }
