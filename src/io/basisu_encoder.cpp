@@ -148,10 +148,21 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
         const std::string input = stem + ".png", output = stem + ".ktx2", log = stem + ".log";
         // -linear: normals and roughness are no colours; no -mipmap: the level is all it gets.
         // -uastc_level 1: a quarter of the default level 2's time (1.3 s against 5.4 s of CPU for
-        // a 1024² level) for a small loss, within the tests' 3/255.
-        std::vector<std::string> args = {
-            encoder.value(),      "-ktx2", "-uastc", "-uastc_level", "1",   "-linear",
-            "-ktx2_no_zstandard", "-file", input,    "-output_file", output};
+        // a 1024² level) for a small loss, within the tests' 3/255. -no_multithreading: the
+        // levels already run side by side, and the encoder's own job pool was seen to deadlock
+        // (both threads asleep on a futex, the level never written); the output is the same bytes.
+        std::vector<std::string> args = {encoder.value(),
+                                         "-ktx2",
+                                         "-uastc",
+                                         "-uastc_level",
+                                         "1",
+                                         "-linear",
+                                         "-ktx2_no_zstandard",
+                                         "-no_multithreading",
+                                         "-file",
+                                         input,
+                                         "-output_file",
+                                         output};
         std::vector<char*> argv;
         for (std::string& a : args) argv.push_back(a.data());
         argv.push_back(nullptr);
