@@ -5,14 +5,18 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <signal.h>
 #include <spawn.h>
+#include <sstream>
 #include <sys/wait.h>
+#include <thread>
 #include <unistd.h>
 
 #include "ndfmip/image.h"
@@ -73,6 +77,83 @@ int exitStatus(pid_t pid) {
     while (::waitpid(pid, &status, 0) < 0)
         if (errno != EINTR) return -1;
     return status;
+}
+
+// The CPU time a running process has used, in clock ticks (utime + stime of /proc/PID/stat), or
+// -1 when it cannot be read.
+long long cpuTicks(pid_t pid) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+    std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // The command name in parentheses may hold spaces; the fields after it are plain numbers.
+    const size_t close = stat.rfind(')');
+    if (close == std::string::npos) return -1;
+    std::istringstream fields(stat.substr(close + 1));
+    std::string field;
+    long long utime = -1, stime = -1;
+    for (int k = 3; k <= 15 && fields >> field; ++k) {
+        if (k == 14) utime = std::atoll(field.c_str());
+        if (k == 15) stime = std::atoll(field.c_str());
+    }
+    return utime < 0 || stime < 0 ? -1 : utime + stime;
+}
+
+// How long an encoder may use no CPU at all before it counts as stalled: its job pool was seen
+// to deadlock with every thread asleep. A working encoder never idles (it reads and writes small
+// local files), so a stall is no slow machine. NDFMIP_BASISU_STALL_SECONDS overrides it.
+double stallSeconds() {
+    if (const char* env = std::getenv("NDFMIP_BASISU_STALL_SECONDS"); env && *env) {
+        const double s = std::atof(env);
+        if (s > 0 && s < 86400) return s;
+    }
+    return 60;
+}
+
+std::string secondsText(double s) {
+    std::ostringstream out;
+    out << s;
+    return out.str();
+}
+
+// The exit status of every process, -2 for one that stalled (and was killed), -1 for one whose
+// status could not be read.
+std::vector<int> waitForEncoders(const std::vector<pid_t>& pids) {
+    using Clock = std::chrono::steady_clock;
+    const double stall = stallSeconds();
+    struct Watch {
+        long long ticks = -1;
+        Clock::time_point since = Clock::now();
+        bool done = false;
+    };
+    std::vector<Watch> watches(pids.size());
+    std::vector<int> statuses(pids.size(), -1);
+    for (size_t running = pids.size(); running > 0;) {
+        for (size_t k = 0; k < pids.size(); ++k) {
+            Watch& w = watches[k];
+            if (w.done) continue;
+            int status = 0;
+            const pid_t got = ::waitpid(pids[k], &status, WNOHANG);
+            if (got == pids[k] || (got < 0 && errno != EINTR)) {
+                statuses[k] = got == pids[k] ? status : -1;
+                w.done = true;
+                --running;
+                continue;
+            }
+            const long long ticks = cpuTicks(pids[k]);
+            const Clock::time_point now = Clock::now();
+            if (ticks != w.ticks) {
+                w.ticks = ticks;
+                w.since = now;
+            } else if (std::chrono::duration<double>(now - w.since).count() > stall) {
+                ::kill(pids[k], SIGKILL);
+                exitStatus(pids[k]);
+                statuses[k] = -2;
+                w.done = true;
+                --running;
+            }
+        }
+        if (running > 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return statuses;
 }
 
 } // namespace
@@ -143,7 +224,8 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
         if (!png) return png.error();
         if (Status s = writeFileAtomic(stemOf(k) + ".png", png.value()); !s) return Error{s.error};
     }
-    for (size_t k = 0; k < levels.size(); ++k) {
+    // Starts level k's encoder; 0 or the error number posix_spawn gave.
+    auto spawn = [&](size_t k, pid_t& pid) {
         const std::string stem = stemOf(k);
         const std::string input = stem + ".png", output = stem + ".ktx2", log = stem + ".log";
         // -linear: normals and roughness are no colours; no -mipmap: the level is all it gets.
@@ -173,18 +255,38 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
         posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
                                          0644);
         posix_spawn_file_actions_adddup2(&actions, 1, 2);
-        pid_t pid = 0;
         const int failed = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
         posix_spawn_file_actions_destroy(&actions);
-        if (failed) {
+        return failed;
+    };
+    auto cannotRun = [&](int failed) {
+        return Error{"uastc: cannot run the Basis Universal encoder " + encoder.value() + ": " +
+                     std::strerror(failed)};
+    };
+    for (size_t k = 0; k < levels.size(); ++k) {
+        pid_t pid = 0;
+        if (const int failed = spawn(k, pid)) {
             waitAll();
-            return Error{"uastc: cannot run the Basis Universal encoder " + encoder.value() + ": " +
-                         std::strerror(failed)};
+            return cannotRun(failed);
         }
         pids.push_back(pid);
     }
-    std::vector<int> statuses(levels.size(), -1);
-    for (size_t k = 0; k < pids.size(); ++k) statuses[k] = exitStatus(pids[k]);
+    std::vector<int> statuses = waitForEncoders(pids);
+    // The stalled levels are encoded once more: the stall was intermittent.
+    std::vector<size_t> again;
+    pids.clear();
+    for (size_t k = 0; k < levels.size(); ++k) {
+        if (statuses[k] != -2) continue;
+        pid_t pid = 0;
+        if (const int failed = spawn(k, pid)) {
+            waitAll();
+            return cannotRun(failed);
+        }
+        again.push_back(k);
+        pids.push_back(pid);
+    }
+    const std::vector<int> retried = waitForEncoders(pids);
+    for (size_t i = 0; i < again.size(); ++i) statuses[again[i]] = retried[i];
     std::vector<std::string> out;
     for (size_t k = 0; k < levels.size(); ++k) {
         const std::string stem = stemOf(k);
@@ -192,10 +294,12 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
             std::to_string(levels[k].width) + "x" + std::to_string(levels[k].height);
         const int status = statuses[k];
         if (status < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-            const std::string why = status < 0 ? "its exit status could not be read"
-                                    : WIFEXITED(status)
-                                        ? "exit " + std::to_string(WEXITSTATUS(status))
-                                        : "signal " + std::to_string(WTERMSIG(status));
+            const std::string why =
+                status == -2 ? "it stalled twice, using no CPU for " + secondsText(stallSeconds()) +
+                                   " s, and was stopped"
+                : status < 0        ? "its exit status could not be read"
+                : WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status))
+                                    : "signal " + std::to_string(WTERMSIG(status));
             const std::string said = lastLine(stem + ".log");
             return Error{"uastc: the Basis Universal encoder " + encoder.value() +
                          " failed on the " + size + " level (" + why + ")" +

@@ -4,6 +4,7 @@
 // (checked by the Khronos validator); a missing or failing encoder refused in one line. What
 // needs the encoder, node or the npm packages skips where scripts/setup did not install them.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -226,6 +227,43 @@ TEST(Ktx2Uastc, MissingOrFailingEncoderIsOneLine) {
         EXPECT_NE(t.error().message.find("/bin/false failed on the 8x8 level (exit 1)"),
                   std::string::npos)
             << t.error().message;
+    }
+    // An encoder that stalls (its job pool deadlocked: asleep, no CPU used) is stopped, tried
+    // once more, and named in one line; one that works, however long, is left alone.
+    {
+        test::TempDir scripts("uastc_stall");
+        auto script = [&](const std::string& name, const std::string& body) {
+            const std::string path = scripts.file(name);
+            std::ofstream(path) << "#!/bin/sh\n" << body << "\n";
+            fs::permissions(path, fs::perms::owner_all);
+            return path;
+        };
+        const std::string asleep = script("asleep", "exec sleep 600");
+        const ScopedEnv stall("NDFMIP_BASISU_STALL_SECONDS", "1");
+        {
+            const ScopedEnv env("NDFMIP_BASISU", asleep);
+            const auto start = std::chrono::steady_clock::now();
+            Result<EncodedTexture> t = encodeTexture(pointers(levels), TextureFormat::Uastc);
+            const double seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            ASSERT_FALSE(t);
+            EXPECT_NE(t.error().message.find(
+                          "failed on the 8x8 level (it stalled twice, using no CPU for 1 s"),
+                      std::string::npos)
+                << t.error().message;
+            EXPECT_EQ(t.error().message.find('\n'), std::string::npos);
+            EXPECT_LT(seconds, 60) << "a stalled encoder is stopped, not waited for";
+        }
+        {
+            // About 1.7 s of CPU in the shell's own loop per level, over the stall limit.
+            const ScopedEnv env(
+                "NDFMIP_BASISU",
+                script("busy", "i=0; while [ $i -lt 2000000 ]; do i=$((i+1)); done; exit 3"));
+            Result<EncodedTexture> t = encodeTexture(pointers(levels), TextureFormat::Uastc);
+            ASSERT_FALSE(t);
+            EXPECT_NE(t.error().message.find("failed on the 8x8 level (exit 3)"), std::string::npos)
+                << t.error().message;
+        }
     }
     // Through the CLI: one line, non-zero, no bake folder.
     test::TempDir dir("uastc_missing");
