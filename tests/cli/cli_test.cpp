@@ -1165,9 +1165,9 @@ TEST(Cli, EvalViewsAreNamesForTheirOptions) {
     EXPECT_EQ(setup["taps"], 1);
     EXPECT_EQ(setup["lod_bias"], 0.0);
     EXPECT_EQ(setup["lobe_filter"], "parameter");
-    EXPECT_EQ(setup["coherent"], 1.0);
+    EXPECT_NEAR(setup["coherent"].get<double>(), 0.03, 1e-7);
     const json byHand =
-        run("by-hand", "--taps 1 --lod-bias 0 --lobe-filter parameter --coherent 1");
+        run("by-hand", "--taps 1 --lod-bias 0 --lobe-filter parameter --coherent 0.03");
     EXPECT_EQ(byHand["setup"]["eval_view"], "lab");
     EXPECT_EQ(errors(engine), errors(byHand));
     // Plain (not coherent) lobes in the same view differ: the view's bake is its own.
@@ -1403,16 +1403,16 @@ TEST(Cli, MethodOptionsComeFromTheParameterTables) {
     EXPECT_EQ(render.output.find("--max-iterations"), std::string::npos); // bake only
 }
 
-// Coherent lobes (H eq. 32): slot j of neighbouring texels matches far better, and the rendered
-// error against the truth does not grow by more than 5% (geometric mean over the cases) where
-// lookups blend the lobes' parameters, as hardware filtering does (with texel filtering the
-// slots never meet, and the plain lobes fit better).
+// Coherent lobes (H eq. 32, the engine view's C): slot j of neighbouring texels matches far
+// better, and where lookups blend the lobes' parameters, as hardware filtering does, the rendered
+// error against the truth falls (geometric mean over the cases; with texel filtering the slots
+// never meet, and the plain lobes fit better).
 TEST(Cli, CoherentLobesMatchAcrossTexelsAtNoCostInImageError) {
     TempDir tmp("coherent");
     const std::string map = std::string(NDFMIP_SOURCE_DIR) + "/data/normalmaps/pyramidwall_256.png";
     double mismatch[2], error[2];
     for (int c = 0; c < 2; ++c) {
-        const std::string coherence = c ? " --coherent 1" : "";
+        const std::string coherence = c ? " --coherent 0.03" : "";
         const fs::path bake = tmp.path / ("bake" + std::to_string(c));
         CliRun r = cli("bake " + shellQuoted(map) + " --green-down --method vmf -q" + coherence +
                        " -o " + shellQuoted(bake.string()));
@@ -1432,8 +1432,9 @@ TEST(Cli, CoherentLobesMatchAcrossTexelsAtNoCostInImageError) {
         ASSERT_EQ(n, 9);
         error[c] = std::exp(logSum / n);
     }
-    EXPECT_LT(mismatch[1], 0.5 * mismatch[0]) << mismatch[0] << " -> " << mismatch[1];
-    EXPECT_LT(error[1], 1.05 * error[0]) << error[0] << " -> " << error[1];
+    // Measured: mismatch 10.7 -> 5.4 degrees, error 0.115 -> 0.099.
+    EXPECT_LT(mismatch[1], 0.6 * mismatch[0]) << mismatch[0] << " -> " << mismatch[1];
+    EXPECT_LT(error[1], 0.95 * error[0]) << error[0] << " -> " << error[1];
     expectCleanFailure(cli("bake " + shellQuoted(map) + " --method vmf --coherent -1 -o " +
                            shellQuoted((tmp.path / "bad").string())),
                        {"--coherent"});

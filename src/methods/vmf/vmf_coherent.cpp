@@ -1,7 +1,14 @@
 // Coherent vMF lobes for a whole pyramid (Han et al. 2007, Sec. 7.3): fitted top-down, each
-// texel started from its own plain fit's lobes put into its parent's slots, and its directions
-// pulled toward the same slot of the texels fitted before it (H eq. 32), so that hardware
-// filtering of the packed slots (H eq. 33) blends lobes that belong together.
+// texel's EM started from its parent's lobes in their slots, and its directions pulled toward the
+// same slot of the texels fitted before it (H eq. 32), so that hardware filtering of the packed
+// slots (H eq. 33) blends lobes that belong together.
+//
+// Started from the parent, slot j of every texel under one parent begins as the same lobe and EM
+// moves it only as far as the texel's own normals ask: siblings' and cousins' slots stay alike
+// without a pull that turns the fine levels' sharp lobes off their normals. (Started instead from
+// each texel's own best fit, its lobes permuted into the parent's slots, needed a pull of C = 1
+// for the coarse levels' slots to match, and that pull cost the fine levels: in eval's engine
+// view 1.15x the floor at footprint 4 against 1.04x started from the parent, docs/RESULTS.md.)
 //
 // A texel depends on its parent and on its left, upper-left, upper and upper-right neighbours:
 // every texel of the anti-diagonal x + 2y = d depends only on earlier anti-diagonals, so each
@@ -10,7 +17,6 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
-#include <span>
 #include <vector>
 
 #include <omp.h>
@@ -43,42 +49,6 @@ TexelFit fitSlots(const vmf::Samples& samples, vmf::LobeSet& lobes, const vmf::A
     int live = 0;
     for (int j = 0; j < lobes.count; ++j) live += lobes.lobe[j].alpha > 0 ? 1 : 0;
     return {live, outcome.iterations, outcome.converged};
-}
-
-// The plain fit's lobes of a texel put into the slots of `reference` (its parent): greedily the
-// pair of (reference slot, lobe) with the closest directions first; lobes left over take the
-// empty slots. The mixture is unchanged, only its slot order, so the fit's accuracy is kept and
-// H eq. 32 starts from lobes that already match their neighbours.
-vmf::LobeSet matchSlots(std::span<const VmfLobe> lobes, const VmfLobe* reference, int J) {
-    vmf::LobeSet out;
-    out.count = J;
-    for (int j = 0; j < J; ++j) out.lobe[j] = VmfLobe{};
-    struct Pair {
-        float cosine;
-        int slot, lobe;
-    };
-    std::vector<Pair> pairs;
-    for (int j = 0; j < J; ++j)
-        if (reference[j].alpha > 0)
-            for (int i = 0; i < int(lobes.size()); ++i)
-                pairs.push_back({glm::dot(reference[j].mu, lobes[size_t(i)].mu), j, i});
-    std::stable_sort(pairs.begin(), pairs.end(),
-                     [](const Pair& a, const Pair& b) { return a.cosine > b.cosine; });
-    std::vector<bool> slotUsed(size_t(J), false), lobeUsed(lobes.size(), false);
-    for (const Pair& p : pairs) {
-        if (slotUsed[size_t(p.slot)] || lobeUsed[size_t(p.lobe)]) continue;
-        out.lobe[p.slot] = lobes[size_t(p.lobe)];
-        slotUsed[size_t(p.slot)] = lobeUsed[size_t(p.lobe)] = true;
-    }
-    int free = 0;
-    for (size_t i = 0; i < lobes.size(); ++i) {
-        if (lobeUsed[i]) continue;
-        while (free < J && slotUsed[size_t(free)]) ++free;
-        if (free == J) break;
-        out.lobe[free] = lobes[i];
-        slotUsed[size_t(free)] = true;
-    }
-    return out;
 }
 
 VmfLevel slotLevel(int width, int height, int J) {
@@ -129,15 +99,12 @@ std::vector<VmfLevel> fitVmfPyramidCoherent(const Pyramid& pyramid, int J,
     const vmf::Samples all = order.all();
     const bool nested = omp_in_parallel();
 
-    // Each texel starts from the plain (bottom-up, farthest-point initialised) fit's lobes,
-    // permuted into its parent's slots: the top-down start alone settles in worse optima.
-    VmfFitOptions plainOptions = options;
-    plainOptions.coherence = 0.f;
-    plainOptions.alignedKappa = false;
-    const std::vector<VmfLevel> plain = fitVmfPyramid(pyramid, J, plainOptions, nullptr);
-
-    // The top texel: no parent, no neighbour, no pull.
+    // The top texel: no parent, no neighbour, no pull; the plain (bottom-up, merge-seeded) fit's.
     {
+        VmfFitOptions plainOptions = options;
+        plainOptions.coherence = 0.f;
+        plainOptions.alignedKappa = false;
+        const std::vector<VmfLevel> plain = fitVmfPyramid(pyramid, J, plainOptions, nullptr);
         const auto lobes = plain[top].texel(0, 0);
         std::copy(lobes.begin(), lobes.end(), result[top].lobes.begin());
         tally({int(lobes.size()), 0, true});
@@ -157,7 +124,9 @@ std::vector<VmfLevel> fitVmfPyramidCoherent(const Pyramid& pyramid, int J,
             const size_t t = size_t(y) * width + x;
             const VmfLobe* parent =
                 coarser.texel(parentColumn[size_t(x)], parentRow[size_t(y)]).data();
-            vmf::LobeSet lobes = matchSlots(plain[k].texel(x, y), parent, J);
+            vmf::LobeSet lobes;
+            lobes.count = J;
+            std::copy(parent, parent + J, lobes.lobe);
             // align_j = Sum_k alpha_jk mu_jk over the texels fitted before this one.
             vmf::Alignment alignment;
             auto add = [&](const VmfLobe* neighbour) {

@@ -122,8 +122,8 @@ std::vector<MethodParameter> vmfParameters() {
              .min = 0,
              .max = 1e6,
              .defaultValue = 0,
-             .help = "C of the alignment term (H eq. 32): lobes fitted top-down, slot j matched "
-                     "across texels",
+             .help = "coherent lobes for hardware filtering, C the pull of H eq. 32 (e.g. "
+                     "0.03): fitted top-down, each texel's EM started from its parent's lobes",
              .commands = kParameterBake},
             {.key = "lobe_budget",
              .flag = "--lobe-budget",

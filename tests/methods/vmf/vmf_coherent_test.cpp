@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <span>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include "ndfmip/evaluate.h"
 #include "ndfmip/pyramid.h"
 #include "ndfmip/vmf.h"
 #include "test_support.h"
@@ -267,8 +269,9 @@ Image twoGrooveMap(int size, uint64_t seed) {
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) {
             double u = double(x) / size, v = double(y) / size;
-            double alongY = 0.5 + 0.45 * std::sin(2 * kPi * u) * std::cos(2 * kPi * v);
-            double theta = 25 + 10 * std::sin(2 * kPi * (u + 0.5 * v));
+            double alongY =
+                0.5 + 0.45 * std::sin(2 * vmftest::kPi * u) * std::cos(2 * vmftest::kPi * v);
+            double theta = 25 + 10 * std::sin(2 * vmftest::kPi * (u + 0.5 * v));
             bool grooveAlongY = uniform(rng) < alongY;
             double phi = grooveAlongY ? (x % 2 ? 180 : 0) : (y % 2 ? 270 : 90);
             glm::vec3 n = sampleVmf(direction(theta, phi), 300, rng); // ~3 degrees of jitter
@@ -474,43 +477,91 @@ TEST(VmfCoherent, PyramidIsTheSameOnAnyThreadCount) {
     EXPECT_EQ(lobeMismatch(one), lobeMismatch(many));
 }
 
+// The normals of texel (x, y) of level k.
+std::vector<glm::vec3> footprintNormals(const Pyramid& pyramid, int k, int x, int y) {
+    std::vector<glm::vec3> out;
+    Footprint f = footprint(pyramid, k, x, y);
+    for (int j = f.y0; j < f.y1; ++j)
+        for (int i = f.x0; i < f.x1; ++i) {
+            const float* p = pyramid.base->at(i, j);
+            out.push_back(glm::normalize(glm::vec3(p[0], p[1], p[2])));
+        }
+    return out;
+}
+
+// What hardware filtering makes of two neighbours: every pair of horizontally adjacent texels of
+// level k, their slots' packed values averaged (H eq. 33) and unpacked, judged against the two
+// footprints' normals together by smoothedNdfError (s = 64); the mean over the pairs.
+double blendedPairError(const Pyramid& pyramid, const VmfLevel& level, int k) {
+    double sum = 0;
+    int pairs = 0;
+    for (int y = 0; y < level.height; ++y)
+        for (int x = 0; x + 1 < level.width; ++x) {
+            std::span<const VmfLobe> a = level.texel(x, y), b = level.texel(x + 1, y);
+            std::vector<VmfLobe> blended;
+            for (size_t j = 0; j < std::max(a.size(), b.size()); ++j) {
+                glm::vec4 p(0.f);
+                if (j < a.size()) p += 0.5f * packLobe(a[j]);
+                if (j < b.size()) p += 0.5f * packLobe(b[j]);
+                if (p.x > 0) blended.push_back(unpackLobe(p));
+            }
+            std::vector<glm::vec3> normals = footprintNormals(pyramid, k, x, y);
+            const std::vector<glm::vec3> right = footprintNormals(pyramid, k, x + 1, y);
+            normals.insert(normals.end(), right.begin(), right.end());
+            sum += smoothedNdfError(normals.data(), normals.size(), blended, 64);
+            ++pairs;
+        }
+    return sum / pairs;
+}
+
 TEST(VmfCoherent, AlignedLobesMatchAcrossTexelsAtLittleCost) {
-    // 64 x 64 two-groove map, J = 4. Measured mismatch (degrees): plain 20.2; the plain fit's
-    // lobes put into their parents' slots (C = 0) 15.6; C = 1 3.5 (4.4 with alignedKappa).
-    // Log-likelihood per normal, levels 1..6: plain (and C = 0, the same mixtures) 8.29 2.24 1.58
-    // 1.17 0.57 0.28; C = 1 -95.9 1.31 1.24 0.88 0.51 0.28; C = 1 with alignedKappa 2.61 1.80 1.34
-    // 0.94 0.51 0.28: the pull costs likelihood where footprints are small, most of all with kappa
-    // from |r_j| (a turned sharp lobe misses its few normals), little from 32 x 32 normals up.
+    // 64 x 64 two-groove map, J = 4: slots by decreasing alpha (the plain fit), and the top-down
+    // fit (alignedKappa, as the bake runs it) with no pull, eval's engine-view pull C = 0.03 and
+    // C = 1. Measured: mismatch (degrees) 20.2, 4.7, 4.5, 2.2. Log-likelihood per normal, levels
+    // 1..6: plain 8.29 2.24 1.58 1.17 0.57 0.28; C = 0 5.40 2.18 1.58 1.17 0.57 0.28; C = 1 3.00
+    // 1.80 1.34 0.94 0.51 0.28. Blended pairs' NDF error, levels 1..5: plain 0.31 0.52 0.47 0.52
+    // 0.51; C = 0 0.058 0.047 0.053 0.122 0.194; C = 1 0.182 0.168 0.191 0.222 0.211. Each texel
+    // started from its parent's lobes keeps its slots close to its neighbours' at no cost in
+    // likelihood from 16 normals a texel up, and the pull buys a lower mismatch with both
+    // likelihood and the blend: turned sharp lobes widen (alignedKappa) and blend worse.
     Pyramid pyramid = buildPyramid(twoGrooveMap(64, 10));
     const int J = 4;
     std::vector<VmfLevel> plain = fitVmfPyramid(pyramid, J, {}, nullptr);
     VmfFitOptions options;
+    options.alignedKappa = true;
     std::vector<VmfLevel> started = fitVmfPyramidCoherent(pyramid, J, options, nullptr);
+    options.coherence = kEngineViewCoherence;
+    std::vector<VmfLevel> light = fitVmfPyramidCoherent(pyramid, J, options, nullptr);
     options.coherence = 1;
     std::vector<VmfLevel> pulled = fitVmfPyramidCoherent(pyramid, J, options, nullptr);
-    options.alignedKappa = true;
-    std::vector<VmfLevel> aligned = fitVmfPyramidCoherent(pyramid, J, options, nullptr);
 
     const double mismatchPlain = lobeMismatch(plain);
     EXPECT_GT(mismatchPlain, 15);
-    EXPECT_LT(lobeMismatch(started), 0.8 * mismatchPlain);
-    EXPECT_LT(lobeMismatch(pulled), 0.25 * mismatchPlain);
-    EXPECT_LT(lobeMismatch(aligned), 0.25 * mismatchPlain);
+    EXPECT_LT(lobeMismatch(started), 0.3 * mismatchPlain);
+    EXPECT_LT(lobeMismatch(light), lobeMismatch(started));
+    EXPECT_LT(lobeMismatch(pulled), 0.6 * lobeMismatch(started));
 
     const double normals = 64.0 * 64.0;
-    for (int k = 1; k < int(plain.size()); ++k) {
-        double perNormalPlain = levelLogLikelihood(pyramid, plain[size_t(k)], k) / normals;
-        double perNormalStarted = levelLogLikelihood(pyramid, started[size_t(k)], k) / normals;
-        double perNormalPulled = levelLogLikelihood(pyramid, pulled[size_t(k)], k) / normals;
-        double perNormalAligned = levelLogLikelihood(pyramid, aligned[size_t(k)], k) / normals;
-        EXPECT_NEAR(perNormalStarted, perNormalPlain, 1e-4)
-            << k;     // the same lobes, permuted, EM run on
-        if (k >= 5) { // 1024 normals per texel and up
-            EXPECT_GT(perNormalAligned, perNormalPlain - 0.1) << k;
-        } else {
-            EXPECT_GT(perNormalAligned, perNormalPulled) << k;
-            EXPECT_GT(perNormalAligned, perNormalPlain - 6) << k;
+    const int top = int(plain.size()) - 1;
+    for (int k = 1; k < top; ++k) {
+        const double perNormalPlain = levelLogLikelihood(pyramid, plain[size_t(k)], k) / normals;
+        const double perNormalStarted =
+            levelLogLikelihood(pyramid, started[size_t(k)], k) / normals;
+        const double perNormalPulled = levelLogLikelihood(pyramid, pulled[size_t(k)], k) / normals;
+        if (k >= 2) {
+            EXPECT_GT(perNormalStarted, perNormalPlain - 0.1) << k;
+        } else { // 4 normals, 4 lobes: the plain fit puts a spike on each
+            EXPECT_GT(perNormalStarted, perNormalPlain - 4) << k;
         }
+        EXPECT_LT(perNormalPulled, perNormalStarted) << k;
+
+        const double blendPlain = blendedPairError(pyramid, plain[size_t(k)], k);
+        const double blendStarted = blendedPairError(pyramid, started[size_t(k)], k);
+        EXPECT_LT(blendStarted, 0.45 * blendPlain) << k;
+        EXPECT_LT(blendStarted, blendedPairError(pyramid, pulled[size_t(k)], k)) << k;
+        EXPECT_NEAR(blendedPairError(pyramid, light[size_t(k)], k), blendStarted,
+                    0.05 * blendStarted)
+            << k;
     }
 }
 
