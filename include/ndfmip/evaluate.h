@@ -15,6 +15,7 @@
 #include "ndfmip/html_report.h"
 #include "ndfmip/pyramid.h"
 #include "ndfmip/shading.h"
+#include "ndfmip/vmf.h"
 
 namespace ndfmip {
 
@@ -43,12 +44,9 @@ ErrorStats compareToTruth(const std::vector<Image>& images, const std::vector<Im
 // Every map rendered from straight above at each footprint (texels per pixel side), with every
 // method and as the ground truth, for every material setting; docs/RENDERING.md. The defaults
 // are the command's (its option names in brackets).
-// vmf's C of H eq. 32 in eval's engine view: coherent lobes (each texel's EM started from its
-// parent's lobes, fitVmfPyramidCoherent), so that blending slot j of neighbouring texels and
-// levels blends like lobes, with a light pull; chosen on three maps (pyramidwall, Ground010,
-// brickA) from 0.03, 0.1, 0.3 and 1 (docs/RESULTS.md): a stronger pull turns the fine levels'
-// sharp lobes off their normals.
-constexpr float kEngineViewCoherence = 0.03f;
+// vmf's C of H eq. 32 in eval's engine view: coherent lobes, so that blending slot j of
+// neighbouring texels and levels blends like lobes (vmf.h).
+constexpr float kEngineViewCoherence = kHardwareFilteringCoherence;
 
 struct EvalOptions {
     std::vector<std::string> maps;

@@ -5,6 +5,7 @@
 // read from it, so a new option is one table row beside the code that uses it.
 #pragma once
 
+#include <limits>
 #include <map>
 #include <string>
 #include <utility>
@@ -43,7 +44,15 @@ struct MethodParameter {
     // The value the cache key records when the parameter is not given: the default for most; 0
     // for those whose default the bake chooses ("0 = the default"), as bakes have always keyed.
     bool keyedZeroWhenUnset = false;
+    // A bake written to files (bakeFile: `ndfmip bake`, Python's bake_to), which engines and the
+    // GPU read through hardware filtering, uses this instead of defaultValue when the parameter
+    // is not given and the method's rules allow it beside the values given; NaN: defaultValue.
+    double fileDefault = std::numeric_limits<double>::quiet_NaN();
 };
+
+// The values a bake written to files uses: `values` and, for each parameter of `method` not in
+// it with a fileDefault, that value where checkParameterValues still passes with it.
+ParameterValues fileParameterValues(Method method, const ParameterValues& values);
 
 // The method's table (empty for a method without parameters of its own).
 const std::vector<MethodParameter>& methodParameters(Method method);

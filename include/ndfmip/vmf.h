@@ -113,6 +113,12 @@ enum class VmfSeeding {
 // The smoothing s of mergedLobes' cost (a Blinn-Phong exponent; its vMF concentration).
 constexpr float kDefaultMergeSmoothing = 1024.f;
 
+// C of H eq. 32 for lobes read through hardware filtering (eval's engine view, bakes written to
+// files): coherent lobes (fitVmfPyramidCoherent) with a light pull, chosen on three maps
+// (pyramidwall, Ground010, brickA) from 0.03, 0.1, 0.3 and 1 (docs/RESULTS.md): a stronger pull
+// turns the fine levels' sharp lobes off their normals.
+constexpr float kHardwareFilteringCoherence = 0.03f;
+
 struct VmfFitOptions {
     int maxIterations = 50; // EM iterations (M-steps) at most
     // Stop once an iteration raises the log-likelihood by no more than

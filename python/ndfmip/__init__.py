@@ -124,8 +124,10 @@ def bake(normals: Union[PathLike, np.ndarray], method: str = "toksvig", *, base_
     (float32 (H, W, 3), e.g. from decode()). base_roughness: the material's alpha; roughness:
     toksvig, the material's alpha per texel (float32 (H, W)); albedo: vmf, linear RGB per texel
     (float32 (H, W, 3)). parameters: the method's own, by key (method_parameters()): order (sh's
-    highest band, default 7); lobes (vmf's lobes per texel, default 4), coherent, lobe_budget,
-    max_iterations, tolerance (as --coherent, --lobe-budget, --max-iterations, --tolerance).
+    highest band, default 7); lobes (vmf's lobes per texel, default 4), coherent (default 0:
+    plain lobes; bake_to, which writes files for hardware filtering, defaults to 0.03),
+    lobe_budget, max_iterations, tolerance (as --coherent, --lobe-budget, --max-iterations,
+    --tolerance).
     """
     if not isinstance(normals, (str, os.PathLike, np.ndarray)):
         raise Error(f"normals: expected a file path or a numpy array, not {type(normals).__name__}")

@@ -36,6 +36,13 @@ struct BakeProblem {
     throw BakeProblem{std::move(message)};
 }
 
+// The method parameters a bake written to files uses (method_parameters.h's fileDefault; an
+// unknown method keeps those given, and the checks name it).
+ParameterValues fileParameters(const BakeFileOptions& a) {
+    const auto method = methodFromString(a.method);
+    return method ? fileParameterValues(*method, a.parameters) : a.parameters;
+}
+
 // A comma-separated list of words from `allowed`.
 std::set<std::string> commaList(const std::string& list, const char* option,
                                 const std::set<std::string>& allowed) {
@@ -199,12 +206,13 @@ std::string optionsText(const BakeFileOptions& a) {
                               {"clamp", d.address == AddressMode::Clamp}};
     // Every method's bake parameters, given or not, each as its type is written (the keys stay
     // those of earlier versions, so their bakes stay up to date).
+    const ParameterValues parameters = fileParameters(a);
     for (const auto& [method, p] : allMethodParameters()) {
         if (!(p->commands & kParameterBake)) continue;
-        auto given = a.parameters.find(p->key);
-        const double value = given != a.parameters.end() ? given->second
-                             : p->keyedZeroWhenUnset     ? 0.0
-                                                         : p->defaultValue;
+        auto given = parameters.find(p->key);
+        const double value = given != parameters.end() ? given->second
+                             : p->keyedZeroWhenUnset   ? 0.0
+                                                       : p->defaultValue;
         if (p->type == ParameterType::Integer)
             options[p->key] = int64_t(value);
         else if (p->type == ParameterType::Float)
@@ -290,7 +298,7 @@ SharedImage roughnessAlpha(const BakeFileOptions& a, const Image& map) {
 // albedo and roughness maps, which the methods' memory estimates count.
 BakeOptions plannedOptions(const BakeFileOptions& a) {
     BakeOptions options;
-    options.parameters = a.parameters;
+    options.parameters = fileParameters(a);
     if (!a.albedo.empty()) options.albedo = std::make_shared<Image>();
     if (!a.roughnessMap.empty()) options.roughnessMap = std::make_shared<Image>();
     return options;
@@ -354,7 +362,7 @@ BakeFileReport bakeOrThrow(const std::string& input, const std::string& output,
     Pyramid pyramid = buildPyramid(std::make_shared<const Image>(std::move(normals)));
     BakeOptions options;
     options.baseRoughness = a.baseRoughness;
-    options.parameters = a.parameters;
+    options.parameters = fileParameters(a);
     if (!a.albedo.empty()) {
         Result<SharedImage> albedo = loadAlbedo(a.albedo, width, height);
         if (!albedo) failBake(albedo.error().message);

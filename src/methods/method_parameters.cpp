@@ -98,6 +98,17 @@ Status checkParameterValues(Method method, const ParameterValues& values, Parame
     return Status::success();
 }
 
+ParameterValues fileParameterValues(Method method, const ParameterValues& values) {
+    ParameterValues out = values;
+    for (const MethodParameter& p : methodParameters(method)) {
+        if (std::isnan(p.fileDefault) || out.count(p.key)) continue;
+        ParameterValues with = out;
+        with[p.key] = p.fileDefault;
+        if (checkParameterValues(method, with, ParameterNaming::Key)) out = std::move(with);
+    }
+    return out;
+}
+
 Status checkCommandParameterValues(const ParameterValues& values, unsigned use,
                                    ParameterNaming naming) {
     for (const auto& [key, value] : values) {

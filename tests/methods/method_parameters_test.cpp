@@ -118,6 +118,24 @@ std::string projectVersion() {
     return text.substr(from, text.find_first_not_of("0123456789.", from) - from);
 }
 
+// A bake written to files: vmf's lobes coherent unless --coherent or --lobe-budget (which plain
+// lobes take) is given; nothing else changes.
+TEST(MethodParameters, FileBakesTakeTheFileDefaultsTheMethodsRulesAllow) {
+    EXPECT_EQ(fileParameterValues(Method::Vmf, {}),
+              (ParameterValues{{"coherent", kHardwareFilteringCoherence}}));
+    EXPECT_EQ(fileParameterValues(Method::Vmf, {{"lobes", 6}}),
+              (ParameterValues{{"lobes", 6}, {"coherent", kHardwareFilteringCoherence}}));
+    EXPECT_EQ(fileParameterValues(Method::Vmf, {{"coherent", 0}}),
+              (ParameterValues{{"coherent", 0}}));
+    EXPECT_EQ(fileParameterValues(Method::Vmf, {{"lobe_budget", 0.01}}),
+              (ParameterValues{{"lobe_budget", 0.01}}));
+    EXPECT_EQ(fileParameterValues(Method::Vmf, {{"lobe_budget", 0}}),
+              (ParameterValues{{"lobe_budget", 0}, {"coherent", kHardwareFilteringCoherence}}));
+    EXPECT_EQ(fileParameterValues(Method::Sh, {}), ParameterValues{});
+    // The library's own default (bakes on the fly, shaded texel by texel) stays plain.
+    EXPECT_EQ(parameterValue(Method::Vmf, {}, "coherent"), 0.0);
+}
+
 TEST(MethodParameters, CacheKeysAreThoseOfTheFixedOptionList) {
     const std::string version = projectVersion();
     ASSERT_NE(version, "");
@@ -153,9 +171,17 @@ TEST(MethodParameters, CacheKeysAreThoseOfTheFixedOptionList) {
     };
     BakeFileOptions o;
     o.method = "vmf";
+    // A vmf bake written to files has coherent lobes unless told otherwise: its key is that of
+    // --coherent 0.03, and the earlier default's (plain lobes) is --coherent 0's.
+    Result<std::string> coherent = bakeCacheKey(o, "abc");
+    ASSERT_TRUE(coherent) << coherent.error().message;
+    EXPECT_EQ(coherent.value(), earlierKey(0, 0, kHardwareFilteringCoherence, 0.f, 50, 1e-5));
+    o.parameters = {{"coherent", 0.0}};
     Result<std::string> plain = bakeCacheKey(o, "abc");
     ASSERT_TRUE(plain) << plain.error().message;
     EXPECT_EQ(plain.value(), earlierKey(0, 0, 0.f, 0.f, 50, 1e-5));
+    o.parameters = {{"lobe_budget", 0.01}}; // a budget applies to plain lobes
+    EXPECT_EQ(bakeCacheKey(o, "abc").value(), earlierKey(0, 0, 0.f, 0.01f, 50, 1e-5));
     o.parameters = {
         {"lobes", 6}, {"coherent", double(0.3f)}, {"max_iterations", 7}, {"tolerance", 1e-3}};
     Result<std::string> given = bakeCacheKey(o, "abc");

@@ -73,7 +73,9 @@ void addMethodParameterOptions(CLI::App* command, unsigned use, MethodParameterA
         for (const auto& [method, unused] : byKey[key])
             methods += (methods.empty() ? "" : ", ") + std::string(methodName(method));
         char shown[32];
-        std::snprintf(shown, sizeof shown, "%g", p.defaultValue);
+        std::snprintf(shown, sizeof shown, "%g",
+                      use == kParameterBake && !std::isnan(p.fileDefault) ? p.fileDefault
+                                                                          : p.defaultValue);
         const std::string help = methods + (use == kParameterBake ? "" : " baked on the fly") +
                                  ": " + p.help + " (default " + shown + ")";
         CLI::Option* option = nullptr;

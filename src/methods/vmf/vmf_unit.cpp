@@ -122,9 +122,14 @@ std::vector<MethodParameter> vmfParameters() {
              .min = 0,
              .max = 1e6,
              .defaultValue = 0,
-             .help = "coherent lobes for hardware filtering, C the pull of H eq. 32 (e.g. "
-                     "0.03): fitted top-down, each texel's EM started from its parent's lobes",
-             .commands = kParameterBake},
+             .help = "coherent lobes for hardware filtering, C the pull of H eq. 32: fitted "
+                     "top-down, each texel's EM started from its parent's lobes; 0 = plain lobes, "
+                     "the best fit where each texel is shaded alone",
+             .commands = kParameterBake,
+             // Files are read through hardware filtering, which blends slot j of neighbouring
+             // texels (docs/RESULTS.md, "Coherent lobes started from the parent"); not beside
+             // --lobe-budget, which plain lobes take.
+             .fileDefault = kHardwareFilteringCoherence},
             {.key = "lobe_budget",
              .flag = "--lobe-budget",
              .type = ParameterType::Float,
