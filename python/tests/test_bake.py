@@ -11,7 +11,7 @@ import ndfmip
 from conftest import BUNDLED_MAP, assert_same_folders, run_cli
 
 METHODS = [("toksvig", {}, []), ("naive", {}, []), ("lean", {}, []),
-           ("sh", {"order": 3}, ["--order", "3"]), ("vmf", {"lobes": 2}, ["--lobes", "2"]),
+           ("sh", {"order": 3}, ["--order", "3"]), ("vmf", {"lobes": 2, "coherent": 0.03}, ["--lobes", "2"]),
            ("ggx-fit", {"base_roughness": 0.1}, ["--base-roughness", "0.1"]),
            ("ggx-aniso", {"base_roughness": 0.1}, ["--base-roughness", "0.1"])]
 
