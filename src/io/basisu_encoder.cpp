@@ -201,10 +201,6 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
                      fs::temp_directory_path().string()};
     // Every level's PNG first, then all the encoders at once: the small levels finish while
     // level 0, which takes most of the time, is still encoding.
-    std::vector<pid_t> pids;
-    auto waitAll = [&pids] {
-        for (pid_t pid : pids) exitStatus(pid);
-    };
     auto stemOf = [&scratch](size_t k) {
         return (scratch.path / ("level" + std::to_string(k))).string();
     };
@@ -225,7 +221,7 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
         if (Status s = writeFileAtomic(stemOf(k) + ".png", png.value()); !s) return Error{s.error};
     }
     // Starts level k's encoder; 0 or the error number posix_spawn gave.
-    auto spawn = [&](size_t k, pid_t& pid) {
+    auto spawnOne = [&](size_t k, pid_t& pid) {
         const std::string stem = stemOf(k);
         const std::string input = stem + ".png", output = stem + ".ktx2", log = stem + ".log";
         // -linear: normals and roughness are no colours; no -mipmap: the level is all it gets.
@@ -259,33 +255,33 @@ Result<std::vector<std::string>> encodeUastcLevels(const std::vector<LevelRows>&
         posix_spawn_file_actions_destroy(&actions);
         return failed;
     };
-    auto cannotRun = [&](int failed) {
-        return Error{"uastc: cannot run the Basis Universal encoder " + encoder.value() + ": " +
-                     std::strerror(failed)};
-    };
-    for (size_t k = 0; k < levels.size(); ++k) {
-        pid_t pid = 0;
-        if (const int failed = spawn(k, pid)) {
-            waitAll();
-            return cannotRun(failed);
+    // Starts the encoders of the levels `ks`, all at once: their pids, or why one could not be
+    // started (after waiting for those that were).
+    auto spawn = [&](const std::vector<size_t>& ks) -> Result<std::vector<pid_t>> {
+        std::vector<pid_t> pids;
+        for (size_t k : ks) {
+            pid_t pid = 0;
+            if (const int failed = spawnOne(k, pid)) {
+                for (pid_t started : pids) exitStatus(started);
+                return Error{"uastc: cannot run the Basis Universal encoder " + encoder.value() +
+                             ": " + std::strerror(failed)};
+            }
+            pids.push_back(pid);
         }
-        pids.push_back(pid);
-    }
-    std::vector<int> statuses = waitForEncoders(pids);
+        return pids;
+    };
+    std::vector<size_t> all(levels.size());
+    for (size_t k = 0; k < all.size(); ++k) all[k] = k;
+    Result<std::vector<pid_t>> first = spawn(all);
+    if (!first) return first.error();
+    std::vector<int> statuses = waitForEncoders(first.value());
     // The stalled levels are encoded once more: the stall was intermittent.
     std::vector<size_t> again;
-    pids.clear();
-    for (size_t k = 0; k < levels.size(); ++k) {
-        if (statuses[k] != -2) continue;
-        pid_t pid = 0;
-        if (const int failed = spawn(k, pid)) {
-            waitAll();
-            return cannotRun(failed);
-        }
-        again.push_back(k);
-        pids.push_back(pid);
-    }
-    const std::vector<int> retried = waitForEncoders(pids);
+    for (size_t k = 0; k < levels.size(); ++k)
+        if (statuses[k] == -2) again.push_back(k);
+    Result<std::vector<pid_t>> second = spawn(again);
+    if (!second) return second.error();
+    const std::vector<int> retried = waitForEncoders(second.value());
     for (size_t i = 0; i < again.size(); ++i) statuses[again[i]] = retried[i];
     std::vector<std::string> out;
     for (size_t k = 0; k < levels.size(); ++k) {
