@@ -280,19 +280,25 @@ Image twoGrooveMap(int size, uint64_t seed) {
     return map;
 }
 
+// The normals of texel (x, y) of level k.
+std::vector<glm::vec3> footprintNormals(const Pyramid& pyramid, int k, int x, int y) {
+    std::vector<glm::vec3> out;
+    Footprint f = footprint(pyramid, k, x, y);
+    for (int j = f.y0; j < f.y1; ++j)
+        for (int i = f.x0; i < f.x1; ++i) {
+            const float* p = pyramid.base->at(i, j);
+            out.push_back(glm::normalize(glm::vec3(p[0], p[1], p[2])));
+        }
+    return out;
+}
+
 // Sum over the level's texels of the log-likelihood of their lobes for every normal they cover.
 double levelLogLikelihood(const Pyramid& pyramid, const VmfLevel& level, int k) {
     double sum = 0;
     for (int y = 0; y < level.height; ++y)
-        for (int x = 0; x < level.width; ++x) {
-            Footprint f = footprint(pyramid, k, x, y);
-            for (int j = f.y0; j < f.y1; ++j)
-                for (int i = f.x0; i < f.x1; ++i) {
-                    const float* p = pyramid.base->at(i, j);
-                    glm::vec3 n = glm::normalize(glm::vec3(p[0], p[1], p[2]));
-                    sum += vmfMixtureLogDensity(n, level.texel(x, y));
-                }
-        }
+        for (int x = 0; x < level.width; ++x)
+            for (glm::vec3 n : footprintNormals(pyramid, k, x, y))
+                sum += vmfMixtureLogDensity(n, level.texel(x, y));
     return sum;
 }
 
@@ -475,18 +481,6 @@ TEST(VmfCoherent, PyramidIsTheSameOnAnyThreadCount) {
             ASSERT_TRUE(sameBits(one[k].lobes[i], many[k].lobes[i])) << k << " " << i;
     }
     EXPECT_EQ(lobeMismatch(one), lobeMismatch(many));
-}
-
-// The normals of texel (x, y) of level k.
-std::vector<glm::vec3> footprintNormals(const Pyramid& pyramid, int k, int x, int y) {
-    std::vector<glm::vec3> out;
-    Footprint f = footprint(pyramid, k, x, y);
-    for (int j = f.y0; j < f.y1; ++j)
-        for (int i = f.x0; i < f.x1; ++i) {
-            const float* p = pyramid.base->at(i, j);
-            out.push_back(glm::normalize(glm::vec3(p[0], p[1], p[2])));
-        }
-    return out;
 }
 
 // What hardware filtering makes of two neighbours: every pair of horizontally adjacent texels of
