@@ -63,6 +63,46 @@ VmfLevel slotLevel(int width, int height, int J) {
     return level;
 }
 
+// The subsample's stride: a power of two that leaves at least 128 normals across both ways.
+int subsampleStride(const Image& base) {
+    int stride = 1;
+    while (std::min(base.width, base.height) / (2 * stride) >= 128) stride *= 2;
+    return stride;
+}
+
+// One normal per stride x stride block at a jittered place (a hash of the block, so that a
+// map's period cannot line up with the stride).
+Image jitteredSubsample(const Image& base, int stride) {
+    const int width = base.width / stride, height = base.height / stride;
+    Image sub(width, height, 3, Image::Uninitialized{});
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            uint32_t h = uint32_t(x) * 0x9E3779B1u ^ uint32_t(y) * 0x85EBCA77u;
+            h ^= h >> 15;
+            h *= 0x2C1B3C6Du;
+            h ^= h >> 12;
+            const int jx = int(h % uint32_t(stride)), jy = int((h >> 16) % uint32_t(stride));
+            std::copy_n(base.at(x * stride + jx, y * stride + jy), 3, sub.at(x, y));
+        }
+    return sub;
+}
+
+// Where the top texel's EM over every normal starts: the top lobes of the plain (bottom-up,
+// merge-seeded) pyramid of a subsample of the map, about 128 x 128 normals. The whole map's
+// plain pyramid gives the same start at about the cost of the coherent fit itself.
+vmf::LobeSet topSeed(const Pyramid& pyramid, int J, const VmfFitOptions& plainOptions) {
+    const int stride = subsampleStride(*pyramid.base);
+    const std::vector<VmfLevel> plain =
+        stride == 1 ? fitVmfPyramid(pyramid, J, plainOptions, nullptr)
+                    : fitVmfPyramid(buildPyramid(jitteredSubsample(*pyramid.base, stride)), J,
+                                    plainOptions, nullptr);
+    const auto top = plain.back().texel(0, 0);
+    vmf::LobeSet lobes;
+    lobes.count = int(top.size());
+    std::copy(top.begin(), top.end(), lobes.lobe);
+    return lobes;
+}
+
 } // namespace
 
 std::vector<VmfLevel> fitVmfPyramidCoherent(const Pyramid& pyramid, int J,
@@ -99,15 +139,16 @@ std::vector<VmfLevel> fitVmfPyramidCoherent(const Pyramid& pyramid, int J,
     const vmf::Samples all = order.all();
     const bool nested = omp_in_parallel();
 
-    // The top texel: no parent, no neighbour, no pull; the plain (bottom-up, merge-seeded) fit's.
+    // The top texel: no parent, no neighbour, no pull; the plain fit of every normal, started
+    // from the plain pyramid of a jittered subsample (topSeed).
     {
         VmfFitOptions plainOptions = options;
         plainOptions.coherence = 0.f;
         plainOptions.alignedKappa = false;
-        const std::vector<VmfLevel> plain = fitVmfPyramid(pyramid, J, plainOptions, nullptr);
-        const auto lobes = plain[top].texel(0, 0);
-        std::copy(lobes.begin(), lobes.end(), result[top].lobes.begin());
-        tally({int(lobes.size()), 0, true});
+        vmf::LobeSet lobes = topSeed(pyramid, J, plainOptions);
+        const vmf::EmOutcome outcome = vmf::runEm(all, lobes, plainOptions, !nested, nullptr);
+        std::copy(lobes.lobe, lobes.lobe + lobes.count, result[top].lobes.begin());
+        tally({lobes.count, outcome.iterations, outcome.converged});
     }
 
     for (int k = top - 1; k >= 1; --k) {
