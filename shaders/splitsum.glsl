@@ -1,8 +1,8 @@
 // ndfmip shading library: the per-texel factors of the split sum under an environment (needs
 // brdf.glsl and vmf.glsl), one source for the CPU renderer (src/env/splitsum_shading.cpp, through
 // glsl.h) and the GPU renderer's environment.glsl: which perceptual roughness a lobe reads the
-// prefiltered chain and the albedo table at, the root mean square of n.v over a texel's normals,
-// and the SH bands' mean over a vMF's normals.
+// prefiltered chain and the albedo table at (and, for a widened lobe, at which view), the root
+// mean square of n.v over a texel's normals, and the SH bands' mean over a vMF's normals.
 
 // The Toksvig variance scale of the ours roughness mapping, alpha'^2 = alpha^2 + c sigma^2
 // (roughness.h's kVarianceScale, which glsl.h checks against it).
@@ -20,6 +20,22 @@ bool ndfmipHasLobe(NdfmipMaterial m) {
 // The material's own perceptual roughness (a Blinn-Phong exponent's through Walter et al.).
 float ndfmipBasePerceptual(NdfmipMaterial m) {
     return m.brdf == NDFMIP_BLINN_PHONG ? ndfmipBlinnPhongPerceptual(m.exponent) : ndfmipAlphaPerceptual(m.roughness);
+}
+
+// The level a widened lobe's radiance is read at, seen at n.v = mu: perceptual roughness r (the
+// material's lobe, albedoR, widened by the normals' spread) with the spread's share of alpha^2
+// scaled by mu. A spread of normals reflects into a spread of directions twice as wide in the
+// plane of incidence but 2 mu as wide across it (dr = 2 (dn.v) n + 2 mu dn), and the
+// prefiltered levels hold round lobes: scaled by mu the level's lobe covers the solid angle of the
+// stretched one (the geometric mean of its two variances, 4 sigma^2 mu). Read at the full
+// widening, a plane seen from 30 degrees was 12-36% too bright under studio with Toksvig's
+// roughness, its widened lobes reaching lamps its normals do not (docs/RESULTS.md). The material's
+// own lobe is stretched alike; its level is every engine's convention and stays as it is.
+float ndfmipGrazingRoughness(float r, float albedoR, float mu) {
+    float base = albedoR * albedoR, widened = r * r; // alphas
+    if (!(widened > base)) return r;
+    float a2 = base * base + (widened * widened - base * base) * clamp(mu, 0.0f, 1.0f);
+    return sqrt(sqrt(a2));
 }
 
 vec3 ndfmipUnitOrFlat(vec3 v) {

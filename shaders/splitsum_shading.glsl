@@ -37,14 +37,17 @@ vec3 ndfmipEnvDiffuse(mat3 toEnv, vec3 albedo, vec3 n, vec3 band) {
 // venice along the mirror direction, docs/RESULTS.md). The bend is the material's own lobe's, as
 // the albedo factor is: each normal of the texel bends its own narrow lobe, and their spread
 // blurs about the mean normal rather than bending (with the widened roughness's bend the spread
-// texels lost up to 5% more energy under studio, vmf at footprint 64).
+// texels lost up to 5% more energy under studio, vmf at footprint 64). The radiance's level is
+// the widened lobe's as seen at n.v (ndfmipGrazingRoughness; log2sigma: the normals' variance
+// scaled the same way).
 // One normal (len 1, r = albedoR): the plain split sum.
 vec3 ndfmipEnvSpecular(NdfmipMaterial m, mat3 toEnv, vec3 n, vec3 view, float r, float albedoR, float len,
                        float normalVariance) {
     float mu = dot(n, view);
     vec3 reflected = 2.0f * mu * n - view;
     reflected = normalize(mix(reflected, n, ndfmipDominantShare(m, mu, albedoR)));
-    vec3 ld = ndfmipPrefilteredRadiance(toEnv * reflected, r, normalVariance);
+    vec3 ld = ndfmipPrefilteredRadiance(toEnv * reflected, ndfmipGrazingRoughness(r, albedoR, mu),
+                                        normalVariance * clamp(mu, 0.0f, 1.0f));
     return m.specular * ld * ndfmipSpecularAlbedo(m, ndfmipRmsCosine(mu, len), albedoR);
 }
 

@@ -3,12 +3,14 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <random>
 
 #include <gtest/gtest.h>
 
 #include "env/env_test_support.h"
 #include "ndfmip/brdf.h"
 #include "ndfmip/environment_splitsum.h"
+#include "ndfmip/glsl.h"
 
 namespace ndfmip {
 namespace {
@@ -438,6 +440,47 @@ TEST(SplitSum, ShorterNaIsBlurrierAndDarkerInDiffuseBand1) {
                                  glm::mat3(1.f), lighting, rule, RoughnessMapping::Ours);
         EXPECT_LT(wide.x, sharp.x) << environmentLodName(rule);
     }
+}
+
+TEST(SplitSumGrazing, ReflectedSpreadCoversTheSolidAngleTheLevelIsReadAt) {
+    // Normals spread about z (Gaussian tangent offsets, sigma per axis) reflect a view at n.v =
+    // mu into directions whose covariance about the mirror direction has variances 4 sigma^2 in
+    // the plane of incidence and 4 sigma^2 mu^2 across it: their geometric mean, the variance of
+    // the round lobe of the same solid angle, is 4 sigma^2 mu.
+    std::mt19937_64 rng(5);
+    std::normal_distribution<double> gauss(0., 1.);
+    const double sigma = 0.01;
+    for (double mu : {1.0, 0.7, 0.5, 0.25}) {
+        const glm::dvec3 v(std::sqrt(1. - mu * mu), 0., mu);
+        const glm::dvec3 r = 2. * mu * glm::dvec3(0, 0, 1) - v;
+        const glm::dvec3 inPlane = glm::normalize(glm::cross(glm::dvec3(0, 1, 0), r));
+        double a = 0, b = 0, c = 0;
+        const int count = 200000;
+        for (int i = 0; i < count; ++i) {
+            const glm::dvec3 n =
+                glm::normalize(glm::dvec3(sigma * gauss(rng), sigma * gauss(rng), 1.));
+            const glm::dvec3 d = 2. * glm::dot(n, v) * n - v - r;
+            const double x = glm::dot(d, inPlane), y = d.y;
+            a += x * x, b += y * y, c += x * y;
+        }
+        a /= count, b /= count, c /= count;
+        const double s2 = sigma * sigma;
+        EXPECT_NEAR(a, 4. * s2, 0.02 * 4. * s2) << mu;
+        EXPECT_NEAR(b, 4. * s2 * mu * mu, 0.02 * 4. * s2 * mu * mu) << mu;
+        EXPECT_NEAR(std::sqrt(a * b - c * c), 4. * s2 * mu, 0.02 * 4. * s2 * mu) << mu;
+    }
+    // The level read: the spread's share of alpha^2 scaled by mu (roughness perceptual, alpha =
+    // r^2).
+    for (float base : {0.2f, 0.45f})
+        for (float widened : {0.5f, 0.8f})
+            for (float mu : {1.f, 0.6f, 0.2f}) {
+                const float read = glsl().ndfmipGrazingRoughness(widened, base, mu);
+                const float a2 = std::pow(base, 4.f), w2 = std::pow(widened, 4.f);
+                EXPECT_NEAR(std::pow(read, 4.f), a2 + (w2 - a2) * mu, 1e-5f)
+                    << base << " " << widened << " " << mu;
+            }
+    EXPECT_EQ(glsl().ndfmipGrazingRoughness(0.3f, 0.5f, 0.4f), 0.3f); // nothing widened
+    EXPECT_NEAR(glsl().ndfmipGrazingRoughness(0.7f, 0.4f, -0.2f), 0.4f, 1e-6f);
 }
 
 TEST(SplitSum, VmfWithOneSharpLobeIsNaive) {
