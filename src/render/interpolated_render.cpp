@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "core/splitmix.h"
 #include "ndfmip/brdf.h"
 #include "ndfmip/interpolated.h"
 #include "ndfmip/method_shading.h"
@@ -73,14 +74,6 @@ glm::vec3 shadeSample(const InterpolatedContext& ctx, float px, float py) {
     return radiance;
 }
 
-// SplitMix64, one stream per pixel: the image does not depend on the thread count.
-float uniform(uint64_t& state) {
-    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return float((z ^ (z >> 31)) >> 40) * (1.f / 16777216.f);
-}
-
 } // namespace
 
 std::string interpolatedMethodNames() {
@@ -137,15 +130,15 @@ Result<Image> renderInterpolated(const Scene& scene, const std::string& method,
 #pragma omp parallel for schedule(dynamic, 1)
     for (int y = 0; y < camera.height; ++y) {
         for (int x = 0; x < camera.width; ++x) {
-            uint64_t state = options.seed * 0x2545F4914F6CDD1Dull +
-                             uint64_t(y) * uint64_t(camera.width) + uint64_t(x);
+            SplitMix64 random{options.seed * 0x2545F4914F6CDD1Dull +
+                              uint64_t(y) * uint64_t(camera.width) + uint64_t(x)};
             glm::vec3 sum(0.f);
             for (int sy = 0; sy < gy; ++sy)
                 for (int sx = 0; sx < gx; ++sx) {
                     float jx = 0.5f, jy = 0.5f;
                     if (options.spp > 1) {
-                        jx = (float(sx) + uniform(state)) / float(gx);
-                        jy = (float(sy) + uniform(state)) / float(gy);
+                        jx = (float(sx) + random.uniform()) / float(gx);
+                        jy = (float(sy) + random.uniform()) / float(gy);
                     }
                     sum += shadeSample(ctx, float(x) + jx + options.pixelShift.x,
                                        float(y) + jy + options.pixelShift.y);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 
+#include "core/splitmix.h"
 #include "environment_truth.h"
 #include "methods/method_unit.h"
 #include "ndfmip/environment_lighting.h"
@@ -18,18 +19,7 @@ namespace ndfmip {
 
 namespace {
 
-// SplitMix64: a tiny, well-mixed generator; one stream per pixel.
-struct PixelRandom {
-    uint64_t state;
-    uint64_t next() {
-        uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    float uniform() { return float(next() >> 40) * (1.f / 16777216.f); }               // [0, 1)
-    double uniformDouble() { return double(next() >> 11) * (1. / 9007199254740992.); } // [0, 1)
-};
+using PixelRandom = SplitMix64; // one stream per pixel
 
 // spp samples as a gx x gy grid with gx the largest divisor of spp not above sqrt(spp).
 void strataGrid(int spp, int& gx, int& gy) {
