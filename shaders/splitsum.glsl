@@ -47,9 +47,9 @@ vec3 ndfmipUnitOrFlat(vec3 v) {
 // unit mean direction m, mu = m.v: E[(n.v)^2] = E[cos^2 t] mu^2 + E[sin^2 t] (1 - mu^2)/2 (t the
 // angle to m, the spread even about m), with a vMF's E[sin^2 t] = 2 A(kappa)/kappa, A = r and
 // kappa by Banerjee's approximation: 2 (1 - r^2)/(3 - r^2), about 2 (1 - r) near r = 1 (twice
-// T eq. 1's sigma^2) and 2/3 (normals over the whole sphere) at r = 0. A lobe's albedo grows as
-// (n.v)^2 (4 (n.v)^2 when sharp), so one albedo read here stands for the mean of the texel's own.
-// One normal (r >= 1): mu itself, clamped to [0, 1].
+// T eq. 1's sigma^2) and 2/3 (normals over the whole sphere) at r = 0. With their mean r mu it
+// gives the two moments the albedo factor's mean over the normals is taken from
+// (ndfmipSpreadAlbedo). One normal (r >= 1): mu itself, clamped to [0, 1].
 float ndfmipRmsCosine(float mu, float r) {
     mu = clamp(mu, 0.0f, 1.0f);
     if (r >= 1.0f) return mu;

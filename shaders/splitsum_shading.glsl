@@ -23,14 +23,45 @@ vec3 ndfmipEnvDiffuse(mat3 toEnv, vec3 albedo, vec3 n, vec3 band) {
     return albedo * (1.0f / NDFMIP_PI) * ndfmipIrradiance(toEnv * n, band);
 }
 
-// The specular term about the unit tangent-frame normal n: m.specular LD(reflect(-v, n), r) E(rms
-// n.v, albedoR). The albedo factor is the mean of the texel's own lobes, not the widened lobe's:
-// every normal a filtered texel covers carries the material's lobe (perceptual roughness albedoR),
-// whose albedo grows as (n.v)^2, so it is read at the material's roughness and the root mean square
-// of n.v over the normals, those of a vMF of mean length `len` about n (ndfmipRmsCosine). The
-// widened lobe's own albedo at n.v of the mean normal lost 13-15% of the truth's energy at large
-// footprints (docs/RESULTS.md): a wide lobe about the mean normal loses what falls below its
-// horizon, the texel's narrow lobes do not. The widened roughness r only blurs the radiance, LD.
+// The mean of the material's albedo E(n.v, albedoR) over the normals of a vMF of mean length `len`
+// about the unit n, seen at n.v = mu: a two-point rule in n.v exact in its mean (len mu) and mean
+// square (ndfmipRmsCosine^2), so exact wherever E is quadratic in n.v, as it nearly is over [0, 1].
+// The nodes are mean -+ the deviation at equal weights; a node past 1 or 0 is put there and the
+// other node and the weights moved so both moments still hold (no n.v exceeds 1, and below 0 a
+// normal reflects nothing); where no two points in [0, 1] hold them, 0 and 1. One normal: E(mu).
+float ndfmipSpreadAlbedo(NdfmipMaterial m, float mu, float len, float albedoR) {
+    float rms = ndfmipRmsCosine(mu, len);
+    float mean = clamp(mu, 0.0f, 1.0f) * clamp(len, 0.0f, 1.0f);
+    float variance = max(rms * rms - mean * mean, 0.0f);
+    if (!(variance > 1e-12f)) return ndfmipSpecularAlbedo(m, mean, albedoR);
+    float deviation = sqrt(variance);
+    float low = mean - deviation, high = mean + deviation, lowWeight = 0.5f;
+    if (variance >= mean * (1.0f - mean)) {
+        low = 0.0f;
+        high = 1.0f;
+        lowWeight = 1.0f - mean;
+    } else if (high > 1.0f) {
+        high = 1.0f;
+        low = mean - variance / (1.0f - mean);
+        lowWeight = (1.0f - mean) * (1.0f - mean) / ((1.0f - mean) * (1.0f - mean) + variance);
+    } else if (low < 0.0f) {
+        low = 0.0f;
+        high = mean + variance / mean;
+        lowWeight = variance / (mean * mean + variance);
+    }
+    return lowWeight * ndfmipSpecularAlbedo(m, low, albedoR) + (1.0f - lowWeight) * ndfmipSpecularAlbedo(m, high, albedoR);
+}
+
+// The specular term about the unit tangent-frame normal n: m.specular LD(reflect(-v, n), r) times
+// the albedo factor. The albedo factor is the mean of the texel's own lobes, not the widened
+// lobe's: every normal a filtered texel covers carries the material's lobe (perceptual roughness
+// albedoR), so it is the mean of the material's albedo over the normals' n.v, those of a vMF of
+// mean length `len` about n (ndfmipSpreadAlbedo). The widened lobe's own albedo at n.v of the mean
+// normal lost 13-15% of the truth's energy at large footprints (docs/RESULTS.md): a wide lobe about
+// the mean normal loses what falls below its horizon, the texel's narrow lobes do not. Read at the
+// root mean square of n.v (exact only for an albedo growing as (n.v)^2), a texel seen 75 degrees
+// off its normal read 11.6% too much under a constant environment: the albedo has a linear part,
+// whose mean is at the mean n.v. The widened roughness r only blurs the radiance, LD.
 // The radiance is read along the lobe's dominant direction: its centroid, which at grazing views
 // leaves the mirror direction towards n, where the lobe's cosine weighs its directions and its
 // part below the horizon is cut (a plane seen from 22 degrees read its sky 21% too bright under
@@ -48,7 +79,7 @@ vec3 ndfmipEnvSpecular(NdfmipMaterial m, mat3 toEnv, vec3 n, vec3 view, float r,
     reflected = normalize(mix(reflected, n, ndfmipDominantShare(m, mu, albedoR)));
     vec3 ld = ndfmipPrefilteredRadiance(toEnv * reflected, ndfmipGrazingRoughness(r, albedoR, mu),
                                         normalVariance * clamp(mu, 0.0f, 1.0f));
-    return m.specular * ld * ndfmipSpecularAlbedo(m, ndfmipRmsCosine(mu, len), albedoR);
+    return m.specular * ld * ndfmipSpreadAlbedo(m, mu, len, albedoR);
 }
 
 // Standard mipmap: the filtered normal renormalised, the material's own roughness.

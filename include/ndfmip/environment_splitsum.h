@@ -119,8 +119,10 @@ struct SplitSumLighting {
     std::vector<SplitSumChain> chains; // one per prepared rule
     SpecularAlbedo albedoKind = SpecularAlbedo::Lobe;
     // Lobe: one table per BRDF (index int(Brdf) - 1: Blinn-Phong, Beckmann, GGX), EngineDfg:
-    // the DFG table in [0] (R scale, G bias, B their sum). Column x: n.v = (x + 0.5)/size, row
-    // y: perceptual roughness (y + 0.5)/size (Blinn-Phong: sqrt(blinnPhongAlpha(s))).
+    // the DFG table in [0] (R scale, G bias, B their sum). Column x: n.v = x/(size - 1), from
+    // 0 to 1 itself (straight down is the commonest view, and a column centred at 1 - 1/(2 size)
+    // read the albedo there 3% low); row y: perceptual roughness (y + 0.5)/size (Blinn-Phong:
+    // sqrt(blinnPhongAlpha(s))).
     std::array<Image, 3> albedo;
     // The dominant direction's share of the normal, per BRDF (index int(Brdf) - 1), the same
     // columns and rows as the lobe's albedo table; zero without SplitSumOptions::dominantDirection.
@@ -183,8 +185,9 @@ glm::vec3 prefilteredRadiance(const SplitSumLighting& lighting, EnvironmentLod r
 // Arguments as the point-light functions of method_shading.h take them; `albedo` the material's
 // albedo times the filtered albedo map. Specular: m.specular x prefiltered radiance x albedo
 // factor; diffuse: albedo/pi x irradiance. The radiance is read at the method's (widened)
-// roughness, the albedo factor at the material's own roughness and the root mean square of n.v
-// over the texel's normals, estimated from their mean length (|Na|, a vMF lobe's A(kappa), or the
+// roughness, the albedo factor at the material's own roughness averaged over the n.v of the
+// texel's normals (a two-point rule in their mean and mean square, ndfmipSpreadAlbedo), those
+// estimated from their mean length (|Na|, a vMF lobe's A(kappa), or the
 // stored roughness read back through the ours mapping): each normal of a filtered texel reflects
 // with the material's lobe, so the texel's energy is the mean of their albedos, which the widened
 // lobe's albedo about the mean normal underestimates (it loses what falls below its horizon).

@@ -170,8 +170,8 @@ vec3 ndfmipPrefilteredRadiance(vec3 reflected, float r, float normalVariance) {
 // (specularAlbedo) in R, the dominant direction's share of the normal (dominantShare) in G.
 vec2 ndfmipEnvTable(float mu, float r) {
     ivec2 size = textureSize(ndfmipEnvAlbedo, 0);
-    vec2 x = clamp(vec2(clamp(mu, 0.0f, 1.0f), clamp(r, 0.0f, 1.0f)) * vec2(size) - 0.5f, vec2(0.0f),
-                   vec2(size - 1));
+    vec2 x = clamp(vec2(clamp(mu, 0.0f, 1.0f) * float(size.x - 1), clamp(r, 0.0f, 1.0f) * float(size.y) - 0.5f),
+                   vec2(0.0f), vec2(size - 1));
     ivec2 x0 = ivec2(x);
     ivec2 x1 = min(x0 + 1, size - 1);
     vec2 f = x - vec2(x0);

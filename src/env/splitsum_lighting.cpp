@@ -200,6 +200,24 @@ double lobeDominantShare(Brdf brdf, double mu, double perceptualRoughness, int s
 
 namespace {
 
+// n.v of a table's column x (SplitSumLighting::albedo): 0 to 1, both ends included.
+double tableCosine(int x, int size) {
+    return double(x) / (size - 1);
+}
+
+// The engines' DFG (environment.h's dfgIntegral) on the lighting's columns and rows.
+Image engineDfgTable(int size, int samples) {
+    Image table(size, size, 3);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const glm::dvec2 d = dfgIntegral(tableCosine(x, size), (y + 0.5) / size, samples);
+            float* out = table.at(x, y);
+            out[0] = float(d.x), out[1] = float(d.y), out[2] = float(d.x + d.y);
+        }
+    return table;
+}
+
 // The lobe's albedo and dominant share tables for `brdf`, from one set of moments per entry.
 struct LobeTables {
     Image albedo, dominant;
@@ -210,7 +228,7 @@ LobeTables lobeTables(Brdf brdf, int size, int samples) {
 #pragma omp parallel for schedule(dynamic, 1)
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) {
-            const double mu = (x + 0.5) / size;
+            const double mu = tableCosine(x, size);
             const LobeMoments m = lobeMoments(brdf, mu, (y + 0.5) / size, samples);
             *t.albedo.at(x, y) = float(m.albedo);
             *t.dominant.at(x, y) = float(dominantShareOf(m, mu));
@@ -218,9 +236,10 @@ LobeTables lobeTables(Brdf brdf, int size, int samples) {
     return t;
 }
 
-// Bilinear with clamped edges at (u, v) in [0, 1]^2, texel centres at (i + 0.5) / size.
+// Bilinear with clamped edges at (u, v) in [0, 1]^2: columns at u = x/(width - 1), rows at
+// texel centres, v = (y + 0.5)/height (SplitSumLighting::albedo).
 float sampleTable(const Image& table, int channel, float u, float v) {
-    const float x = std::clamp(u * table.width - 0.5f, 0.f, float(table.width - 1));
+    const float x = std::clamp(u * float(table.width - 1), 0.f, float(table.width - 1));
     const float y = std::clamp(v * table.height - 0.5f, 0.f, float(table.height - 1));
     const int x0 = int(x), y0 = int(y);
     const int x1 = std::min(x0 + 1, table.width - 1), y1 = std::min(y0 + 1, table.height - 1);
@@ -287,7 +306,7 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
                                    : Image(options.albedoTableSize, options.albedoTableSize, 1);
     }
     if (options.albedo == SpecularAlbedo::EngineDfg)
-        lighting.albedo[0] = dfgTable(options.albedoTableSize, options.albedoSamples);
+        lighting.albedo[0] = engineDfgTable(options.albedoTableSize, options.albedoSamples);
     return lighting;
 }
 

@@ -573,9 +573,12 @@ double spreadTexelAlbedo(Brdf brdf, double perceptualRoughness, double kappa, gl
 
 // Toksvig, the roughness mips and a one-lobe vMF of a texel with a known spread keep the truth's
 // energy under a constant environment, where the answer is the mean of the texel's own lobes'
-// albedo: the albedo factor is the material's, at the root mean square of n.v over the normals.
-// Measured: at most 2.1% off (the albedo table's interpolation and the vMF estimate of the RMS
-// of n.v); the widened lobe's own albedo at the mean normal's n.v was 27% off (vmf 24%).
+// albedo: the albedo factor is the material's, its mean over the normals' n.v by a two-point rule
+// in their mean and mean square. Measured, views 0-75 degrees off the normal: at most 1.6% off
+// (the albedo table's interpolation and the vMF estimate of the moments of n.v); read at the root
+// mean square of n.v it was 11.6% off at 75 degrees (2.1% up to 34 degrees), with the table's
+// last column centred short of n.v = 1 2.3% (2% straight down), and the widened lobe's own albedo
+// at the mean normal's n.v 27% off (vmf 24%) straight down.
 TEST(SplitSum, SpreadTexelsKeepTheTruthsEnergyUnderAConstantEnvironment) {
     const SplitSumLighting lighting =
         prepareSplitSum(mapOf(128, [](glm::dvec3) { return glm::dvec3(1.); }), smallOptions());
@@ -583,7 +586,7 @@ TEST(SplitSum, SpreadTexelsKeepTheTruthsEnergyUnderAConstantEnvironment) {
     double worst[3] = {0., 0., 0.}; // toksvig, vmf, roughness mips
     auto check = [&](int method, double value, double truth) {
         worst[method] = std::max(worst[method], std::abs(value / truth - 1.));
-        return std::abs(value - truth) <= 0.03 * truth;
+        return std::abs(value - truth) <= 0.02 * truth;
     };
     for (Brdf brdf : {Brdf::BlinnPhong, Brdf::Beckmann, Brdf::Ggx}) {
         Material m = material(brdf);
@@ -592,7 +595,7 @@ TEST(SplitSum, SpreadTexelsKeepTheTruthsEnergyUnderAConstantEnvironment) {
         const double base = brdf == Brdf::BlinnPhong ? std::sqrt(blinnPhongAlpha(m.exponent))
                                                      : std::sqrt(double(m.roughness));
         for (double kappa : {10., 40., 200.})
-            for (float theta : {0.f, 0.6f}) {
+            for (float theta : {0.f, 0.6f, 1.05f, 1.3f}) {
                 const glm::vec3 v(std::sin(theta), 0.f, std::cos(theta));
                 const double truth = spreadTexelAlbedo(brdf, base, kappa, glm::dvec3(v));
                 const float length = float(1. / std::tanh(kappa) - 1. / kappa); // A(kappa)
