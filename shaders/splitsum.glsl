@@ -1,8 +1,8 @@
 // ndfmip shading library: the per-texel factors of the split sum under an environment (needs
 // brdf.glsl and vmf.glsl), one source for the CPU renderer (src/env/splitsum_shading.cpp, through
 // glsl.h) and the GPU renderer's environment.glsl: which perceptual roughness a lobe reads the
-// prefiltered chain and the albedo table at (and, for a widened lobe, at which view), the root
-// mean square of n.v over a texel's normals, and the SH bands' mean over a vMF's normals.
+// prefiltered chain and the albedo table at (and, for a widened lobe, at which view), the mean
+// square of n.v over a texel's normals, and the SH bands' mean over a vMF's normals.
 
 // The Toksvig variance scale of the ours roughness mapping, alpha'^2 = alpha^2 + c sigma^2
 // (roughness.h's kVarianceScale, which glsl.h checks against it).
@@ -43,19 +43,19 @@ vec3 ndfmipUnitOrFlat(vec3 v) {
     return len > 0.0f ? v / len : vec3(0.0f, 0.0f, 1.0f);
 }
 
-// The root mean square of n.v over a texel's normals, read as a vMF of mean length r about the
-// unit mean direction m, mu = m.v: E[(n.v)^2] = E[cos^2 t] mu^2 + E[sin^2 t] (1 - mu^2)/2 (t the
+// The mean square of n.v over a texel's normals, read as a vMF of mean length r about the unit
+// mean direction m, mu = m.v: E[(n.v)^2] = E[cos^2 t] mu^2 + E[sin^2 t] (1 - mu^2)/2 (t the
 // angle to m, the spread even about m), with a vMF's E[sin^2 t] = 2 A(kappa)/kappa, A = r and
 // kappa by Banerjee's approximation: 2 (1 - r^2)/(3 - r^2), about 2 (1 - r) near r = 1 (twice
 // T eq. 1's sigma^2) and 2/3 (normals over the whole sphere) at r = 0. With their mean r mu it
 // gives the two moments the albedo factor's mean over the normals is taken from
-// (ndfmipSpreadAlbedo). One normal (r >= 1): mu itself, clamped to [0, 1].
-float ndfmipRmsCosine(float mu, float r) {
+// (ndfmipSpreadAlbedo). One normal (r >= 1): mu^2, mu clamped to [0, 1].
+float ndfmipMeanSquareCosine(float mu, float r) {
     mu = clamp(mu, 0.0f, 1.0f);
-    if (r >= 1.0f) return mu;
+    if (r >= 1.0f) return mu * mu;
     r = clamp(r, 0.0f, 1.0f);
     float sin2 = 2.0f * (1.0f - r * r) / (3.0f - r * r);
-    return sqrt(max(mu * mu * (1.0f - sin2) + 0.5f * sin2 * (1.0f - mu * mu), 0.0f));
+    return max(mu * mu * (1.0f - sin2) + 0.5f * sin2 * (1.0f - mu * mu), 0.0f);
 }
 
 // The mean length |Na| whose Toksvig variance widens alpha to `widened` under the ours mapping:

@@ -25,14 +25,14 @@ vec3 ndfmipEnvDiffuse(mat3 toEnv, vec3 albedo, vec3 n, vec3 band) {
 
 // The mean of the material's albedo E(n.v, albedoR) over the normals of a vMF of mean length `len`
 // about the unit n, seen at n.v = mu: a two-point rule in n.v exact in its mean (len mu) and mean
-// square (ndfmipRmsCosine^2), so exact wherever E is quadratic in n.v, as it nearly is over [0, 1].
+// square (ndfmipMeanSquareCosine), so exact wherever E is quadratic in n.v, as it nearly is over
+// [0, 1].
 // The nodes are mean -+ the deviation at equal weights; a node past 1 or 0 is put there and the
 // other node and the weights moved so both moments still hold (no n.v exceeds 1, and below 0 a
 // normal reflects nothing); where no two points in [0, 1] hold them, 0 and 1. One normal: E(mu).
 float ndfmipSpreadAlbedo(NdfmipMaterial m, float mu, float len, float albedoR) {
-    float rms = ndfmipRmsCosine(mu, len);
     float mean = clamp(mu, 0.0f, 1.0f) * clamp(len, 0.0f, 1.0f);
-    float variance = max(rms * rms - mean * mean, 0.0f);
+    float variance = max(ndfmipMeanSquareCosine(mu, len) - mean * mean, 0.0f);
     if (!(variance > 1e-12f)) return ndfmipSpecularAlbedo(m, mean, albedoR);
     float deviation = sqrt(variance);
     float low = mean - deviation, high = mean + deviation, lowWeight = 0.5f;

@@ -153,11 +153,18 @@ Image prefilterBlinnPhongLevel(const Environment& env, double exponent, int widt
 // so the specular term is prefiltered(r) * (f0 scale + f90 bias). Hammersley samples of D.
 glm::dvec2 dfgIntegral(double mu, double perceptualRoughness, int samples);
 
+// Where a table's columns put n.v: at texel centres, (x + 0.5) / size, as a texture's hardware
+// sampling reads it, or at x / (size - 1), from 0 to 1 itself (the split sum's own tables).
+enum class TableColumns { Centres, Ends };
+
 // The table: size x size, 3 channels: R = scale, G = bias, B = scale + bias (the directional
-// albedo of the lobe with F = 1, for multiple-scattering compensation). Column x holds
-// n.v = (x + 0.5) / size, row y (top row first) perceptual roughness (y + 0.5) / size, so a
-// texture uploaded top row first is read at (n.v, r).
-Image dfgTable(int size, int samples = 4096);
+// albedo of the lobe with F = 1, for multiple-scattering compensation). Column x holds n.v as
+// `columns` says ((x + 0.5) / size by default), row y (top row first) perceptual roughness
+// (y + 0.5) / size, so a texture uploaded top row first is read at (n.v, r).
+Image dfgTable(int size, int samples = 4096, TableColumns columns = TableColumns::Centres);
+
+// n.v of column x of a size-wide table laid out as `columns` says.
+double tableColumnCosine(TableColumns columns, int x, int size);
 
 // ---- cube faces ----------------------------------------------------------------------------
 

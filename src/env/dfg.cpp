@@ -60,15 +60,19 @@ glm::dvec2 dfgIntegral(double mu, double perceptualRoughness, int samples) {
     return dfgSum(mu, alpha, halfVectors(alpha, samples));
 }
 
-Image dfgTable(int size, int samples) {
-    assert(size >= 1 && samples >= 1);
+double tableColumnCosine(TableColumns columns, int x, int size) {
+    return columns == TableColumns::Ends ? double(x) / (size - 1) : (x + 0.5) / size;
+}
+
+Image dfgTable(int size, int samples, TableColumns columns) {
+    assert(size >= (columns == TableColumns::Ends ? 2 : 1) && samples >= 1);
     Image table(size, size, 3);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int y = 0; y < size; ++y) {
         const double r = (y + 0.5) / size;
         const std::vector<glm::dvec3> h = halfVectors(r * r, samples);
         for (int x = 0; x < size; ++x) {
-            const glm::dvec2 d = dfgSum((x + 0.5) / size, r * r, h);
+            const glm::dvec2 d = dfgSum(tableColumnCosine(columns, x, size), r * r, h);
             float* out = table.at(x, y);
             out[0] = float(d.x);
             out[1] = float(d.y);

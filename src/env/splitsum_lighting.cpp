@@ -200,24 +200,6 @@ double lobeDominantShare(Brdf brdf, double mu, double perceptualRoughness, int s
 
 namespace {
 
-// n.v of a table's column x (SplitSumLighting::albedo): 0 to 1, both ends included.
-double tableCosine(int x, int size) {
-    return double(x) / (size - 1);
-}
-
-// The engines' DFG (environment.h's dfgIntegral) on the lighting's columns and rows.
-Image engineDfgTable(int size, int samples) {
-    Image table(size, size, 3);
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x) {
-            const glm::dvec2 d = dfgIntegral(tableCosine(x, size), (y + 0.5) / size, samples);
-            float* out = table.at(x, y);
-            out[0] = float(d.x), out[1] = float(d.y), out[2] = float(d.x + d.y);
-        }
-    return table;
-}
-
 // The lobe's albedo and dominant share tables for `brdf`, from one set of moments per entry.
 struct LobeTables {
     Image albedo, dominant;
@@ -228,7 +210,7 @@ LobeTables lobeTables(Brdf brdf, int size, int samples) {
 #pragma omp parallel for schedule(dynamic, 1)
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) {
-            const double mu = tableCosine(x, size);
+            const double mu = tableColumnCosine(TableColumns::Ends, x, size);
             const LobeMoments m = lobeMoments(brdf, mu, (y + 0.5) / size, samples);
             *t.albedo.at(x, y) = float(m.albedo);
             *t.dominant.at(x, y) = float(dominantShareOf(m, mu));
@@ -306,7 +288,8 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
                                    : Image(options.albedoTableSize, options.albedoTableSize, 1);
     }
     if (options.albedo == SpecularAlbedo::EngineDfg)
-        lighting.albedo[0] = engineDfgTable(options.albedoTableSize, options.albedoSamples);
+        lighting.albedo[0] =
+            dfgTable(options.albedoTableSize, options.albedoSamples, TableColumns::Ends);
     return lighting;
 }
 
