@@ -14,6 +14,7 @@
 #include "ndfmip/environment_sh_shading.h"
 #include "ndfmip/html_report.h"
 #include "ndfmip/pyramid.h"
+#include "ndfmip/render.h"
 #include "ndfmip/shading.h"
 #include "ndfmip/vmf.h"
 
@@ -100,8 +101,10 @@ struct EvalOptions {
     EnvironmentOptions environmentOptions;
     int shViews = 0; // RenderOptions::shViews of every method row
     SpecularCosine shCosine = SpecularCosine::Reflecting; // RenderOptions::shCosine, likewise
-    int environmentShOrder = 8;                  // RenderOptions::environmentShOrder, likewise
-    bool dominantDirection = true;               // RenderOptions::dominantDirection, likewise
+    int environmentShOrder = 8;    // RenderOptions::environmentShOrder, likewise
+    bool dominantDirection = true; // RenderOptions::dominantDirection, likewise
+    // The truth's (RenderOptions::environmentTruth): Table only in a tilted or straight-down view.
+    EnvironmentTruth environmentTruth = EnvironmentTruth::Sampled;
     std::function<void(const std::string&)> log; // a progress line per map
     std::function<void(const std::string& map, const DecodeReport&)> decoded;
 };

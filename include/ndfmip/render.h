@@ -72,6 +72,16 @@ bool shadeFilterFromString(const std::string& name, ShadeFilter& out);
 // heuristic; Light, Brdf: either sampler alone (unbiased too, noisier; for checks).
 enum class EnvironmentEstimator { Mis, Light, Brdf };
 
+// Where the view fixes every direction but the normal's (an orthographic camera over a plane, its
+// image rows along the texel grid, directional lights, no albedo map), the ground truth under an
+// environment may be tabulated: the light reflected at each normal estimated once per node of a
+// grid over the normals (spp estimates each) and each pixel integrated over its texels as
+// without an environment, its noise the nodes' alone (docs/RENDERING.md). Sampled: spp samples
+// per pixel, each at a random point of it.
+enum class EnvironmentTruth { Sampled, Table };
+const char* environmentTruthName(EnvironmentTruth truth); // "sampled", "table"
+bool environmentTruthFromString(const std::string& name, EnvironmentTruth& out);
+
 // How vmf shades under an environment: the engine way (each lobe's equivalent roughness read from
 // prefiltered levels, environment_splitsum.h) or the paper's (lobes against SH lighting, Han et al.
 // eqs. 34-37, environment_sh_shading.h).
@@ -125,6 +135,7 @@ struct RenderOptions {
     // dominantDirection); false reads along the mirror direction.
     bool dominantDirection = true;
     EnvironmentEstimator environmentEstimator = EnvironmentEstimator::Mis;
+    EnvironmentTruth environmentTruth = EnvironmentTruth::Sampled; // spp: per node with Table
 };
 
 struct EnvironmentLighting; // environment_lighting.h
@@ -238,6 +249,8 @@ inline UvFootprint uvFootprint(const Camera& camera, const SurfaceHit& hit, floa
 // (RenderOptions::exact): an orthographic camera whose image rows run along one axis of a plane's
 // texel grid (straight down, or tilted about that axis), directional lights, no environment.
 bool exactBoxView(const Scene& scene);
+// The same view with an environment allowed (EnvironmentTruth::Table).
+bool fixedDirectionsView(const Scene& scene);
 
 // GPU LOD: log2 of the longer footprint axis measured in level-0 texels.
 float mipLod(const UvFootprint& footprint, int width, int height);

@@ -52,4 +52,12 @@ glm::vec3 estimateEnvironmentRadiance(const EnvironmentLighting& lighting,
                                       glm::vec3 albedo, glm::vec3 n, glm::vec3 v,
                                       EnvironmentEstimator estimator, const double u[5]);
 
+// spp samples as a gx x gy grid with gx the largest divisor of spp not above sqrt(spp).
+inline void strataGrid(int spp, int& gx, int& gy) {
+    gx = 1;
+    for (int d = 1; d * d <= spp; ++d)
+        if (spp % d == 0) gx = d;
+    gy = spp / gx;
+}
+
 } // namespace ndfmip

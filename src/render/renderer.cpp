@@ -7,6 +7,7 @@
 
 #include "core/splitmix.h"
 #include "environment_truth.h"
+#include "environment_truth_table.h"
 #include "methods/method_unit.h"
 #include "ndfmip/environment_lighting.h"
 #include "ndfmip/environment_sh_views.h"
@@ -20,14 +21,6 @@ namespace ndfmip {
 namespace {
 
 using PixelRandom = SplitMix64; // one stream per pixel
-
-// spp samples as a gx x gy grid with gx the largest divisor of spp not above sqrt(spp).
-void strataGrid(int spp, int& gx, int& gy) {
-    gx = 1;
-    for (int d = 1; d * d <= spp; ++d)
-        if (spp % d == 0) gx = d;
-    gy = spp / gx;
-}
 
 // A method's linear planes, each as a mip chain, and where its channels go in the
 // parameter vector handed to the shade function.
@@ -77,10 +70,12 @@ struct Context {
     const RenderOptions* options = nullptr;
     Shader shader = Shader::Truth;
     bool exactTruth = false; // truth integrated texel by texel (exactBoxView)
-    // exactBoxView scenes: the view and the lights in the plane's tangent frame, the same at
-    // every point (orthographic camera, directional lights).
+    // fixedDirectionsView scenes: the view and the lights in the plane's tangent frame, the same
+    // at every point (orthographic camera, directional lights).
     glm::vec3 fixedView{0.f, 0.f, 1.f};
     std::vector<LightSample> fixedLights;
+    // The truth under an environment in such a view, tabulated (EnvironmentTruth::Table).
+    std::shared_ptr<const EnvironmentTruthTable> environmentTable;
     FilteredPlanes planes;                // methods: the linear planes (exact: the shaded chain)
     std::vector<glm::ivec2> sizes;        // their levels' sizes
     const MethodShader* method = nullptr; // Shader::Method
@@ -273,8 +268,11 @@ bool pixelTexels(const Context& ctx, float px, float py, glm::vec2& lo, glm::vec
 // The truth of one pixel of an exactBoxView, integrated without samples: the pixel's rectangle
 // cut into cells, K x K per level-0 texel (box surface: K = 1, the texel itself, exact; bilinear
 // surface: K = kBilinearCells, a midpoint rule), each shaded at the centre of its part inside
-// the pixel and weighted by that part's area.
-glm::vec3 exactPixel(const Context& ctx, float px, float py, PixelRandom& random) {
+// the pixel and weighted by that part's area. Under an environment the cells read its table,
+// and `variance` gets the pixel's variance from the nodes' (else 0).
+glm::vec3 exactPixel(const Context& ctx, float px, float py, PixelRandom& random,
+                     double& variance) {
+    variance = 0.;
     glm::vec2 lo, hi;
     bool covered = false;
     if (!pixelTexels(ctx, px, py, lo, hi))
@@ -286,6 +284,8 @@ glm::vec3 exactPixel(const Context& ctx, float px, float py, PixelRandom& random
     const Scene& scene = *ctx.scene;
     const glm::vec2 extent = hi - lo;
     if (!(extent.x > 0.f && extent.y > 0.f)) return shadeTruth(ctx, hit, view, random);
+    const double pixelArea = double(extent.x) * double(extent.y);
+    thread_local EnvironmentTruthNoise noise; // the nodes' weights, cleared by take()
     const bool box = ctx.options->truth == TruthFilter::Box;
     const double k = box ? 1.0 : double(kBilinearCells);
     const glm::dvec2 size(normals.width, normals.height);
@@ -317,10 +317,14 @@ glm::vec3 exactPixel(const Context& ctx, float px, float py, PixelRandom& random
             for (const LightSample& light : ctx.fixedLights)
                 r += light.irradiance * shadeNormal(scene.material, albedo, n, light.direction,
                                                     glm::normalize(light.direction + view));
-            sum += ((right - left) * (bottom - top)) * glm::dvec3(r);
+            const double area = (right - left) * (bottom - top);
+            if (ctx.environmentTable)
+                r += ctx.environmentTable->radiance(n, &noise, area / pixelArea);
+            sum += area * glm::dvec3(r);
         }
     }
-    return glm::vec3(sum / (double(extent.x) * double(extent.y)));
+    if (ctx.environmentTable) variance = noise.take(*ctx.environmentTable);
+    return glm::vec3(sum / pixelArea);
 }
 
 // The exact reference's planes: level 0 every texel's normal shaded (RGB radiance, every
@@ -416,7 +420,7 @@ Status prepareContext(Context& ctx, const Scene& scene, const RenderTextures& te
         for (const SharedImage& level : textures.albedo) ctx.albedo.levels.push_back(level.get());
         ctx.albedo.channels = a.channels;
     }
-    if (exactBoxView(scene) && !ctx.lighting) {
+    if (fixedDirectionsView(scene)) {
         // The plane's tangent frame, as intersect() builds it, and what is fixed in it.
         const Geometry& g = scene.geometry;
         SurfaceHit frame;
@@ -472,6 +476,25 @@ Result<bool> prepareShading(Context& ctx, const std::string& methodName) {
     if (methodName == kGroundTruth) {
         ctx.shader = Shader::Truth;
         ctx.exactTruth = ctx.options->exact && exactBoxView(scene) && !ctx.lighting;
+        if (ctx.lighting && ctx.options->environmentTruth == EnvironmentTruth::Table) {
+            if (!fixedDirectionsView(scene) || !ctx.options->exact || !ctx.albedo.levels.empty())
+                return Error{"render: a tabulated truth under an environment needs every "
+                             "direction but the normal fixed: an orthographic view of a plane "
+                             "with its image rows along the texel grid, directional lights, no "
+                             "albedo map"};
+            const Geometry& g = scene.geometry;
+            EnvironmentTruthKey key;
+            key.lighting = textures.environment;
+            key.material = scene.material;
+            key.view = ctx.fixedView;
+            key.toEnvironment =
+                tangentToEnvironment(g.tangent, glm::cross(g.normal, g.tangent), g.normal);
+            key.samples = ctx.options->spp;
+            key.estimator = ctx.options->environmentEstimator;
+            key.seed = ctx.options->seed;
+            ctx.environmentTable = environmentTruthTable(key);
+            ctx.exactTruth = true;
+        }
     } else if (methodName == kExact) {
         if (ctx.lighting) return Error{"render: 'exact' cannot shade under an environment"};
         if (!exactBoxView(scene))
@@ -513,8 +536,10 @@ PixelValue renderPixel(const Context& ctx, int x, int y, int gx, int gy) {
     double standardError = 0.;
     bool covered = false;
     if (ctx.exactTruth) { // one exact integral over the whole pixel
+        double variance = 0.;
         mean = exactPixel(ctx, float(x) + ctx.options->pixelShift.x,
-                          float(y) + ctx.options->pixelShift.y, lightingRandom);
+                          float(y) + ctx.options->pixelShift.y, lightingRandom, variance);
+        standardError = std::sqrt(variance);
         covered = true;
     } else {
         double sumY = 0., sumY2 = 0.; // the per-sample luminances, for the noise
@@ -638,6 +663,20 @@ bool environmentWayFromString(const std::string& name, EnvironmentWay& out) {
     return true;
 }
 
+const char* environmentTruthName(EnvironmentTruth truth) {
+    return truth == EnvironmentTruth::Sampled ? "sampled" : "table";
+}
+
+bool environmentTruthFromString(const std::string& name, EnvironmentTruth& out) {
+    if (name == "sampled")
+        out = EnvironmentTruth::Sampled;
+    else if (name == "table")
+        out = EnvironmentTruth::Table;
+    else
+        return false;
+    return true;
+}
+
 const char* truthFilterName(TruthFilter filter) {
     return filter == TruthFilter::Box ? "box" : "bilinear";
 }
@@ -667,8 +706,11 @@ bool shadeFilterFromString(const std::string& name, ShadeFilter& out) {
 }
 
 bool exactBoxView(const Scene& scene) {
-    if (!scene.environment.path.empty())
-        return false; // light from every direction varies per point
+    // Light from every direction varies per point: integrated exactly only through a table.
+    return scene.environment.path.empty() && fixedDirectionsView(scene);
+}
+
+bool fixedDirectionsView(const Scene& scene) {
     if (scene.camera.type != CameraType::Orthographic || scene.geometry.type != GeometryType::Plane)
         return false;
     for (const Light& light : scene.lights)

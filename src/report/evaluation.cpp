@@ -177,6 +177,7 @@ RenderOptions truthOptionsAt(const Plan& plan, int footprint) {
     o.seed = plan.options.seed;
     o.spp = plan.options.spp > 0 ? plan.options.spp : std::clamp(footprint * footprint, 64, 1024);
     o.truth = plan.filtering.truth;
+    o.environmentTruth = plan.options.environmentTruth;
     return o;
 }
 

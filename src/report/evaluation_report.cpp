@@ -138,9 +138,13 @@ std::vector<std::string> reportNotes(const Plan& plan, const Lighting& lighting,
         notes.insert(
             notes.begin(),
             "Lit by the environment " + a.environment +
-                " instead of the directional light: the truth is sampled "
-                "(environment and BRDF samples, MIS) with a relative standard error of at most " +
-                noiseText +
+                " instead of the directional light: the truth is " +
+                (a.environmentTruth == EnvironmentTruth::Table
+                     ? std::string("tabulated (the light each normal reflects, estimated per "
+                                   "node of a grid over the normals by environment and BRDF "
+                                   "samples, MIS, and integrated over each pixel's texels)")
+                     : std::string("sampled (environment and BRDF samples, MIS)")) +
+                " with a relative standard error of at most " + noiseText +
                 (left.empty()
                      ? std::string(".")
                      : "; left out (they cannot shade under an environment): " + left + "."));

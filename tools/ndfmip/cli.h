@@ -13,6 +13,7 @@
 #include "ndfmip/environment_sh_shading.h"
 #include "ndfmip/method_parameters.h"
 #include "ndfmip/normal_map.h"
+#include "ndfmip/render.h"
 #include "ndfmip/roughness.h"
 #include "ndfmip/scene.h"
 
@@ -95,6 +96,8 @@ void addShViewsOption(CLI::App* command, int& views);
 void addShLightingOptions(CLI::App* command, SpecularCosine& cosine, int& order);
 // --env-direction dominant|mirror: where the split-sum rows read the prefiltered radiance.
 void addEnvDirectionOption(CLI::App* command, bool& dominant);
+// --env-truth sampled|table (render and eval): how the ground truth under an environment is made.
+void addEnvTruthOption(CLI::App* command, EnvironmentTruth& truth);
 
 // The methods' own options a command takes (`use`: a ParameterCommand bit), registered from
 // their parameter tables: one option per flag, its range and help from the table.

@@ -249,6 +249,20 @@ void addEnvDirectionOption(CLI::App* c, bool& dominant) {
         ->default_str("dominant");
 }
 
+void addEnvTruthOption(CLI::App* c, EnvironmentTruth& truth) {
+    const std::map<std::string, EnvironmentTruth> names = {
+        {environmentTruthName(EnvironmentTruth::Sampled), EnvironmentTruth::Sampled},
+        {environmentTruthName(EnvironmentTruth::Table), EnvironmentTruth::Table}};
+    c->add_option("--env-truth", truth,
+                  "under an environment, the ground truth: sampled (--spp samples per pixel) or "
+                  "table (where an orthographic view of a plane fixes every direction but the "
+                  "normal's: the light each normal reflects, --spp samples per node of a grid "
+                  "over the normals, integrated over each pixel's texels; far less noise)")
+        ->transform(CLI::CheckedTransformer(names).description(""))
+        ->type_name("NAME")
+        ->default_str("sampled");
+}
+
 void addShLightingOptions(CLI::App* c, SpecularCosine& cosine, int& order) {
     std::map<std::string, SpecularCosine> names;
     for (SpecularCosine each : {SpecularCosine::Reflecting, SpecularCosine::MeanNormal,

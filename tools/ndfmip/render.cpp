@@ -34,6 +34,7 @@ struct RenderArgs {
     FilteringArgs filtering;
     EnvironmentArgs environment;
     EnvironmentShadingArgs environmentShading;
+    EnvironmentTruth environmentTruth = EnvironmentTruth::Sampled;
     bool noPng = false;
     float exposure = std::numeric_limits<float>::quiet_NaN();
     bool quiet = false;
@@ -82,6 +83,7 @@ void runRender(const RenderArgs& a) {
     options.seed = a.seed;
     a.filtering.apply(options);
     a.environmentShading.apply(options);
+    options.environmentTruth = a.environmentTruth;
     if (a.nearest) options.truth = TruthFilter::Box;
     options.anisotropy = a.anisotropy;
     options.roughnessMapping = roughnessMappingOrFail(a.mapping);
@@ -189,6 +191,7 @@ void addRenderCommand(CLI::App& app) {
     addFilteringOptions(c, a->filtering);
     addEnvironmentOptions(c, a->environment);
     addEnvironmentShadingOptions(c, a->environmentShading);
+    addEnvTruthOption(c, a->environmentTruth);
     c->add_flag("--nearest", a->nearest, "the same as --truth box");
     c->add_option("--aniso", a->anisotropy,
                   "methods: anisotropic probes along the footprint (1 = trilinear)")
