@@ -103,8 +103,9 @@ struct EvalOptions {
     SpecularCosine shCosine = SpecularCosine::Reflecting; // RenderOptions::shCosine, likewise
     int environmentShOrder = 8;    // RenderOptions::environmentShOrder, likewise
     bool dominantDirection = true; // RenderOptions::dominantDirection, likewise
-    // The truth's (RenderOptions::environmentTruth): Table only in a tilted or straight-down view.
-    EnvironmentTruth environmentTruth = EnvironmentTruth::Sampled;
+    // The truth's (RenderOptions::environmentTruth): eval's views (orthographic, straight down or
+    // tilted about the texel grid) fix every direction but the normal's, so by default a table.
+    EnvironmentTruth environmentTruth = EnvironmentTruth::Table;
     std::function<void(const std::string&)> log; // a progress line per map
     std::function<void(const std::string& map, const DecodeReport&)> decoded;
 };

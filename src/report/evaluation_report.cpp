@@ -78,8 +78,9 @@ json reportJson(const Plan& plan, const Lighting& lighting, const Gathered& gath
             {"sh_views", a.shViews},
             {"sh_cosine", specularCosineName(a.shCosine)},
             {"env_sh_order", a.environmentShOrder},
-            {"env_direction", a.dominantDirection ? "dominant" : "mirror"}};
-        root["setup"]["truth_spp"] =
+            {"env_direction", a.dominantDirection ? "dominant" : "mirror"},
+            {"env_truth", environmentTruthName(a.environmentTruth)}};
+        root["setup"]["truth_spp"] = // per pixel, or per node of the table
             a.spp > 0 ? json(a.spp) : json("max(64, footprint^2), at most 1024");
         root["setup"]["truth_max_rel_std_error"] = jsonNumber(gathered.truthNoise);
         json left = json::array();

@@ -1102,6 +1102,13 @@ TEST(Cli, EvalUnderAnEnvironmentHasARowPerVariantAndSkipsTheRest) {
     EXPECT_EQ(report["setup"]["environment"]["env_sh_order"], 8);
     EXPECT_EQ(report["setup"]["environment"]["sh_views"], 0);
     EXPECT_EQ(report["setup"]["environment"]["env_direction"], "dominant");
+    // eval's views fix every direction but the normal's: the truth is tabulated by default, with
+    // far less noise than 64 samples per pixel give (on a flat map, its four nodes' alone).
+    EXPECT_EQ(report["setup"]["environment"]["env_truth"], "table");
+    EXPECT_LT(report["setup"]["truth_max_rel_std_error"].get<double>(), 0.05);
+    expectCleanFailure(cli("eval " + map + sky + " -q --methods naive --env-truth exact -o " +
+                           shellQuoted(tmp.file("r4"))),
+                       {"--env-truth"});
     // A variant needs an environment; an unknown variant is refused.
     expectCleanFailure(
         cli("eval " + map + " -q --methods toksvig@unity -o " + shellQuoted(tmp.file("r2"))),

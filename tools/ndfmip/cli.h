@@ -96,8 +96,9 @@ void addShViewsOption(CLI::App* command, int& views);
 void addShLightingOptions(CLI::App* command, SpecularCosine& cosine, int& order);
 // --env-direction dominant|mirror: where the split-sum rows read the prefiltered radiance.
 void addEnvDirectionOption(CLI::App* command, bool& dominant);
-// --env-truth sampled|table (render and eval): how the ground truth under an environment is made.
-void addEnvTruthOption(CLI::App* command, EnvironmentTruth& truth);
+// --env-truth sampled|table (render and eval): how the ground truth under an environment is made;
+// `byDefault` names `truth`'s initial value for the help.
+void addEnvTruthOption(CLI::App* command, EnvironmentTruth& truth, const char* byDefault);
 
 // The methods' own options a command takes (`use`: a ParameterCommand bit), registered from
 // their parameter tables: one option per flag, its range and help from the table.

@@ -249,7 +249,7 @@ void addEnvDirectionOption(CLI::App* c, bool& dominant) {
         ->default_str("dominant");
 }
 
-void addEnvTruthOption(CLI::App* c, EnvironmentTruth& truth) {
+void addEnvTruthOption(CLI::App* c, EnvironmentTruth& truth, const char* byDefault) {
     const std::map<std::string, EnvironmentTruth> names = {
         {environmentTruthName(EnvironmentTruth::Sampled), EnvironmentTruth::Sampled},
         {environmentTruthName(EnvironmentTruth::Table), EnvironmentTruth::Table}};
@@ -260,7 +260,7 @@ void addEnvTruthOption(CLI::App* c, EnvironmentTruth& truth) {
                   "over the normals, integrated over each pixel's texels; far less noise)")
         ->transform(CLI::CheckedTransformer(names).description(""))
         ->type_name("NAME")
-        ->default_str("sampled");
+        ->default_str(byDefault);
 }
 
 void addShLightingOptions(CLI::App* c, SpecularCosine& cosine, int& order) {

@@ -153,7 +153,7 @@ void addEvalCommand(CLI::App& app) {
     addShViewsOption(c, a->shViews);
     addShLightingOptions(c, a->shCosine, a->environmentShOrder);
     addEnvDirectionOption(c, a->dominantDirection);
-    addEnvTruthOption(c, a->environmentTruth);
+    addEnvTruthOption(c, a->environmentTruth, "table");
     c->add_option(
         "--external-roughness", a->externalRoughness,
         "NAME=PATTERN: another tool's perceptual-roughness mips (one file per level; PATTERN with "

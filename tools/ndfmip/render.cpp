@@ -191,7 +191,7 @@ void addRenderCommand(CLI::App& app) {
     addFilteringOptions(c, a->filtering);
     addEnvironmentOptions(c, a->environment);
     addEnvironmentShadingOptions(c, a->environmentShading);
-    addEnvTruthOption(c, a->environmentTruth);
+    addEnvTruthOption(c, a->environmentTruth, "sampled");
     c->add_flag("--nearest", a->nearest, "the same as --truth box");
     c->add_option("--aniso", a->anisotropy,
                   "methods: anisotropic probes along the footprint (1 = trilinear)")
