@@ -96,6 +96,10 @@ struct SplitSumOptions {
     // reflection towards the normal: lobeDominantShare) instead of the mirror direction; off reads
     // along the reflection, the split sum as Karis wrote it.
     bool dominantDirection = true;
+    // A spread texel's radiance read about its albedo-weighted reflecting normal (the mean normal
+    // tilted towards the view: splitsum_shading.glsl ndfmipWeightedReflectingNormal) instead of
+    // its mean normal.
+    bool weightedReflection = true;
     // The engine rules' levels convolved with the Blinn-Phong lobe of exponent
     // s_k = 2/alpha_k^2 - 2 (the inverse of blinnPhongAlpha) instead of GGX alpha_k = r_k^2: the
     // chain a Blinn-Phong material reads at its own lobe (it reads a level by the roughness
@@ -131,6 +135,7 @@ struct SplitSumLighting {
     double texelAngle = 0.;             // angular height of a level-0 texel, pi / (size / 2)
                             // (Log2Sigma's cube faces: pi/2 over size/4 texels, the same)
     bool vmfBandFactors = true;
+    bool weightedReflection = true; // SplitSumOptions::weightedReflection
 };
 
 // Prepares every chain of options.rules, the albedo table(s) and the irradiance SH.

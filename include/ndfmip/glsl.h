@@ -13,6 +13,7 @@ namespace glsl_detail {
 
 using glm::atan;
 using glm::clamp;
+using glm::cos;
 using glm::dot;
 using glm::exp;
 using glm::length;
@@ -21,6 +22,7 @@ using glm::max;
 using glm::min;
 using glm::normalize;
 using glm::pow;
+using glm::sin;
 using glm::sqrt;
 using glm::tanh;
 using glm::vec2;

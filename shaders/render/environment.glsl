@@ -22,6 +22,7 @@ uniform float ndfmipEnvTexelAngle;  // a level-0 texel's angular height (log2sig
 uniform sampler2D ndfmipEnvAlbedo;
 uniform vec3 ndfmipEnvIrradiance[9]; // E_lm of order 2 (projectEnvironmentSh)
 uniform int ndfmipEnvBandFactors;    // 1: diffuse about a vMF band-attenuated
+uniform int ndfmipEnvWeightedReflection; // 1: radiance about the albedo-weighted reflecting normal
 uniform int ndfmipEnvVisible;        // 1: rays that miss the object see the map
 uniform sampler2D ndfmipEnvMap;
 uniform vec2 ndfmipEnvRotation;      // cos, sin of -Environment::rotation

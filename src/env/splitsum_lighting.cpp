@@ -243,6 +243,7 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
     SplitSumLighting lighting;
     lighting.albedoKind = options.albedo;
     lighting.vmfBandFactors = options.vmfBandFactors;
+    lighting.weightedReflection = options.weightedReflection;
     lighting.texelAngle = M_PI / (size / 2);
     lighting.irradiance = projectEnvironmentSh(env, 2).irradiance;
 

@@ -16,12 +16,14 @@ using glm::mat3;
 // the GPU's uniforms of the same names.
 struct SplitSumShading : ShaderLibrary {
     SplitSumShading(const SplitSumLighting& l, EnvironmentLod r)
-        : lighting(l), rule(r), ndfmipEnvRule(int(r)), ndfmipEnvBandFactors(l.vmfBandFactors) {}
+        : lighting(l), rule(r), ndfmipEnvRule(int(r)), ndfmipEnvBandFactors(l.vmfBandFactors),
+          ndfmipEnvWeightedReflection(l.weightedReflection) {}
 
     const SplitSumLighting& lighting;
     EnvironmentLod rule;
     int ndfmipEnvRule;
     int ndfmipEnvBandFactors;
+    int ndfmipEnvWeightedReflection;
 
     vec3 ndfmipPrefilteredRadiance(vec3 reflected, float r, float normalVariance) const {
         return prefilteredRadiance(lighting, rule, glm::dvec3(reflected), r, normalVariance);

@@ -464,6 +464,7 @@ Status addUniforms(RenderProgram& program, const Scene& scene, const RenderTextu
             add(u, "ndfmipEnvIrradiance[" + std::to_string(k) + "]",
                 glm::vec3(lighting.irradiance[k]));
         add(u, "ndfmipEnvBandFactors", lighting.vmfBandFactors ? 1 : 0);
+        add(u, "ndfmipEnvWeightedReflection", lighting.weightedReflection ? 1 : 0);
     }
     return Status::success();
 }
