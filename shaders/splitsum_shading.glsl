@@ -61,10 +61,11 @@ float ndfmipSpreadAlbedo(NdfmipMaterial m, float mu, float len, float albedoR) {
 // mean normal is the unit mean n tilted towards the view, in their plane, by
 //   sigma^2 sin(theta_v) E'(n.v) / E(n.v)
 // (sigma^2 the spread per axis, (1 - r^2)/(3 - r^2) for a vMF of mean length r by Banerjee's
-// kappa), at most to the view itself. Half of it is taken (NDFMIP_ENV_TILT_SCALE): read along
-// the whole tilt, a plane seen from 30 degrees went from 7-8% too bright to 5% too dark under
-// venice and from 6-12% too dark to 4-13% too bright under studio; with half, within 3% under both
-// (docs/RESULTS.md). One normal (r = 1) or a view along n: no tilt.
+// kappa), at most to the view itself. Half of it is taken (NDFMIP_ENV_TILT_SCALE, chosen on
+// rock and wool seen from 30 degrees): along the whole tilt the widened rows went from 7-8% too
+// bright to 5% too dark under venice and from 6-12% too dark to 4-13% too bright under studio;
+// with half, within 3% under both (docs/RESULTS.md, "The albedo-weighted reflecting normal").
+// One normal (r = 1) or a view along n: no tilt.
 #define NDFMIP_ENV_TILT_SCALE 0.5f
 vec3 ndfmipWeightedReflectingNormal(NdfmipMaterial m, vec3 n, vec3 view, float len, float albedoR) {
     float mu = clamp(dot(n, view), 0.0f, 1.0f);
