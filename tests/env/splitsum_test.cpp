@@ -286,19 +286,34 @@ TEST(SplitSumDominant, ShareMeetsTheLobesCentroid) {
 // with Filament's and Unity's levels, 0.40-0.70 along the mirror direction). The shared maps are
 // judged in renders against the MIS truth (docs/RESULTS.md): a quadrature over the sphere does not
 // resolve the studio's small lamps under the narrow lobes.
+// A map's radiance as the chains read it (per texel), for the brute-force integrals; `env` must
+// outlive it.
+Radiance mapRadiance(const Environment& env) {
+    return [&env](glm::dvec3 d) {
+        float c[3];
+        sampleEquirect(env.radiance, d, c);
+        return glm::dvec3(c[0], c[1], c[2]);
+    };
+}
+
+// Two skies over the environment's +Y: a sunset (bright near the horizon, dark below it) and a
+// lamp overhead.
+std::vector<std::pair<std::string, Environment>> grazingSkies() {
+    return {{"sunset", mapOf(256,
+                             [](glm::dvec3 d) {
+                                 return glm::dvec3(d.y < 0. ? 0.05
+                                                            : 0.2 + 2. * std::exp(-8. * d.y * d.y));
+                             })},
+            {"lamp", mapOf(256, [](glm::dvec3 d) {
+                 return glm::dvec3(0.1 + 3. * std::pow(std::max(d.y, 0.), 8.));
+             })}};
+}
+
 TEST(SplitSumDominant, GrazingViewsMeetTheBruteForceIntegral) {
     // Tangent z (the normal) is the environment's +Y.
     const glm::mat3 frame(glm::vec3(1.f, 0.f, 0.f), glm::vec3(0.f, 0.f, -1.f),
                           glm::vec3(0.f, 1.f, 0.f));
-    std::vector<std::pair<std::string, Environment>> skies = {
-        {"sunset", mapOf(256,
-                         [](glm::dvec3 d) {
-                             return glm::dvec3(d.y < 0. ? 0.05
-                                                        : 0.2 + 2. * std::exp(-8. * d.y * d.y));
-                         })},
-        {"lamp", mapOf(256, [](glm::dvec3 d) {
-             return glm::dvec3(0.1 + 3. * std::pow(std::max(d.y, 0.), 8.));
-         })}};
+    const std::vector<std::pair<std::string, Environment>> skies = grazingSkies();
     SplitSumOptions mirror = smallOptions();
     mirror.dominantDirection = false;
     const glm::vec3 n(0.f, 0.f, 1.f);
@@ -310,11 +325,7 @@ TEST(SplitSumDominant, GrazingViewsMeetTheBruteForceIntegral) {
         const Environment& env = map; // a variable the lambda can capture
         const SplitSumLighting bent = prepareSplitSum(env, smallOptions()),
                                alongMirror = prepareSplitSum(env, mirror);
-        const Radiance sky = [&env](glm::dvec3 d) {
-            float c[3];
-            sampleEquirect(env.radiance, d, c);
-            return glm::dvec3(c[0], c[1], c[2]);
-        };
+        const Radiance sky = mapRadiance(env);
         for (float alpha : {0.05f, 0.2f}) {
             Material m = material(Brdf::Ggx);
             m.roughness = alpha;
@@ -350,15 +361,7 @@ TEST(SplitSumDominant, GrazingViewsMeetTheBruteForceIntegral) {
 TEST(SplitSumGrazing, SpreadTexelsReadAlongTheAlbedoWeightedNormalMeetTheirTruthBetter) {
     const glm::mat3 frame(glm::vec3(1.f, 0.f, 0.f), glm::vec3(0.f, 0.f, -1.f),
                           glm::vec3(0.f, 1.f, 0.f)); // tangent z is the environment's +Y
-    std::vector<std::pair<std::string, Environment>> skies = {
-        {"sunset", mapOf(256,
-                         [](glm::dvec3 d) {
-                             return glm::dvec3(d.y < 0. ? 0.05
-                                                        : 0.2 + 2. * std::exp(-8. * d.y * d.y));
-                         })},
-        {"lamp", mapOf(256, [](glm::dvec3 d) {
-             return glm::dvec3(0.1 + 3. * std::pow(std::max(d.y, 0.), 8.));
-         })}};
+    const std::vector<std::pair<std::string, Environment>> skies = grazingSkies();
     const float theta = 1.047f; // 60 degrees
     const glm::vec3 v(0.f, std::sin(theta), std::cos(theta));
     Material m = material(Brdf::Ggx);
@@ -370,11 +373,7 @@ TEST(SplitSumGrazing, SpreadTexelsReadAlongTheAlbedoWeightedNormalMeetTheirTruth
         const Environment& env = map;
         const SplitSumLighting weighted = prepareSplitSum(env, smallOptions()),
                                plain = prepareSplitSum(env, unweighted);
-        const Radiance sky = [&env](glm::dvec3 d) {
-            float c[3];
-            sampleEquirect(env.radiance, d, c);
-            return glm::dvec3(c[0], c[1], c[2]);
-        };
+        const Radiance sky = mapRadiance(env);
         for (double kappa : {20., 60.}) {
             // The vMF's normals on an 8 x 16 grid of equal probability (inverse CDF in cos t).
             double truth = 0.;

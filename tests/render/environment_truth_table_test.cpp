@@ -12,15 +12,16 @@
 #include "env/env_test_support.h"
 #include "ndfmip/environment_lighting.h"
 #include "ndfmip/render.h"
+#include "render/environment_truth_support.h"
 #include "render/environment_truth_table.h"
 #include "test_support.h"
 
 namespace ndfmip {
 namespace {
 
-std::shared_ptr<const EnvironmentLighting> lightingOf(Environment env) {
-    return std::make_shared<const EnvironmentLighting>(makeEnvironmentLighting(std::move(env)));
-}
+using envtruth::lightingOf;
+using envtruth::texturesOf;
+using envtruth::unevenMap;
 
 // An orthographic view of a 1 x 1 plane (tangent +x, bitangent +y, normal +z) from `toEye`,
 // tilted about the texel grid's x axis (toEye.x = 0), so every pixel sees the same view.
@@ -36,24 +37,6 @@ Scene tiltedScene(int pixels, glm::vec3 toEye, Material material) {
     s.material = material;
     s.environment.path = "(in memory)";
     return s;
-}
-
-RenderTextures texturesOf(const Image& normals,
-                          std::shared_ptr<const EnvironmentLighting> lighting) {
-    RenderTextures t;
-    t.normals = std::make_shared<const Image>(normals);
-    t.environment = std::move(lighting);
-    return t;
-}
-
-// A bright blob, a coloured band and a dark half.
-Environment unevenMap(int width) {
-    return envtest::mapOf(width, [](glm::dvec3 d) {
-        const double blob =
-            std::exp(40. * (glm::dot(d, glm::normalize(glm::dvec3(0.3, 0.8, -0.4))) - 1.));
-        const double band = std::abs(d.z) < 0.3 ? 0.6 : 0.;
-        return glm::dvec3(0.1 + 40. * blob + band, 0.1 + 30. * blob, d.y > 0. ? 0.3 : 0.02);
-    });
 }
 
 Material ggx(float roughness, float albedo) {

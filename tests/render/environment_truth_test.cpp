@@ -14,20 +14,21 @@
 #include "ndfmip/environment_lighting.h"
 #include "ndfmip/render.h"
 #include "render/environment_truth.h"
+#include "render/environment_truth_support.h"
 #include "test_support.h"
 
 namespace ndfmip {
 namespace {
+
+using envtruth::lightingOf;
+using envtruth::texturesOf;
+using envtruth::unevenMap;
 
 Image constantNormals(int w, int h, glm::vec3 n) {
     Image map(w, h, 3);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) test::setNormal(map, x, y, n.x, n.y, n.z);
     return map;
-}
-
-std::shared_ptr<const EnvironmentLighting> lightingOf(Environment env) {
-    return std::make_shared<const EnvironmentLighting>(makeEnvironmentLighting(std::move(env)));
 }
 
 // An orthographic view of a 1 x 1 plane (default frame: tangent +x, bitangent +y, normal +z)
@@ -46,14 +47,6 @@ Scene orthographicScene(int pixels, glm::vec3 toEye, Material material) {
     s.material = material;
     s.environment.path = "(in memory)";
     return s;
-}
-
-RenderTextures texturesOf(const Image& normals,
-                          std::shared_ptr<const EnvironmentLighting> lighting) {
-    RenderTextures t;
-    t.normals = std::make_shared<const Image>(normals);
-    t.environment = std::move(lighting);
-    return t;
 }
 
 struct Measured {
@@ -210,16 +203,6 @@ TEST(EnvironmentTruth, SmallBrightSourceApproachesADirectionalLight) {
         ref += std::pow(double(b->pixels[i]), 2.);
     }
     EXPECT_LT(std::sqrt(diff / ref), 0.02); // the cap's width and its noise
-}
-
-// A map with a bright blob, a coloured band and a dark half.
-Environment unevenMap(int width) {
-    return envtest::mapOf(width, [](glm::dvec3 d) {
-        const double blob =
-            std::exp(40. * (glm::dot(d, glm::normalize(glm::dvec3(0.3, 0.8, -0.4))) - 1.));
-        const double band = std::abs(d.z) < 0.3 ? 0.6 : 0.;
-        return glm::dvec3(0.1 + 40. * blob + band, 0.1 + 30. * blob, d.y > 0. ? 0.3 : 0.02);
-    });
 }
 
 TEST(EnvironmentTruth, MisAgreesWithEitherSamplerAlone) {
