@@ -80,7 +80,6 @@ enum class EnvironmentEstimator { Mis, Light, Brdf };
 // per pixel, each at a random point of it.
 enum class EnvironmentTruth { Sampled, Table };
 const char* environmentTruthName(EnvironmentTruth truth); // "sampled", "table"
-bool environmentTruthFromString(const std::string& name, EnvironmentTruth& out);
 
 // How vmf shades under an environment: the engine way (each lobe's equivalent roughness read from
 // prefiltered levels, environment_splitsum.h) or the paper's (lobes against SH lighting, Han et al.

@@ -73,6 +73,7 @@ struct Context {
     // fixedDirectionsView scenes: the view and the lights in the plane's tangent frame, the same
     // at every point (orthographic camera, directional lights).
     glm::vec3 fixedView{0.f, 0.f, 1.f};
+    glm::mat3 fixedToEnvironment{1.f}; // the plane's frame into the environment's
     std::vector<LightSample> fixedLights;
     // The truth under an environment in such a view, tabulated (EnvironmentTruth::Table).
     std::shared_ptr<const EnvironmentTruthTable> environmentTable;
@@ -428,6 +429,7 @@ Status prepareContext(Context& ctx, const Scene& scene, const RenderTextures& te
         frame.tangent = g.tangent;
         frame.bitangent = glm::cross(g.normal, g.tangent);
         ctx.fixedView = toTangent(frame, -ctx.camera.forward);
+        ctx.fixedToEnvironment = hitToEnvironment(frame);
         for (const Light& light : scene.lights) {
             const glm::vec3 l = toTangent(frame, light.direction);
             if (l.z > 0.f && ctx.fixedView.z > 0.f) ctx.fixedLights.push_back({l, light.color});
@@ -482,13 +484,11 @@ Result<bool> prepareShading(Context& ctx, const std::string& methodName) {
                              "direction but the normal fixed: an orthographic view of a plane "
                              "with its image rows along the texel grid, directional lights, no "
                              "albedo map"};
-            const Geometry& g = scene.geometry;
             EnvironmentTruthKey key;
             key.lighting = textures.environment;
             key.material = scene.material;
             key.view = ctx.fixedView;
-            key.toEnvironment =
-                tangentToEnvironment(g.tangent, glm::cross(g.normal, g.tangent), g.normal);
+            key.toEnvironment = ctx.fixedToEnvironment;
             key.samples = ctx.options->spp;
             key.estimator = ctx.options->environmentEstimator;
             key.seed = ctx.options->seed;
@@ -665,16 +665,6 @@ bool environmentWayFromString(const std::string& name, EnvironmentWay& out) {
 
 const char* environmentTruthName(EnvironmentTruth truth) {
     return truth == EnvironmentTruth::Sampled ? "sampled" : "table";
-}
-
-bool environmentTruthFromString(const std::string& name, EnvironmentTruth& out) {
-    if (name == "sampled")
-        out = EnvironmentTruth::Sampled;
-    else if (name == "table")
-        out = EnvironmentTruth::Table;
-    else
-        return false;
-    return true;
 }
 
 const char* truthFilterName(TruthFilter filter) {
