@@ -187,8 +187,9 @@ Result<Image> render(const Scene& scene, const RenderTextures& textures, const s
                      const RenderOptions& options);
 
 // How noisy a render is (any sampled render; the truth under an environment is the one that
-// needs it). Each pixel's standard error is the sample standard deviation of its per-sample
-// luminance estimates over sqrt(spp); stratified jitter makes this an upper bound.
+// needs it). Each pixel's standard error is that of its stratified mean of per-sample luminance
+// estimates, from the differences of paired neighbouring strata (the spread between strata,
+// which the stratification removes, is not counted; a slight upper bound).
 struct RenderNoise {
     Image standardError;               // 1 channel, the image's size (0 where nothing was sampled)
     double relativeStandardError = 0.; // mean standard error / mean luminance over covered pixels

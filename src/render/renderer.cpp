@@ -542,7 +542,12 @@ PixelValue renderPixel(const Context& ctx, int x, int y, int gx, int gy) {
         standardError = std::sqrt(variance);
         covered = true;
     } else {
-        double sumY = 0., sumY2 = 0.; // the per-sample luminances, for the noise
+        // The noise of a stratified mean: consecutive strata paired, each pair's squared
+        // difference its sum's variance (a pair is one stratum of two samples), so the spread
+        // between strata, which stratification removes, is not counted as noise. An odd last
+        // stratum takes the samples' plain variance.
+        double sumY = 0., sumY2 = 0., pairs = 0., previous = 0.;
+        int k = 0;
         for (int sy = 0; sy < gy; ++sy) {
             for (int sx = 0; sx < gx; ++sx) {
                 float jx = 0.5f, jy = 0.5f;
@@ -559,12 +564,18 @@ PixelValue renderPixel(const Context& ctx, int x, int y, int gx, int gy) {
                 const double lum = rec709Luminance(glm::dvec3(r));
                 sumY += lum;
                 sumY2 += lum * lum;
+                if (k++ % 2) pairs += (lum - previous) * (lum - previous);
+                previous = lum;
             }
         }
         mean /= float(ctx.options->spp);
         const double n = double(ctx.options->spp);
-        if (ctx.options->spp > 1)
-            standardError = std::sqrt(std::max(0., (sumY2 - sumY * sumY / n) / (n - 1.)) / n);
+        if (ctx.options->spp > 1) {
+            double variance = pairs;
+            if (ctx.options->spp % 2)
+                variance += std::max(0., (sumY2 - sumY * sumY / n) / (n - 1.));
+            standardError = std::sqrt(variance) / n;
+        }
     }
     return {mean, standardError, covered};
 }

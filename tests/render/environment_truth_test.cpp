@@ -315,6 +315,47 @@ double planeNoise(const Environment& env, int pixels, int spp) {
     return noise.relativeStandardError;
 }
 
+// The reported standard error against the spread of the same pixels over independent seeds: a
+// pixel four texels wide of widely spread normals, GGX under a sky lit from one side, where much
+// of a sample's variance is which normal it lands on, which the pixel's stratified jitter (32 x 32
+// strata, an eighth of a texel each) removes.
+TEST(EnvironmentTruth, ReportedStandardErrorMatchesTheSpreadOverSeeds) {
+    constexpr int kPixels = 16;
+    const Scene s =
+        orthographicScene(kPixels, glm::vec3(0.3f, 0.2f, 1.f), specularMaterial(Brdf::Ggx, 0.2f));
+    const RenderTextures textures = texturesOf(test::randomNormals(64, 64, 0.8f, 7),
+                                               lightingOf(envtest::mapOf(64, [](glm::dvec3 d) {
+                                                   return glm::dvec3(0.05 + std::max(d.x, 0.) * 4.);
+                                               })));
+    RenderOptions options;
+    options.spp = 1024;
+    constexpr int kSeeds = 12;
+    const size_t pixels = kPixels * kPixels;
+    std::vector<double> sum(pixels, 0.), sum2(pixels, 0.), reported(pixels, 0.);
+    for (int seed = 0; seed < kSeeds; ++seed) {
+        options.seed = uint64_t(seed + 1);
+        RenderNoise noise;
+        Result<Image> image = render(s, textures, kGroundTruth, options, &noise);
+        ASSERT_TRUE(image) << image.error().message;
+        for (size_t i = 0; i < pixels; ++i) {
+            const double y = rec709Luminance(glm::dvec3(
+                image->pixels[3 * i], image->pixels[3 * i + 1], image->pixels[3 * i + 2]));
+            sum[i] += y;
+            sum2[i] += y * y;
+            reported[i] += double(noise.standardError.pixels[i]) * noise.standardError.pixels[i];
+        }
+    }
+    double empirical = 0., claimed = 0.;
+    for (size_t i = 0; i < pixels; ++i) {
+        empirical += (sum2[i] - sum[i] * sum[i] / kSeeds) / (kSeeds - 1);
+        claimed += reported[i] / kSeeds;
+    }
+    const double ratio = std::sqrt(claimed / empirical);
+    std::printf("[ measured ] reported / observed standard error %.3f\n", ratio);
+    EXPECT_GT(ratio, 0.88);
+    EXPECT_LT(ratio, 1.12); // the samples' plain standard deviation over sqrt(spp) gave 1.26
+}
+
 TEST(EnvironmentTruth, SyntheticEnvironmentReachesHalfAPercentRelativeStandardError) {
     EXPECT_LE(planeNoise(unevenMap(256), 4, 65536), 0.005);
 }
