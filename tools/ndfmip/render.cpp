@@ -153,7 +153,7 @@ void runRender(const RenderArgs& a) {
     std::printf("render: %s, %dx%d, %d spp: load %.0f ms, render %.0f ms -> %s%s%s\n",
                 method.c_str(), image->width, image->height, options.spp, loadMs, renderMs,
                 a.output.c_str(), png.empty() ? "" : ", ", png.c_str());
-    if (method == kGroundTruth && textures.environment)
+    if (method == kGroundTruth && !a.gpu && (textures.environment || options.spp > 1))
         std::printf("noise: relative standard error %.3f%% (mean per-pixel standard error / mean "
                     "luminance over %zu "
                     "covered pixels)\n",
