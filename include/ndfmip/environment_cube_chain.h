@@ -1,9 +1,9 @@
-// The box mip chain of an environment on cube faces, for Toksvig's log2 sigma rule
-// (environment_splitsum.h): "Environment Maps" reads a plain mip chain at
-// lod = log2(2 sigma / theta0) (log2SigmaLevel), which assumes texels of about equal solid angle at
-// every level. An equirectangular chain breaks that near the poles, where a coarse texel is a whole
-// polar cap; a cube face's texels differ by at most 3^(3/2) ~ 5.2 in solid angle, the same at every
-// level.
+// The box mip chain of an environment on cube faces, and the lookups of Toksvig's log2 sigma
+// rule's chain (environment_splitsum.h, whose level 0 is this chain's): "Environment Maps" reads a
+// mip chain at lod = log2(2 sigma / theta0) (log2SigmaLevel), which assumes texels of about equal
+// solid angle at every level. An equirectangular chain breaks that near the poles, where a coarse
+// texel is a whole polar cap; a cube face's texels differ by at most 3^(3/2) ~ 5.2 in solid angle,
+// the same at every level.
 #pragma once
 
 #include <array>

@@ -57,12 +57,15 @@ double environmentLodLevel(EnvironmentLod rule, double perceptualRoughness, int 
 // Its inverse: the perceptual roughness the rule assigns to level k (0 for k = 0, at most 1).
 double environmentLodRoughness(EnvironmentLod rule, int level, int levels);
 
-// Toksvig's rule, lod "a function of log2 sigma": log2(kLog2SigmaSpan sigma / texelAngle) clamped
-// to [0, levels - 1]. A trilinear read at level L of a box chain averages texels of width
-// w = 2^L texelAngle, blended by a tent of half-width w: a spread of variance w^2/12 + w^2/6 =
-// w^2/4 per axis, which equals the lobe's sigma^2 at w = 2 sigma. (With log2(sigma / texelAngle)
-// the reads were one level too sharp: twice the error under venice, docs/RESULTS.md.)
+// Toksvig's rule, lod "a function of log2 sigma": log2(kLog2SigmaSpan sigma / texelAngle) -
+// kLog2SigmaLobeLevels clamped to [0, levels - 1], the level of the Log2Sigma chain whose lobe
+// has that reflected spread sigma (SplitSumChain). A box chain's texels at level L, w = 2^L
+// texelAngle wide, blended by a tent of half-width w, spread as w^2/12 + w^2/6 = w^2/4 per axis:
+// sigma^2 at w = 2 sigma (kLog2SigmaSpan; with w = sigma the reads were one level too sharp, twice
+// the error under venice, docs/RESULTS.md). The chain's levels hold lobes four texels wide
+// instead (kLog2SigmaLobeLevels = 2 levels finer), so their shape, not the texels, is the spread.
 constexpr double kLog2SigmaSpan = 2.;
+constexpr int kLog2SigmaLobeLevels = 2;
 double log2SigmaLevel(double sigma, double texelAngle, int levels);
 
 // The angular spread (radians, per axis) of the reflected direction: a lobe over half vectors of
@@ -108,9 +111,10 @@ struct SplitSumOptions {
 };
 
 // One chain: level k is (size >> k) x (size >> k)/2 (at least 4 x 2 for the GGX chains), RGB, at
-// perceptualRoughness[k] (0 for the unfiltered level 0 and for every level of the Log2Sigma box
-// chain). Log2Sigma's box chain is on cube faces instead, size/4 wide at level 0 (as many texels
-// around the horizon) down to 1 x 1, in `cube`; its `levels` are empty.
+// perceptualRoughness[k] (0 for the unfiltered level 0). Log2Sigma's chain is on cube faces
+// instead, size/4 wide at level 0 (as many texels around the horizon) down to 1 x 1, in `cube`,
+// level k >= 1 the material's lobe at the spread log2SigmaLevel reads there; its `levels` are
+// empty.
 struct SplitSumChain {
     EnvironmentLod rule = EnvironmentLod::Filament;
     std::vector<Image> levels;

@@ -9,7 +9,7 @@
 // Textures, all read with texelFetch so the filtering is the CPU's to rounding:
 //   ndfmipEnvChain   the rule's prefiltered chain, equirect (environment frame, rotation
 //                    applied), its level k the texture's mip k
-//   ndfmipEnvCube    instead, with NDFMIP_ENVIRONMENT_CUBE, the log2sigma rule's box chain on
+//   ndfmipEnvCube    instead, with NDFMIP_ENVIRONMENT_CUBE, the log2sigma rule's chain on
 //                    cube faces: six layers, its level k the mip k
 //   ndfmipEnvAlbedo  the split sum's second factor (R) and the dominant direction's share of the
 //                    normal (G): column n.v, row perceptual roughness
@@ -78,7 +78,7 @@ vec3 ndfmipSampleEquirect(int k, vec3 d) {
 }
 
 #ifdef NDFMIP_ENVIRONMENT_CUBE
-// The log2sigma rule's box chain on cube faces (environment_cube_chain.h): layer f of mip k is
+// The log2sigma rule's chain on cube faces (SplitSumChain, environment_splitsum.h): layer f of mip k is
 // face f of level k, read as sampleCubeLevel reads it.
 uniform sampler2DArray ndfmipEnvCube;
 
@@ -148,15 +148,16 @@ vec3 ndfmipSampleChain(float lod, vec3 d) {
 }
 
 // prefilteredRadiance: the rule's level for perceptual roughness r (environmentLodLevel), or
-// Toksvig's log2(2 sigma / theta0) with sigma = 2 sqrt(alpha^2/2 + normalVariance)
-// (reflectedSpread, log2SigmaLevel: the read's variance matches the lobe's).
+// Toksvig's log2(2 sigma / theta0) - 2 with sigma = 2 sqrt(alpha^2/2 + normalVariance)
+// (reflectedSpread, log2SigmaLevel: the level whose lobe has that spread).
 vec3 ndfmipPrefilteredRadiance(vec3 reflected, float r, float normalVariance) {
     float last = float(ndfmipEnvLevels - 1);
     float lod = 0.0f;
     if (ndfmipEnvRule == 0) {
         float alpha = r * r;
         float sigma = 2.0f * sqrt(max(alpha * alpha / 2.0f, 0.0f) + max(normalVariance, 0.0f));
-        lod = sigma > 0.0f ? clamp(log2(2.0f * sigma / ndfmipEnvTexelAngle), 0.0f, last) : 0.0f;
+        // kLog2SigmaSpan 2, kLog2SigmaLobeLevels 2 (environment_splitsum.h)
+        lod = sigma > 0.0f ? clamp(log2(2.0f * sigma / ndfmipEnvTexelAngle) - 2.0f, 0.0f, last) : 0.0f;
     } else {
         r = clamp(r, 0.0f, 1.0f);
         if (ndfmipEnvRule == 1) lod = r * (2.0f - r) * last;

@@ -225,8 +225,7 @@ void addEnvironmentShadingOptions(CLI::App* c, EnvironmentShadingArgs& a) {
     c->add_option("--env-lod", a.lod,
                   "under an environment, the prefiltered levels' rule of naive, toksvig, "
                   "roughness-mips and vmf "
-                  "(prefiltered): log2sigma (Toksvig's, on a box chain: a GGX lobe's tail misses "
-                  "small bright lights), filament, unity or unreal")
+                  "(prefiltered): log2sigma (Toksvig's), filament, unity or unreal")
         ->capture_default_str();
     c->add_option("--vmf-environment", a.vmfWay,
                   "under an environment, vmf shades by prefiltered levels per lobe (prefiltered, "
