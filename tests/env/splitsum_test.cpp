@@ -264,7 +264,9 @@ TEST(SplitSum, Log2SigmaReachesASmallBrightLampThroughTheLobesTail) {
             shadeNaiveSplitSum(m, glm::vec3(0.f), n, n, glm::mat3(1.f), lighting, rule);
         std::printf("lamp through the tail, %s: split sum / truth %.3f\n", environmentLodName(rule),
                     split.x / truth.x);
-        if (rule == EnvironmentLod::Log2Sigma) EXPECT_NEAR(split.x / truth.x, 1., 0.1);
+        if (rule == EnvironmentLod::Log2Sigma) {
+            EXPECT_NEAR(split.x / truth.x, 1., 0.1);
+        }
     }
 }
 
