@@ -137,11 +137,23 @@ struct PrefilteredLevel {
 // Level 0 (r = 0) is the map resampled. Preconditions: options within the ranges above.
 std::vector<PrefilteredLevel> prefilterGgx(const Environment& env, const PrefilterOptions& options);
 
+// The source every prefiltered level reads: the radiance's area-weighted mip chain (power-of-two
+// widths, at most 4096, down to 2 x 1) and the map's rotation. Build it once for a chain's levels.
+struct RadiancePyramid {
+    std::vector<Image> levels;
+    double rotation = 0.;
+};
+RadiancePyramid radiancePyramid(const Environment& env);
+
 // One level: width x width/2 texels at perceptual roughness r (> 0) with `samples` samples.
+Image prefilterGgxLevel(const RadiancePyramid& source, double perceptualRoughness, int width,
+                        int samples);
 Image prefilterGgxLevel(const Environment& env, double perceptualRoughness, int width, int samples);
 
 // The same convolution with the Blinn-Phong lobe D proportional to <n.h>^s (exponent s >= 0)
 // instead of GGX: the chain a Blinn-Phong material reads without converting its exponent.
+Image prefilterBlinnPhongLevel(const RadiancePyramid& source, double exponent, int width,
+                               int samples);
 Image prefilterBlinnPhongLevel(const Environment& env, double exponent, int width, int samples);
 
 // ---- the split sum's second factor

@@ -29,6 +29,9 @@ struct CubeMipChain {
 // valid environment.
 CubeMipChain buildCubeMipChain(const Environment& env, int size);
 
+// Level 0 of that chain alone: the map as seen on six size-wide faces.
+std::array<Image, kCubeFaces> cubeMipChainBase(const Environment& env, int size);
+
 // Bilinear within one level along unit d: texel centres at ((x + 0.5) / n, (y + 0.5) / n) of the
 // face, and a neighbour one past a face's edge read from the adjacent face (the texel holding that
 // centre's direction on the extended face plane), so lookups are continuous across edges.

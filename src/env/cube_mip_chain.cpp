@@ -51,7 +51,7 @@ std::array<Image, kCubeFaces> halve(const std::array<Image, kCubeFaces>& fine) {
 
 } // namespace
 
-CubeMipChain buildCubeMipChain(const Environment& env, int size) {
+std::array<Image, kCubeFaces> cubeMipChainBase(const Environment& env, int size) {
     assert(size >= 1 && (size & (size - 1)) == 0 && env.radiance.channels == 3);
     // The map as seen, at most 8 size wide (two texels per face texel at the horizon,
     // area-weighted); then 4 x 4 bilinear lookups per face texel read every texel under it.
@@ -60,11 +60,15 @@ CubeMipChain buildCubeMipChain(const Environment& env, int size) {
     if (env.rotation != 0. || width != env.radiance.width)
         resampled = resampleEquirect(env.radiance, width, env.rotation);
     const Image& seen = resampled.pixels.empty() ? env.radiance : resampled;
-    CubeMipChain chain;
-    std::array<Image, kCubeFaces> level0;
+    std::array<Image, kCubeFaces> faces;
     for (int face = 0; face < kCubeFaces; ++face)
-        level0[size_t(face)] = cubeFaceFromEquirect(seen, face, size, 4);
-    chain.levels.push_back(std::move(level0));
+        faces[size_t(face)] = cubeFaceFromEquirect(seen, face, size, 4);
+    return faces;
+}
+
+CubeMipChain buildCubeMipChain(const Environment& env, int size) {
+    CubeMipChain chain;
+    chain.levels.push_back(cubeMipChainBase(env, size));
     while (chain.levels.back()[0].width > 1) chain.levels.push_back(halve(chain.levels.back()));
     return chain;
 }

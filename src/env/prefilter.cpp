@@ -63,16 +63,6 @@ int log2Exact(int n) {
     return k;
 }
 
-// The radiance's mip chain: area-weighted halvings of a power-of-two map, down to 2 x 1.
-std::vector<Image> radiancePyramid(const Image& map) {
-    std::vector<Image> levels;
-    const int base = std::min(1 << log2Exact(map.width), kMaxSourceWidth);
-    levels.push_back(base == map.width ? map : resampleEquirect(map, base));
-    while (levels.back().width > 2)
-        levels.push_back(resampleEquirect(levels.back(), levels.back().width / 2));
-    return levels;
-}
-
 // A source level laid out for one output width w: for a level s = width / w times wider, row y,
 // phase p holds texels p, p + s, p + 2s, ... (2w + 1 of them, wrapping), so reading every s-th
 // texel from any start is contiguous. A level narrower than the output is first interpolated
@@ -282,6 +272,19 @@ Image filterLevel(const std::vector<Image>& pyramid, const PrefilterLobe& lobe, 
 
 } // namespace
 
+// Area-weighted halvings of the map at a power-of-two width.
+RadiancePyramid radiancePyramid(const Environment& env) {
+    RadiancePyramid pyramid;
+    pyramid.rotation = env.rotation;
+    std::vector<Image>& levels = pyramid.levels;
+    const Image& map = env.radiance;
+    const int base = std::min(1 << log2Exact(map.width), kMaxSourceWidth);
+    levels.push_back(base == map.width ? map : resampleEquirect(map, base));
+    while (levels.back().width > 2)
+        levels.push_back(resampleEquirect(levels.back(), levels.back().width / 2));
+    return pyramid;
+}
+
 int defaultPrefilterSize(int mapWidth) {
     return std::clamp(1 << log2Exact(mapWidth), 8, 1024);
 }
@@ -292,7 +295,7 @@ std::vector<PrefilteredLevel> prefilterGgx(const Environment& env,
     const int levelCount = options.levels > 0 ? options.levels : std::max(1, log2Exact(size) - 5);
     assert(size >= 8 && (size & (size - 1)) == 0 && levelCount <= log2Exact(size) - 2 &&
            options.samples >= 1);
-    std::vector<Image> pyramid;
+    RadiancePyramid source;
     std::vector<PrefilteredLevel> out;
     for (int k = 0; k < levelCount; ++k) {
         const int width = size >> k;
@@ -304,12 +307,11 @@ std::vector<PrefilteredLevel> prefilterGgx(const Environment& env,
         if (level.perceptualRoughness <= 0.) {
             level.radiance = resampleEquirect(env.radiance, width, env.rotation);
         } else {
-            if (pyramid.empty()) pyramid = radiancePyramid(env.radiance);
+            if (source.levels.empty()) source = radiancePyramid(env);
             // cmgen's schedule: more samples from level 2 on, where there are 4x fewer texels.
             level.samples = options.samples << std::max(0, k - 1);
-            const double r = level.perceptualRoughness;
             level.radiance =
-                filterLevel(pyramid, {false, r * r, 0.}, width, level.samples, env.rotation);
+                prefilterGgxLevel(source, level.perceptualRoughness, width, level.samples);
         }
         out.push_back(std::move(level));
         if (options.progress) options.progress(k + 1, levelCount);
@@ -317,18 +319,28 @@ std::vector<PrefilteredLevel> prefilterGgx(const Environment& env,
     return out;
 }
 
+Image prefilterGgxLevel(const RadiancePyramid& source, double perceptualRoughness, int width,
+                        int samples) {
+    assert(perceptualRoughness > 0. && width >= 4 && (width & (width - 1)) == 0 && samples >= 1 &&
+           !source.levels.empty());
+    return filterLevel(source.levels, {false, perceptualRoughness * perceptualRoughness, 0.}, width,
+                       samples, source.rotation);
+}
+
 Image prefilterGgxLevel(const Environment& env, double perceptualRoughness, int width,
                         int samples) {
-    assert(perceptualRoughness > 0. && width >= 4 && (width & (width - 1)) == 0 && samples >= 1);
-    return filterLevel(radiancePyramid(env.radiance),
-                       {false, perceptualRoughness * perceptualRoughness, 0.}, width, samples,
-                       env.rotation);
+    return prefilterGgxLevel(radiancePyramid(env), perceptualRoughness, width, samples);
+}
+
+Image prefilterBlinnPhongLevel(const RadiancePyramid& source, double exponent, int width,
+                               int samples) {
+    assert(exponent >= 0. && width >= 4 && (width & (width - 1)) == 0 && samples >= 1 &&
+           !source.levels.empty());
+    return filterLevel(source.levels, {true, 0., exponent}, width, samples, source.rotation);
 }
 
 Image prefilterBlinnPhongLevel(const Environment& env, double exponent, int width, int samples) {
-    assert(exponent >= 0. && width >= 4 && (width & (width - 1)) == 0 && samples >= 1);
-    return filterLevel(radiancePyramid(env.radiance), {true, 0., exponent}, width, samples,
-                       env.rotation);
+    return prefilterBlinnPhongLevel(radiancePyramid(env), exponent, width, samples);
 }
 
 } // namespace ndfmip

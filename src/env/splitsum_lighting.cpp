@@ -57,11 +57,11 @@ int chainLevels(EnvironmentLod rule, int size, int filamentLevels) {
 // keeps the map's integral, but its reads have compact support: a GGX lobe's tail reaches small
 // bright lights the box does not, and under a studio's lamps it kept 6-30% of the truth's energy
 // (docs/RESULTS.md).
-CubeMipChain log2SigmaChain(const Environment& env, int size, int levels, int samples,
-                            bool blinnPhongLobe, double texelAngle,
+CubeMipChain log2SigmaChain(const Environment& env, const RadiancePyramid& source, int size,
+                            int levels, int samples, bool blinnPhongLobe, double texelAngle,
                             std::vector<double>& perceptualRoughness) {
     CubeMipChain chain;
-    chain.levels.push_back(std::move(buildCubeMipChain(env, size / 4).levels.front()));
+    chain.levels.push_back(cubeMipChainBase(env, size / 4));
     perceptualRoughness.assign(1, 0.);
     for (int k = 1; k < levels; ++k) {
         const double sigma =
@@ -69,9 +69,10 @@ CubeMipChain log2SigmaChain(const Environment& env, int size, int levels, int sa
         const double alpha = std::min(sigma / std::sqrt(2.), 1.);
         const int faceSize = std::max((size / 4) >> k, 1);
         const int width = std::max(4 * faceSize, 8); // one texel per face texel at the horizon
-        const Image map = blinnPhongLobe ? prefilterBlinnPhongLevel(env, blinnPhongExponent(alpha),
-                                                                    width, samples)
-                                         : prefilterGgxLevel(env, std::sqrt(alpha), width, samples);
+        const Image map =
+            blinnPhongLobe
+                ? prefilterBlinnPhongLevel(source, blinnPhongExponent(alpha), width, samples)
+                : prefilterGgxLevel(source, std::sqrt(alpha), width, samples);
         std::array<Image, kCubeFaces> faces;
         for (int face = 0; face < kCubeFaces; ++face)
             faces[size_t(face)] = cubeFaceFromEquirect(map, face, faceSize);
@@ -282,7 +283,8 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
     lighting.texelAngle = M_PI / (size / 2);
     lighting.irradiance = projectEnvironmentSh(env, 2).irradiance;
 
-    Image base; // level 0 of the GGX chains, made when one is asked for
+    Image base;             // level 0 of the GGX chains, made when one is asked for
+    RadiancePyramid source; // what their prefiltered levels read, made once
     for (EnvironmentLod rule : options.rules) {
         if (findChain(lighting, rule)) continue;
         SplitSumChain chain;
@@ -292,8 +294,10 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
         if (rule == EnvironmentLod::Log2Sigma) {
             // Toksvig's chain on cube faces: an equirect chain's coarse texels near the poles are
             // whole polar caps.
-            chain.cube = log2SigmaChain(env, size, levels, options.samples, chain.blinnPhongLobe,
-                                        lighting.texelAngle, chain.perceptualRoughness);
+            if (source.levels.empty() && levels > 1) source = radiancePyramid(env);
+            chain.cube =
+                log2SigmaChain(env, source, size, levels, options.samples, chain.blinnPhongLobe,
+                               lighting.texelAngle, chain.perceptualRoughness);
             assert(int(chain.cube.levels.size()) == levels);
             lighting.chains.push_back(std::move(chain));
             continue;
@@ -301,6 +305,7 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
         if (base.pixels.empty()) base = resampleEquirect(env.radiance, size, env.rotation);
         chain.levels.push_back(base);
         chain.perceptualRoughness.push_back(0.);
+        if (source.levels.empty() && levels > 1) source = radiancePyramid(env);
         for (int k = 1; k < levels; ++k) {
             const double r = environmentLodRoughness(rule, k, levels);
             const int samples = options.samples << std::max(0, k - 1);
@@ -308,8 +313,8 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
             const int width = std::max(size >> k, 4);
             chain.levels.push_back(
                 chain.blinnPhongLobe
-                    ? prefilterBlinnPhongLevel(env, blinnPhongExponent(r * r), width, samples)
-                    : prefilterGgxLevel(env, r, width, samples));
+                    ? prefilterBlinnPhongLevel(source, blinnPhongExponent(r * r), width, samples)
+                    : prefilterGgxLevel(source, r, width, samples));
             chain.perceptualRoughness.push_back(r);
         }
         lighting.chains.push_back(std::move(chain));
