@@ -156,8 +156,11 @@ vec3 ndfmipPrefilteredRadiance(vec3 reflected, float r, float normalVariance) {
     if (ndfmipEnvRule == 0) {
         float alpha = r * r;
         float sigma = 2.0f * sqrt(max(alpha * alpha / 2.0f, 0.0f) + max(normalVariance, 0.0f));
-        // kLog2SigmaSpan 2, kLog2SigmaLobeLevels 2 (environment_splitsum.h)
-        lod = sigma > 0.0f ? clamp(log2(2.0f * sigma / ndfmipEnvTexelAngle) - 2.0f, 0.0f, last) : 0.0f;
+        // kLog2SigmaSpan and kLog2SigmaLobeLevels (environment_splitsum.h), defined by the renderer.
+        lod = sigma > 0.0f ? clamp(log2(NDFMIP_LOG2SIGMA_SPAN * sigma / ndfmipEnvTexelAngle) -
+                                       NDFMIP_LOG2SIGMA_LOBE_LEVELS,
+                                   0.0f, last)
+                           : 0.0f;
     } else {
         r = clamp(r, 0.0f, 1.0f);
         if (ndfmipEnvRule == 1) lod = r * (2.0f - r) * last;

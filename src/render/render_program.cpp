@@ -384,6 +384,11 @@ Status addFragmentParts(RenderProgram& program, const Scene& scene, int methodLa
     if (shLighting) defines += "#define NDFMIP_ENVIRONMENT_SH\n";
     if (program.environmentChain && !program.environmentChain->cube.levels.empty())
         defines += "#define NDFMIP_ENVIRONMENT_CUBE\n";
+    // Toksvig's log2sigma level (log2SigmaLevel) reads its constants from here, not as literals.
+    if (environment)
+        defines += "#define NDFMIP_LOG2SIGMA_SPAN " + std::to_string(kLog2SigmaSpan) +
+                   "\n#define NDFMIP_LOG2SIGMA_LOBE_LEVELS " +
+                   std::to_string(double(kLog2SigmaLobeLevels)) + "\n";
     if (shLighting && shader.shLightingInTangentFrame && scene.geometry.type != GeometryType::Plane)
         defines += "#define NDFMIP_ENVIRONMENT_SH_PER_HIT\n";
     // The SH lighting's order, rows and rotation points as constants (environment.glsl): its

@@ -547,7 +547,6 @@ PixelValue renderPixel(const Context& ctx, int x, int y, int gx, int gy) {
         // between strata, which stratification removes, is not counted as noise. An odd last
         // stratum takes the samples' plain variance.
         double sumY = 0., sumY2 = 0., pairs = 0., previous = 0.;
-        int k = 0;
         for (int sy = 0; sy < gy; ++sy) {
             for (int sx = 0; sx < gx; ++sx) {
                 float jx = 0.5f, jy = 0.5f;
@@ -564,7 +563,7 @@ PixelValue renderPixel(const Context& ctx, int x, int y, int gx, int gy) {
                 const double lum = rec709Luminance(glm::dvec3(r));
                 sumY += lum;
                 sumY2 += lum * lum;
-                if (k++ % 2) pairs += (lum - previous) * (lum - previous);
+                if ((sy * gx + sx) % 2) pairs += (lum - previous) * (lum - previous);
                 previous = lum;
             }
         }
