@@ -269,9 +269,8 @@ TEST(SplitSum, Log2SigmaReachesASmallBrightLampThroughTheLobesTail) {
                bruteForce(lobe, glm::vec3(0.f), n, n, glm::mat3(1.f), white, 600).x;
     };
     const SplitSumChain& chain = *findChain(lighting, EnvironmentLod::Log2Sigma);
-    const double lod =
-        log2SigmaLevel(reflectedSpread(m.roughness * m.roughness / 2., 0.), lighting.texelAngle,
-                       int(chain.cube.levels.size()));
+    const double lod = log2SigmaLevel(reflectedSpread(m.roughness * m.roughness / 2., 0.),
+                                      lighting.texelAngle, int(chain.cube.levels.size()));
     const int k = int(lod);
     const double f = lod - k;
     ASSERT_GE(k, 1);

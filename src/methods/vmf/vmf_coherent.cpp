@@ -21,6 +21,7 @@
 
 #include <omp.h>
 
+#include "core/splitmix.h"
 #include "methods/vmf/vmf_internal.h"
 
 namespace ndfmip {
@@ -70,18 +71,16 @@ int subsampleStride(const Image& base) {
     return stride;
 }
 
-// One normal per stride x stride block at a jittered place (a hash of the block, so that a
-// map's period cannot line up with the stride).
+// One normal per stride x stride block at a jittered place (the block's own random draw, so
+// that a map's period cannot line up with the stride).
 Image jitteredSubsample(const Image& base, int stride) {
     const int width = base.width / stride, height = base.height / stride;
     Image sub(width, height, 3, Image::Uninitialized{});
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            uint32_t h = uint32_t(x) * 0x9E3779B1u ^ uint32_t(y) * 0x85EBCA77u;
-            h ^= h >> 15;
-            h *= 0x2C1B3C6Du;
-            h ^= h >> 12;
-            const int jx = int(h % uint32_t(stride)), jy = int((h >> 16) % uint32_t(stride));
+            SplitMix64 block{uint64_t(y) * uint64_t(width) + uint64_t(x)};
+            const uint64_t h = block.next();
+            const int jx = int(h % uint64_t(stride)), jy = int((h >> 32) % uint64_t(stride));
             std::copy_n(base.at(x * stride + jx, y * stride + jy), 3, sub.at(x, y));
         }
     return sub;
