@@ -121,6 +121,12 @@ struct PrefilterOptions {
 // [8, 1024].
 int defaultPrefilterSize(int mapWidth);
 
+// cmgen's sample schedule, every prefiltered chain's: `levelOneSamples` at level 1, doubled at
+// each level after. A coarser level has a quarter of the texels, and a broad lobe's few samples
+// would each read a coarse level of the radiance's pyramid, which spreads a small bright light
+// outside the lobe (docs/RESULTS.md, "The chain's sample schedule").
+int prefilterSamples(int levelOneSamples, int level);
+
 struct PrefilteredLevel {
     Image radiance; // (size >> k) x (size >> k) / 2, RGB
     double perceptualRoughness = 0.;

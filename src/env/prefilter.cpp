@@ -289,6 +289,10 @@ int defaultPrefilterSize(int mapWidth) {
     return std::clamp(1 << log2Exact(mapWidth), 8, 1024);
 }
 
+int prefilterSamples(int levelOneSamples, int level) {
+    return levelOneSamples << std::max(0, level - 1);
+}
+
 std::vector<PrefilteredLevel> prefilterGgx(const Environment& env,
                                            const PrefilterOptions& options) {
     const int size = options.size > 0 ? options.size : defaultPrefilterSize(env.radiance.width);
@@ -308,8 +312,7 @@ std::vector<PrefilteredLevel> prefilterGgx(const Environment& env,
             level.radiance = resampleEquirect(env.radiance, width, env.rotation);
         } else {
             if (source.levels.empty()) source = radiancePyramid(env);
-            // cmgen's schedule: more samples from level 2 on, where there are 4x fewer texels.
-            level.samples = options.samples << std::max(0, k - 1);
+            level.samples = prefilterSamples(options.samples, k);
             level.radiance =
                 prefilterGgxLevel(source, level.perceptualRoughness, width, level.samples);
         }

@@ -69,10 +69,9 @@ CubeMipChain log2SigmaChain(const Environment& env, const RadiancePyramid& sourc
         const double alpha = std::min(sigma / std::sqrt(2.), 1.);
         const int faceSize = std::max((size / 4) >> k, 1);
         const int width = std::max(4 * faceSize, 8); // one texel per face texel at the horizon
-        // cmgen's schedule, as the engine chains: a broad lobe's few samples each read a coarse
-        // source level, which spreads a small lamp's light outside the lobe (at 512 samples for
-        // every level the studio's energy at 30 degrees fell to 0.76-0.78, docs/RESULTS.md).
-        const int levelSamples = samples << std::max(0, k - 1);
+        // As the engine chains (with one count at every level the studio's energy at 30 degrees
+        // fell to 0.76-0.78).
+        const int levelSamples = prefilterSamples(samples, k);
         const Image map =
             blinnPhongLobe
                 ? prefilterBlinnPhongLevel(source, blinnPhongExponent(alpha), width, levelSamples)
@@ -312,7 +311,7 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
         if (source.levels.empty() && levels > 1) source = radiancePyramid(env);
         for (int k = 1; k < levels; ++k) {
             const double r = environmentLodRoughness(rule, k, levels);
-            const int samples = options.samples << std::max(0, k - 1);
+            const int samples = prefilterSamples(options.samples, k);
             // Never narrower than 4 x 2 (Unity's 7 levels from a small level 0 would run out).
             const int width = std::max(size >> k, 4);
             chain.levels.push_back(
