@@ -32,7 +32,7 @@ int log2Floor(int n) {
 
 // Levels of each chain for a level-0 width `size`: Unity has its fixed 7; Unreal runs down to
 // 4 x 2 texels, the equirect counterpart of a 1 x 1 cube face (4 faces span the horizon); the
-// box chain of Log2Sigma halves size/4-wide cube faces down to 1 x 1.
+// cube chain of Log2Sigma runs from size/4-wide faces down to 1 x 1.
 int chainLevels(EnvironmentLod rule, int size, int filamentLevels) {
     switch (rule) {
     case EnvironmentLod::Log2Sigma:
@@ -47,7 +47,17 @@ int chainLevels(EnvironmentLod rule, int size, int filamentLevels) {
     return 1;
 }
 
-// Toksvig's chain on cube faces: level 0 the radiance (size/4-wide faces, as buildCubeMipChain),
+// One prefiltered level of a chain: the radiance convolved with GGX of perceptual roughness r,
+// or with the Blinn-Phong lobe of alpha = r^2 where the material's lobe is Blinn-Phong.
+Image prefilteredLevel(const RadiancePyramid& source, bool blinnPhongLobe,
+                       double perceptualRoughness, int width, int samples) {
+    const double r = perceptualRoughness;
+    return blinnPhongLobe
+               ? prefilterBlinnPhongLevel(source, blinnPhongExponent(r * r), width, samples)
+               : prefilterGgxLevel(source, r, width, samples);
+}
+
+// Toksvig's chain on cube faces: level 0 the radiance (size/4-wide faces, cubeMipChainBase),
 // level k >= 1 the radiance prefiltered with the material's lobe shape at the reflected spread
 // log2SigmaLevel reads there, sigma_k = 2^(k + kLog2SigmaLobeLevels) theta0 / kLog2SigmaSpan:
 // GGX alpha_k = sigma_k / sqrt(2) (reflectedSpread of the lobe variance alpha^2/2), or the
@@ -71,11 +81,8 @@ CubeMipChain log2SigmaChain(const Environment& env, const RadiancePyramid& sourc
         const int width = std::max(4 * faceSize, 8); // one texel per face texel at the horizon
         // As the engine chains (with one count at every level the studio's energy at 30 degrees
         // fell to 0.76-0.78).
-        const int levelSamples = prefilterSamples(samples, k);
-        const Image map =
-            blinnPhongLobe
-                ? prefilterBlinnPhongLevel(source, blinnPhongExponent(alpha), width, levelSamples)
-                : prefilterGgxLevel(source, std::sqrt(alpha), width, levelSamples);
+        const Image map = prefilteredLevel(source, blinnPhongLobe, std::sqrt(alpha), width,
+                                           prefilterSamples(samples, k));
         std::array<Image, kCubeFaces> faces;
         for (int face = 0; face < kCubeFaces; ++face)
             faces[size_t(face)] = cubeFaceFromEquirect(map, face, faceSize);
@@ -294,10 +301,10 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
         chain.rule = rule;
         chain.blinnPhongLobe = options.blinnPhongLobe;
         const int levels = chainLevels(rule, size, options.filamentLevels);
+        if (source.levels.empty() && levels > 1) source = radiancePyramid(env);
         if (rule == EnvironmentLod::Log2Sigma) {
             // Toksvig's chain on cube faces: an equirect chain's coarse texels near the poles are
             // whole polar caps.
-            if (source.levels.empty() && levels > 1) source = radiancePyramid(env);
             chain.cube =
                 log2SigmaChain(env, source, size, levels, options.samples, chain.blinnPhongLobe,
                                lighting.texelAngle, chain.perceptualRoughness);
@@ -308,16 +315,13 @@ SplitSumLighting prepareSplitSum(const Environment& env, const SplitSumOptions& 
         if (base.pixels.empty()) base = resampleEquirect(env.radiance, size, env.rotation);
         chain.levels.push_back(base);
         chain.perceptualRoughness.push_back(0.);
-        if (source.levels.empty() && levels > 1) source = radiancePyramid(env);
         for (int k = 1; k < levels; ++k) {
             const double r = environmentLodRoughness(rule, k, levels);
             const int samples = prefilterSamples(options.samples, k);
             // Never narrower than 4 x 2 (Unity's 7 levels from a small level 0 would run out).
             const int width = std::max(size >> k, 4);
             chain.levels.push_back(
-                chain.blinnPhongLobe
-                    ? prefilterBlinnPhongLevel(source, blinnPhongExponent(r * r), width, samples)
-                    : prefilterGgxLevel(source, r, width, samples));
+                prefilteredLevel(source, chain.blinnPhongLobe, r, width, samples));
             chain.perceptualRoughness.push_back(r);
         }
         lighting.chains.push_back(std::move(chain));
