@@ -6,6 +6,7 @@
 #include <mutex>
 #include <numeric>
 #include <thread>
+#include <utility>
 
 #include "core/splitmix.h"
 #include "environment_truth.h"
@@ -153,21 +154,39 @@ size_t EnvironmentTruthTable::nodesEstimated() const {
 }
 
 std::shared_ptr<const EnvironmentTruthTable> environmentTruthTable(const EnvironmentTruthKey& key) {
+    // A kept table's key does not own its lighting, so that a lighting no longer held anywhere
+    // (an evaluation's environment once the evaluation is done) is freed, and its tables are
+    // dropped at the next lookup; what a caller gets holds the lighting with the table.
+    struct Kept {
+        std::weak_ptr<const EnvironmentLighting> lighting;
+        std::shared_ptr<const EnvironmentTruthTable> table;
+    };
     constexpr size_t kKept = 4;
     static std::mutex mutex;
-    static std::vector<std::shared_ptr<const EnvironmentTruthTable>> kept; // most recent last
+    static std::vector<Kept> kept; // most recent last
+    auto held = [&key](const std::shared_ptr<const EnvironmentTruthTable>& table) {
+        using Both = std::pair<std::shared_ptr<const EnvironmentTruthTable>,
+                               std::shared_ptr<const EnvironmentLighting>>;
+        auto both = std::make_shared<const Both>(table, key.lighting);
+        return std::shared_ptr<const EnvironmentTruthTable>(both, both->first.get());
+    };
     std::lock_guard<std::mutex> lock(mutex);
+    // Before any match: a lighting made where a freed one was must not find the freed one's tables.
+    std::erase_if(kept, [](const Kept& k) { return k.lighting.expired(); });
     for (size_t i = 0; i < kept.size(); ++i)
-        if (sameKey(kept[i]->key(), key)) {
-            std::shared_ptr<const EnvironmentTruthTable> found = kept[i];
+        if (sameKey(kept[i].table->key(), key)) {
+            Kept found = kept[i];
             kept.erase(kept.begin() + long(i));
             kept.push_back(found);
-            return found;
+            return held(found.table);
         }
-    auto made = std::make_shared<const EnvironmentTruthTable>(key);
-    kept.push_back(made);
+    EnvironmentTruthKey unowned = key;
+    unowned.lighting = std::shared_ptr<const EnvironmentLighting>(
+        std::shared_ptr<const EnvironmentLighting>(), key.lighting.get());
+    auto made = std::make_shared<const EnvironmentTruthTable>(unowned);
+    kept.push_back({key.lighting, made});
     if (kept.size() > kKept) kept.erase(kept.begin());
-    return made;
+    return held(made);
 }
 
 } // namespace ndfmip

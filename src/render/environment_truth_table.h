@@ -29,8 +29,8 @@ namespace ndfmip {
 constexpr int kEnvironmentTruthTableSize = 256;
 
 // What fixes a table: the lighting, the material and, in the tangent frame, the view, with the
-// frame's map into the environment; the samples per node, the estimator and the seed. The table
-// holds the lighting while it is kept.
+// frame's map into the environment; the samples per node, the estimator and the seed. A table
+// made from a key holds its lighting.
 struct EnvironmentTruthKey {
     std::shared_ptr<const EnvironmentLighting> lighting;
     Material material;
@@ -82,8 +82,10 @@ class EnvironmentTruthTable {
     mutable std::unique_ptr<std::atomic<int>[]> state_; // 0 empty, 1 being estimated, 2 ready
 };
 
-// The table for `key`: the one made for an equal key while it is still held here (the last few
-// kept, so an evaluation's footprints and maps share their nodes), else a new one.
+// The table for `key`: the one made for an equal key while it is still kept here (the last few,
+// so an evaluation's footprints and maps share their nodes), else a new one. The pointer returned
+// holds the lighting too; what is kept here does not, so a lighting no longer held elsewhere is
+// freed, and its tables leave at the next call.
 std::shared_ptr<const EnvironmentTruthTable> environmentTruthTable(const EnvironmentTruthKey& key);
 
 // The octahedral map of unit directions to [-1, 1]^2 (the upper hemisphere inside |x| + |y| <= 1)

@@ -82,6 +82,33 @@ TEST(EnvironmentTruthTable, OctahedralMapRoundTripsAndKeepsTheUpperHemisphereIns
     }
 }
 
+TEST(EnvironmentTruthTable, KeptForEqualKeysWithoutKeepingTheirLighting) {
+    // Equal keys share one table (its estimated nodes) while the lighting is held; once the
+    // lighting and the tables handed out are dropped, nothing here holds the environment.
+    EnvironmentTruthKey key;
+    key.lighting = lightingOf(envtest::mapOf(16, [](glm::dvec3) { return glm::dvec3(1.); }));
+    key.material.brdf = Brdf::Lambert;
+    key.samples = 64;
+    const std::weak_ptr<const EnvironmentLighting> watch = key.lighting;
+    std::shared_ptr<const EnvironmentTruthTable> first = environmentTruthTable(key);
+    first->radiance({0.f, 0.f, 1.f});
+    EnvironmentTruthKey other = key;
+    other.samples = 128;
+    {
+        const std::shared_ptr<const EnvironmentTruthTable> again = environmentTruthTable(key);
+        EXPECT_EQ(again.get(), first.get());
+        EXPECT_EQ(again->nodesEstimated(), 4u);
+        EXPECT_NE(environmentTruthTable(other).get(), first.get());
+    }
+    // The table handed out keeps the lighting alive after the key's own handle is gone.
+    key.lighting.reset();
+    other.lighting.reset();
+    EXPECT_FALSE(watch.expired());
+    EXPECT_EQ(first->radiance({0.f, 0.f, 1.f}), first->radiance({0.f, 0.f, 1.f}));
+    first.reset();
+    EXPECT_TRUE(watch.expired());
+}
+
 TEST(EnvironmentTruthTable, ConstantEnvironmentOnAFlatLambertPlaneIsTheAlbedoFromFourNodes) {
     // Under radiance 1 every normal facing up reflects its albedo (the cosine over pi integrates to
     // 1 over the hemisphere); straight up sits between four nodes, and only they are estimated.
