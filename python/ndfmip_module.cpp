@@ -761,6 +761,7 @@ PYBIND11_MODULE(_ndfmip, m) {
         .def_readwrite("truth", &EvalOptions::truth)
         .def_readwrite("taps", &EvalOptions::taps)
         .def_readwrite("lod_bias", &EvalOptions::lodBias)
+        .def_readwrite("anisotropy", &EvalOptions::anisotropy)
         .def_readwrite("lobe_filter", &EvalOptions::lobeFilter)
         .def_readwrite("view", &EvalOptions::view)
         .def_readwrite("elevation", &EvalOptions::elevation)

@@ -92,6 +92,10 @@ struct EvalOptions {
     std::string truth = "box";                   // or bilinear
     std::optional<int> taps;      // unset: 1 when aligned, else RenderOptions' default
     std::optional<float> lodBias; // unset: 0 when aligned, else RenderOptions' default
+    // Methods: up to this many trilinear probes along each footprint's major axis (--aniso; an
+    // engine's anisotropic filtering), 1 .. 64. A straight-down view's footprints are square, so
+    // only tilted views (--elevation) read more than one.
+    int anisotropy = 1;
     std::optional<std::string>
         lobeFilter; // texel or parameter; unset: texel, or parameter in the engine view
     // An environment map (environment.h) that lights every view instead of the directional light:

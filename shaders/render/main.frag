@@ -98,13 +98,14 @@ vec3 ndfmipShadeProbeTexels(NdfmipHit hit, vec3 view, vec2 uv, float lod, float 
     return sum;
 }
 
-// The number of anisotropic probes along the footprint's major axis (as the CPU's filteredTaps).
+// The number of anisotropic probes along the footprint's major axis (as the CPU's filteredTaps:
+// within 1% of square is square).
 int ndfmipProbes(vec2 dx, vec2 dy) {
     vec2 size = vec2(textureSize(ndfmipPlanes, 0).xy);
     float lx = length(dx * size);
     float ly = length(dy * size);
     float minor = min(lx, ly);
-    if (ndfmipAnisotropy > 1 && minor > 0.0f) return clamp(int(ceil(max(lx, ly) / minor)), 1, ndfmipAnisotropy);
+    if (ndfmipAnisotropy > 1 && minor > 0.0f) return clamp(int(ceil(max(lx, ly) / minor - 0.01f)), 1, ndfmipAnisotropy);
     return 1;
 }
 

@@ -49,9 +49,11 @@ void filteredTaps(const std::vector<glm::ivec2>& sizes, glm::vec2 uv, const UvFo
     const glm::vec2 size(sizes.front());
     const float lx = glm::length(footprint.dx * size), ly = glm::length(footprint.dy * size);
     const float major = std::max(lx, ly), minor = std::min(lx, ly);
+    // A footprint within 1% of square reads as square: the float axes of a square pixel's
+    // footprint differ by rounding, and ceil would double its probes.
     int probes = 1;
     if (maxProbes > 1 && minor > 0.f)
-        probes = std::clamp(int(std::ceil(major / minor)), 1, maxProbes);
+        probes = std::clamp(int(std::ceil(major / minor - 0.01f)), 1, maxProbes);
     if (probes == 1) {
         trilinearTaps(sizes, uv, (major > 0.f ? std::log2(major) : 0.f) + lodBias, 1.f, out);
         return;

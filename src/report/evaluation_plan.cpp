@@ -39,6 +39,7 @@ void checkRanges(const EvalOptions& a) {
              "light follows the view's mirror direction");
     if (a.taps) range("--taps", *a.taps, 1, 16);
     if (a.lodBias) range("--lod-bias", *a.lodBias, -16.0, 16.0);
+    range("--aniso", a.anisotropy, 1, 64);
 }
 
 std::vector<Setting> settingsOf(const EvalOptions& a) {
@@ -200,6 +201,7 @@ Plan planEvaluation(const EvalOptions& options) {
     // Aligned: one plain lookup per pixel unless the filtering rule is given.
     filtering.taps = a.taps.value_or(a.aligned ? 1 : filtering.taps);
     filtering.lodBias = a.lodBias.value_or(a.aligned ? 0.f : filtering.lodBias);
+    filtering.anisotropy = a.anisotropy;
     if (a.offset.size() != 2 || !std::isfinite(a.offset[0]) || !std::isfinite(a.offset[1]))
         fail("--offset: two finite numbers X,Y expected");
     // Aligned: each pixel exactly one texel of a level, so every method reads that one texel.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 
 #include "report/evaluation_steps.h"
@@ -65,6 +66,7 @@ json reportJson(const Plan& plan, const Lighting& lighting, const Gathered& gath
                      {"offset", {shift.x, shift.y}},
                      {"taps", filtering.taps},
                      {"lod_bias", filtering.lodBias},
+                     {"anisotropy", filtering.anisotropy},
                      {"lobe_filter", *a.lobeFilter},
                      {"eval_view", a.view},
                      {"coherent", a.coherence.value_or(0.f)},
@@ -127,9 +129,14 @@ std::vector<std::string> reportNotes(const Plan& plan, const Lighting& lighting,
                                       : "stratified supersampling of the bilinear, renormalised "
                                         "surface of the finest normals, "
                                         "max(64, footprint^2) samples per pixel up to 1024";
-    char filter[160];
+    char filter[200];
     std::snprintf(filter, sizeof filter, "%d x %d sub-samples per pixel, LOD bias %g, %s filtering",
                   filtering.taps, filtering.taps, filtering.lodBias, a.lobeFilter->c_str());
+    if (filtering.anisotropy > 1) {
+        const size_t used = std::strlen(filter);
+        std::snprintf(filter + used, sizeof filter - used, ", up to %d anisotropic probes",
+                      filtering.anisotropy);
+    }
     if (lighting.environment) {
         char noiseText[128];
         std::snprintf(noiseText, sizeof noiseText, "%.3f%%", 100. * truthNoise);

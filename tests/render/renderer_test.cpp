@@ -10,6 +10,7 @@
 #include "ndfmip/render.h"
 #include "ndfmip/sh_brdf.h"
 #include "ndfmip/spherical_harmonics.h"
+#include "render/texture_sampling.h"
 #include "test_support.h"
 
 namespace ndfmip {
@@ -414,6 +415,30 @@ TEST(Renderer, RayDifferentialLodMatchesTheAnalyticFootprint) {
     const float expected = 2.f * 3.f * std::tan(glm::radians(15.f)) / 64.f * texelsPerUnit;
     EXPECT_NEAR(glm::length(g.dx) * mapSize, expected, expected * 1e-3f);
     EXPECT_NEAR(glm::length(g.dy) * mapSize, expected, expected * 1e-3f);
+}
+
+TEST(Renderer, AnisotropicProbesFollowTheFootprintsAxisRatio) {
+    // Probes along the major axis: as many as it is longer than the minor one, at most the
+    // limit, each a trilinear lookup of 8 taps (two levels of bilinear) between levels. A square
+    // footprint whose float axes differ by rounding stays one trilinear lookup.
+    const std::vector<glm::ivec2> sizes{{256, 256}, {128, 128}, {64, 64}, {32, 32}, {16, 16},
+                                        {8, 8},     {4, 4},     {2, 2},   {1, 1}};
+    const glm::vec2 uv(0.3f, 0.6f);
+    auto probes = [&](glm::vec2 dx, glm::vec2 dy, int limit) {
+        TapList taps;
+        filteredTaps(sizes, uv, {dx, dy}, limit, 0.3f, taps);
+        float total = 0.f;
+        for (int t = 0; t < taps.count; ++t) total += taps.tap[t].weight;
+        EXPECT_NEAR(total, 1.f, 1e-5f);
+        return taps.count / 8;
+    };
+    const float texel = 1.f / 256.f;
+    EXPECT_EQ(probes({4.f * texel, 0.f}, {0.f, 4.f * texel * (1.f + 3e-7f)}, 8), 1);
+    EXPECT_EQ(probes({4.f * texel, 0.f}, {0.f, 4.f * texel}, 8), 1);
+    EXPECT_EQ(probes({4.f * texel, 0.f}, {0.f, 6.f * texel}, 8), 2);
+    EXPECT_EQ(probes({4.f * texel, 0.f}, {0.f, 16.f * texel}, 8), 4);
+    EXPECT_EQ(probes({4.f * texel, 0.f}, {0.f, 64.f * texel}, 8), 8);
+    EXPECT_EQ(probes({4.f * texel, 0.f}, {0.f, 64.f * texel}, 1), 1);
 }
 
 TEST(Renderer, SphereFrameIsOrthonormalAndFollowsUv) {

@@ -259,6 +259,47 @@ TEST(EvaluationSteps, AFittedBakeIsMadePerGgxRoughnessAndJudgedUnderGgxOnly) {
     }
 }
 
+TEST(EvaluationSteps, AnisotropicProbesChangeOnlyATiltedViewsRows) {
+    // Rows of normals tilted +-30 degrees about x, alternating along y: a view tilted about x
+    // stretches each pixel's footprint along y, where a trilinear lookup at the long side's LOD
+    // averages rows the truth keeps apart, and probes along it do not. Straight down the
+    // footprints are square, so the probes change nothing.
+    test::TempDir dir{"evaluation_steps"};
+    const std::string path = dir.file("rows.png");
+    Image rows(64, 64, 3);
+    const float s = std::sin(glm::radians(30.f)), c = std::cos(glm::radians(30.f));
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) test::setNormal(rows, x, y, 0.f, (y / 2) % 2 ? s : -s, c);
+    ASSERT_TRUE(savePng(path, rows, 8));
+    auto naiveError = [&](float elevation, int anisotropy, int footprint) {
+        EvalOptions o = optionsFor({"naive"});
+        o.maps = {path};
+        o.frames = 0;
+        o.brdfs = {"ggx"};
+        o.roughness = {0.3f};
+        o.elevation = elevation;
+        o.anisotropy = anisotropy;
+        evaluation::Plan plan = evaluation::planEvaluation(o);
+        EXPECT_EQ(plan.filtering.anisotropy, anisotropy);
+        const evaluation::Lighting lighting = evaluation::prepareLighting(plan);
+        evaluation::MapData map = evaluation::loadAndBake(plan, 0, lighting);
+        evaluation::Gathered gathered;
+        const Scene scene = evaluation::footprintScene(plan, map, footprint, lighting);
+        evaluation::evaluateSetting(plan, lighting, map, scene, footprint, plan.settings[0],
+                                    gathered);
+        EXPECT_EQ(gathered.report.cases.size(), 2u);
+        return gathered.report.cases.back().relRmse;
+    };
+    const double down = naiveError(90.f, 1, 8);
+    EXPECT_GT(down, 0.05); // the mip averages the two normals
+    EXPECT_NEAR(naiveError(90.f, 8, 8), down, 1e-3 * down);
+    const double trilinear = naiveError(20.f, 1, 4), probed = naiveError(20.f, 8, 4);
+    EXPECT_LT(probed, 0.5 * trilinear) << trilinear;
+    EvalOptions bad = optionsFor({"naive"});
+    bad.anisotropy = 65;
+    EXPECT_EQ(problemOf([&] { evaluation::planEvaluation(bad); }), "--aniso 65: expected 1 .. 64");
+}
+
 TEST(EvaluationSteps, ReportSaysTheViewItRan) {
     EvalOptions o = optionsFor({"naive"});
     o.view = "engine";
@@ -273,6 +314,7 @@ TEST(EvaluationSteps, ReportSaysTheViewItRan) {
     EXPECT_EQ(root["setup"]["eval_view"], "engine");
     EXPECT_EQ(root["setup"]["taps"], 1);
     EXPECT_EQ(root["setup"]["lobe_filter"], "parameter");
+    EXPECT_EQ(root["setup"]["anisotropy"], 1);
     EXPECT_NEAR(root["calibration"]["mean_rel_rmse"]["c=1"].get<double>(), 0.2, 1e-12);
     EXPECT_FALSE(root.contains("skipped"));
     const std::vector<std::string> notes = evaluation::reportNotes(plan, {}, 0., best);

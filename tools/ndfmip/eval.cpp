@@ -149,6 +149,11 @@ void addEvalCommand(CLI::App& app) {
         ->expected(2)
         ->capture_default_str();
     addFilteringOptions(c, args->filtering);
+    c->add_option("--aniso", a->anisotropy,
+                  "methods: anisotropic probes along each footprint (an engine's anisotropic "
+                  "filtering; 1 = trilinear): only tilted views (--elevation) read more than one")
+        ->check(CLI::Range(1, 64))
+        ->capture_default_str();
     addEnvironmentOptions(c, args->environment);
     addShViewsOption(c, a->shViews);
     addShLightingOptions(c, a->shCosine, a->environmentShOrder);
