@@ -272,7 +272,7 @@ def evaluate(maps: Iterable[PathLike], output: Optional[PathLike] = None, *,
              seed: int = 1, aligned: bool = False, offset: Sequence[float] = (0.31, 0.17), truth: str = "box",
              taps: Optional[int] = None, lod_bias: Optional[float] = None, lobe_filter: Optional[str] = None,
              coherent: Optional[float] = None, view: str = "lab", elevation: float = 90.0,
-             light_polar: float = 25.0,
+             light_polar: float = 25.0, anisotropy: int = 1,
              calibrate: bool = False, all_images: bool = False,
              webgl: Optional[bool] = None, green_down: bool = False, two_channel: bool = False,
              signed: bool = False, height: Optional[float] = None, clamp: bool = False) -> Dict[str, Any]:
@@ -280,7 +280,8 @@ def evaluate(maps: Iterable[PathLike], output: Optional[PathLike] = None, *,
 
     With ``output``, report.json and report.html are written there too (webgl: the page's
     live view, by default with an output). Unset lists take the tool's defaults; view (lab,
-    engine or aligned) sets taps, lod_bias, lobe_filter and coherent where they are None.
+    engine or aligned) sets taps, lod_bias, lobe_filter and coherent where they are None;
+    anisotropy is the method rows' probes along a slanted footprint (--aniso).
     """
     o = _ndfmip.EvalOptions()
     o.maps = [os.fspath(m) for m in maps]
@@ -292,7 +293,7 @@ def evaluate(maps: Iterable[PathLike], output: Optional[PathLike] = None, *,
     o.pixels, o.spp, o.frames, o.seed = pixels, spp, frames, seed
     o.aligned, o.offset, o.truth, o.lobe_filter = aligned, list(offset), truth, lobe_filter
     o.taps, o.lod_bias, o.coherent, o.calibrate, o.all_images = taps, lod_bias, coherent, calibrate, all_images
-    o.view, o.elevation, o.light_polar = view, elevation, light_polar
+    o.view, o.elevation, o.light_polar, o.anisotropy = view, elevation, light_polar, anisotropy
     o.webgl = output is not None if webgl is None else webgl
     o.set_decode(green_down, two_channel, signed, height, clamp)
     return _ndfmip.evaluate(o)

@@ -69,7 +69,7 @@ def evaluate(maps: Iterable[PathLike], output: Optional[PathLike] = ..., *, meth
              pixels: int = ..., spp: int = ..., frames: int = ..., seed: int = ..., aligned: bool = ...,
              offset: Sequence[float] = ..., truth: str = ..., taps: Optional[int] = ...,
              lod_bias: Optional[float] = ..., lobe_filter: Optional[str] = ..., coherent: Optional[float] = ..., view: str = ...,
-             elevation: float = ..., light_polar: float = ...,
+             elevation: float = ..., light_polar: float = ..., anisotropy: int = ...,
              calibrate: bool = ..., all_images: bool = ..., webgl: Optional[bool] = ..., green_down: bool = ...,
              two_channel: bool = ..., signed: bool = ..., height: Optional[float] = ...,
              clamp: bool = ...) -> Dict[str, Any]: ...

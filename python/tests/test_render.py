@@ -63,3 +63,10 @@ def test_evaluate_returns_the_cli_report(cli, tmp_path):
     setup = engine["setup"]
     assert (setup["eval_view"], setup["taps"], setup["lobe_filter"]) == ("engine", 1, "parameter")
     assert setup["coherent"] == pytest.approx(0.03)
+    # A tilted view with anisotropic probes, as the tool's --elevation and --aniso.
+    tilted_args = dict(methods=["naive"], footprints=[4], brdfs=["ggx"], roughness=[0.3], frames=0, pixels=16)
+    run_cli(cli, "eval", BUNDLED_MAP, "--elevation", "30", "--aniso", "4", "--methods", "naive", "--footprints", "4",
+            "--brdfs", "ggx", "--roughness", "0.3", "--frames", "0", "--pixels", "16", "-o", tmp_path / "tilted", "-q")
+    tilted = ndfmip.evaluate([BUNDLED_MAP], elevation=30.0, anisotropy=4, **tilted_args)
+    assert tilted == json.loads((tmp_path / "tilted" / "report.json").read_text())
+    assert tilted["setup"]["anisotropy"] == 4
