@@ -304,6 +304,7 @@ TEST(EvaluationSteps, ReportSaysTheViewItRan) {
     EvalOptions o = optionsFor({"naive"});
     o.view = "engine";
     o.calibrate = true;
+    o.anisotropy = 4;
     const evaluation::Plan plan = evaluation::planEvaluation(o);
     evaluation::Gathered gathered;
     gathered.candidateError["c=1"] = {std::log(0.2) * 2, 2};
@@ -314,13 +315,14 @@ TEST(EvaluationSteps, ReportSaysTheViewItRan) {
     EXPECT_EQ(root["setup"]["eval_view"], "engine");
     EXPECT_EQ(root["setup"]["taps"], 1);
     EXPECT_EQ(root["setup"]["lobe_filter"], "parameter");
-    EXPECT_EQ(root["setup"]["anisotropy"], 1);
+    EXPECT_EQ(root["setup"]["anisotropy"], 4);
     EXPECT_NEAR(root["calibration"]["mean_rel_rmse"]["c=1"].get<double>(), 0.2, 1e-12);
     EXPECT_FALSE(root.contains("skipped"));
     const std::vector<std::string> notes = evaluation::reportNotes(plan, {}, 0., best);
     ASSERT_EQ(notes.size(), 2u);
     EXPECT_EQ(notes[0].rfind("Each case: a top-down orthographic view", 0), 0u);
-    EXPECT_NE(notes[0].find("1 x 1 sub-samples per pixel, LOD bias 0, parameter filtering"),
+    EXPECT_NE(notes[0].find("1 x 1 sub-samples per pixel, LOD bias 0, parameter filtering, up to 4 "
+                            "anisotropic probes"),
               std::string::npos);
     EXPECT_NE(notes[1].find("best is filament."), std::string::npos);
 }
