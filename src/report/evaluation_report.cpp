@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <limits>
 
 #include "report/evaluation_steps.h"
@@ -129,14 +128,12 @@ std::vector<std::string> reportNotes(const Plan& plan, const Lighting& lighting,
                                       : "stratified supersampling of the bilinear, renormalised "
                                         "surface of the finest normals, "
                                         "max(64, footprint^2) samples per pixel up to 1024";
-    char filter[200];
-    std::snprintf(filter, sizeof filter, "%d x %d sub-samples per pixel, LOD bias %g, %s filtering",
+    char rule[160];
+    std::snprintf(rule, sizeof rule, "%d x %d sub-samples per pixel, LOD bias %g, %s filtering",
                   filtering.taps, filtering.taps, filtering.lodBias, a.lobeFilter->c_str());
-    if (filtering.anisotropy > 1) {
-        const size_t used = std::strlen(filter);
-        std::snprintf(filter + used, sizeof filter - used, ", up to %d anisotropic probes",
-                      filtering.anisotropy);
-    }
+    std::string filter = rule;
+    if (filtering.anisotropy > 1)
+        filter += ", up to " + std::to_string(filtering.anisotropy) + " anisotropic probes";
     if (lighting.environment) {
         char noiseText[128];
         std::snprintf(noiseText, sizeof noiseText, "%.3f%%", 100. * truthNoise);
