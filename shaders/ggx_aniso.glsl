@@ -44,6 +44,24 @@ float ndfmipGgxAnisoAlpha(vec3 tensor) {
     return sqrt(max(0.5f * (tensor.x + tensor.z), 1e-8f));
 }
 
+// The tensor of the lobe a glTF engine reads from KHR_materials_anisotropy's inputs, decoded as
+// three.js decodes them (lights_physical_fragment): `khr` = (roughness, the metallicRoughness
+// texture's G; the anisotropyTexture's R, G, B), the direction normalize(2 RG - 1), the strength
+// B, alpha_b = roughness^2 and alpha_t = mix(alpha_b, 1, strength^2) along the direction. In the
+// frame (t, b) about the normal; the engines' is the surface's tangents, the same where the normal
+// is upright and apart by the normal's tilt (second order in it) elsewhere.
+vec3 ndfmipKhrAnisotropyTensor(vec4 khr) {
+    vec2 d = 2.0f * vec2(khr.y, khr.z) - vec2(1.0f);
+    float length2 = dot(d, d);
+    d = length2 > 0.0f ? d / sqrt(length2) : vec2(1.0f, 0.0f);
+    float alphaB = khr.x * khr.x;
+    float strength = clamp(khr.w, 0.0f, 1.0f);
+    float alphaT = alphaB + strength * strength * (1.0f - alphaB); // mix(alphaB, 1, strength^2)
+    float b2 = alphaB * alphaB;
+    float stretch = alphaT * alphaT - b2;
+    return vec3(b2 + stretch * d.x * d.x, stretch * d.x * d.y, b2 + stretch * d.y * d.y);
+}
+
 // The lobe about the renormalised filtered normal, with its cosine: max(n.l, 0) (albedo / pi +
 // specular D(h)), as ndfmipShadeNormal shades one normal.
 vec3 ndfmipShadeGgxAniso(NdfmipMaterial m, vec3 albedo, vec3 filtered, vec3 tensor, vec3 l, vec3 v) {

@@ -243,8 +243,21 @@ struct LobeLevels {
 
 // The engine files of a bake with one anisotropic GGX lobe per texel (engine_anisotropy.h): the
 // roughness in the packed map, and the direction and anisotropy textures.
-Status writeEngineAnisotropy(const EnginePreset& engine, const Bake& bake, const LobeLevels& lobes,
-                             const BakeWriteOptions& options, const WriteMade& writeMade) {
+Status writeEngineAnisotropy(const EnginePreset& engine, const Bake& bake,
+                             const LobeLevels& lobesAsFitted, const BakeWriteOptions& options,
+                             const WriteMade& writeMade) {
+    // The directions' signs chosen so that the sampler's blends of neighbours and of two levels
+    // turn between their directions (coherentDirectionSigns).
+    std::vector<std::pair<int, int>> sizes;
+    for (const auto& level : bake.levels)
+        sizes.emplace_back(level[lobesAsFitted.plane]->width, level[lobesAsFitted.plane]->height);
+    const std::vector<std::vector<int8_t>> signs =
+        coherentDirectionSigns(sizes, lobesAsFitted.lobe);
+    const LobeLevels lobes{lobesAsFitted.plane, [&lobesAsFitted, &signs](size_t k, size_t i) {
+                               AnisotropicLobe lobe = lobesAsFitted.lobe(k, i);
+                               if (signs[k][i] < 0) lobe.direction = -lobe.direction;
+                               return lobe;
+                           }};
     const std::string prefix = std::string(engine.name) + "_";
     const AnisotropyInput input = engine.anisotropy;
     const bool down = engine.greenDown;

@@ -145,6 +145,9 @@ struct MethodShader {
     // is rotated into it (per hit on a curved surface); otherwise the glue turns its lobes into
     // the environment's frame.
     bool shLightingInTangentFrame;
+    // The planes the shader samples where they are not the bake's own: its linear planes encoded
+    // as an engine's textures hold them (ggx-aniso-khr), made once per render. Null: the bake's.
+    Bake (*planesOf)(const Bake& bake);
 };
 
 // A uniform's value, for the gpuUniforms hooks.

@@ -339,7 +339,8 @@ Result<int> addEnvironmentLighting(RenderProgram& program, const Scene& scene,
 // then the albedo map; returns how many are the method's.
 Result<int> addLayers(RenderProgram& program, const RenderTextures& textures) {
     const MethodShader& shader = *program.shader;
-    const Bake& bake = textures.bake;
+    if (shader.planesOf) program.encoded = shader.planesOf(textures.bake);
+    const Bake& bake = shader.planesOf ? program.encoded : textures.bake;
     // Layers: the linear planes, then the roughness mips (roughness-mips), then the albedo map.
     auto& layers = program.layers;
     for (size_t p = 0; p < bake.planes.size(); ++p) {

@@ -25,6 +25,7 @@ struct RenderProgram {
     // One layer per linear plane (at most 4 channels), then roughness mips, then the albedo
     // map: layers[layer][level].
     std::vector<std::vector<const Image*>> layers;
+    Bake encoded;                       // the shader's planesOf: owns the planes' layers point into
     std::vector<UniformValue> uniforms; // the scene's, the rule's and the method's
     // Under an environment (shaders/render/environment.glsl), the split-sum way: the rule's
     // prefiltered chain (in setup.splitSum; its levels are the mips of one texture) and the

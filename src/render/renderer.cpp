@@ -84,6 +84,7 @@ struct Context {
     MipChain albedo;                      // empty without an albedo map
     const EnvironmentLighting* lighting = nullptr; // the environment, if any
     std::vector<SharedImage> exactChain; // kExact: owns the shaded chain the planes point into
+    Bake encoded;                        // a shader's planesOf: owns the planes they point into
 };
 
 glm::mat3 hitToEnvironment(const SurfaceHit& hit) {
@@ -463,7 +464,8 @@ Result<bool> prepareMethod(Context& ctx, const std::string& methodName, const Sc
         ctx.setup.environmentView = worldToEnvironment(glm::dvec3(-ctx.camera.forward));
     if (Status ready = ctx.method->prepare(scene.material, textures, options, ctx.setup); !ready)
         return Error{ready.error};
-    ctx.planes = linearPlanes(bake);
+    if (ctx.method->planesOf) ctx.encoded = ctx.method->planesOf(bake);
+    ctx.planes = linearPlanes(ctx.method->planesOf ? ctx.encoded : bake);
     if (methodName == kRoughnessMips) // an engine's roughness mips, filtered like the planes
         if (Status s = addRoughnessChain(ctx, textures, bake); !s) return Error{s.error};
     if (ctx.planes.channels < 3 || ctx.planes.channels > kMaxFilteredChannels)

@@ -74,7 +74,7 @@ MethodSpec methodSpecOf(const std::string& label) {
     if (!method)
         fail("--methods: unknown method " + quote(label) +
              " (expected naive, toksvig, toksvig-lut, sh[:ORDER], vmf[:LOBES[:BUDGET]], lean, "
-             "sggx, exact)");
+             "sggx, ggx-fit, ggx-aniso, ggx-aniso-khr, exact)");
     spec.method = *method;
     spec.render = methodName(*method);
     if (!order.empty()) {

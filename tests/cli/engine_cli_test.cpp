@@ -324,6 +324,55 @@ TEST(EngineCli, GgxAnisoBakeWritesItsFittedLobeInEachEnginesInputs) {
     }
 }
 
+// 2 x 2 blocks of normals at +-20 degrees along 84 or 96 degrees from x, in a checkerboard of
+// blocks: level 1's lobes point near the y axis, each neighbour on the other side of it. Each
+// engine's direction texture signs them alike (coherentDirectionSigns), so the sampler's blend of
+// two neighbours turns between them; stored with x >= 0 every neighbour would point against the
+// texel (dot -0.96), and their blend would read along x.
+TEST(EngineCli, GgxAnisoDirectionsAgreeBetweenNeighboursAcrossTheVertical) {
+    test::TempDir dir("ndfmip_engine_ggx_aniso_signs");
+    Image normal(16, 16, 3);
+    const float s = std::sin(glm::radians(20.f)), c = std::cos(glm::radians(20.f));
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+            const float phi = glm::radians(((x / 2 + y / 2) % 2) ? 96.f : 84.f);
+            const float side = x % 2 ? s : -s;
+            float* p = normal.at(x, y);
+            p[0] = 0.5f * (side * std::cos(phi) + 1.f), p[1] = 0.5f * (side * std::sin(phi) + 1.f);
+            p[2] = 0.5f * (c + 1.f);
+        }
+    ASSERT_TRUE(savePng(dir.file("n.png"), normal, 16));
+    for (const std::string engine : {"gltf", "unreal", "godot"}) {
+        const std::string out = dir.file(engine);
+        std::string output;
+        ASSERT_EQ(test::runCli("bake " + test::shellArg(dir.file("n.png")) + " --engine " + engine +
+                                   " --method ggx-aniso --base-roughness 0.1 --export ktx2 -q -o " +
+                                   test::shellArg(out),
+                               &output),
+                  0)
+            << output;
+        const std::string a = ktx2Level(slurp(out + "/ktx2/" + engine + "_anisotropy.ktx2"), 1);
+        ASSERT_EQ(a.size(), size_t(4 * 8 * 8));
+        auto direction = [&](int x, int y) {
+            const size_t i = 4 * size_t(y * 8 + x);
+            return glm::normalize(glm::vec2(2.f * float((unsigned char)a[i]) / 255.f - 1.f,
+                                            2.f * float((unsigned char)a[i + 1]) / 255.f - 1.f));
+        };
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) {
+                EXPECT_GT(std::abs(direction(x, y).y), 0.99f) << engine << " " << x << "," << y;
+                if (x + 1 < 8) {
+                    EXPECT_GT(glm::dot(direction(x, y), direction(x + 1, y)), 0.95f)
+                        << engine << " " << x << "," << y;
+                }
+                if (y + 1 < 8) {
+                    EXPECT_GT(glm::dot(direction(x, y), direction(x, y + 1)), 0.95f)
+                        << engine << " " << x << "," << y;
+                }
+            }
+    }
+}
+
 // The stripes turned 90 degrees: the direction is the y axis, and Unreal's texture holds it
 // in the frame of its normal maps (green down), Godot's in the +Y-up frame.
 TEST(EngineCli, LeanBakeDirectionFollowsEachEnginesGreenConvention) {

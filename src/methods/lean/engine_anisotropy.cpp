@@ -26,6 +26,55 @@ AnisotropicLobe anisotropicLobeOfMoments(const float* m, float cross, float alph
     return anisotropicLobe(alpha2 + 2.f * own.x, alpha2 + 2.f * own.y, 2.f * own.z);
 }
 
+std::vector<std::vector<int8_t>>
+coherentDirectionSigns(const std::vector<std::pair<int, int>>& sizes,
+                       const std::function<AnisotropicLobe(size_t k, size_t i)>& lobe) {
+    std::vector<std::vector<int8_t>> signs(sizes.size());
+    // The chosen levels' directions times their anisotropy, as two bytes a texel: the level
+    // being chosen and its parent.
+    std::vector<int8_t> chosen, parent;
+    auto read = [](const std::vector<int8_t>& level, size_t i) {
+        return glm::vec2(float(level[2 * i]), float(level[2 * i + 1]));
+    };
+    for (size_t k = sizes.size(); k-- > 0;) {
+        const auto [width, height] = sizes[k];
+        const size_t count = size_t(width) * size_t(height);
+        signs[k].assign(count, 1);
+        chosen.assign(2 * count, 0);
+        const bool hasParent = k + 1 < sizes.size();
+        const int parentWidth = hasParent ? sizes[k + 1].first : 0;
+        const int parentHeight = hasParent ? sizes[k + 1].second : 0;
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                const size_t i = size_t(y) * size_t(width) + size_t(x);
+                const AnisotropicLobe l = lobe(k, i);
+                const float sum = l.alphaT + l.alphaB;
+                const float weight = sum > 0.f ? (l.alphaT - l.alphaB) / sum : 0.f;
+                glm::vec2 around(0.f);
+                if (x > 0) around += read(chosen, i - 1);
+                if (y > 0) {
+                    const size_t above = i - size_t(width);
+                    around += read(chosen, above);
+                    if (x > 0) around += read(chosen, above - 1);
+                    if (x + 1 < width) around += read(chosen, above + 1);
+                }
+                if (hasParent) {
+                    const int px = std::min(int(int64_t(x) * parentWidth / width), parentWidth - 1);
+                    const int py =
+                        std::min(int(int64_t(y) * parentHeight / height), parentHeight - 1);
+                    around += read(parent, size_t(py) * size_t(parentWidth) + size_t(px));
+                }
+                const float sign = glm::dot(around, l.direction) < 0.f ? -1.f : 1.f;
+                signs[k][i] = int8_t(sign);
+                const glm::vec2 stored = 127.f * sign * weight * l.direction;
+                chosen[2 * i] = int8_t(std::lround(stored.x));
+                chosen[2 * i + 1] = int8_t(std::lround(stored.y));
+            }
+        std::swap(chosen, parent);
+    }
+    return signs;
+}
+
 KhrAnisotropy khrAnisotropy(const AnisotropicLobe& lobe) {
     const double alphaT = lobe.alphaT, alphaB = lobe.alphaB;
     KhrAnisotropy out;

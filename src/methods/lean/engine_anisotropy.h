@@ -12,13 +12,20 @@
 // Each engine's roughness is perceptual (alpha = roughness^2).
 #pragma once
 
+#include <cstdint>
+#include <functional>
+#include <utility>
+#include <vector>
+
 #include <glm/glm.hpp>
 
 namespace ndfmip {
 
 struct AnisotropicLobe {
     float alphaT = 0.f, alphaB = 0.f; // alpha_t >= alpha_b, each at most 1
-    glm::vec2 direction{1.f, 0.f};    // unit, the axis of alpha_t; x >= 0 (a lobe has no sign)
+    // Unit, the axis of alpha_t; a lobe has no sign: x >= 0 from anisotropicLobe, the engine
+    // files' signs from coherentDirectionSigns.
+    glm::vec2 direction{1.f, 0.f};
 };
 
 // The lobe of squared-roughness tensor A = [[axx, axy], [axy, ayy]] (slope space, as sggx.glsl
@@ -30,6 +37,23 @@ AnisotropicLobe anisotropicLobe(float axx, float ayy, float axy);
 // E[bx^2], E[by^2]), `cross` its lean_cross (E[bx by]), `alpha2` the material's mean alpha^2;
 // the tensor alpha2 I + 2 Sigma, Sigma the slopes' covariance (lean.glsl's).
 AnisotropicLobe anisotropicLobeOfMoments(const float* moments, float cross, float alpha2);
+
+// ---- Directions that blend ---------------------------------------------------------------------
+
+// The signs of the lobes' directions for a direction texture an engine's sampler blends. A lobe's
+// direction has no sign (d and -d are the same lobe), but the sampler blends the stored channels:
+// neighbours at +89 and -89 degrees, each stored with x >= 0, blend to a direction across both.
+// Each texel's sign is chosen to agree with the signed directions of the texels already chosen
+// around it (in its level the one to the left and the three above; its parent in the level above),
+// each weighted by its anisotropy (alpha_t - alpha_b) / (alpha_t + alpha_b), the coarsest level
+// first. The blend of neighbours, within a level and across two, then turns between their
+// directions. A field that turns by half a turn about a point cannot agree all round it; the scan
+// puts that seam where it meets it.
+// `sizes` the levels' (width, height), level 0 the finest; `lobe(k, i)` level k's texel i, row by
+// row. Returns, per level and texel, -1 where the direction is to be negated, 1 where kept.
+std::vector<std::vector<int8_t>>
+coherentDirectionSigns(const std::vector<std::pair<int, int>>& sizes,
+                       const std::function<AnisotropicLobe(size_t k, size_t i)>& lobe);
 
 // ---- glTF KHR_materials_anisotropy --------------------------------------------------------------
 

@@ -105,10 +105,10 @@ std::vector<MethodShader> naiveShaders() {
         return Status::success();
     };
     return {{"naive", Method::Naive, "render/naive.glsl", prepareNaive, shadeNaiveParams, lobe,
-             shadeNaiveEnvironment, nullptr, nullptr, nullptr, false},
+             shadeNaiveEnvironment, nullptr, nullptr, nullptr, false, nullptr},
             {kRoughnessMips, Method::Naive, "render/roughness_mips.glsl", prepareRoughnessMips,
              shadeRoughnessMips, roughLobe, shadeRoughnessMipsEnvironment, roughnessLayers, nullptr,
-             roughnessUniforms, false}};
+             roughnessUniforms, false, nullptr}};
 }
 
 } // namespace ndfmip

@@ -1,10 +1,14 @@
 // One anisotropic GGX lobe in each engine's inputs (KHR_materials_anisotropy, Kulla's, Burley's):
-// closed forms, and each engine's own rebuilding of alpha_t and alpha_b from what is stored.
+// closed forms, each engine's own rebuilding of alpha_t and alpha_b from what is stored, and the
+// directions' signs that a sampler's blend of them needs.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "methods/lean/engine_anisotropy.h"
+#include "ndfmip/glsl.h"
 
 namespace ndfmip {
 namespace {
@@ -108,6 +112,94 @@ TEST(AnisotropicLobe, EigenvaluesAndAxisOfTheTensor) {
     const KhrAnisotropy khr = khrAnisotropy(lobe);
     EXPECT_NEAR(khr.roughness * khr.roughness, lobe.alphaB, 1e-6f);
     EXPECT_EQ(khr.direction, lobe.direction);
+}
+
+// The lobe at `degrees` from x with alpha_t 0.3, alpha_b 0.1, as anisotropicLobe stores it (x >=
+// 0): R diag(0.09, 0.01) R^T.
+AnisotropicLobe lobeAt(float degrees, float alphaT = 0.3f, float alphaB = 0.1f) {
+    const float c = std::cos(glm::radians(degrees)), s = std::sin(glm::radians(degrees));
+    const float t2 = alphaT * alphaT, b2 = alphaB * alphaB;
+    return anisotropicLobe(t2 * c * c + b2 * s * s, t2 * s * s + b2 * c * c, (t2 - b2) * c * s);
+}
+
+// The direction three.js reads from a blend of anisotropyTexture texels: normalize(2 RG - 1).
+glm::vec2 blendedDirection(const std::vector<glm::vec2>& directions) {
+    glm::vec2 rg(0.f);
+    for (const glm::vec2& d : directions) rg += 0.5f * (d + 1.f) / float(directions.size());
+    return glm::normalize(2.f * rg - 1.f);
+}
+
+// A checkerboard of lobes at 85 and 95 degrees (stored as 85 and -85): every neighbour's stored
+// direction points against the texel's, and the blend of two reads a direction along x, 90
+// degrees off both. With the signs chosen, every neighbour agrees and the blend reads along y.
+TEST(CoherentDirectionSigns, NeighboursAcrossTheVerticalAgree) {
+    const int side = 8;
+    std::vector<AnisotropicLobe> lobes;
+    for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x) lobes.push_back(lobeAt((x + y) % 2 ? 95.f : 85.f));
+    EXPECT_LT(glm::dot(lobes[0].direction, lobes[1].direction), -0.9f);
+    EXPECT_NEAR(std::abs(blendedDirection({lobes[0].direction, lobes[1].direction}).x), 1.f, 1e-4f);
+    const auto signs =
+        coherentDirectionSigns({{side, side}}, [&](size_t, size_t i) { return lobes[i]; });
+    ASSERT_EQ(signs.size(), 1u);
+    ASSERT_EQ(signs[0].size(), lobes.size());
+    auto signedAt = [&](int x, int y) {
+        const size_t i = size_t(y * side + x);
+        return float(signs[0][i]) * lobes[i].direction;
+    };
+    for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x) {
+            if (x + 1 < side) {
+                EXPECT_GT(glm::dot(signedAt(x, y), signedAt(x + 1, y)), 0.9f);
+            }
+            if (y + 1 < side) {
+                EXPECT_GT(glm::dot(signedAt(x, y), signedAt(x, y + 1)), 0.9f);
+            }
+        }
+    const glm::vec2 blend = blendedDirection({signedAt(3, 3), signedAt(4, 3)});
+    EXPECT_NEAR(std::abs(blend.y), 1.f, 1e-4f); // 90 degrees, between the two
+}
+
+// Across levels: a coarse texel at 100 degrees (stored -80) over four at 92 and 88 degrees; the
+// children take the parent's sign, so the blend of two levels turns between them too. An
+// isotropic child (no direction to agree on) takes either sign and changes nothing.
+TEST(CoherentDirectionSigns, ChildrenAgreeWithTheirParent) {
+    const std::vector<AnisotropicLobe> fine = {lobeAt(92.f), lobeAt(88.f), lobeAt(88.f),
+                                               lobeAt(0.f, 0.2f, 0.2f)};
+    const AnisotropicLobe coarse = lobeAt(100.f);
+    const auto signs = coherentDirectionSigns(
+        {{2, 2}, {1, 1}}, [&](size_t k, size_t i) { return k == 0 ? fine[i] : coarse; });
+    ASSERT_EQ(signs.size(), 2u);
+    const glm::vec2 parent = float(signs[1][0]) * coarse.direction;
+    for (size_t i = 0; i < 3; ++i)
+        EXPECT_GT(glm::dot(float(signs[0][i]) * fine[i].direction, parent), 0.9f) << i;
+    EXPECT_EQ(std::abs(signs[0][3]), 1);
+}
+
+// What a glTF engine decodes (ndfmipKhrAnisotropyTensor, three.js's reading of the roughness and
+// the anisotropyTexture) is the tensor the lobe came from, R diag(alpha_t^2, alpha_b^2) R^T, for
+// either sign of the direction.
+TEST(KhrAnisotropy, TheDecodedTensorIsTheLobesForEitherSign) {
+    for (float degrees : {0.f, 30.f, 89.f, 135.f}) {
+        for (auto [at, ab] :
+             {std::pair{0.3f, 0.1f}, std::pair{0.5f, 0.02f}, std::pair{0.2f, 0.2f}}) {
+            const float c = std::cos(glm::radians(degrees)), s = std::sin(glm::radians(degrees));
+            const glm::vec3 tensor(at * at * c * c + ab * ab * s * s, (at * at - ab * ab) * c * s,
+                                   at * at * s * s + ab * ab * c * c);
+            AnisotropicLobe lobe = anisotropicLobe(tensor.x, tensor.z, tensor.y);
+            for (float sign : {1.f, -1.f}) {
+                lobe.direction *= sign;
+                const KhrAnisotropy khr = khrAnisotropy(lobe);
+                float rgba[4];
+                khrAnisotropyTexel(khr, rgba);
+                const glm::vec3 decoded = glsl().ndfmipKhrAnisotropyTensor(
+                    glm::vec4(khr.roughness, rgba[0], rgba[1], rgba[2]));
+                for (int c3 = 0; c3 < 3; ++c3)
+                    EXPECT_NEAR(decoded[c3], tensor[c3], 1e-5f)
+                        << degrees << " degrees, " << at << " / " << ab << ", sign " << sign;
+            }
+        }
+    }
 }
 
 } // namespace
