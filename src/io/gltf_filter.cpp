@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <functional>
 #include <future>
 #include <limits>
 #include <map>
@@ -768,72 +769,72 @@ class Filter {
         int anisotropyTexture = -1;
     };
 
-    // One level of KHR_materials_anisotropy from each texel's lobe, `lobeOf(i)`: `level` (the
-    // material map's RGBA) gets G = roughnessG(sqrt(alpha_b)); returns the anisotropyTexture's
-    // level (RGBA: (d + 1)/2, s, 1).
-    template <class LobeOf, class RoughnessG>
-    static Image khrAnisotropyLevel(Image& level, LobeOf lobeOf, RoughnessG roughnessG) {
-        Image texture(level.width, level.height, 4);
-        for (size_t i = 0; i < level.texelCount(); ++i) {
-            const KhrAnisotropy lobe = lobeOf(i);
-            level.pixels[4 * i + 1] = roughnessG(lobe.roughness);
-            khrAnisotropyTexel(lobe, &texture.pixels[4 * i]);
+    // Every level of KHR_materials_anisotropy from each texel's lobe, `lobeOf(k, i)`, the
+    // directions signed to agree between neighbours and levels (coherentDirectionSigns): returns
+    // the material levels (`averaged`'s R, B, A; G = roughnessG(sqrt(alpha_b))) and fills
+    // `anisotropy` with the anisotropyTexture's (RGBA: (d + 1)/2, s, 1).
+    template <class RoughnessG>
+    static std::vector<Image>
+    khrAnisotropyLevels(const std::vector<SharedImage>& averaged,
+                        const std::function<AnisotropicLobe(size_t k, size_t i)>& lobeOf,
+                        RoughnessG roughnessG, std::vector<Image>& anisotropy) {
+        std::vector<std::pair<int, int>> sizes;
+        for (const SharedImage& level : averaged) sizes.emplace_back(level->width, level->height);
+        const std::vector<std::vector<int8_t>> signs = coherentDirectionSigns(sizes, lobeOf);
+        std::vector<Image> material;
+        for (size_t k = 0; k < averaged.size(); ++k) {
+            Image level = *averaged[k];
+            Image texture(level.width, level.height, 4);
+            for (size_t i = 0; i < level.texelCount(); ++i) {
+                AnisotropicLobe lobe = lobeOf(k, i);
+                if (signs[k][i] < 0) lobe.direction = -lobe.direction;
+                const KhrAnisotropy khr = khrAnisotropy(lobe);
+                level.pixels[4 * i + 1] = roughnessG(khr.roughness);
+                khrAnisotropyTexel(khr, &texture.pixels[4 * i]);
+            }
+            anisotropy.push_back(std::move(texture));
+            material.push_back(std::move(level));
         }
-        return texture;
+        return material;
     }
 
-    // --method sggx, level by level: the anisotropic GGX lobe of squared-roughness tensor
-    // E[alpha^2] I + 2 Sigma (Sigma the slopes' covariance, the lean bake's moments; sggx.glsl)
-    // as KHR_materials_anisotropy stores it. Returns the material levels (R, B, A as averaged,
-    // G = roughnessG(sqrt(alpha_b))) and fills `anisotropy` (RGBA: (d + 1)/2, s, 1).
+    // --method sggx: the anisotropic GGX lobe of squared-roughness tensor E[alpha^2] I + 2 Sigma
+    // (Sigma the slopes' covariance, the lean bake's moments; sggx.glsl) as
+    // KHR_materials_anisotropy stores it (khrAnisotropyLevels).
     template <class RoughnessG>
     std::vector<Image> sggxLevels(const Pyramid& pyramid, const Image& alpha,
                                   const std::vector<SharedImage>& averaged, RoughnessG roughnessG,
                                   std::vector<Image>& anisotropy) {
         const Bake lean = bakeMethod(Method::Lean, pyramid, {});
         ++result_.bakes;
-        Image alpha2(alpha.width, alpha.height, 1);
+        std::vector<Image> alpha2{Image(alpha.width, alpha.height, 1)};
         for (size_t i = 0; i < alpha.texelCount(); ++i)
-            alpha2.pixels[i] = alpha.pixels[i] * alpha.pixels[i];
-        std::vector<Image> material;
-        for (int k = 0; k < int(pyramid.levels.size()); ++k) {
-            if (k > 0) alpha2 = averageToLevel(pyramid, alpha2, k);
-            const Image& moments = *lean.levels[size_t(k)][0];
-            const Image& cross = *lean.levels[size_t(k)][1];
-            Image level = *averaged[size_t(k)];
-            anisotropy.push_back(khrAnisotropyLevel(
-                level,
-                [&](size_t i) {
-                    return khrAnisotropyOfMoments(&moments.pixels[4 * i], cross.pixels[i],
-                                                  alpha2.pixels[i]);
-                },
-                roughnessG));
-            material.push_back(std::move(level));
-        }
-        return material;
+            alpha2[0].pixels[i] = alpha.pixels[i] * alpha.pixels[i];
+        for (int k = 1; k < int(pyramid.levels.size()); ++k)
+            alpha2.push_back(averageToLevel(pyramid, alpha2.back(), k));
+        return khrAnisotropyLevels(
+            averaged,
+            [&](size_t k, size_t i) {
+                return anisotropicLobeOfMoments(&lean.levels[k][0]->pixels[4 * i],
+                                                lean.levels[k][1]->pixels[i], alpha2[k].pixels[i]);
+            },
+            roughnessG, anisotropy);
     }
 
-    // --method ggx-aniso, level by level: the fitted lobe of each texel's tensor (the bake's
-    // alpha_tensor, ggx_aniso.glsl) as KHR_materials_anisotropy stores it, as sggxLevels.
+    // --method ggx-aniso: the fitted lobe of each texel's tensor (the bake's alpha_tensor,
+    // ggx_aniso.glsl) as KHR_materials_anisotropy stores it (khrAnisotropyLevels).
     template <class RoughnessG>
     std::vector<Image>
     fittedAnisotropyLevels(const Bake& bake, const std::vector<SharedImage>& averaged,
                            RoughnessG roughnessG, std::vector<Image>& anisotropy) {
-        const int tensor = findPlane(bake.planes, "alpha_tensor");
-        std::vector<Image> material;
-        for (size_t k = 0; k < bake.levels.size(); ++k) {
-            const Image& a = *bake.levels[k][size_t(tensor)];
-            Image level = *averaged[k];
-            anisotropy.push_back(khrAnisotropyLevel(
-                level,
-                [&](size_t i) {
-                    const float* t = &a.pixels[3 * i];
-                    return khrAnisotropy(t[0], t[2], t[1]);
-                },
-                roughnessG));
-            material.push_back(std::move(level));
-        }
-        return material;
+        const size_t tensor = size_t(findPlane(bake.planes, "alpha_tensor"));
+        return khrAnisotropyLevels(
+            averaged,
+            [&](size_t k, size_t i) {
+                const float* t = &bake.levels[k][tensor]->pixels[3 * i];
+                return anisotropicLobe(t[0], t[2], t[1]);
+            },
+            roughnessG, anisotropy);
     }
 
     Baked bakeMaterial(const MaterialJob& job, const Pyramid& pyramid,

@@ -535,26 +535,33 @@ struct StripesQuad {
     Image decoded; // the normals as the 8-bit file holds them
 };
 
-StripesQuad stripesQuad(const test::TempDir& dir) {
+// The quad with its normal map's normals `normalAt(x, y)` (unit, as the 8-bit file holds them).
+StripesQuad quadWithNormals(const test::TempDir& dir,
+                            const std::function<glm::vec3(int, int)>& normalAt) {
     const int size = StripesQuad::kSize;
-    const float tilt = glm::radians(20.f);
-    Image stripes(size, size, 3);
+    Image normals(size, size, 3);
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x)
             for (int c = 0; c < 3; ++c) // as a file holds it: (n + 1)/2
-                stripes.at(x, y)[c] = 0.5f * (glm::vec3((x % 2 ? -1.f : 1.f) * std::sin(tilt), 0.f,
-                                                        std::cos(tilt))[c] +
-                                              1.f);
+                normals.at(x, y)[c] = 0.5f * (normalAt(x, y)[c] + 1.f);
     Image orm(size, size, 3);
     for (size_t i = 0; i < orm.texelCount(); ++i)
         orm.pixels[3 * i] = 1.f, orm.pixels[3 * i + 1] = 77.f / 255.f, orm.pixels[3 * i + 2] = 0.f;
     StripesQuad out;
-    const std::string normalPng = encodePng(stripes, 8).value();
+    const std::string normalPng = encodePng(normals, 8).value();
     Result<SourceImage> source = decodeImage(normalPng, "stripes");
     out.decoded = decodeNormalMap(source.value(), DecodeOptions{}, "stripes", nullptr).value();
     out.gltf = test::writeGltf(dir.path, test::quadAsset(),
                                {{"normal.png", normalPng}, {"orm.png", encodePng(orm, 8).value()}});
     return out;
+}
+
+// Columns alternating between +-20 degrees about y (tilted along x).
+StripesQuad stripesQuad(const test::TempDir& dir) {
+    const float tilt = glm::radians(20.f);
+    return quadWithNormals(dir, [tilt](int x, int) {
+        return glm::vec3((x % 2 ? -1.f : 1.f) * std::sin(tilt), 0.f, std::cos(tilt));
+    });
 }
 
 // --method sggx on stripes whose normals alternate column by column between +-20 degrees about
@@ -702,6 +709,52 @@ TEST(GltfCli, GgxAnisoWritesItsFittedLobeAsKhrMaterialsAnisotropy) {
     if (!report.empty()) {
         const OrderedJson counts = OrderedJson::parse(report);
         EXPECT_EQ(counts["errors"], 0) << report;
+    }
+}
+
+// 2 x 2 blocks of normals at +-20 degrees along 84 or 96 degrees from x, in a checkerboard of
+// blocks: level 1's lobes lie near the y axis, each neighbour on the other side of it. The
+// anisotropyTexture signs their directions alike (coherentDirectionSigns), so a sampler's blend of
+// two neighbours turns between them instead of reading along x.
+TEST(GltfCli, AnisotropyDirectionsAgreeBetweenNeighboursAcrossTheVertical) {
+    test::TempDir dir{"gltf_aniso_signs"};
+    const float s = std::sin(glm::radians(20.f)), c = std::cos(glm::radians(20.f));
+    const StripesQuad quad = quadWithNormals(dir, [&](int x, int y) {
+        const float phi = glm::radians(((x / 2 + y / 2) % 2) ? 96.f : 84.f);
+        const float side = x % 2 ? s : -s;
+        return glm::vec3(side * std::cos(phi), side * std::sin(phi), c);
+    });
+    for (const std::string method : {"ggx-aniso", "sggx"}) {
+        const std::string out = dir.file(method + ".glb");
+        std::string output;
+        ASSERT_EQ(test::runCli("gltf " + test::shellArg(quad.gltf) + " -o " + test::shellArg(out) +
+                                   " -q --method " + method + kDds,
+                               &output),
+                  0)
+            << output;
+        const test::Glb glb = test::parseGlb(test::fileBytes(out));
+        ASSERT_TRUE(glb.ok);
+        const OrderedJson& extension =
+            glb.json["materials"][0]["extensions"]["KHR_materials_anisotropy"];
+        const Dds anisotropy =
+            textureDds(glb, extension["anisotropyTexture"]["index"].get<size_t>());
+        ASSERT_GT(anisotropy.levels.size(), 1u);
+        const int side = StripesQuad::kSize / 2;
+        const auto* a = reinterpret_cast<const unsigned char*>(anisotropy.levels[1].data());
+        ASSERT_EQ(anisotropy.levels[1].size(), size_t(4 * side * side));
+        auto direction = [&](int x, int y) {
+            const size_t i = 4 * size_t(y * side + x);
+            return glm::normalize(
+                glm::vec2(2.f * float(a[i]) / 255.f - 1.f, 2.f * float(a[i + 1]) / 255.f - 1.f));
+        };
+        for (int y = 0; y < side; ++y)
+            for (int x = 0; x + 1 < side; ++x) {
+                EXPECT_GT(std::abs(direction(x, y).y), 0.99f) << method << " " << x << "," << y;
+                EXPECT_GT(glm::dot(direction(x, y), direction(x + 1, y)), 0.95f)
+                    << method << " " << x << "," << y;
+                EXPECT_GT(glm::dot(direction(y, x), direction(y, x + 1)), 0.95f)
+                    << method << " " << y << "," << x;
+            }
     }
 }
 
