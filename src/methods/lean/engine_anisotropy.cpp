@@ -12,13 +12,17 @@ AnisotropicLobe anisotropicLobe(float axx, float ayy, float axy) {
     // Eigenvalues of the symmetric 2x2 tensor: mean +- the half difference's length.
     const double mean = 0.5 * (double(axx) + double(ayy));
     const double half = 0.5 * (double(axx) - double(ayy));
-    const double spread = std::hypot(half, double(axy));
+    const double spread = std::sqrt(half * half + double(axy) * double(axy));
     const double alphaT = std::clamp(std::sqrt(std::max(mean + spread, 0.0)), 0.0, 1.0);
     const double alphaB = std::clamp(std::sqrt(std::max(mean - spread, 0.0)), 0.0, alphaT);
-    // The major axis at angle atan2(2 axy, axx - ayy) / 2, in (-90, 90] degrees: x >= 0.
-    const double angle = spread > 0.0 ? 0.5 * std::atan2(double(axy), half) : 0.0;
-    return {float(alphaT), float(alphaB),
-            glm::vec2(float(std::cos(angle)), float(std::sin(angle)))};
+    // The major axis at angle atan2(2 axy, axx - ayy) / 2, in (-90, 90] degrees (x >= 0): the
+    // half angle of (half, axy), the direction of (spread + half, axy), with no trigonometry.
+    const double x = spread + half, y = double(axy);
+    const double length = std::sqrt(x * x + y * y);
+    const glm::vec2 direction = !(spread > 0.0) ? glm::vec2(1.f, 0.f)
+                                : length > 0.0  ? glm::vec2(float(x / length), float(y / length))
+                                                : glm::vec2(0.f, 1.f);
+    return {float(alphaT), float(alphaB), direction};
 }
 
 AnisotropicLobe anisotropicLobeOfMoments(const float* m, float cross, float alpha2) {
@@ -30,47 +34,59 @@ std::vector<std::vector<int8_t>>
 coherentDirectionSigns(const std::vector<std::pair<int, int>>& sizes,
                        const std::function<AnisotropicLobe(size_t k, size_t i)>& lobe) {
     std::vector<std::vector<int8_t>> signs(sizes.size());
-    // The chosen levels' directions times their anisotropy, as two bytes a texel: the level
-    // being chosen and its parent.
-    std::vector<int8_t> chosen, parent;
-    auto read = [](const std::vector<int8_t>& level, size_t i) {
-        return glm::vec2(float(level[2 * i]), float(level[2 * i + 1]));
-    };
+    // A level's directions (127 d, signed as chosen) and anisotropies (255 w), a byte each: the
+    // level being chosen and its parent.
+    std::vector<int8_t> direction, parentDirection;
+    std::vector<uint8_t> weight, parentWeight;
     for (size_t k = sizes.size(); k-- > 0;) {
         const auto [width, height] = sizes[k];
-        const size_t count = size_t(width) * size_t(height);
-        signs[k].assign(count, 1);
-        chosen.assign(2 * count, 0);
+        const int64_t count = int64_t(width) * int64_t(height);
+        direction.resize(2 * size_t(count));
+        weight.resize(size_t(count));
+        // The lobes, texel by texel in parallel; only the signs' scan is in order.
+#pragma omp parallel for schedule(static)
+        for (int64_t i = 0; i < count; ++i) {
+            const AnisotropicLobe l = lobe(k, size_t(i));
+            const float sum = l.alphaT + l.alphaB;
+            const float w = sum > 0.f ? (l.alphaT - l.alphaB) / sum : 0.f;
+            direction[2 * size_t(i)] = int8_t(std::lround(127.f * l.direction.x));
+            direction[2 * size_t(i) + 1] = int8_t(std::lround(127.f * l.direction.y));
+            weight[size_t(i)] = uint8_t(std::lround(255.f * std::clamp(w, 0.f, 1.f)));
+        }
+        auto weighted = [](const std::vector<int8_t>& d, const std::vector<uint8_t>& w, size_t i) {
+            return float(w[i]) * glm::vec2(float(d[2 * i]), float(d[2 * i + 1]));
+        };
+        signs[k].assign(size_t(count), 1);
         const bool hasParent = k + 1 < sizes.size();
         const int parentWidth = hasParent ? sizes[k + 1].first : 0;
         const int parentHeight = hasParent ? sizes[k + 1].second : 0;
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
                 const size_t i = size_t(y) * size_t(width) + size_t(x);
-                const AnisotropicLobe l = lobe(k, i);
-                const float sum = l.alphaT + l.alphaB;
-                const float weight = sum > 0.f ? (l.alphaT - l.alphaB) / sum : 0.f;
                 glm::vec2 around(0.f);
-                if (x > 0) around += read(chosen, i - 1);
+                if (x > 0) around += weighted(direction, weight, i - 1);
                 if (y > 0) {
                     const size_t above = i - size_t(width);
-                    around += read(chosen, above);
-                    if (x > 0) around += read(chosen, above - 1);
-                    if (x + 1 < width) around += read(chosen, above + 1);
+                    around += weighted(direction, weight, above);
+                    if (x > 0) around += weighted(direction, weight, above - 1);
+                    if (x + 1 < width) around += weighted(direction, weight, above + 1);
                 }
                 if (hasParent) {
                     const int px = std::min(int(int64_t(x) * parentWidth / width), parentWidth - 1);
                     const int py =
                         std::min(int(int64_t(y) * parentHeight / height), parentHeight - 1);
-                    around += read(parent, size_t(py) * size_t(parentWidth) + size_t(px));
+                    around += weighted(parentDirection, parentWeight,
+                                       size_t(py) * size_t(parentWidth) + size_t(px));
                 }
-                const float sign = glm::dot(around, l.direction) < 0.f ? -1.f : 1.f;
-                signs[k][i] = int8_t(sign);
-                const glm::vec2 stored = 127.f * sign * weight * l.direction;
-                chosen[2 * i] = int8_t(std::lround(stored.x));
-                chosen[2 * i + 1] = int8_t(std::lround(stored.y));
+                const glm::vec2 own(float(direction[2 * i]), float(direction[2 * i + 1]));
+                if (glm::dot(around, own) < 0.f) {
+                    signs[k][i] = -1;
+                    direction[2 * i] = int8_t(-direction[2 * i]);
+                    direction[2 * i + 1] = int8_t(-direction[2 * i + 1]);
+                }
             }
-        std::swap(chosen, parent);
+        std::swap(direction, parentDirection);
+        std::swap(weight, parentWeight);
     }
     return signs;
 }
