@@ -44,22 +44,47 @@ float ndfmipGgxAnisoAlpha(vec3 tensor) {
     return sqrt(max(0.5f * (tensor.x + tensor.z), 1e-8f));
 }
 
-// The tensor of the lobe a glTF engine reads from KHR_materials_anisotropy's inputs, decoded as
-// three.js decodes them (lights_physical_fragment): `khr` = (roughness, the metallicRoughness
-// texture's G; the anisotropyTexture's R, G, B), the direction normalize(2 RG - 1), the strength
-// B, alpha_b = roughness^2 and alpha_t = mix(alpha_b, 1, strength^2) along the direction. In the
-// frame (t, b) about the normal; the engines' is the surface's tangents, the same where the normal
-// is upright and apart by the normal's tilt (second order in it) elsewhere.
-vec3 ndfmipKhrAnisotropyTensor(vec4 khr) {
-    vec2 d = 2.0f * vec2(khr.y, khr.z) - vec2(1.0f);
+// The engines' anisotropy inputs, decoded after their sampler has blended them. Each holds the
+// direction of alpha_t as (d + 1)/2 in two channels and normalises it after the blend; the tensor
+// of alpha_t along it and alpha_b across, in the frame (t, b) about the normal (the engines' frame
+// is the surface's tangents, the same where the normal is upright and apart by the normal's tilt,
+// second order in it, elsewhere).
+vec3 ndfmipEngineAnisotropyTensor(vec2 rg, float alphaT, float alphaB) {
+    vec2 d = 2.0f * rg - vec2(1.0f);
     float length2 = dot(d, d);
     d = length2 > 0.0f ? d / sqrt(length2) : vec2(1.0f, 0.0f);
-    float alphaB = khr.x * khr.x;
-    float strength = clamp(khr.w, 0.0f, 1.0f);
-    float alphaT = alphaB + strength * strength * (1.0f - alphaB); // mix(alphaB, 1, strength^2)
     float b2 = alphaB * alphaB;
     float stretch = alphaT * alphaT - b2;
     return vec3(b2 + stretch * d.x * d.x, stretch * d.x * d.y, b2 + stretch * d.y * d.y);
+}
+
+// glTF's KHR_materials_anisotropy as three.js decodes it (lights_physical_fragment): `khr` =
+// (roughness, the metallicRoughness texture's G; the anisotropyTexture's R, G, B), alpha_b =
+// roughness^2, alpha_t = mix(alpha_b, 1, B^2).
+vec3 ndfmipKhrAnisotropyTensor(vec4 khr) {
+    float alphaB = khr.x * khr.x;
+    float strength = clamp(khr.w, 0.0f, 1.0f);
+    float alphaT = alphaB + strength * strength * (1.0f - alphaB); // mix(alphaB, 1, strength^2)
+    return ndfmipEngineAnisotropyTensor(vec2(khr.y, khr.z), alphaT, alphaB);
+}
+
+// Kulla and Conty's parametrisation (Unreal's GetAnisotropicRoughness, Unity HDRP's
+// ConvertAnisotropyToRoughness): `c` = (roughness, the direction's R, G, anisotropy k), alpha =
+// roughness^2, alpha_t,b = alpha (1 +- k), each at least 0.001 as Unreal clamps them.
+vec3 ndfmipKullaAnisotropyTensor(vec4 c) {
+    float alpha = c.x * c.x;
+    float k = clamp(c.w, 0.0f, 1.0f);
+    return ndfmipEngineAnisotropyTensor(vec2(c.y, c.z), max(alpha * (1.0f + k), 0.001f),
+                                        max(alpha * (1.0f - k), 0.001f));
+}
+
+// Burley's parametrisation (Godot 4's light_compute): `c` = (roughness, the flowmap's R, G,
+// anisotropy k), alpha = roughness^2, aspect = sqrt(1 - 0.9 k), alpha_t = alpha / aspect, alpha_b =
+// alpha aspect.
+vec3 ndfmipBurleyAnisotropyTensor(vec4 c) {
+    float alpha = c.x * c.x;
+    float aspect = sqrt(1.0f - 0.9f * clamp(c.w, 0.0f, 1.0f));
+    return ndfmipEngineAnisotropyTensor(vec2(c.y, c.z), alpha / aspect, alpha * aspect);
 }
 
 // The lobe about the renormalised filtered normal, with its cosine: max(n.l, 0) (albedo / pi +

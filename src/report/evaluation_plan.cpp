@@ -74,7 +74,8 @@ MethodSpec methodSpecOf(const std::string& label) {
     if (!method)
         fail("--methods: unknown method " + quote(label) +
              " (expected naive, toksvig, toksvig-lut, sh[:ORDER], vmf[:LOBES[:BUDGET]], lean, "
-             "sggx, ggx-fit, ggx-aniso, ggx-aniso-khr, exact)");
+             "sggx, ggx-fit, ggx-aniso, ggx-aniso-khr, ggx-aniso-kulla, ggx-aniso-burley, "
+             "exact)");
     spec.method = *method;
     spec.render = methodName(*method);
     if (!order.empty()) {

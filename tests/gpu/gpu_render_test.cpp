@@ -56,10 +56,10 @@ RenderTextures texturesFor(const std::string& method) {
     options.parameters["order"] = 6;
     options.parameters["lobes"] = 3;
     options.baseRoughness = 0.15f; // ggx-fit's lobes are fitted to the material's
-    const std::string bake = method == kToksvigLut       ? "toksvig"
-                             : method == kRoughnessMips  ? "naive"
-                             : method == "ggx-aniso-khr" ? "ggx-aniso"
-                                                         : method;
+    const std::string bake = method == kToksvigLut                ? "toksvig"
+                             : method == kRoughnessMips           ? "naive"
+                             : method.rfind("ggx-aniso-", 0) == 0 ? "ggx-aniso"
+                                                                  : method;
     t.bake = bakeMethod(*methodFromString(bake), pyramid, options);
     if (method == kRoughnessMips) { // roughness from Toksvig's, as an engine's mips would hold
         BakeOptions base;
@@ -120,7 +120,8 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"roughness-mips", Brdf::Ggx}, Case{"sh", Brdf::BlinnPhong},
                       Case{"vmf", Brdf::Beckmann}, Case{"lean", Brdf::Ggx},
                       Case{"ggx-fit", Brdf::Ggx}, Case{"ggx-aniso", Brdf::Ggx},
-                      Case{"ggx-aniso-khr", Brdf::Ggx}),
+                      Case{"ggx-aniso-khr", Brdf::Ggx}, Case{"ggx-aniso-kulla", Brdf::Ggx},
+                      Case{"ggx-aniso-burley", Brdf::Ggx}),
     [](const auto& param) {
         std::string name = std::string(param.param.method) + "_" + brdfName(param.param.brdf);
         for (char& ch : name)

@@ -1,11 +1,13 @@
 // ggx-aniso as a unit, and its shaders: the level's unit normal with the fitted anisotropic GGX
-// lobe's tensor, both blended by the lookup (shaders/ggx_aniso.glsl); and ggx-aniso-khr, the same
-// lobe as a glTF engine samples it from its KHR_materials_anisotropy textures.
+// lobe's tensor, both blended by the lookup (shaders/ggx_aniso.glsl); and ggx-aniso-khr,
+// ggx-aniso-kulla and ggx-aniso-burley, the same lobe as the engines sample it from their files
+// (KHR_materials_anisotropy; Unreal's and Unity HDRP's inputs; Godot's).
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -49,14 +51,35 @@ glm::vec3 shadeGgxAnisoEnvironment(const ShaderSetup& setup, const Material& m, 
                                       toEnvironment, *setup.splitSum, setup.environmentLod);
 }
 
-// ggx-aniso-khr's planes: the bake's lobes as the glTF files hold them (bake --engine gltf and
-// ndfmip gltf, engine_anisotropy.h): the normal, and per texel the roughness (metallicRoughness
-// G) beside the anisotropyTexture's R, G, B, with the files' direction signs and their 8 bits.
-Bake khrAnisotropyPlanes(const Bake& bake) {
+// The engines' anisotropy inputs the engine rows sample (engine_anisotropy.h): glTF's
+// KHR_materials_anisotropy (three.js, Filament, Bevy), Kulla's (Unreal, Unity HDRP), Burley's
+// (Godot).
+enum class EngineInputs { Khr, Kulla, Burley };
+
+// A texel of the engine's files as the row's plane holds it: the perceptual roughness, the
+// direction as (d + 1)/2, the anisotropy (KHR's strength or the engine's k).
+template <EngineInputs E> glm::vec4 engineTexel(const AnisotropicLobe& lobe) {
+    if constexpr (E == EngineInputs::Khr) {
+        const KhrAnisotropy khr = khrAnisotropy(lobe);
+        float rgba[4];
+        khrAnisotropyTexel(khr, rgba);
+        return {khr.roughness, rgba[0], rgba[1], rgba[2]};
+    } else {
+        const RoughnessAnisotropy r =
+            E == EngineInputs::Kulla ? kullaAnisotropy(lobe) : burleyAnisotropy(lobe);
+        return {r.roughness, 0.5f * (r.direction.x + 1.f), 0.5f * (r.direction.y + 1.f),
+                r.anisotropy};
+    }
+}
+
+// The engine row's planes: the bake's lobes as the engine's files hold them (bake --engine, ndfmip
+// gltf): the normal, and per texel the roughness beside the direction and the anisotropy, with
+// the files' direction signs (coherentDirectionSigns) and their 8 bits.
+template <EngineInputs E> Bake engineAnisotropyPlanes(const Bake& bake) {
     const int normalPlane = findPlane(bake.planes, "normal");
     const int tensorPlaneIndex = findPlane(bake.planes, "alpha_tensor");
     if (normalPlane < 0 || tensorPlaneIndex < 0)
-        throw std::runtime_error("ggx-aniso-khr: the bake has no normal and alpha_tensor planes");
+        throw std::runtime_error("ggx-aniso: the bake has no normal and alpha_tensor planes");
     const size_t tensorPlane = size_t(tensorPlaneIndex);
     std::vector<std::pair<int, int>> sizes;
     for (const auto& level : bake.levels)
@@ -70,57 +93,87 @@ Bake khrAnisotropyPlanes(const Bake& bake) {
     Bake out;
     out.method = bake.method;
     out.parameters = bake.parameters;
-    out.planes = {
-        bake.planes[size_t(normalPlane)],
-        {"khr_anisotropy",
-         {"roughness", kKhrAnisotropyChannels[0], kKhrAnisotropyChannels[1],
-          kKhrAnisotropyChannels[2]},
-         "the lobe as KHR_materials_anisotropy's inputs: the roughness (metallicRoughness "
-         "G), then the anisotropyTexture's R, G, B; 8-bit",
-         true}};
+    out.planes = {bake.planes[size_t(normalPlane)],
+                  {"engine_anisotropy",
+                   {"roughness: perceptual", "direction of alpha_t, tangent x, (d + 1)/2",
+                    "direction of alpha_t, bitangent y, (d + 1)/2",
+                    E == EngineInputs::Khr ? kKhrAnisotropyChannels[2] : "anisotropy k"},
+                   "the lobe as the engine's files hold it, 8-bit",
+                   true}};
     for (size_t k = 0; k < bake.levels.size(); ++k) {
         const Image& tensor = *bake.levels[k][tensorPlane];
-        Image khr(tensor.width, tensor.height, 4, Image::Uninitialized{});
+        Image texels(tensor.width, tensor.height, 4, Image::Uninitialized{});
         for (size_t i = 0; i < tensor.texelCount(); ++i) {
             AnisotropicLobe l = lobe(k, i);
             if (signs[k][i] < 0) l.direction = -l.direction;
-            const KhrAnisotropy engine = khrAnisotropy(l);
-            float rgba[4];
-            khrAnisotropyTexel(engine, rgba);
-            float* out4 = &khr.pixels[4 * i];
-            out4[0] = eightBits(engine.roughness);
-            for (int c = 0; c < 3; ++c) out4[c + 1] = eightBits(rgba[c]);
+            const glm::vec4 texel = engineTexel<E>(l);
+            for (int c = 0; c < 4; ++c) texels.pixels[4 * i + size_t(c)] = eightBits(texel[c]);
         }
-        out.levels.push_back(
-            {bake.levels[k][size_t(normalPlane)], std::make_shared<const Image>(std::move(khr))});
+        out.levels.push_back({bake.levels[k][size_t(normalPlane)],
+                              std::make_shared<const Image>(std::move(texels))});
     }
     return out;
 }
 
-glm::vec3 khrTensor(const float* p) {
-    return glsl().ndfmipKhrAnisotropyTensor(glm::vec4(p[3], p[4], p[5], p[6]));
+// The tensor the engine decodes from the blended channels (ggx_aniso.glsl).
+template <EngineInputs E> glm::vec3 engineTensor(const float* p) {
+    const glm::vec4 channels(p[3], p[4], p[5], p[6]);
+    if constexpr (E == EngineInputs::Khr)
+        return glsl().ndfmipKhrAnisotropyTensor(channels);
+    else if constexpr (E == EngineInputs::Kulla)
+        return glsl().ndfmipKullaAnisotropyTensor(channels);
+    else
+        return glsl().ndfmipBurleyAnisotropyTensor(channels);
 }
 
-glm::vec3 shadeGgxAnisoKhr(const ShaderSetup&, const Material& m, const float* p, glm::vec3 albedo,
+template <EngineInputs E>
+glm::vec3 shadeEngineAniso(const ShaderSetup&, const Material& m, const float* p, glm::vec3 albedo,
                            glm::vec3 l, glm::vec3 v) {
     const glm::vec3 h = glm::normalize(l + v);
     return glsl().ndfmipShadeGgxAniso(glslMaterial(m, specularFactor(m, l, h)), albedo,
-                                      glm::vec3(p[0], p[1], p[2]), khrTensor(p), l, v);
+                                      glm::vec3(p[0], p[1], p[2]), engineTensor<E>(p), l, v);
 }
 
-float ggxAnisoKhrLobe(const ShaderSetup&, const Material&, const float* p, glm::vec3 h) {
+template <EngineInputs E>
+float engineAnisoLobe(const ShaderSetup&, const Material&, const float* p, glm::vec3 h) {
     const glm::vec3 n(p[0], p[1], p[2]);
     const float length = glm::length(n);
     if (!(length > 0.f)) return 0.f;
-    return glsl().ndfmipGgxAnisoLobe(n / length, khrTensor(p), h);
+    return glsl().ndfmipGgxAnisoLobe(n / length, engineTensor<E>(p), h);
 }
 
-glm::vec3 shadeGgxAnisoKhrEnvironment(const ShaderSetup& setup, const Material& m, const float* p,
+template <EngineInputs E>
+glm::vec3 shadeEngineAnisoEnvironment(const ShaderSetup& setup, const Material& m, const float* p,
                                       glm::vec3 albedo, glm::vec3 v, const glm::mat3& toEnvironment,
                                       const EnvironmentLighting&) {
-    const float alpha = glsl().ndfmipGgxAnisoAlpha(khrTensor(p));
+    const float alpha = glsl().ndfmipGgxAnisoAlpha(engineTensor<E>(p));
     return shadeRoughnessMipsSplitSum(m, albedo, glm::vec3(p[0], p[1], p[2]), alpha, true, v,
                                       toEnvironment, *setup.splitSum, setup.environmentLod);
+}
+
+// The GPU glue's decoder (render/ggx_aniso_engine.glsl; KHR's without a define).
+template <EngineInputs E> std::string engineDefines(const ShaderSetup&, int) {
+    if constexpr (E == EngineInputs::Kulla)
+        return "#define NDFMIP_ENGINE_ANISOTROPY ndfmipKullaAnisotropyTensor\n";
+    else if constexpr (E == EngineInputs::Burley)
+        return "#define NDFMIP_ENGINE_ANISOTROPY ndfmipBurleyAnisotropyTensor\n";
+    else
+        return "";
+}
+
+template <EngineInputs E> MethodShader engineShader(const char* name) {
+    return {name,
+            Method::GgxAniso,
+            "render/ggx_aniso_engine.glsl",
+            prepareGgxAniso,
+            shadeEngineAniso<E>,
+            engineAnisoLobe<E>,
+            shadeEngineAnisoEnvironment<E>,
+            nullptr,
+            engineDefines<E>,
+            nullptr,
+            false,
+            engineAnisotropyPlanes<E>};
 }
 
 void inspectGgxAniso(nlohmann::json& out, const LoadedBake& bake, int x, int y,
@@ -163,9 +216,9 @@ std::vector<MethodShader> ggxAnisoShaders() {
     return {{"ggx-aniso", Method::GgxAniso, "render/ggx_aniso.glsl", prepareGgxAniso,
              shadeGgxAnisoParams, ggxAnisoLobe, shadeGgxAnisoEnvironment, nullptr, nullptr, nullptr,
              false, nullptr},
-            {"ggx-aniso-khr", Method::GgxAniso, "render/ggx_aniso_khr.glsl", prepareGgxAniso,
-             shadeGgxAnisoKhr, ggxAnisoKhrLobe, shadeGgxAnisoKhrEnvironment, nullptr, nullptr,
-             nullptr, false, khrAnisotropyPlanes}};
+            engineShader<EngineInputs::Khr>("ggx-aniso-khr"),
+            engineShader<EngineInputs::Kulla>("ggx-aniso-kulla"),
+            engineShader<EngineInputs::Burley>("ggx-aniso-burley")};
 }
 
 } // namespace ndfmip

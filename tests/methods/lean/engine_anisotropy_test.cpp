@@ -1,6 +1,6 @@
 // One anisotropic GGX lobe in each engine's inputs (KHR_materials_anisotropy, Kulla's, Burley's):
-// closed forms, each engine's own rebuilding of alpha_t and alpha_b from what is stored, and the
-// directions' signs that a sampler's blend of them needs.
+// closed forms, each engine's own rebuilding of alpha_t and alpha_b from what is stored (in C++
+// and in the shaders' decoders), and the directions' signs that a sampler's blend of them needs.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -176,13 +176,14 @@ TEST(CoherentDirectionSigns, ChildrenAgreeWithTheirParent) {
     EXPECT_EQ(std::abs(signs[0][3]), 1);
 }
 
-// What a glTF engine decodes (ndfmipKhrAnisotropyTensor, three.js's reading of the roughness and
-// the anisotropyTexture) is the tensor the lobe came from, R diag(alpha_t^2, alpha_b^2) R^T, for
-// either sign of the direction.
-TEST(KhrAnisotropy, TheDecodedTensorIsTheLobesForEitherSign) {
+// What each engine decodes from its inputs (ggx_aniso.glsl: glTF's KHR_materials_anisotropy as
+// three.js does, Kulla's as Unreal and HDRP do, Burley's as Godot does) is the tensor the lobe came
+// from, R diag(alpha_t^2, alpha_b^2) R^T, for either sign of the direction (Burley's within its
+// 10:1 stretch).
+TEST(EngineAnisotropy, EachEnginesDecodedTensorIsTheLobesForEitherSign) {
     for (float degrees : {0.f, 30.f, 89.f, 135.f}) {
         for (auto [at, ab] :
-             {std::pair{0.3f, 0.1f}, std::pair{0.5f, 0.02f}, std::pair{0.2f, 0.2f}}) {
+             {std::pair{0.3f, 0.1f}, std::pair{0.5f, 0.06f}, std::pair{0.2f, 0.2f}}) {
             const float c = std::cos(glm::radians(degrees)), s = std::sin(glm::radians(degrees));
             const glm::vec3 tensor(at * at * c * c + ab * ab * s * s, (at * at - ab * ab) * c * s,
                                    at * at * s * s + ab * ab * c * c);
@@ -192,11 +193,22 @@ TEST(KhrAnisotropy, TheDecodedTensorIsTheLobesForEitherSign) {
                 const KhrAnisotropy khr = khrAnisotropy(lobe);
                 float rgba[4];
                 khrAnisotropyTexel(khr, rgba);
-                const glm::vec3 decoded = glsl().ndfmipKhrAnisotropyTensor(
-                    glm::vec4(khr.roughness, rgba[0], rgba[1], rgba[2]));
-                for (int c3 = 0; c3 < 3; ++c3)
-                    EXPECT_NEAR(decoded[c3], tensor[c3], 1e-5f)
-                        << degrees << " degrees, " << at << " / " << ab << ", sign " << sign;
+                const RoughnessAnisotropy kulla = kullaAnisotropy(lobe);
+                const RoughnessAnisotropy burley = burleyAnisotropy(lobe);
+                auto channels = [](const RoughnessAnisotropy& r) {
+                    return glm::vec4(r.roughness, 0.5f * (r.direction.x + 1.f),
+                                     0.5f * (r.direction.y + 1.f), r.anisotropy);
+                };
+                const glm::vec3 decoded[3] = {
+                    glsl().ndfmipKhrAnisotropyTensor(
+                        glm::vec4(khr.roughness, rgba[0], rgba[1], rgba[2])),
+                    glsl().ndfmipKullaAnisotropyTensor(channels(kulla)),
+                    glsl().ndfmipBurleyAnisotropyTensor(channels(burley))};
+                for (int engine = 0; engine < 3; ++engine)
+                    for (int c3 = 0; c3 < 3; ++c3)
+                        EXPECT_NEAR(decoded[engine][c3], tensor[c3], 1e-5f)
+                            << "engine " << engine << ", " << degrees << " degrees, " << at << " / "
+                            << ab << ", sign " << sign;
             }
         }
     }
