@@ -159,6 +159,23 @@ void setNormal(Image& map, int x, int y, float nx, float ny, float nz) {
     t[2] = nz / len;
 }
 
+Image blocksAcrossTheVertical(int size) {
+    Image map(size, size, 3);
+    const float s = std::sin(glm::radians(20.f)), c = std::cos(glm::radians(20.f));
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const float phi = glm::radians(((x / 2 + y / 2) % 2) ? 96.f : 84.f);
+            const float side = x % 2 ? s : -s;
+            setNormal(map, x, y, side * std::cos(phi), side * std::sin(phi), c);
+        }
+    return map;
+}
+
+Image encodedNormals(Image normals) {
+    for (float& v : normals.pixels) v = 0.5f * (v + 1.f);
+    return normals;
+}
+
 Image randomNormals(int w, int h, float maxTilt, unsigned seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(0.f, 1.f);

@@ -89,4 +89,12 @@ void setNormal(Image& map, int x, int y, float nx, float ny, float nz);
 // Random unit normals within `maxTilt` radians of +z, uniform over that cap's projected disc.
 Image randomNormals(int w, int h, float maxTilt, unsigned seed);
 
+// Unit normals in 2 x 2 blocks, each block's columns at +-20 degrees along 84 or 96 degrees from
+// x, in a checkerboard of blocks: level 1's anisotropic lobes lie near the y axis, each
+// neighbour's on the other side of it (where a direction stored with x >= 0 changes sign).
+Image blocksAcrossTheVertical(int size);
+
+// Unit normals (values in [-1, 1]) as a normal map's file holds them, (n + 1) / 2.
+Image encodedNormals(Image normals);
+
 } // namespace ndfmip::test

@@ -324,24 +324,14 @@ TEST(EngineCli, GgxAnisoBakeWritesItsFittedLobeInEachEnginesInputs) {
     }
 }
 
-// 2 x 2 blocks of normals at +-20 degrees along 84 or 96 degrees from x, in a checkerboard of
-// blocks: level 1's lobes point near the y axis, each neighbour on the other side of it. Each
-// engine's direction texture signs them alike (coherentDirectionSigns), so the sampler's blend of
-// two neighbours turns between them; stored with x >= 0 every neighbour would point against the
-// texel (dot -0.96), and their blend would read along x.
+// test::blocksAcrossTheVertical: level 1's lobes point near the y axis, each neighbour on the
+// other side of it. Each engine's direction texture signs them alike (coherentDirectionSigns), so
+// the sampler's blend of two neighbours turns between them; stored with x >= 0 every neighbour
+// would point against the texel (dot -0.96), and their blend would read along x.
 TEST(EngineCli, GgxAnisoDirectionsAgreeBetweenNeighboursAcrossTheVertical) {
     test::TempDir dir("ndfmip_engine_ggx_aniso_signs");
-    Image normal(16, 16, 3);
-    const float s = std::sin(glm::radians(20.f)), c = std::cos(glm::radians(20.f));
-    for (int y = 0; y < 16; ++y)
-        for (int x = 0; x < 16; ++x) {
-            const float phi = glm::radians(((x / 2 + y / 2) % 2) ? 96.f : 84.f);
-            const float side = x % 2 ? s : -s;
-            float* p = normal.at(x, y);
-            p[0] = 0.5f * (side * std::cos(phi) + 1.f), p[1] = 0.5f * (side * std::sin(phi) + 1.f);
-            p[2] = 0.5f * (c + 1.f);
-        }
-    ASSERT_TRUE(savePng(dir.file("n.png"), normal, 16));
+    ASSERT_TRUE(
+        savePng(dir.file("n.png"), test::encodedNormals(test::blocksAcrossTheVertical(16)), 16));
     for (const std::string engine : {"gltf", "unreal", "godot"}) {
         const std::string out = dir.file(engine);
         std::string output;

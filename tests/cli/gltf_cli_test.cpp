@@ -712,17 +712,15 @@ TEST(GltfCli, GgxAnisoWritesItsFittedLobeAsKhrMaterialsAnisotropy) {
     }
 }
 
-// 2 x 2 blocks of normals at +-20 degrees along 84 or 96 degrees from x, in a checkerboard of
-// blocks: level 1's lobes lie near the y axis, each neighbour on the other side of it. The
-// anisotropyTexture signs their directions alike (coherentDirectionSigns), so a sampler's blend of
-// two neighbours turns between them instead of reading along x.
+// test::blocksAcrossTheVertical: level 1's lobes lie near the y axis, each neighbour on the other
+// side of it. The anisotropyTexture signs their directions alike (coherentDirectionSigns), so a
+// sampler's blend of two neighbours turns between them instead of reading along x.
 TEST(GltfCli, AnisotropyDirectionsAgreeBetweenNeighboursAcrossTheVertical) {
     test::TempDir dir{"gltf_aniso_signs"};
-    const float s = std::sin(glm::radians(20.f)), c = std::cos(glm::radians(20.f));
+    const Image blocks = test::blocksAcrossTheVertical(StripesQuad::kSize);
     const StripesQuad quad = quadWithNormals(dir, [&](int x, int y) {
-        const float phi = glm::radians(((x / 2 + y / 2) % 2) ? 96.f : 84.f);
-        const float side = x % 2 ? s : -s;
-        return glm::vec3(side * std::cos(phi), side * std::sin(phi), c);
+        const float* n = blocks.at(x, y);
+        return glm::vec3(n[0], n[1], n[2]);
     });
     for (const std::string method : {"ggx-aniso", "sggx"}) {
         const std::string out = dir.file(method + ".glb");

@@ -140,12 +140,6 @@ TEST(EvaluationMethodSpec, TheRowGrammar) {
               std::string::npos);
 }
 
-// Unit normals (values in [-1, 1]) as a normal map's file holds them, (n + 1) / 2.
-Image encoded(Image normals) {
-    for (float& v : normals.pixels) v = 0.5f * (v + 1.f);
-    return normals;
-}
-
 // A flat map: every texel's normal is z, so every method, the floor and the truth agree.
 struct FlatMap {
     test::TempDir dir{"evaluation_steps"};
@@ -154,9 +148,21 @@ struct FlatMap {
         Image map(64, 64, 3);
         for (int y = 0; y < 64; ++y)
             for (int x = 0; x < 64; ++x) test::setNormal(map, x, y, 0.f, 0.f, 1.f);
-        EXPECT_TRUE(savePng(path, encoded(map), 8));
+        EXPECT_TRUE(savePng(path, test::encodedNormals(map), 8));
     }
 };
+
+// The truth's and the rows' cases of the first map's first setting at `footprint`, each step as
+// `ndfmip eval` runs it.
+std::vector<ReportCase> firstSettingsRows(const EvalOptions& o, int footprint) {
+    evaluation::Plan plan = evaluation::planEvaluation(o);
+    const evaluation::Lighting lighting = evaluation::prepareLighting(plan);
+    evaluation::MapData map = evaluation::loadAndBake(plan, 0, lighting);
+    evaluation::Gathered gathered;
+    const Scene scene = evaluation::footprintScene(plan, map, footprint, lighting);
+    evaluation::evaluateSetting(plan, lighting, map, scene, footprint, plan.settings[0], gathered);
+    return gathered.report.cases;
+}
 
 TEST(EvaluationSteps, LoadAndBakeMakesEachRowsBakeOnce) {
     FlatMap flat;
@@ -276,7 +282,7 @@ TEST(EvaluationSteps, AnisotropicProbesChangeOnlyATiltedViewsRows) {
     const float s = std::sin(glm::radians(30.f)), c = std::cos(glm::radians(30.f));
     for (int y = 0; y < 64; ++y)
         for (int x = 0; x < 64; ++x) test::setNormal(rows, x, y, 0.f, (y / 2) % 2 ? s : -s, c);
-    ASSERT_TRUE(savePng(path, encoded(rows), 8));
+    ASSERT_TRUE(savePng(path, test::encodedNormals(rows), 8));
     auto naiveError = [&](float elevation, int anisotropy, int footprint) {
         EvalOptions o = optionsFor({"naive"});
         o.maps = {path};
@@ -285,16 +291,10 @@ TEST(EvaluationSteps, AnisotropicProbesChangeOnlyATiltedViewsRows) {
         o.roughness = {0.3f};
         o.elevation = elevation;
         o.anisotropy = anisotropy;
-        evaluation::Plan plan = evaluation::planEvaluation(o);
-        EXPECT_EQ(plan.filtering.anisotropy, anisotropy);
-        const evaluation::Lighting lighting = evaluation::prepareLighting(plan);
-        evaluation::MapData map = evaluation::loadAndBake(plan, 0, lighting);
-        evaluation::Gathered gathered;
-        const Scene scene = evaluation::footprintScene(plan, map, footprint, lighting);
-        evaluation::evaluateSetting(plan, lighting, map, scene, footprint, plan.settings[0],
-                                    gathered);
-        EXPECT_EQ(gathered.report.cases.size(), 2u);
-        return gathered.report.cases.back().relRmse;
+        EXPECT_EQ(evaluation::planEvaluation(o).filtering.anisotropy, anisotropy);
+        const std::vector<ReportCase> cases = firstSettingsRows(o, footprint);
+        EXPECT_EQ(cases.size(), 2u);
+        return cases.back().relRmse;
     };
     const double down = naiveError(90.f, 1, 8);
     EXPECT_GT(down, 0.05); // the mip averages the two normals
@@ -306,7 +306,7 @@ TEST(EvaluationSteps, AnisotropicProbesChangeOnlyATiltedViewsRows) {
     EXPECT_EQ(problemOf([&] { evaluation::planEvaluation(bad); }), "--aniso 65: expected 1 .. 64");
 }
 
-TEST(EvaluationSteps, TheKhrChannelsBlendedAcrossTheVerticalKeepTheTensorsError) {
+TEST(EvaluationSteps, EachEnginesChannelsBlendedAcrossTheVerticalKeepTheTensorsError) {
     // 2 x 2 blocks of normals at +-20 degrees along 84 or 96 degrees from x, in a checkerboard of
     // blocks: level 1's lobes point near the y axis, which KHR_materials_anisotropy's direction
     // (x >= 0 as a lobe's axis is given) crosses between neighbours. One trilinear lookup at
@@ -317,15 +317,7 @@ TEST(EvaluationSteps, TheKhrChannelsBlendedAcrossTheVerticalKeepTheTensorsError)
     // directions along x (0.474).
     test::TempDir dir{"evaluation_steps"};
     const std::string path = dir.file("blocks.png");
-    Image blocks(64, 64, 3);
-    const float s = std::sin(glm::radians(20.f)), c = std::cos(glm::radians(20.f));
-    for (int y = 0; y < 64; ++y)
-        for (int x = 0; x < 64; ++x) {
-            const float phi = glm::radians(((x / 2 + y / 2) % 2) ? 96.f : 84.f);
-            const float side = x % 2 ? s : -s;
-            test::setNormal(blocks, x, y, side * std::cos(phi), side * std::sin(phi), c);
-        }
-    ASSERT_TRUE(savePng(path, encoded(blocks), 16));
+    ASSERT_TRUE(savePng(path, test::encodedNormals(test::blocksAcrossTheVertical(64)), 16));
     EvalOptions o =
         optionsFor({"ggx-aniso", "ggx-aniso-khr", "ggx-aniso-kulla", "ggx-aniso-burley"});
     o.maps = {path};
@@ -333,19 +325,14 @@ TEST(EvaluationSteps, TheKhrChannelsBlendedAcrossTheVerticalKeepTheTensorsError)
     o.view = "engine";
     o.brdfs = {"ggx"};
     o.roughness = {0.3f};
-    evaluation::Plan plan = evaluation::planEvaluation(o);
-    const evaluation::Lighting lighting = evaluation::prepareLighting(plan);
-    evaluation::MapData map = evaluation::loadAndBake(plan, 0, lighting);
-    evaluation::Gathered gathered;
-    const Scene scene = evaluation::footprintScene(plan, map, 2, lighting);
-    evaluation::evaluateSetting(plan, lighting, map, scene, 2, plan.settings[0], gathered);
-    ASSERT_EQ(gathered.report.cases.size(), 5u);
-    const ReportCase& tensor = gathered.report.cases[1];
+    const std::vector<ReportCase> cases = firstSettingsRows(o, 2);
+    ASSERT_EQ(cases.size(), 5u);
+    const ReportCase& tensor = cases[1];
     ASSERT_EQ(tensor.method, "ggx-aniso");
     EXPECT_GT(tensor.relRmse, 0.01);
     // Each engine's files (glTF's, Unreal's and HDRP's, Godot's), all signed alike.
     for (size_t row = 2; row < 5; ++row) {
-        const ReportCase& engine = gathered.report.cases[row];
+        const ReportCase& engine = cases[row];
         EXPECT_LT(engine.relRmse, 1.05 * tensor.relRmse) << engine.method;
         EXPECT_NEAR(engine.energyRatio, tensor.energyRatio, 0.02) << engine.method;
     }
