@@ -246,16 +246,15 @@ struct LobeLevels {
 Status writeEngineAnisotropy(const EnginePreset& engine, const Bake& bake,
                              const LobeLevels& lobesAsFitted, const BakeWriteOptions& options,
                              const WriteMade& writeMade) {
-    // The directions' signs chosen so that the sampler's blends of neighbours and of two levels
-    // turn between their directions (coherentDirectionSigns).
+    // The directions chosen so that the sampler's blends of neighbours and of two levels keep
+    // them (coherentDirections).
     std::vector<std::pair<int, int>> sizes;
     for (const auto& level : bake.levels)
         sizes.emplace_back(level[lobesAsFitted.plane]->width, level[lobesAsFitted.plane]->height);
-    const std::vector<std::vector<int8_t>> signs =
-        coherentDirectionSigns(sizes, lobesAsFitted.lobe);
-    const LobeLevels lobes{lobesAsFitted.plane, [&lobesAsFitted, &signs](size_t k, size_t i) {
+    const StoredDirections directions = coherentDirections(sizes, lobesAsFitted.lobe);
+    const LobeLevels lobes{lobesAsFitted.plane, [&lobesAsFitted, &directions](size_t k, size_t i) {
                                AnisotropicLobe lobe = lobesAsFitted.lobe(k, i);
-                               if (signs[k][i] < 0) lobe.direction = -lobe.direction;
+                               lobe.direction = directions.at(k, i);
                                return lobe;
                            }};
     const std::string prefix = std::string(engine.name) + "_";

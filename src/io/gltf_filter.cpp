@@ -770,7 +770,7 @@ class Filter {
     };
 
     // Every level of KHR_materials_anisotropy from each texel's lobe, `lobeOf(k, i)`, the
-    // directions signed to agree between neighbours and levels (coherentDirectionSigns): returns
+    // directions chosen so that the sampler's blends keep them (coherentDirections): returns
     // the material levels (`averaged`'s R, B, A; G = roughnessG(sqrt(alpha_b))) and fills
     // `anisotropy` with the anisotropyTexture's (RGBA: (d + 1)/2, s, 1).
     template <class RoughnessG>
@@ -780,14 +780,14 @@ class Filter {
                         RoughnessG roughnessG, std::vector<Image>& anisotropy) {
         std::vector<std::pair<int, int>> sizes;
         for (const SharedImage& level : averaged) sizes.emplace_back(level->width, level->height);
-        const std::vector<std::vector<int8_t>> signs = coherentDirectionSigns(sizes, lobeOf);
+        const StoredDirections directions = coherentDirections(sizes, lobeOf);
         std::vector<Image> material;
         for (size_t k = 0; k < averaged.size(); ++k) {
             Image level = *averaged[k];
             Image texture(level.width, level.height, 4);
             for (size_t i = 0; i < level.texelCount(); ++i) {
                 AnisotropicLobe lobe = lobeOf(k, i);
-                if (signs[k][i] < 0) lobe.direction = -lobe.direction;
+                lobe.direction = directions.at(k, i);
                 const KhrAnisotropy khr = khrAnisotropy(lobe);
                 level.pixels[4 * i + 1] = roughnessG(khr.roughness);
                 khrAnisotropyTexel(khr, &texture.pixels[4 * i]);

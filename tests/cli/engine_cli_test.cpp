@@ -325,7 +325,7 @@ TEST(EngineCli, GgxAnisoBakeWritesItsFittedLobeInEachEnginesInputs) {
 }
 
 // test::blocksAcrossTheVertical: level 1's lobes point near the y axis, each neighbour on the
-// other side of it. Each engine's direction texture signs them alike (coherentDirectionSigns), so
+// other side of it. Each engine's direction texture signs them alike (coherentDirections), so
 // the sampler's blend of two neighbours turns between them; stored with x >= 0 every neighbour
 // would point against the texel (dot -0.96), and their blend would read along x.
 TEST(EngineCli, GgxAnisoDirectionsAgreeBetweenNeighboursAcrossTheVertical) {

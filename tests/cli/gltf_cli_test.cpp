@@ -713,7 +713,7 @@ TEST(GltfCli, GgxAnisoWritesItsFittedLobeAsKhrMaterialsAnisotropy) {
 }
 
 // test::blocksAcrossTheVertical: level 1's lobes lie near the y axis, each neighbour on the other
-// side of it. The anisotropyTexture signs their directions alike (coherentDirectionSigns), so a
+// side of it. The anisotropyTexture signs their directions alike (coherentDirections), so a
 // sampler's blend of two neighbours turns between them instead of reading along x.
 TEST(GltfCli, AnisotropyDirectionsAgreeBetweenNeighboursAcrossTheVertical) {
     test::TempDir dir{"gltf_aniso_signs"};

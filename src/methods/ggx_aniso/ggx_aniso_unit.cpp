@@ -74,7 +74,7 @@ template <EngineInputs E> glm::vec4 engineTexel(const AnisotropicLobe& lobe) {
 
 // The engine row's planes: the bake's lobes as the engine's files hold them (bake --engine, ndfmip
 // gltf): the normal, and per texel the roughness beside the direction and the anisotropy, with
-// the files' direction signs (coherentDirectionSigns) and their 8 bits.
+// the files' directions (coherentDirections) and their 8 bits.
 template <EngineInputs E> Bake engineAnisotropyPlanes(const Bake& bake) {
     const int normalPlane = findPlane(bake.planes, "normal");
     const int tensorPlaneIndex = findPlane(bake.planes, "alpha_tensor");
@@ -88,7 +88,7 @@ template <EngineInputs E> Bake engineAnisotropyPlanes(const Bake& bake) {
         const float* a = &bake.levels[k][tensorPlane]->pixels[3 * i];
         return anisotropicLobe(a[0], a[2], a[1]);
     };
-    const std::vector<std::vector<int8_t>> signs = coherentDirectionSigns(sizes, lobe);
+    const StoredDirections directions = coherentDirections(sizes, lobe);
     auto eightBits = [](float v) { return std::round(std::clamp(v, 0.f, 1.f) * 255.f) / 255.f; };
     Bake out;
     out.method = bake.method;
@@ -105,7 +105,7 @@ template <EngineInputs E> Bake engineAnisotropyPlanes(const Bake& bake) {
         Image texels(tensor.width, tensor.height, 4, Image::Uninitialized{});
         for (size_t i = 0; i < tensor.texelCount(); ++i) {
             AnisotropicLobe l = lobe(k, i);
-            if (signs[k][i] < 0) l.direction = -l.direction;
+            l.direction = directions.at(k, i);
             const glm::vec4 texel = engineTexel<E>(l);
             for (int c = 0; c < 4; ++c) texels.pixels[4 * i + size_t(c)] = eightBits(texel[c]);
         }

@@ -30,17 +30,17 @@ AnisotropicLobe anisotropicLobeOfMoments(const float* m, float cross, float alph
     return anisotropicLobe(alpha2 + 2.f * own.x, alpha2 + 2.f * own.y, 2.f * own.z);
 }
 
-std::vector<std::vector<int8_t>>
-coherentDirectionSigns(const std::vector<std::pair<int, int>>& sizes,
-                       const std::function<AnisotropicLobe(size_t k, size_t i)>& lobe) {
-    std::vector<std::vector<int8_t>> signs(sizes.size());
-    // A level's directions (127 d, signed as chosen) and anisotropies (255 w), a byte each: the
-    // level being chosen and its parent.
-    std::vector<int8_t> direction, parentDirection;
+StoredDirections
+coherentDirections(const std::vector<std::pair<int, int>>& sizes,
+                   const std::function<AnisotropicLobe(size_t k, size_t i)>& lobe) {
+    StoredDirections out;
+    out.levels.resize(sizes.size());
+    // A level's anisotropies (255 w), a byte each, for the level being chosen and its parent.
     std::vector<uint8_t> weight, parentWeight;
     for (size_t k = sizes.size(); k-- > 0;) {
         const auto [width, height] = sizes[k];
         const int64_t count = int64_t(width) * int64_t(height);
+        std::vector<int16_t>& direction = out.levels[k];
         direction.resize(2 * size_t(count));
         weight.resize(size_t(count));
         // The lobes, texel by texel in parallel; only the signs' scan is in order.
@@ -48,21 +48,39 @@ coherentDirectionSigns(const std::vector<std::pair<int, int>>& sizes,
         for (int64_t i = 0; i < count; ++i) {
             const AnisotropicLobe l = lobe(k, size_t(i));
             const float sum = l.alphaT + l.alphaB;
-            const float w = sum > 0.f ? (l.alphaT - l.alphaB) / sum : 0.f;
-            direction[2 * size_t(i)] = int8_t(std::lround(127.f * l.direction.x));
-            direction[2 * size_t(i) + 1] = int8_t(std::lround(127.f * l.direction.y));
-            weight[size_t(i)] = uint8_t(std::lround(255.f * std::clamp(w, 0.f, 1.f)));
+            float w = sum > 0.f ? (l.alphaT - l.alphaB) / sum : 0.f;
+            glm::vec2 d = l.direction;
+            // No anisotropy, or a lobe that is not finite (a damaged bake): no direction.
+            if (!(w > 0.f) || !(w <= 1.f) || !std::isfinite(d.x) || !std::isfinite(d.y))
+                w = 0.f, d = glm::vec2(1.f, 0.f);
+            direction[2 * size_t(i)] = int16_t(std::lround(32767.f * std::clamp(d.x, -1.f, 1.f)));
+            direction[2 * size_t(i) + 1] =
+                int16_t(std::lround(32767.f * std::clamp(d.y, -1.f, 1.f)));
+            weight[size_t(i)] = uint8_t(std::lround(255.f * w));
         }
-        auto weighted = [](const std::vector<int8_t>& d, const std::vector<uint8_t>& w, size_t i) {
+        const std::vector<int16_t>* parentDirection =
+            k + 1 < sizes.size() ? &out.levels[k + 1] : nullptr;
+        auto weighted = [](const std::vector<int16_t>& d, const std::vector<uint8_t>& w, size_t i) {
             return float(w[i]) * glm::vec2(float(d[2 * i]), float(d[2 * i + 1]));
         };
-        signs[k].assign(size_t(count), 1);
-        const bool hasParent = k + 1 < sizes.size();
-        const int parentWidth = hasParent ? sizes[k + 1].first : 0;
-        const int parentHeight = hasParent ? sizes[k + 1].second : 0;
+        const int parentWidth = parentDirection ? sizes[k + 1].first : 0;
+        const int parentHeight = parentDirection ? sizes[k + 1].second : 0;
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
                 const size_t i = size_t(y) * size_t(width) + size_t(x);
+                size_t parent = 0;
+                if (parentDirection) {
+                    const int px = std::min(int(int64_t(x) * parentWidth / width), parentWidth - 1);
+                    const int py =
+                        std::min(int(int64_t(y) * parentHeight / height), parentHeight - 1);
+                    parent = size_t(py) * size_t(parentWidth) + size_t(px);
+                }
+                if (weight[i] == 0) { // no direction of its own: the parent's
+                    if (parentDirection)
+                        direction[2 * i] = (*parentDirection)[2 * parent],
+                                      direction[2 * i + 1] = (*parentDirection)[2 * parent + 1];
+                    continue;
+                }
                 glm::vec2 around(0.f);
                 if (x > 0) around += weighted(direction, weight, i - 1);
                 if (y > 0) {
@@ -71,24 +89,16 @@ coherentDirectionSigns(const std::vector<std::pair<int, int>>& sizes,
                     if (x > 0) around += weighted(direction, weight, above - 1);
                     if (x + 1 < width) around += weighted(direction, weight, above + 1);
                 }
-                if (hasParent) {
-                    const int px = std::min(int(int64_t(x) * parentWidth / width), parentWidth - 1);
-                    const int py =
-                        std::min(int(int64_t(y) * parentHeight / height), parentHeight - 1);
-                    around += weighted(parentDirection, parentWeight,
-                                       size_t(py) * size_t(parentWidth) + size_t(px));
-                }
+                if (parentDirection) around += weighted(*parentDirection, parentWeight, parent);
                 const glm::vec2 own(float(direction[2 * i]), float(direction[2 * i + 1]));
                 if (glm::dot(around, own) < 0.f) {
-                    signs[k][i] = -1;
-                    direction[2 * i] = int8_t(-direction[2 * i]);
-                    direction[2 * i + 1] = int8_t(-direction[2 * i + 1]);
+                    direction[2 * i] = int16_t(-direction[2 * i]);
+                    direction[2 * i + 1] = int16_t(-direction[2 * i + 1]);
                 }
             }
-        std::swap(direction, parentDirection);
         std::swap(weight, parentWeight);
     }
-    return signs;
+    return out;
 }
 
 KhrAnisotropy khrAnisotropy(const AnisotropicLobe& lobe) {

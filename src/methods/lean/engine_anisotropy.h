@@ -24,7 +24,7 @@ namespace ndfmip {
 struct AnisotropicLobe {
     float alphaT = 0.f, alphaB = 0.f; // alpha_t >= alpha_b, each at most 1
     // Unit, the axis of alpha_t; a lobe has no sign: x >= 0 from anisotropicLobe, the engine
-    // files' signs from coherentDirectionSigns.
+    // files' from coherentDirections.
     glm::vec2 direction{1.f, 0.f};
 };
 
@@ -40,20 +40,27 @@ AnisotropicLobe anisotropicLobeOfMoments(const float* moments, float cross, floa
 
 // ---- Directions that blend ---------------------------------------------------------------------
 
-// The signs of the lobes' directions for a direction texture an engine's sampler blends. A lobe's
-// direction has no sign (d and -d are the same lobe), but the sampler blends the stored channels:
-// neighbours at +89 and -89 degrees, each stored with x >= 0, blend to a direction across both.
-// Each texel's sign is chosen to agree with the signed directions of the texels already chosen
-// around it (in its level the one to the left and the three above; its parent in the level above),
-// each weighted by its anisotropy (alpha_t - alpha_b) / (alpha_t + alpha_b), the coarsest level
-// first. The blend of neighbours, within a level and across two, then turns between their
-// directions. A field that turns by half a turn about a point cannot agree all round it; the scan
-// puts that seam where it meets it.
+// The directions an engine's direction texture stores, chosen so that its sampler's blends keep
+// them. A lobe's direction has no sign (d and -d are the same lobe), but the sampler blends the
+// stored channels: neighbours at +89 and -89 degrees, each stored with x >= 0, blend to a
+// direction across both. So each texel's sign agrees with the signed directions of the texels
+// already chosen around it (in its level the one to the left and the three above; its parent in
+// the level above), each weighted by its anisotropy (alpha_t - alpha_b) / (alpha_t + alpha_b),
+// the coarsest level first; a field that turns by half a turn about a point cannot agree all
+// round it, and the scan puts that seam where it meets it. A texel with no anisotropy (an
+// isotropic lobe, or one that is not finite) has no direction of its own to keep: it stores its
+// parent's, so a blend of the two levels keeps the parent's direction too (ggx-aniso's and lean's
+// level 0 is isotropic everywhere).
 // `sizes` the levels' (width, height), level 0 the finest; `lobe(k, i)` level k's texel i, row by
-// row. Returns, per level and texel, -1 where the direction is to be negated, 1 where kept.
-std::vector<std::vector<int8_t>>
-coherentDirectionSigns(const std::vector<std::pair<int, int>>& sizes,
-                       const std::function<AnisotropicLobe(size_t k, size_t i)>& lobe);
+// row, called in parallel.
+struct StoredDirections {
+    std::vector<std::vector<int16_t>> levels; // per level, x and y per texel, times 32767
+    glm::vec2 at(size_t k, size_t i) const {
+        return {float(levels[k][2 * i]) / 32767.f, float(levels[k][2 * i + 1]) / 32767.f};
+    }
+};
+StoredDirections coherentDirections(const std::vector<std::pair<int, int>>& sizes,
+                                    const std::function<AnisotropicLobe(size_t k, size_t i)>& lobe);
 
 // ---- glTF KHR_materials_anisotropy --------------------------------------------------------------
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -131,49 +132,63 @@ glm::vec2 blendedDirection(const std::vector<glm::vec2>& directions) {
 
 // A checkerboard of lobes at 85 and 95 degrees (stored as 85 and -85): every neighbour's stored
 // direction points against the texel's, and the blend of two reads a direction along x, 90
-// degrees off both. With the signs chosen, every neighbour agrees and the blend reads along y.
-TEST(CoherentDirectionSigns, NeighboursAcrossTheVerticalAgree) {
+// degrees off both. With the directions chosen, every neighbour agrees and the blend reads along
+// y; each is its lobe's axis.
+TEST(CoherentDirections, NeighboursAcrossTheVerticalAgree) {
     const int side = 8;
     std::vector<AnisotropicLobe> lobes;
     for (int y = 0; y < side; ++y)
         for (int x = 0; x < side; ++x) lobes.push_back(lobeAt((x + y) % 2 ? 95.f : 85.f));
     EXPECT_LT(glm::dot(lobes[0].direction, lobes[1].direction), -0.9f);
     EXPECT_NEAR(std::abs(blendedDirection({lobes[0].direction, lobes[1].direction}).x), 1.f, 1e-4f);
-    const auto signs =
-        coherentDirectionSigns({{side, side}}, [&](size_t, size_t i) { return lobes[i]; });
-    ASSERT_EQ(signs.size(), 1u);
-    ASSERT_EQ(signs[0].size(), lobes.size());
-    auto signedAt = [&](int x, int y) {
-        const size_t i = size_t(y * side + x);
-        return float(signs[0][i]) * lobes[i].direction;
-    };
+    const StoredDirections chosen =
+        coherentDirections({{side, side}}, [&](size_t, size_t i) { return lobes[i]; });
+    ASSERT_EQ(chosen.levels.size(), 1u);
+    ASSERT_EQ(chosen.levels[0].size(), 2 * lobes.size());
+    auto at = [&](int x, int y) { return chosen.at(0, size_t(y * side + x)); };
     for (int y = 0; y < side; ++y)
         for (int x = 0; x < side; ++x) {
+            const glm::vec2 own = lobes[size_t(y * side + x)].direction;
+            EXPECT_NEAR(std::abs(glm::dot(at(x, y), own)), 1.f, 1e-4f);
             if (x + 1 < side) {
-                EXPECT_GT(glm::dot(signedAt(x, y), signedAt(x + 1, y)), 0.9f);
+                EXPECT_GT(glm::dot(at(x, y), at(x + 1, y)), 0.9f);
             }
             if (y + 1 < side) {
-                EXPECT_GT(glm::dot(signedAt(x, y), signedAt(x, y + 1)), 0.9f);
+                EXPECT_GT(glm::dot(at(x, y), at(x, y + 1)), 0.9f);
             }
         }
-    const glm::vec2 blend = blendedDirection({signedAt(3, 3), signedAt(4, 3)});
+    const glm::vec2 blend = blendedDirection({at(3, 3), at(4, 3)});
     EXPECT_NEAR(std::abs(blend.y), 1.f, 1e-4f); // 90 degrees, between the two
 }
 
-// Across levels: a coarse texel at 100 degrees (stored -80) over four at 92 and 88 degrees; the
-// children take the parent's sign, so the blend of two levels turns between them too. An
-// isotropic child (no direction to agree on) takes either sign and changes nothing.
-TEST(CoherentDirectionSigns, ChildrenAgreeWithTheirParent) {
+// Across levels: a coarse texel at 100 degrees (stored -80) over three at 92 and 88 degrees and an
+// isotropic one; the three take the parent's sign, so the blend of two levels turns between them
+// too, and the isotropic one (no direction of its own) stores the parent's.
+TEST(CoherentDirections, ChildrenAgreeWithTheirParentAndIsotropicOnesTakeIts) {
     const std::vector<AnisotropicLobe> fine = {lobeAt(92.f), lobeAt(88.f), lobeAt(88.f),
                                                lobeAt(0.f, 0.2f, 0.2f)};
     const AnisotropicLobe coarse = lobeAt(100.f);
-    const auto signs = coherentDirectionSigns(
+    const StoredDirections chosen = coherentDirections(
         {{2, 2}, {1, 1}}, [&](size_t k, size_t i) { return k == 0 ? fine[i] : coarse; });
-    ASSERT_EQ(signs.size(), 2u);
-    const glm::vec2 parent = float(signs[1][0]) * coarse.direction;
-    for (size_t i = 0; i < 3; ++i)
-        EXPECT_GT(glm::dot(float(signs[0][i]) * fine[i].direction, parent), 0.9f) << i;
-    EXPECT_EQ(std::abs(signs[0][3]), 1);
+    ASSERT_EQ(chosen.levels.size(), 2u);
+    const glm::vec2 parent = chosen.at(1, 0);
+    EXPECT_NEAR(std::abs(glm::dot(parent, coarse.direction)), 1.f, 1e-4f);
+    for (size_t i = 0; i < 3; ++i) EXPECT_GT(glm::dot(chosen.at(0, i), parent), 0.9f) << i;
+    EXPECT_NEAR(glm::dot(chosen.at(0, 3), parent), 1.f, 1e-4f);
+}
+
+// A lobe that is not finite (a damaged bake) or isotropic has no direction of its own: it pulls
+// nothing. In a 2 x 2 level of 85 degrees, such a lobe, an isotropic one and 95 degrees, the last
+// agrees with the first (its neighbour above and to the left) across them.
+TEST(CoherentDirections, LobesWithoutADirectionPullNothing) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const std::vector<AnisotropicLobe> lobes = {
+        lobeAt(85.f), {nan, nan, {nan, nan}}, lobeAt(0.f, 0.2f, 0.2f), lobeAt(95.f)};
+    const StoredDirections chosen =
+        coherentDirections({{2, 2}}, [&](size_t, size_t i) { return lobes[i]; });
+    ASSERT_EQ(chosen.levels[0].size(), 8u);
+    for (size_t i = 0; i < 4; ++i) EXPECT_NEAR(glm::length(chosen.at(0, i)), 1.f, 1e-4f) << i;
+    EXPECT_GT(glm::dot(chosen.at(0, 0), chosen.at(0, 3)), 0.9f);
 }
 
 // What each engine decodes from its inputs (ggx_aniso.glsl: glTF's KHR_materials_anisotropy as
