@@ -90,7 +90,7 @@ coherentDirections(const std::vector<std::pair<int, int>>& sizes,
                     if (x + 1 < width) around += weighted(direction, weight, above + 1);
                 }
                 if (parentDirection) around += weighted(*parentDirection, parentWeight, parent);
-                const glm::vec2 own(float(direction[2 * i]), float(direction[2 * i + 1]));
+                const glm::vec2 own{float(direction[2 * i]), float(direction[2 * i + 1])};
                 if (glm::dot(around, own) < 0.f) {
                     direction[2 * i] = int16_t(-direction[2 * i]);
                     direction[2 * i + 1] = int16_t(-direction[2 * i + 1]);
