@@ -27,34 +27,10 @@ Status prepareGgxAniso(const Material& m, const RenderTextures& textures,
     return prepareSplitSumSetup(m, textures, options, setup);
 }
 
-glm::vec3 shadeGgxAnisoParams(const ShaderSetup&, const Material& m, const float* p,
-                              glm::vec3 albedo, glm::vec3 l, glm::vec3 v) {
-    const glm::vec3 h = glm::normalize(l + v);
-    return glsl().ndfmipShadeGgxAniso(glslMaterial(m, specularFactor(m, l, h)), albedo,
-                                      glm::vec3(p[0], p[1], p[2]), glm::vec3(p[3], p[4], p[5]), l,
-                                      v);
-}
-
-float ggxAnisoLobe(const ShaderSetup&, const Material&, const float* p, glm::vec3 h) {
-    const glm::vec3 n(p[0], p[1], p[2]);
-    const float length = glm::length(n);
-    if (!(length > 0.f)) return 0.f;
-    return glsl().ndfmipGgxAnisoLobe(n / length, glm::vec3(p[3], p[4], p[5]), h);
-}
-
-// Under an environment: an engine's split sum at the tensor's isotropic alpha.
-glm::vec3 shadeGgxAnisoEnvironment(const ShaderSetup& setup, const Material& m, const float* p,
-                                   glm::vec3 albedo, glm::vec3 v, const glm::mat3& toEnvironment,
-                                   const EnvironmentLighting&) {
-    const float alpha = glsl().ndfmipGgxAnisoAlpha(glm::vec3(p[3], p[4], p[5]));
-    return shadeRoughnessMipsSplitSum(m, albedo, glm::vec3(p[0], p[1], p[2]), alpha, true, v,
-                                      toEnvironment, *setup.splitSum, setup.environmentLod);
-}
-
-// The engines' anisotropy inputs the engine rows sample (engine_anisotropy.h): glTF's
-// KHR_materials_anisotropy (three.js, Filament, Bevy), Kulla's (Unreal, Unity HDRP), Burley's
-// (Godot).
-enum class EngineInputs { Khr, Kulla, Burley };
+// Where a row's shader reads its lobe: the bake's own tensor (ggx-aniso), or an engine's inputs
+// (engine_anisotropy.h) for the engine rows: glTF's KHR_materials_anisotropy (three.js, Filament,
+// Bevy), Kulla's (Unreal, Unity HDRP), Burley's (Godot).
+enum class EngineInputs { Tensor, Khr, Kulla, Burley };
 
 // A texel of the engine's files as the row's plane holds it: the perceptual roughness, the
 // direction as (d + 1)/2, the anisotropy (KHR's strength or the engine's k).
@@ -115,38 +91,41 @@ template <EngineInputs E> Bake engineAnisotropyPlanes(const Bake& bake) {
     return out;
 }
 
-// The tensor the engine decodes from the blended channels (ggx_aniso.glsl).
-template <EngineInputs E> glm::vec3 engineTensor(const float* p) {
-    const glm::vec4 channels(p[3], p[4], p[5], p[6]);
-    if constexpr (E == EngineInputs::Khr)
-        return glsl().ndfmipKhrAnisotropyTensor(channels);
+// The lobe's tensor from the blended planes: the stored one, or the one the engine decodes from
+// its blended channels (ggx_aniso.glsl).
+template <EngineInputs E> glm::vec3 tensorOf(const float* p) {
+    if constexpr (E == EngineInputs::Tensor)
+        return {p[3], p[4], p[5]};
+    else if constexpr (E == EngineInputs::Khr)
+        return glsl().ndfmipKhrAnisotropyTensor(glm::vec4(p[3], p[4], p[5], p[6]));
     else if constexpr (E == EngineInputs::Kulla)
-        return glsl().ndfmipKullaAnisotropyTensor(channels);
+        return glsl().ndfmipKullaAnisotropyTensor(glm::vec4(p[3], p[4], p[5], p[6]));
     else
-        return glsl().ndfmipBurleyAnisotropyTensor(channels);
+        return glsl().ndfmipBurleyAnisotropyTensor(glm::vec4(p[3], p[4], p[5], p[6]));
 }
 
 template <EngineInputs E>
-glm::vec3 shadeEngineAniso(const ShaderSetup&, const Material& m, const float* p, glm::vec3 albedo,
-                           glm::vec3 l, glm::vec3 v) {
+glm::vec3 shadeAniso(const ShaderSetup&, const Material& m, const float* p, glm::vec3 albedo,
+                     glm::vec3 l, glm::vec3 v) {
     const glm::vec3 h = glm::normalize(l + v);
     return glsl().ndfmipShadeGgxAniso(glslMaterial(m, specularFactor(m, l, h)), albedo,
-                                      glm::vec3(p[0], p[1], p[2]), engineTensor<E>(p), l, v);
+                                      glm::vec3(p[0], p[1], p[2]), tensorOf<E>(p), l, v);
 }
 
 template <EngineInputs E>
-float engineAnisoLobe(const ShaderSetup&, const Material&, const float* p, glm::vec3 h) {
+float anisoLobe(const ShaderSetup&, const Material&, const float* p, glm::vec3 h) {
     const glm::vec3 n(p[0], p[1], p[2]);
     const float length = glm::length(n);
     if (!(length > 0.f)) return 0.f;
-    return glsl().ndfmipGgxAnisoLobe(n / length, engineTensor<E>(p), h);
+    return glsl().ndfmipGgxAnisoLobe(n / length, tensorOf<E>(p), h);
 }
 
+// Under an environment: an engine's split sum at the tensor's isotropic alpha.
 template <EngineInputs E>
-glm::vec3 shadeEngineAnisoEnvironment(const ShaderSetup& setup, const Material& m, const float* p,
-                                      glm::vec3 albedo, glm::vec3 v, const glm::mat3& toEnvironment,
-                                      const EnvironmentLighting&) {
-    const float alpha = glsl().ndfmipGgxAnisoAlpha(engineTensor<E>(p));
+glm::vec3 shadeAnisoEnvironment(const ShaderSetup& setup, const Material& m, const float* p,
+                                glm::vec3 albedo, glm::vec3 v, const glm::mat3& toEnvironment,
+                                const EnvironmentLighting&) {
+    const float alpha = glsl().ndfmipGgxAnisoAlpha(tensorOf<E>(p));
     return shadeRoughnessMipsSplitSum(m, albedo, glm::vec3(p[0], p[1], p[2]), alpha, true, v,
                                       toEnvironment, *setup.splitSum, setup.environmentLod);
 }
@@ -161,19 +140,25 @@ template <EngineInputs E> std::string engineDefines(const ShaderSetup&, int) {
         return "";
 }
 
-template <EngineInputs E> MethodShader engineShader(const char* name) {
-    return {name,
-            Method::GgxAniso,
-            "render/ggx_aniso_engine.glsl",
-            prepareGgxAniso,
-            shadeEngineAniso<E>,
-            engineAnisoLobe<E>,
-            shadeEngineAnisoEnvironment<E>,
-            nullptr,
-            engineDefines<E>,
-            nullptr,
-            false,
-            engineAnisotropyPlanes<E>};
+template <EngineInputs E> MethodShader anisoShader(const char* name) {
+    MethodShader shader{name,
+                        Method::GgxAniso,
+                        "render/ggx_aniso.glsl",
+                        prepareGgxAniso,
+                        shadeAniso<E>,
+                        anisoLobe<E>,
+                        shadeAnisoEnvironment<E>,
+                        nullptr,
+                        nullptr,
+                        nullptr,
+                        false,
+                        nullptr};
+    if constexpr (E != EngineInputs::Tensor) {
+        shader.glsl = "render/ggx_aniso_engine.glsl";
+        shader.gpuDefines = engineDefines<E>;
+        shader.planesOf = engineAnisotropyPlanes<E>;
+    }
+    return shader;
 }
 
 void inspectGgxAniso(nlohmann::json& out, const LoadedBake& bake, int x, int y,
@@ -213,12 +198,10 @@ MethodUnit ggxAnisoUnit() {
 }
 
 std::vector<MethodShader> ggxAnisoShaders() {
-    return {{"ggx-aniso", Method::GgxAniso, "render/ggx_aniso.glsl", prepareGgxAniso,
-             shadeGgxAnisoParams, ggxAnisoLobe, shadeGgxAnisoEnvironment, nullptr, nullptr, nullptr,
-             false, nullptr},
-            engineShader<EngineInputs::Khr>("ggx-aniso-khr"),
-            engineShader<EngineInputs::Kulla>("ggx-aniso-kulla"),
-            engineShader<EngineInputs::Burley>("ggx-aniso-burley")};
+    return {anisoShader<EngineInputs::Tensor>("ggx-aniso"),
+            anisoShader<EngineInputs::Khr>("ggx-aniso-khr"),
+            anisoShader<EngineInputs::Kulla>("ggx-aniso-kulla"),
+            anisoShader<EngineInputs::Burley>("ggx-aniso-burley")};
 }
 
 } // namespace ndfmip

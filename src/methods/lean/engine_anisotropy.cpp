@@ -76,9 +76,10 @@ coherentDirections(const std::vector<std::pair<int, int>>& sizes,
                     parent = size_t(py) * size_t(parentWidth) + size_t(px);
                 }
                 if (weight[i] == 0) { // no direction of its own: the parent's
-                    if (parentDirection)
-                        direction[2 * i] = (*parentDirection)[2 * parent],
-                                      direction[2 * i + 1] = (*parentDirection)[2 * parent + 1];
+                    if (parentDirection) {
+                        direction[2 * i] = (*parentDirection)[2 * parent];
+                        direction[2 * i + 1] = (*parentDirection)[2 * parent + 1];
+                    }
                     continue;
                 }
                 glm::vec2 around(0.f);
