@@ -86,20 +86,27 @@ Image jitteredSubsample(const Image& base, int stride) {
     return sub;
 }
 
-// Where the top texel's EM over every normal starts: the top lobes of the plain (bottom-up,
-// merge-seeded) pyramid of a subsample of the map, about 128 x 128 normals. The whole map's
-// plain pyramid gives the same start at about the cost of the coherent fit itself.
-vmf::LobeSet topSeed(const Pyramid& pyramid, int J, const VmfFitOptions& plainOptions) {
+// The plain (bottom-up, merge-seeded) top lobes of a map whose plain pyramid costs little (at
+// most 255 normals across: stride 1), or of a jittered subsample of about 128 x 128 normals:
+// where the top texel's EM over every normal starts. The whole map's plain pyramid gives the same
+// start at about the cost of the coherent fit itself.
+struct TopSeed {
+    vmf::LobeSet lobes;
+    bool fitted = false; // the plain fit of every normal already (stride 1): no EM left to run
+};
+
+TopSeed topSeed(const Pyramid& pyramid, int J, const VmfFitOptions& plainOptions) {
     const int stride = subsampleStride(*pyramid.base);
     const std::vector<VmfLevel> plain =
         stride == 1 ? fitVmfPyramid(pyramid, J, plainOptions, nullptr)
                     : fitVmfPyramid(buildPyramid(jitteredSubsample(*pyramid.base, stride)), J,
                                     plainOptions, nullptr);
     const auto top = plain.back().texel(0, 0);
-    vmf::LobeSet lobes;
-    lobes.count = int(top.size());
-    std::copy(top.begin(), top.end(), lobes.lobe);
-    return lobes;
+    TopSeed seed;
+    seed.lobes.count = int(top.size());
+    std::copy(top.begin(), top.end(), seed.lobes.lobe);
+    seed.fitted = stride == 1;
+    return seed;
 }
 
 } // namespace
@@ -139,15 +146,17 @@ std::vector<VmfLevel> fitVmfPyramidCoherent(const Pyramid& pyramid, int J,
     const bool nested = omp_in_parallel();
 
     // The top texel: no parent, no neighbour, no pull; the plain fit of every normal, started
-    // from the plain pyramid of a jittered subsample (topSeed).
+    // from the plain pyramid of a jittered subsample (topSeed); a small map's plain pyramid is
+    // that fit already.
     {
         VmfFitOptions plainOptions = options;
         plainOptions.coherence = 0.f;
         plainOptions.alignedKappa = false;
-        vmf::LobeSet lobes = topSeed(pyramid, J, plainOptions);
-        const vmf::EmOutcome outcome = vmf::runEm(all, lobes, plainOptions, !nested, nullptr);
-        std::copy(lobes.lobe, lobes.lobe + lobes.count, result[top].lobes.begin());
-        tally({lobes.count, outcome.iterations, outcome.converged});
+        TopSeed seed = topSeed(pyramid, J, plainOptions);
+        vmf::EmOutcome outcome{0, true};
+        if (!seed.fitted) outcome = vmf::runEm(all, seed.lobes, plainOptions, !nested, nullptr);
+        std::copy(seed.lobes.lobe, seed.lobes.lobe + seed.lobes.count, result[top].lobes.begin());
+        tally({seed.lobes.count, outcome.iterations, outcome.converged});
     }
 
     for (int k = top - 1; k >= 1; --k) {

@@ -523,6 +523,38 @@ TEST(VmfCoherent, TopTexelIsThePlainFitOfEveryNormal) {
     }
 }
 
+TEST(VmfCoherent, SmallMapsTopTexelIsThePlainPyramidsOwn) {
+    // 64 x 64 (under 256 normals across): the plain pyramid of the whole map is cheap, and its
+    // top texel is already the plain fit of every normal, so the coherent pyramid takes it as it
+    // is; EM run again from there would move it by its tolerance.
+    const int size = 64;
+    Image map(size, size, 3);
+    std::mt19937_64 rng(5);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            glm::vec3 n = sampleVmf(direction(25, x % 4 < 2 ? 30 : 200), 60, rng);
+            test::setNormal(map, x, y, n.x, n.y, n.z);
+        }
+    Pyramid pyramid = buildPyramid(map);
+    VmfFitOptions options;
+    options.coherence = kHardwareFilteringCoherence;
+    options.alignedKappa = true;
+    VmfFitOptions plainOptions = options;
+    plainOptions.coherence = 0.f;
+    plainOptions.alignedKappa = false;
+    const std::vector<VmfLevel> plain = fitVmfPyramid(pyramid, 4, plainOptions, nullptr);
+    const std::vector<VmfLevel> coherent = fitVmfPyramidCoherent(pyramid, 4, options, nullptr);
+    const std::span<const VmfLobe> a = plain.back().texel(0, 0), b = coherent.back().texel(0, 0);
+    ASSERT_GE(a.size(), 2u);
+    ASSERT_GE(b.size(), a.size());
+    for (size_t j = 0; j < b.size(); ++j) {
+        const VmfLobe want = j < a.size() ? a[j] : VmfLobe{};
+        EXPECT_EQ(b[j].alpha, want.alpha) << j;
+        EXPECT_EQ(b[j].kappa, want.kappa) << j;
+        EXPECT_EQ(b[j].mu, want.mu) << j;
+    }
+}
+
 // What hardware filtering makes of two neighbours: every pair of horizontally adjacent texels of
 // level k, their slots' packed values averaged (H eq. 33) and unpacked, judged against the two
 // footprints' normals together by smoothedNdfError (s = 64); the mean over the pairs.
