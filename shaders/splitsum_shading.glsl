@@ -8,6 +8,8 @@
 //       log2sigma at the spread of r's lobe widened by normalVariance
 //   float ndfmipSpecularAlbedo(NdfmipMaterial m, float mu, float r)
 //       the split sum's second factor at n.v = mu and perceptual roughness r
+//   vec2 ndfmipSpecularAlbedoAndSlope(NdfmipMaterial m, float mu, float r)
+//       that factor and its slope in n.v, from one lookup (the table's cell)
 //   float ndfmipDominantShare(NdfmipMaterial m, float mu, float r)
 //       the share of the normal in the lobe's dominant direction at n.v = mu and perceptual
 //       roughness r (lobeDominantShare; 0 reads along the reflection)
@@ -74,11 +76,9 @@ vec3 ndfmipWeightedReflectingNormal(NdfmipMaterial m, vec3 n, vec3 view, float l
     float r = clamp(len, 0.0f, 1.0f);
     if (ndfmipEnvWeightedReflection == 0 || !(s > 1e-4f) || !(r < 1.0f)) return n;
     float sigma2 = (1.0f - r * r) / (3.0f - r * r);
-    float lo = max(mu - 0.02f, 0.0f), hi = min(mu + 0.02f, 1.0f);
-    float e = ndfmipSpecularAlbedo(m, mu, albedoR);
-    if (!(e > 0.0f)) return n;
-    float slope = (ndfmipSpecularAlbedo(m, hi, albedoR) - ndfmipSpecularAlbedo(m, lo, albedoR)) / (hi - lo);
-    float tilt = clamp(NDFMIP_ENV_TILT_SCALE * sigma2 * s * slope / e, 0.0f, atan(s, mu));
+    vec2 e = ndfmipSpecularAlbedoAndSlope(m, mu, albedoR);
+    if (!(e.x > 0.0f)) return n;
+    float tilt = clamp(NDFMIP_ENV_TILT_SCALE * sigma2 * s * e.y / e.x, 0.0f, atan(s, mu));
     return normalize(cos(tilt) * n + sin(tilt) * (across / s));
 }
 

@@ -168,6 +168,10 @@ glm::vec3 irradianceAt(const SplitSumLighting& lighting, glm::dvec3 n,
 // clamped); EngineDfg ignores brdf.
 float specularAlbedo(const SplitSumLighting& lighting, Brdf brdf, float mu,
                      float perceptualRoughness);
+// specularAlbedo and its slope in n.v (the bilinear interpolant's: the table's cell's), from
+// one lookup's four entries.
+glm::vec2 specularAlbedoAndSlope(const SplitSumLighting& lighting, Brdf brdf, float mu,
+                                 float perceptualRoughness);
 // The directional albedo of the project's lobe, integral D(n.h) <n.l> dl, by `samples`
 // Hammersley samples of D(h) <n.h> (the table's entries).
 double lobeAlbedo(Brdf brdf, double mu, double perceptualRoughness, int samples);

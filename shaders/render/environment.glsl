@@ -188,6 +188,23 @@ vec2 ndfmipEnvTable(float mu, float r) {
 }
 
 float ndfmipSpecularAlbedo(NdfmipMaterial m, float mu, float r) { return ndfmipEnvTable(mu, r).x; }
+
+// The table's R at (n.v, r) and its slope in n.v: the bilinear interpolant's, from the same four
+// texels (the cell's, the last cell's at n.v = 1).
+vec2 ndfmipSpecularAlbedoAndSlope(NdfmipMaterial m, float mu, float r) {
+    ivec2 size = textureSize(ndfmipEnvAlbedo, 0);
+    float x = clamp(mu, 0.0f, 1.0f) * float(size.x - 1);
+    float y = clamp(clamp(r, 0.0f, 1.0f) * float(size.y) - 0.5f, 0.0f, float(size.y - 1));
+    int x0 = min(int(x), size.x - 2), y0 = int(y);
+    int y1 = min(y0 + 1, size.y - 1);
+    float fx = x - float(x0), fy = y - float(y0);
+    float a = texelFetch(ndfmipEnvAlbedo, ivec2(x0, y0), 0).r;
+    float b = texelFetch(ndfmipEnvAlbedo, ivec2(x0 + 1, y0), 0).r;
+    float c = texelFetch(ndfmipEnvAlbedo, ivec2(x0, y1), 0).r;
+    float e = texelFetch(ndfmipEnvAlbedo, ivec2(x0 + 1, y1), 0).r;
+    float value = (1.0f - fy) * ((1.0f - fx) * a + fx * b) + fy * ((1.0f - fx) * c + fx * e);
+    return vec2(value, float(size.x - 1) * ((1.0f - fy) * (b - a) + fy * (e - c)));
+}
 float ndfmipDominantShare(NdfmipMaterial m, float mu, float r) { return ndfmipEnvTable(mu, r).y; }
 
 // irradianceAt: Sum band_l E_lm Y_lm(n), clamped at 0 (truncation rings).

@@ -277,6 +277,23 @@ float sampleTable(const Image& table, int channel, float u, float v) {
            fy * ((1.f - fx) * at(x0, y1) + fx * at(x1, y1));
 }
 
+// sampleTable and its slope in u: the bilinear interpolant's, from the same four entries (the
+// cell's, the last cell's at u = 1). A table at least two entries wide.
+glm::vec2 sampleTableAndSlope(const Image& table, int channel, float u, float v) {
+    assert(table.width >= 2);
+    const float x = std::clamp(u * float(table.width - 1), 0.f, float(table.width - 1));
+    const float y = std::clamp(v * table.height - 0.5f, 0.f, float(table.height - 1));
+    const int x0 = std::min(int(x), table.width - 2), y0 = int(y);
+    const int y1 = std::min(y0 + 1, table.height - 1);
+    const float fx = x - x0, fy = y - y0;
+    const auto at = [&](int i, int j) { return table.at(i, j)[channel]; };
+    const float low = (1.f - fx) * at(x0, y0) + fx * at(x0 + 1, y0);
+    const float high = (1.f - fx) * at(x0, y1) + fx * at(x0 + 1, y1);
+    const float slopeLow = at(x0 + 1, y0) - at(x0, y0), slopeHigh = at(x0 + 1, y1) - at(x0, y1);
+    return {(1.f - fy) * low + fy * high,
+            float(table.width - 1) * ((1.f - fy) * slopeLow + fy * slopeHigh)};
+}
+
 } // namespace
 
 // ---- preparation ----------------------------------------------------------------------------
@@ -387,6 +404,17 @@ float specularAlbedo(const SplitSumLighting& lighting, Brdf brdf, float mu,
         return sampleTable(lighting.albedo[0], 2, mu, perceptualRoughness);
     if (brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx) return 0.f;
     return sampleTable(lighting.albedo[size_t(int(brdf) - 1)], 0, mu, perceptualRoughness);
+}
+
+glm::vec2 specularAlbedoAndSlope(const SplitSumLighting& lighting, Brdf brdf, float mu,
+                                 float perceptualRoughness) {
+    mu = std::clamp(mu, 0.f, 1.f);
+    perceptualRoughness = std::clamp(perceptualRoughness, 0.f, 1.f);
+    if (lighting.albedoKind == SpecularAlbedo::EngineDfg)
+        return sampleTableAndSlope(lighting.albedo[0], 2, mu, perceptualRoughness);
+    if (brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx)
+        return glm::vec2(0.f);
+    return sampleTableAndSlope(lighting.albedo[size_t(int(brdf) - 1)], 0, mu, perceptualRoughness);
 }
 
 float dominantShare(const SplitSumLighting& lighting, Brdf brdf, float mu,

@@ -31,6 +31,9 @@ struct SplitSumShading : ShaderLibrary {
     float ndfmipSpecularAlbedo(NdfmipMaterial m, float mu, float r) const {
         return specularAlbedo(lighting, Brdf(m.brdf), mu, r);
     }
+    vec2 ndfmipSpecularAlbedoAndSlope(NdfmipMaterial m, float mu, float r) const {
+        return specularAlbedoAndSlope(lighting, Brdf(m.brdf), mu, r);
+    }
     float ndfmipDominantShare(NdfmipMaterial m, float mu, float r) const {
         return dominantShare(lighting, Brdf(m.brdf), mu, r);
     }

@@ -205,6 +205,31 @@ const SplitSumLighting& smoothLighting() {
     return lighting;
 }
 
+// The albedo's slope in n.v (what tilts a spread texel's reflecting normal) is the table's own
+// interpolant's: its value is specularAlbedo's, and its slope meets a central difference of the
+// albedo integral itself (lobeAlbedo, 20000 samples, +-0.05 in n.v) within the table's
+// resolution (32 entries over n.v). Measured: at most 4% of E' over these points.
+TEST(SplitSum, AlbedoSlopeIsTheTablesAndMeetsTheIntegrals) {
+    const SplitSumLighting& lighting = smoothLighting();
+    for (Brdf brdf : {Brdf::Ggx, Brdf::Beckmann})
+        for (float r : {0.3f, 0.5f, 0.8f})
+            for (float mu : {0.25f, 0.5f, 0.7f, 0.9f}) {
+                const glm::vec2 e = specularAlbedoAndSlope(lighting, brdf, mu, r);
+                EXPECT_FLOAT_EQ(e.x, specularAlbedo(lighting, brdf, mu, r));
+                const double h = 0.05;
+                const double slope =
+                    (lobeAlbedo(brdf, mu + h, r, 20000) - lobeAlbedo(brdf, mu - h, r, 20000)) /
+                    (2. * h);
+                EXPECT_NEAR(e.y, slope, 0.06 * std::abs(slope) + 0.01)
+                    << int(brdf) << " r " << r << " mu " << mu;
+            }
+    // The ends take their last cell's slope; a lobe without an albedo (Lambertian) has none.
+    const glm::vec2 end = specularAlbedoAndSlope(lighting, Brdf::Ggx, 1.f, 0.5f);
+    const glm::vec2 before = specularAlbedoAndSlope(lighting, Brdf::Ggx, 0.99f, 0.5f);
+    EXPECT_FLOAT_EQ(end.y, before.y);
+    EXPECT_EQ(specularAlbedoAndSlope(lighting, Brdf::Lambert, 0.5f, 0.5f), glm::vec2(0.f));
+}
+
 // The split sum's own error (n = v = r in the prefilter, the albedo factored out) grows with the
 // view angle; the bounds hold the measured worst case per angle with some margin.
 TEST(SplitSum, NaiveIsCloseToBruteForceOnASmoothEnvironment) {
