@@ -96,6 +96,9 @@ struct EvalOptions {
     // engine's anisotropic filtering), 1 .. 64. A straight-down view's footprints are square, so
     // only tilted views (--elevation) read more than one.
     int anisotropy = 1;
+    // Methods with one lobe an engine shades: the engine's specular anti-aliasing (render.h;
+    // --specular-aa), off unless its variance is set.
+    SpecularAntiAliasing specularAntiAliasing;
     std::optional<std::string>
         lobeFilter; // texel or parameter; unset: texel, or parameter in the engine view
     // An environment map (environment.h) that lights every view instead of the directional light:

@@ -88,6 +88,20 @@ enum class EnvironmentWay { Prefiltered, ShLighting };
 const char* environmentWayName(EnvironmentWay way); // "prefiltered", "sh"
 bool environmentWayFromString(const std::string& name, EnvironmentWay& out);
 
+// An engine's geometric specular anti-aliasing (Kaplanyan 2016; Tokuyoshi and Kaplanyan 2019):
+// the shading normal's change to the next pixel across and down (du, dv) is taken as a spread of
+// normals inside the pixel, and its variance is added to the lobe's squared roughness:
+//   alpha'^2 = alpha^2 + min(2 variance (|du|^2 + |dv|^2), threshold).
+// Filament's `specularAntiAliasingVariance` / `Threshold` (defaults 0.15 / 0.2), HDRP's Geometric
+// Specular AA (Screen Space Variance / Threshold) and Babylon.js's enableSpecularAntiAliasing
+// shade so. variance 0: off.
+struct SpecularAntiAliasing {
+    float variance = 0.f;
+    float threshold = 0.2f;
+};
+// The squared roughness the rule adds, from the normal's differences to the next pixels.
+float specularAntiAliasingKernel(const SpecularAntiAliasing& aa, glm::vec3 du, glm::vec3 dv);
+
 struct RenderOptions {
     int spp = 1;       // samples per pixel, stratified and jittered (box filter); 1 = pixel centre
     uint64_t seed = 1; // jitter seed: the same seed gives the same image on any thread count
@@ -133,6 +147,10 @@ struct RenderOptions {
     // read the prefiltered radiance along the lobe's dominant direction (SplitSumOptions::
     // dominantDirection); false reads along the mirror direction.
     bool dominantDirection = true;
+    // Methods with one GGX or Beckmann lobe an engine shades (naive, roughness-mips, ggx-fit,
+    // ggx-aniso): the engine's specular anti-aliasing, from the normal filtered at the next pixel
+    // across and down (two more lookups of the normal plane). CPU only.
+    SpecularAntiAliasing specularAntiAliasing;
     EnvironmentEstimator environmentEstimator = EnvironmentEstimator::Mis;
     EnvironmentTruth environmentTruth = EnvironmentTruth::Sampled; // spp: per node with Table
 };

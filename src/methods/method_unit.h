@@ -148,6 +148,11 @@ struct MethodShader {
     // The planes the shader samples where they are not the bake's own: its linear planes encoded
     // as an engine's textures hold them (ggx-aniso-khr), made once per render. Null: the bake's.
     Bake (*planesOf)(const Bake& bake);
+    // Specular anti-aliasing (RenderOptions::specularAntiAliasing): adds `kernel` to the squared
+    // roughness the shader reads, in the material or in the filtered parameters. Null: the
+    // shader's lobe is not an engine's one roughness, and it takes none.
+    void (*widenRoughness)(const ShaderSetup& setup, Material& material, float* params,
+                           float kernel);
 };
 
 // A uniform's value, for the gpuUniforms hooks.

@@ -267,6 +267,8 @@ Status checkProgramInputs(const Scene& scene, const RenderTextures& textures,
     if (options.spp != 1)
         return Status::failure(
             "render --gpu: methods take one sample per pixel (--spp is the ground truth's)");
+    if (options.specularAntiAliasing.variance > 0.f)
+        return Status::failure("render --gpu: --specular-aa is rendered on the CPU only");
     if (options.taps < 1 || options.taps > 16)
         return Status::failure("render --gpu: taps must be in 1 .. 16");
     if (options.anisotropy < 1 || options.anisotropy > 64)

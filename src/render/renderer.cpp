@@ -91,9 +91,10 @@ glm::mat3 hitToEnvironment(const SurfaceHit& hit) {
     return tangentToEnvironment(hit.tangent, hit.bitangent, hit.normal);
 }
 
-// One method's shading of one set of parameters (filtered, or one texel's) at a surface point.
-glm::vec3 shadeParameters(const Context& ctx, const float* params, glm::vec3 albedo,
-                          const SurfaceHit& hit, glm::vec3 view) {
+// One method's shading of one set of parameters (filtered, or one texel's) at a surface point,
+// with `material` (the scene's, or widened by specular anti-aliasing).
+glm::vec3 shadeParameters(const Context& ctx, const Material& material, const float* params,
+                          glm::vec3 albedo, const SurfaceHit& hit, glm::vec3 view) {
     if (ctx.shader == Shader::Exact) return {params[0], params[1], params[2]}; // already radiance
     const Scene& scene = *ctx.scene;
     glm::vec3 radiance(0.f);
@@ -101,13 +102,36 @@ glm::vec3 shadeParameters(const Context& ctx, const float* params, glm::vec3 alb
         const LightSample ls = lightAt(light, hit.position);
         const glm::vec3 l = toTangent(hit, ls.direction);
         if (l.z <= 0.f) continue; // below the geometric surface
-        const glm::vec3 r = ctx.method->shade(ctx.setup, scene.material, params, albedo, l, view);
+        const glm::vec3 r = ctx.method->shade(ctx.setup, material, params, albedo, l, view);
         radiance += ls.irradiance * r;
     }
     if (ctx.lighting)
-        radiance += ctx.method->shadeEnvironment(ctx.setup, scene.material, params, albedo, view,
+        radiance += ctx.method->shadeEnvironment(ctx.setup, material, params, albedo, view,
                                                  hitToEnvironment(hit), *ctx.lighting);
     return radiance;
+}
+
+// Specular anti-aliasing's kernel at a lookup: the unit normal (the first plane, filtered by the
+// same rule) here and at the next pixel across and down, as a GPU's derivatives of the shading
+// normal take it; 0 where the shader takes none.
+float antiAliasingKernel(const Context& ctx, glm::vec2 uv, const UvFootprint& footprint) {
+    const RenderOptions& o = *ctx.options;
+    if (!(o.specularAntiAliasing.variance > 0.f) || ctx.shader != Shader::Method ||
+        !ctx.method->widenRoughness || ctx.planes.chains.empty() ||
+        ctx.planes.chains.front().channels < 3)
+        return 0.f;
+    auto normalAt = [&](glm::vec2 at) {
+        TapList taps;
+        filteredTaps(ctx.sizes, at, footprint, o.anisotropy, o.lodBias, taps);
+        float n[kMaxFilteredChannels];
+        gatherTaps(ctx.planes.chains.front(), taps, n);
+        const glm::vec3 v(n[0], n[1], n[2]);
+        const float length = glm::length(v);
+        return length > 0.f ? v / length : glm::vec3(0.f, 0.f, 1.f);
+    };
+    const glm::vec3 n = normalAt(uv);
+    return specularAntiAliasingKernel(o.specularAntiAliasing, normalAt(uv + footprint.dx) - n,
+                                      normalAt(uv + footprint.dy) - n);
 }
 
 // A method's lookup at one hit with footprint `footprint`: the filtering rule's taps, then the
@@ -118,6 +142,14 @@ glm::vec3 shadeLookup(const Context& ctx, const SurfaceHit& hit, glm::vec3 view,
     TapList taps;
     filteredTaps(ctx.sizes, hit.uv, footprint, o.anisotropy, o.lodBias, taps);
     const glm::vec3 material = ctx.scene->material.albedo;
+    const float kernel = antiAliasingKernel(ctx, hit.uv, footprint);
+    auto shade = [&](float* params, glm::vec3 albedo) {
+        if (!(kernel > 0.f)) // off, or no change to the next pixels
+            return shadeParameters(ctx, ctx.scene->material, params, albedo, hit, view);
+        Material widened = ctx.scene->material;
+        ctx.method->widenRoughness(ctx.setup, widened, params, kernel);
+        return shadeParameters(ctx, widened, params, albedo, hit, view);
+    };
     float params[kMaxFilteredChannels];
     if (o.shadeFilter == ShadeFilter::Parameter || ctx.shader == Shader::Exact) {
         int offset = 0;
@@ -131,7 +163,7 @@ glm::vec3 shadeLookup(const Context& ctx, const SurfaceHit& hit, glm::vec3 view,
             gatherTaps(ctx.albedo, taps, a);
             albedo *= glm::vec3(a[0], a[1], a[2]);
         }
-        return shadeParameters(ctx, params, albedo, hit, view);
+        return shade(params, albedo);
     }
     glm::vec3 sum(0.f);
     for (int t = 0; t < taps.count; ++t) {
@@ -147,7 +179,7 @@ glm::vec3 shadeLookup(const Context& ctx, const SurfaceHit& hit, glm::vec3 view,
             const float* a = ctx.albedo.levels[tap.level]->at(tap.x, tap.y);
             albedo *= glm::vec3(a[0], a[1], a[2]);
         }
-        sum += tap.weight * shadeParameters(ctx, params, albedo, hit, view);
+        sum += tap.weight * shade(params, albedo);
     }
     return sum;
 }
@@ -691,6 +723,11 @@ bool truthFilterFromString(const std::string& name, TruthFilter& out) {
     else
         return false;
     return true;
+}
+
+float specularAntiAliasingKernel(const SpecularAntiAliasing& aa, glm::vec3 du, glm::vec3 dv) {
+    const float spread = glm::dot(du, du) + glm::dot(dv, dv);
+    return std::min(2.f * aa.variance * spread, aa.threshold);
 }
 
 const char* shadeFilterName(ShadeFilter filter) {

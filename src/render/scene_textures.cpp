@@ -137,6 +137,10 @@ Status checkRenderOptions(const RenderOptions& o) {
     if (!(o.lodBias >= -16.f && o.lodBias <= 16.f)) return outside("lod_bias", o.lodBias, -16, 16);
     if (!(o.varianceScale > 0.f && o.varianceScale <= 1e3f))
         return outside("variance_scale", o.varianceScale, 0, 1e3);
+    if (!(o.specularAntiAliasing.variance >= 0.f && o.specularAntiAliasing.variance <= 1e3f))
+        return outside("specular_aa_variance", o.specularAntiAliasing.variance, 0, 1e3);
+    if (!(o.specularAntiAliasing.threshold >= 0.f && o.specularAntiAliasing.threshold <= 1.f))
+        return outside("specular_aa_threshold", o.specularAntiAliasing.threshold, 0, 1);
     if (!std::isfinite(o.pixelShift.x) || !std::isfinite(o.pixelShift.y))
         return Status::failure("pixel_shift: not finite");
     return Status::success();

@@ -29,6 +29,8 @@ void checkRanges(const EvalOptions& a) {
     for (float r : a.calibrationRoughness) range("--calibration-roughness", r, 1e-3, 1.0);
     for (float c : a.calibrationScales) range("calibration scale", c, 1e-3, 1e3);
     range("--pixels", a.maxPixels, 8, 2048);
+    range("--specular-aa", a.specularAntiAliasing.variance, 0.0, 1e3);
+    range("--specular-aa-threshold", a.specularAntiAliasing.threshold, 0.0, 1.0);
     if (a.spp != 0) range("--spp", a.spp, 1, 1 << 16);
     range("--frames", a.frames, 0, 256);
     if (a.coherence) range("--coherent", *a.coherence, 0.0, 1e6);
@@ -203,6 +205,7 @@ Plan planEvaluation(const EvalOptions& options) {
     filtering.taps = a.taps.value_or(a.aligned ? 1 : filtering.taps);
     filtering.lodBias = a.lodBias.value_or(a.aligned ? 0.f : filtering.lodBias);
     filtering.anisotropy = a.anisotropy;
+    filtering.specularAntiAliasing = a.specularAntiAliasing;
     if (a.offset.size() != 2 || !std::isfinite(a.offset[0]) || !std::isfinite(a.offset[1]))
         fail("--offset: two finite numbers X,Y expected");
     // Aligned: each pixel exactly one texel of a level, so every method reads that one texel.

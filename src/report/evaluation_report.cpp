@@ -66,6 +66,9 @@ json reportJson(const Plan& plan, const Lighting& lighting, const Gathered& gath
                      {"taps", filtering.taps},
                      {"lod_bias", filtering.lodBias},
                      {"anisotropy", filtering.anisotropy},
+                     {"specular_aa",
+                      {{"variance", filtering.specularAntiAliasing.variance},
+                       {"threshold", filtering.specularAntiAliasing.threshold}}},
                      {"lobe_filter", *a.lobeFilter},
                      {"eval_view", a.view},
                      {"coherent", a.coherence.value_or(0.f)},
@@ -134,6 +137,13 @@ std::vector<std::string> reportNotes(const Plan& plan, const Lighting& lighting,
     std::string filter = rule;
     if (filtering.anisotropy > 1)
         filter += ", up to " + std::to_string(filtering.anisotropy) + " anisotropic probes";
+    if (filtering.specularAntiAliasing.variance > 0.f) {
+        char aa[128];
+        std::snprintf(aa, sizeof aa, ", specular anti-aliasing (variance %g, threshold %g)",
+                      filtering.specularAntiAliasing.variance,
+                      filtering.specularAntiAliasing.threshold);
+        filter += aa;
+    }
     if (lighting.environment) {
         char noiseText[128];
         std::snprintf(noiseText, sizeof noiseText, "%.3f%%", 100. * truthNoise);

@@ -510,6 +510,83 @@ TEST(Renderer, RejectsWrongMethodsAndBakes) {
     EXPECT_FALSE(render(scene, t, "naive", shift).ok());
 }
 
+TEST(SpecularAntiAliasing, KernelIsTwiceTheVarianceOfTheNormalsChangeUpToTheThreshold) {
+    const SpecularAntiAliasing filament{0.15f, 0.2f};
+    // |du|^2 + |dv|^2 = 0.01 + 0.04: 2 x 0.15 x 0.05.
+    EXPECT_NEAR(specularAntiAliasingKernel(filament, {0.1f, 0.f, 0.f}, {0.f, 0.2f, 0.f}), 0.015f,
+                1e-7f);
+    EXPECT_FLOAT_EQ(specularAntiAliasingKernel(filament, {1.f, 0.f, 0.f}, {0.f, 0.f, 0.f}), 0.2f);
+    EXPECT_EQ(specularAntiAliasingKernel({0.f, 0.2f}, {1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}), 0.f);
+}
+
+// Columns of normals tilted +-10 degrees about y, one texel per pixel and each pixel on its
+// texel's centre: the next pixel across reads the other tilt, the next one down the same, so
+// the engine's rule widens GGX alpha 0.2 to sqrt(0.04 + 2 x 0.15 x |a - b|^2), |a - b| = 2 sin 10.
+// naive shades its material so; ggx-fit (its level 0 the material's alpha) and ggx-aniso (alpha^2
+// I) the same lobe from their planes; a shader without the hook (toksvig), and a flat map (no
+// change to the next pixel), are left as they were.
+TEST(SpecularAntiAliasing, AlignedStripesWidenTheLobeByTheNeighboursDifference) {
+    const int size = 8;
+    const float tilt = glm::radians(10.f);
+    const glm::vec3 a(std::sin(tilt), 0.f, std::cos(tilt)), b(-a.x, 0.f, a.z);
+    Image stripes(size, size, 3);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const glm::vec3 n = x % 2 ? b : a;
+            test::setNormal(stripes, x, y, n.x, n.y, n.z);
+        }
+    const Material ggx = material(Brdf::Ggx, 0.f, 0.2f, glm::vec3(0.1f), glm::vec3(1.f));
+    const glm::vec3 light = glm::normalize(glm::vec3(0.3f, 0.1f, 1.f));
+    const Scene scene = alignedScene(size, ggx, light);
+    RenderOptions aa = plainLookup();
+    aa.specularAntiAliasing = {0.15f, 0.2f};
+    const float kernel = 2.f * 0.15f * glm::dot(a - b, a - b);
+    Material widened = ggx;
+    widened.roughness = std::sqrt(0.04f + kernel);
+
+    BakeOptions fitted;
+    fitted.baseRoughness = 0.2f;
+    const SharedImage normals = std::make_shared<const Image>(stripes);
+    Result<Image> naive = render(scene, texturesFor(stripes, Method::Naive), "naive", aa);
+    ASSERT_TRUE(naive.ok()) << naive.error().message;
+    for (int y = 0; y + 1 < size; ++y)
+        for (int x = 0; x + 1 < size; ++x) {
+            const glm::vec3 expected =
+                shadeNaive(widened, x % 2 ? b : a, light, glm::vec3(0.f, 0.f, 1.f));
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(naive->at(x, y)[c], expected[c], 1e-5f * std::max(1.f, expected[c]))
+                    << x << "," << y;
+        }
+    // The single lobes' own planes at level 0 hold the same lobe: the same pixels.
+    for (Method method : {Method::GgxFit, Method::GgxAniso}) {
+        RenderTextures t;
+        t.normals = normals;
+        t.bake = bakeMethod(method, buildPyramid(normals), fitted);
+        Result<Image> image = render(scene, t, methodName(method), aa);
+        ASSERT_TRUE(image.ok()) << image.error().message;
+        for (int y = 0; y + 1 < size; ++y)
+            for (int x = 0; x + 1 < size; ++x)
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_NEAR(image->at(x, y)[c], naive->at(x, y)[c],
+                                1e-4f * std::max(1.f, naive->at(x, y)[c]))
+                        << methodName(method) << " " << x << "," << y;
+    }
+    // Without the rule the stripes shade the material's own lobe: the rule changed the image.
+    Result<Image> plain =
+        render(scene, texturesFor(stripes, Method::Naive), "naive", plainLookup());
+    ASSERT_TRUE(plain.ok());
+    EXPECT_GT(std::abs(plain->at(0, 0)[0] - naive->at(0, 0)[0]), 1e-3f);
+    // toksvig takes no rule; a flat map has no change to the next pixel.
+    for (const auto& [map, method] :
+         {std::pair{stripes, Method::Toksvig}, std::pair{flatNormals(size, size), Method::Naive}}) {
+        const RenderTextures t = texturesFor(map, method);
+        Result<Image> with = render(scene, t, methodName(method), aa);
+        Result<Image> without = render(scene, t, methodName(method), plainLookup());
+        ASSERT_TRUE(with.ok() && without.ok());
+        EXPECT_EQ(with->pixels, without->pixels) << methodName(method);
+    }
+}
+
 TEST(Flicker, ConstantFramesDoNotFlickerAndAlternatingOnesDo) {
     Image a(4, 4, 3), b(4, 4, 3);
     for (float& v : a.pixels) v = 1.f;

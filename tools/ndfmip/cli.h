@@ -56,8 +56,10 @@ struct FilteringArgs {
     int taps;
     float lodBias;
     std::string lobeFilter;
+    SpecularAntiAliasing specularAntiAliasing;
     FilteringArgs();
-    // The options into `o` (truth, taps, lodBias, shadeFilter); throws on a bad name.
+    // The options into `o` (truth, taps, lodBias, shadeFilter, specularAntiAliasing); throws on a
+    // bad name.
     void apply(RenderOptions& o) const;
 };
 void addFilteringOptions(CLI::App* command, FilteringArgs& args);

@@ -188,6 +188,7 @@ void FilteringArgs::apply(RenderOptions& o) const {
         throw Failure("--lobe-filter: " + quote(lobeFilter) + " is not parameter or texel");
     o.taps = taps;
     o.lodBias = lodBias;
+    o.specularAntiAliasing = specularAntiAliasing;
 }
 
 void addFilteringOptions(CLI::App* c, FilteringArgs& a) {
@@ -207,6 +208,18 @@ void addFilteringOptions(CLI::App* c, FilteringArgs& a) {
          "--lobe-filter", a.lobeFilter,
          "methods: parameter (blend the texels' parameters, then shade) or texel (shade each "
          "texel, then blend)")
+        ->capture_default_str();
+    c->add_option("--specular-aa", a.specularAntiAliasing.variance,
+                  "methods with one GGX or Beckmann lobe an engine shades (naive, roughness-mips, "
+                  "ggx-fit, ggx-aniso): an engine's geometric specular anti-aliasing, the "
+                  "normal's change to the next pixels as a spread added to alpha^2 (Filament's "
+                  "and HDRP's screen-space variance: 0.15 is Filament's default; 0 = off; CPU "
+                  "only)")
+        ->check(CLI::Range(0.f, 1000.f))
+        ->capture_default_str();
+    c->add_option("--specular-aa-threshold", a.specularAntiAliasing.threshold,
+                  "with --specular-aa: the most it adds to alpha^2 (Filament's default 0.2)")
+        ->check(CLI::Range(0.f, 1.f))
         ->capture_default_str();
 }
 

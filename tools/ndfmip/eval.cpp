@@ -175,6 +175,7 @@ void addEvalCommand(CLI::App& app) {
         if (c->count("--taps") != 0) o.taps = args->filtering.taps;
         if (c->count("--lod-bias") != 0) o.lodBias = args->filtering.lodBias;
         if (c->count("--lobe-filter") != 0) o.lobeFilter = args->filtering.lobeFilter;
+        o.specularAntiAliasing = args->filtering.specularAntiAliasing;
         if (!args->environment.path.empty()) {
             o.environment = args->environment.path;
             o.environmentOptions = args->environment.options();

@@ -140,6 +140,14 @@ template <EngineInputs E> std::string engineDefines(const ShaderSetup&, int) {
         return "";
 }
 
+// Specular anti-aliasing: kernel I added to the squared-roughness tensor (the engine's rule adds
+// it to alpha^2 along every direction). The engine rows' planes are their files' channels, whose
+// engines widen no tensor: they take none.
+void widenTensor(const ShaderSetup&, Material&, float* p, float kernel) {
+    p[3] += kernel;
+    p[5] += kernel;
+}
+
 template <EngineInputs E> MethodShader anisoShader(const char* name) {
     MethodShader shader{name,
                         Method::GgxAniso,
@@ -152,11 +160,14 @@ template <EngineInputs E> MethodShader anisoShader(const char* name) {
                         nullptr,
                         nullptr,
                         false,
+                        nullptr,
                         nullptr};
     if constexpr (E != EngineInputs::Tensor) {
         shader.glsl = "render/ggx_aniso_engine.glsl";
         shader.gpuDefines = engineDefines<E>;
         shader.planesOf = engineAnisotropyPlanes<E>;
+    } else {
+        shader.widenRoughness = widenTensor;
     }
     return shader;
 }

@@ -60,9 +60,9 @@ std::vector<MethodShader> leanShaders() {
     };
     // sggx: the same moments read as one anisotropic GGX lobe (shaders/sggx.glsl).
     return {{"lean", Method::Lean, "render/lean.glsl", none, shadeLeanParams, lobe, nullptr,
-             nullptr, nullptr, nullptr, false, nullptr},
+             nullptr, nullptr, nullptr, false, nullptr, nullptr},
             {"sggx", Method::Lean, "render/sggx.glsl", none, shadeSggxParams, sggx, nullptr,
-             nullptr, nullptr, nullptr, false, nullptr}};
+             nullptr, nullptr, nullptr, false, nullptr, nullptr}};
 }
 
 } // namespace ndfmip

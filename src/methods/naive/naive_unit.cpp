@@ -53,6 +53,21 @@ glm::vec3 shadeRoughnessMipsEnvironment(const ShaderSetup& setup, const Material
                                       setup.environmentLod);
 }
 
+// Specular anti-aliasing: the material's alpha (GGX, Beckmann) widened; Blinn-Phong's exponent
+// has no alpha, and is left as it is.
+void widenMaterial(const ShaderSetup&, Material& m, float*, float kernel) {
+    if (m.brdf == Brdf::Ggx || m.brdf == Brdf::Beckmann)
+        m.roughness = std::sqrt(std::min(m.roughness * m.roughness + kernel, 1.f));
+}
+
+// Specular anti-aliasing: the stored roughness (after the normal), kept in its own encoding.
+void widenStoredRoughness(const ShaderSetup& setup, Material&, float* p, float kernel) {
+    const float r = glm::clamp(p[3], 0.f, 1.f);
+    const float alpha = setup.roughnessIsAlpha ? r : r * r;
+    const float widened = std::sqrt(std::min(alpha * alpha + kernel, 1.f));
+    p[3] = setup.roughnessIsAlpha ? widened : std::sqrt(widened);
+}
+
 } // namespace
 
 MethodUnit naiveUnit() {
@@ -105,10 +120,10 @@ std::vector<MethodShader> naiveShaders() {
         return Status::success();
     };
     return {{"naive", Method::Naive, "render/naive.glsl", prepareNaive, shadeNaiveParams, lobe,
-             shadeNaiveEnvironment, nullptr, nullptr, nullptr, false, nullptr},
+             shadeNaiveEnvironment, nullptr, nullptr, nullptr, false, nullptr, widenMaterial},
             {kRoughnessMips, Method::Naive, "render/roughness_mips.glsl", prepareRoughnessMips,
              shadeRoughnessMips, roughLobe, shadeRoughnessMipsEnvironment, roughnessLayers, nullptr,
-             roughnessUniforms, false, nullptr}};
+             roughnessUniforms, false, nullptr, widenStoredRoughness}};
 }
 
 } // namespace ndfmip

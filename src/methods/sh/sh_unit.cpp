@@ -133,7 +133,7 @@ std::vector<MethodShader> shShaders() {
         return Status::success();
     };
     return {{"sh", Method::Sh, "render/sh.glsl", prepareSh, shadeShParams, lobe,
-             shadeShEnvironmentParams, nullptr, defines, uniforms, true, nullptr}};
+             shadeShEnvironmentParams, nullptr, defines, uniforms, true, nullptr, nullptr}};
 }
 
 } // namespace ndfmip

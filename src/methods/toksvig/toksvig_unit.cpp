@@ -106,10 +106,10 @@ std::vector<MethodShader> toksvigShaders() {
         return Status::success();
     };
     return {{"toksvig", Method::Toksvig, "render/toksvig.glsl", prepareClosedForm, shadeClosedForm,
-             lobe, shadeClosedFormEnvironment, nullptr, nullptr, closedFormUniforms, false,
+             lobe, shadeClosedFormEnvironment, nullptr, nullptr, closedFormUniforms, false, nullptr,
              nullptr},
             {kToksvigLut, Method::Toksvig, "render/toksvig_lut.glsl", prepareLut, shadeLut, lutLobe,
-             nullptr, nullptr, nullptr, lutUniforms, false, nullptr}};
+             nullptr, nullptr, nullptr, lutUniforms, false, nullptr, nullptr}};
 }
 
 } // namespace ndfmip

@@ -215,7 +215,7 @@ std::vector<MethodShader> vmfShaders() {
         return text;
     };
     return {{"vmf", Method::Vmf, "render/vmf.glsl", prepareVmf, shadeVmfParams, lobe,
-             shadeVmfEnvironment, nullptr, defines, nullptr, false, nullptr}};
+             shadeVmfEnvironment, nullptr, defines, nullptr, false, nullptr, nullptr}};
 }
 
 } // namespace ndfmip
