@@ -92,9 +92,9 @@ bool environmentWayFromString(const std::string& name, EnvironmentWay& out);
 // the shading normal's change to the next pixel across and down (du, dv) is taken as a spread of
 // normals inside the pixel, and its variance is added to the lobe's squared roughness:
 //   alpha'^2 = alpha^2 + min(2 variance (|du|^2 + |dv|^2), threshold).
-// Filament's `specularAntiAliasingVariance` / `Threshold` (defaults 0.15 / 0.2), HDRP's Geometric
-// Specular AA (Screen Space Variance / Threshold) and Babylon.js's enableSpecularAntiAliasing
-// shade so. variance 0: off.
+// Filament's `specularAntiAliasingVariance` / `Threshold` (defaults 0.15 / 0.2) and HDRP's
+// Geometric Specular AA (Screen Space Variance / Threshold) shade so (Babylon.js's
+// enableSpecularAntiAliasing is a variant of the idea). variance 0: off.
 struct SpecularAntiAliasing {
     float variance = 0.f;
     float threshold = 0.2f;
