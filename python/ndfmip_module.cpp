@@ -549,7 +549,8 @@ py::array renderScene(py::handle sceneObject, const std::optional<std::string>& 
                       std::optional<int> spp, const std::string& bakeDir, uint64_t seed,
                       const std::string& truth, int taps, float lodBias,
                       const std::string& lobeFilter, int anisotropy, const py::dict& parameters,
-                      const std::string& roughnessMapping, const std::string& baseDir) {
+                      const std::string& roughnessMapping, const std::string& baseDir,
+                      float specularAa, float specularAaThreshold) {
     checkedPath(bakeDir);
     checkedPath(baseDir);
     Result<Scene> scene = Error{};
@@ -576,6 +577,7 @@ py::array renderScene(py::handle sceneObject, const std::optional<std::string>& 
     options.taps = taps;
     options.lodBias = lodBias;
     options.anisotropy = anisotropy;
+    options.specularAntiAliasing = {specularAa, specularAaThreshold};
     if (!roughnessMappingFromString(roughnessMapping, options.roughnessMapping))
         throw NdfmipError("unknown roughness mapping " + quote(roughnessMapping) +
                           " (expected ours, hdrp, filament, godot, unreal)");
@@ -735,7 +737,7 @@ PYBIND11_MODULE(_ndfmip, m) {
     m.def("inspect", &inspect, "dir"_a, "level"_a, "x"_a, "y"_a, "exponent"_a);
     m.def("render", &renderScene, "scene"_a, "method"_a, "spp"_a, "bake"_a, "seed"_a, "truth"_a,
           "taps"_a, "lod_bias"_a, "lobe_filter"_a, "anisotropy"_a, "parameters"_a,
-          "roughness_mapping"_a, "base_dir"_a);
+          "roughness_mapping"_a, "base_dir"_a, "specular_aa"_a, "specular_aa_threshold"_a);
     m.def("method_parameters", &methodParameterTable);
     m.def("compare", &compare, "a"_a, "b"_a, "channel"_a);
 
@@ -766,6 +768,13 @@ PYBIND11_MODULE(_ndfmip, m) {
         .def_readwrite("view", &EvalOptions::view)
         .def_readwrite("elevation", &EvalOptions::elevation)
         .def_readwrite("light_polar", &EvalOptions::lightPolar)
+        .def_property(
+            "specular_aa", [](const EvalOptions& o) { return o.specularAntiAliasing.variance; },
+            [](EvalOptions& o, float v) { o.specularAntiAliasing.variance = v; })
+        .def_property(
+            "specular_aa_threshold",
+            [](const EvalOptions& o) { return o.specularAntiAliasing.threshold; },
+            [](EvalOptions& o, float v) { o.specularAntiAliasing.threshold = v; })
         .def("set_decode", [](EvalOptions& o, bool greenDown, bool twoChannel, bool signedValues,
                               std::optional<float> height, bool clamp) {
             o.decode = decodeOptions(greenDown, twoChannel, signedValues, height, clamp);

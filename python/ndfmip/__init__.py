@@ -241,6 +241,7 @@ def render(scene: Union[PathLike, Dict[str, Any]], method: Optional[str] = None,
            bake: Optional[PathLike] = None, seed: int = 1, truth: str = "box", taps: int = 2,
            lod_bias: float = -0.5, lobe_filter: str = "texel", anisotropy: int = 1,
            roughness_mapping: str = "ours", base_dir: Optional[PathLike] = None,
+           specular_aa: float = 0.0, specular_aa_threshold: float = 0.2,
            **parameters: float) -> np.ndarray:
     """A scene (a file, or its JSON as a dict; docs/SCENES.md) drawn as ``ndfmip render``
     draws it: RGB radiance, float32 (H, W, 3).
@@ -249,12 +250,14 @@ def render(scene: Union[PathLike, Dict[str, Any]], method: Optional[str] = None,
     scene's); spp: samples per pixel (default 1, ground truth 64); bake: a bake folder instead
     of baking the map; parameters: for a method baked on the fly (order: sh's, default 7;
     lobes: vmf's, default 4; method_parameters()); base_dir: where a dict's
-    relative paths start (default: the working directory).
+    relative paths start (default: the working directory); specular_aa: an engine's geometric
+    specular anti-aliasing for the single-lobe shaders (--specular-aa; 0 off, Filament's 0.15).
     """
     return _ndfmip.render(scene if isinstance(scene, dict) else os.fspath(scene), method, spp,
                           "" if bake is None else os.fspath(bake), seed, truth, taps, lod_bias, lobe_filter,
                           anisotropy, parameters, roughness_mapping,
-                          "" if base_dir is None else os.fspath(base_dir))
+                          "" if base_dir is None else os.fspath(base_dir), specular_aa,
+                          specular_aa_threshold)
 
 
 def compare(a: Union[PathLike, np.ndarray], b: Union[PathLike, np.ndarray],
@@ -273,6 +276,7 @@ def evaluate(maps: Iterable[PathLike], output: Optional[PathLike] = None, *,
              taps: Optional[int] = None, lod_bias: Optional[float] = None, lobe_filter: Optional[str] = None,
              coherent: Optional[float] = None, view: str = "lab", elevation: float = 90.0,
              light_polar: float = 25.0, anisotropy: int = 1,
+             specular_aa: float = 0.0, specular_aa_threshold: float = 0.2,
              calibrate: bool = False, all_images: bool = False,
              webgl: Optional[bool] = None, green_down: bool = False, two_channel: bool = False,
              signed: bool = False, height: Optional[float] = None, clamp: bool = False) -> Dict[str, Any]:
@@ -281,7 +285,8 @@ def evaluate(maps: Iterable[PathLike], output: Optional[PathLike] = None, *,
     With ``output``, report.json and report.html are written there too (webgl: the page's
     live view, by default with an output). Unset lists take the tool's defaults; view (lab,
     engine or aligned) sets taps, lod_bias, lobe_filter and coherent where they are None;
-    anisotropy is the method rows' probes along a slanted footprint (--aniso).
+    anisotropy is the method rows' probes along a slanted footprint (--aniso); specular_aa
+    an engine's geometric specular anti-aliasing for the single-lobe rows (--specular-aa).
     """
     o = _ndfmip.EvalOptions()
     o.maps = [os.fspath(m) for m in maps]
@@ -294,6 +299,7 @@ def evaluate(maps: Iterable[PathLike], output: Optional[PathLike] = None, *,
     o.aligned, o.offset, o.truth, o.lobe_filter = aligned, list(offset), truth, lobe_filter
     o.taps, o.lod_bias, o.coherent, o.calibrate, o.all_images = taps, lod_bias, coherent, calibrate, all_images
     o.view, o.elevation, o.light_polar, o.anisotropy = view, elevation, light_polar, anisotropy
+    o.specular_aa, o.specular_aa_threshold = specular_aa, specular_aa_threshold
     o.webgl = output is not None if webgl is None else webgl
     o.set_decode(green_down, two_channel, signed, height, clamp)
     return _ndfmip.evaluate(o)

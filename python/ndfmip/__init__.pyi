@@ -60,7 +60,8 @@ def inspect(dir: PathLike, level: int, x: int, y: int, exponent: Optional[float]
 def render(scene: Union[PathLike, Dict[str, Any]], method: Optional[str] = ..., spp: Optional[int] = ..., *,
            bake: Optional[PathLike] = ..., seed: int = ..., truth: str = ..., taps: int = ...,
            lod_bias: float = ..., lobe_filter: str = ..., anisotropy: int = ...,
-           roughness_mapping: str = ..., base_dir: Optional[PathLike] = ..., **parameters: float) -> FloatArray: ...
+           roughness_mapping: str = ..., base_dir: Optional[PathLike] = ...,
+           specular_aa: float = ..., specular_aa_threshold: float = ..., **parameters: float) -> FloatArray: ...
 def compare(a: Union[PathLike, FloatArray], b: Union[PathLike, FloatArray],
             channel: Optional[int] = ...) -> Dict[str, Optional[float]]: ...
 def evaluate(maps: Iterable[PathLike], output: Optional[PathLike] = ..., *, methods: Optional[Sequence[str]] = ...,
@@ -70,6 +71,7 @@ def evaluate(maps: Iterable[PathLike], output: Optional[PathLike] = ..., *, meth
              offset: Sequence[float] = ..., truth: str = ..., taps: Optional[int] = ...,
              lod_bias: Optional[float] = ..., lobe_filter: Optional[str] = ..., coherent: Optional[float] = ..., view: str = ...,
              elevation: float = ..., light_polar: float = ..., anisotropy: int = ...,
+             specular_aa: float = ..., specular_aa_threshold: float = ...,
              calibrate: bool = ..., all_images: bool = ..., webgl: Optional[bool] = ..., green_down: bool = ...,
              two_channel: bool = ..., signed: bool = ..., height: Optional[float] = ...,
              clamp: bool = ...) -> Dict[str, Any]: ...

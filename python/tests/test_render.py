@@ -70,3 +70,24 @@ def test_evaluate_returns_the_cli_report(cli, tmp_path):
     tilted = ndfmip.evaluate([BUNDLED_MAP], elevation=30.0, anisotropy=4, **tilted_args)
     assert tilted == json.loads((tmp_path / "tilted" / "report.json").read_text())
     assert tilted["setup"]["anisotropy"] == 4
+    # An engine's specular anti-aliasing, as the tool's --specular-aa.
+    run_cli(cli, "eval", BUNDLED_MAP, "--view", "engine", "--specular-aa", "0.15", "--methods", "naive", "--footprints",
+            "1", "--brdfs", "ggx", "--roughness", "0.1", "--frames", "0", "--pixels", "16", "-o", tmp_path / "aa", "-q")
+    aa = ndfmip.evaluate([BUNDLED_MAP], view="engine", specular_aa=0.15, methods=["naive"], footprints=[1],
+                         brdfs=["ggx"], roughness=[0.1], frames=0, pixels=16)
+    assert aa == json.loads((tmp_path / "aa" / "report.json").read_text())
+    assert aa["setup"]["specular_aa"]["variance"] == pytest.approx(0.15)
+
+
+def test_render_with_specular_aa_equals_the_cli(cli, tmp_path):
+    # The rule widens a GGX alpha (the bundled scene is Blinn-Phong's, which it leaves alone).
+    scene = json.loads(SCENE.read_text())
+    scene["material"] = {"brdf": "ggx", "roughness": 0.1, "albedo": 0, "specular": 1}
+    scene["normal_map"]["path"] = str((SCENE.parent / scene["normal_map"]["path"]).resolve())
+    path = tmp_path / "ggx.json"
+    path.write_text(json.dumps(scene))
+    out = tmp_path / "aa.exr"
+    run_cli(cli, "render", path, "--method", "naive", "--specular-aa", "0.15", "-o", out, "-q", "--no-png")
+    image = ndfmip.render(path, "naive", specular_aa=0.15)
+    assert np.array_equal(image, ndfmip.load_image(out))
+    assert not np.array_equal(image, ndfmip.render(path, "naive"))
