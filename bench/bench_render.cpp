@@ -49,9 +49,10 @@ void BM_RenderGroundTruth(benchmark::State& state) {
 // The scene rendered with `method` under the default rule or (`plain`) a GPU's one trilinear
 // lookup with the parameters blended.
 void renderMethod(benchmark::State& state, const ndfmip::Scene& scene, ndfmip::Method method,
-                  bool plain) {
+                  bool plain, float specularAa = 0.f) {
     const ndfmip::RenderTextures t = texturesFor(method);
     ndfmip::RenderOptions o;
+    o.specularAntiAliasing.variance = specularAa;
     if (plain) {
         o.taps = 1;
         o.lodBias = 0.f;
@@ -78,8 +79,22 @@ void BM_RenderMethodGgx(benchmark::State& state, ndfmip::Method method) {
     renderMethod(state, scene, method, true);
 }
 
+// The plain lookup under GGX alpha = 0.1, naive, without (0) and with (1) an engine's specular
+// anti-aliasing (Filament's variance 0.15): the normal plane read at the next pixels too.
+void BM_RenderSpecularAa(benchmark::State& state) {
+    ndfmip::Scene scene = grazingPlane(int(state.range(0)));
+    scene.material.brdf = ndfmip::Brdf::Ggx;
+    scene.material.roughness = 0.1f;
+    renderMethod(state, scene, ndfmip::Method::Naive, true, state.range(1) == 1 ? 0.15f : 0.f);
+}
+
 } // namespace
 
+BENCHMARK(BM_RenderSpecularAa)
+    ->Args({1024, 0})
+    ->Args({1024, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_RenderGroundTruth)->Args({512, 256})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_RenderMethod, naive, ndfmip::Method::Naive)
     ->Args({1024, 0})
