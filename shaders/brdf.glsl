@@ -93,6 +93,17 @@ float ndfmipSpecularCosine(vec3 mu, float kappa, float lobeKappa, vec3 h, vec3 l
     return max(meanLength * dot(w, l) / k, 0.0f);
 }
 
+// An engine's geometric specular anti-aliasing (Kaplanyan 2016; Tokuyoshi and Kaplanyan 2019, as
+// Filament and HDRP shade it): the shading normal's change to the next pixel across and down
+// (du, dv) taken as a spread within the pixel, 2 variance (|du|^2 + |dv|^2) added to alpha^2 up to
+// `threshold`. ndfmipSpecularAaAlpha: alpha so widened, alpha^2 at most 1.
+float ndfmipSpecularAaKernel(vec3 du, vec3 dv, float variance, float threshold) {
+    return min(2.0f * variance * (dot(du, du) + dot(dv, dv)), threshold);
+}
+float ndfmipSpecularAaAlpha(float alpha, float kernel) {
+    return sqrt(min(alpha * alpha + kernel, 1.0f));
+}
+
 // One true unit normal n, h = normalize(l + v): max(n.l, 0) (albedo / pi + specular D(n.h));
 // the ground truth's integrand.
 vec3 ndfmipShadeNormal(NdfmipMaterial m, vec3 albedo, vec3 n, vec3 l, vec3 h) {

@@ -149,7 +149,7 @@ struct RenderOptions {
     bool dominantDirection = true;
     // Methods with one GGX or Beckmann lobe an engine shades (naive, roughness-mips, ggx-fit,
     // ggx-aniso): the engine's specular anti-aliasing, from the normal filtered at the next pixel
-    // across and down (two more lookups of the normal plane). CPU only.
+    // across and down (two more lookups of the normal plane).
     SpecularAntiAliasing specularAntiAliasing;
     EnvironmentEstimator environmentEstimator = EnvironmentEstimator::Mis;
     EnvironmentTruth environmentTruth = EnvironmentTruth::Sampled; // spp: per node with Table

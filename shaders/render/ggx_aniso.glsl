@@ -1,13 +1,19 @@
 // Render glue for ggx-aniso: layer 0 = "normal", layer 1 = "alpha_tensor".
 #define NDFMIP_LAYERS 2
+#define NDFMIP_SPECULAR_AA
+// The tensor with this lookup's specular anti-aliasing added along every direction.
+vec3 ndfmipAaTensor(vec3 a) {
+    return ndfmipAaKernel > 0.0f ? a + vec3(ndfmipAaKernel, 0.0f, ndfmipAaKernel) : a;
+}
 vec3 ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v) {
-    return ndfmipShadeGgxAniso(ndfmipMaterial, albedo, p[0].xyz, p[1].xyz, l, v);
+    return ndfmipShadeGgxAniso(ndfmipMaterial, albedo, p[0].xyz, ndfmipAaTensor(p[1].xyz), l, v);
 }
 #ifdef NDFMIP_ENVIRONMENT
 // Under an environment (render/environment.glsl): an engine's split sum at the tensor's
 // isotropic alpha.
 vec3 ndfmipShadeEnvironment(vec4 p[NDFMIP_LAYERS], vec3 albedo, NdfmipHit hit, vec3 view) {
-    return ndfmipShadeRoughnessMipsEnvironment(ndfmipMaterial, albedo, p[0].xyz, ndfmipGgxAnisoAlpha(p[1].xyz), true,
+    return ndfmipShadeRoughnessMipsEnvironment(ndfmipMaterial, albedo, p[0].xyz,
+                                               ndfmipGgxAnisoAlpha(ndfmipAaTensor(p[1].xyz)), true,
                                                ndfmipTangentFrame(hit), view);
 }
 #endif

@@ -125,6 +125,21 @@ vec3 ndfmipLevelColour(float lod) {
     return mix(a, b, lod - k);
 }
 
+#ifdef NDFMIP_SPECULAR_AA
+// Layer 0's unit normal as the lookup at `uv` filters it (its probes along `axis`, its LOD): what
+// the engine's derivatives of the shading normal read at the neighbouring pixels.
+vec3 ndfmipFilteredNormal(vec2 uv, vec2 axis, int probes, float lod) {
+    lod = clamp(lod, 0.0f, float(ndfmipLevelCount - 1));
+    vec3 n = vec3(0.0f);
+    for (int i = 0; i < probes; ++i) {
+        vec2 at = probes == 1 ? uv : uv + ((float(i) + 0.5f) / float(probes) - 0.5f) * axis;
+        n += (1.0f / float(probes)) * textureLod(ndfmipPlanes, vec3(at, 0.0f), lod).xyz;
+    }
+    float length3 = length(n);
+    return length3 > 0.0f ? n / length3 : vec3(0.0f, 0.0f, 1.0f);
+}
+#endif
+
 // The lookup at a hit with footprint (dx, dy) in uv: one trilinear probe, or anisotropic probes
 // along the major axis; parameters blended over all of them and shaded once, or every texel
 // shaded.
@@ -138,6 +153,15 @@ vec3 ndfmipLookup(NdfmipHit hit, vec3 view, vec2 dx, vec2 dy) {
     int probes = ndfmipProbes(dx, dy);
     vec2 axis = length(dx * size) >= length(dy * size) ? dx : dy;
     float lod = ndfmipLod(dx, dy, probes);
+#ifdef NDFMIP_SPECULAR_AA
+    ndfmipAaKernel = 0.0f;
+    if (ndfmipSpecularAaVariance > 0.0f) {
+        vec3 n = ndfmipFilteredNormal(hit.uv, axis, probes, lod);
+        ndfmipAaKernel = ndfmipSpecularAaKernel(ndfmipFilteredNormal(hit.uv + dx, axis, probes, lod) - n,
+                                                ndfmipFilteredNormal(hit.uv + dy, axis, probes, lod) - n,
+                                                ndfmipSpecularAaVariance, ndfmipSpecularAaThreshold);
+    }
+#endif
     vec4 p[NDFMIP_LAYERS];
     for (int k = 0; k < NDFMIP_LAYERS; ++k) p[k] = vec4(0.0f);
     vec3 albedo = vec3(0.0f);

@@ -15,10 +15,19 @@ namespace ndfmip {
 namespace {
 
 // The library's files in the order they depend on each other, then the ray caster.
-const char* const kLibraryFiles[] = {
-    "brdf.glsl",      "naive.glsl",    "toksvig.glsl",        "toksvig_lut.glsl",
-    "sh.glsl",        "vmf.glsl",      "lean.glsl",           "sggx.glsl",
-    "ggx_aniso.glsl", "splitsum.glsl", "render/raycast.glsl", "render/ray_geometry.glsl"};
+const char* const kLibraryFiles[] = {"brdf.glsl",
+                                     "naive.glsl",
+                                     "toksvig.glsl",
+                                     "toksvig_lut.glsl",
+                                     "sh.glsl",
+                                     "vmf.glsl",
+                                     "lean.glsl",
+                                     "sggx.glsl",
+                                     "ggx_aniso.glsl",
+                                     "splitsum.glsl",
+                                     "render/raycast.glsl",
+                                     "render/ray_geometry.glsl",
+                                     "render/specular_aa.glsl"};
 
 Result<std::string> embedded(const std::string& path) {
     for (const EmbeddedShader& s : embeddedShaders())
@@ -267,8 +276,6 @@ Status checkProgramInputs(const Scene& scene, const RenderTextures& textures,
     if (options.spp != 1)
         return Status::failure(
             "render --gpu: methods take one sample per pixel (--spp is the ground truth's)");
-    if (options.specularAntiAliasing.variance > 0.f)
-        return Status::failure("render --gpu: --specular-aa is rendered on the CPU only");
     if (options.taps < 1 || options.taps > 16)
         return Status::failure("render --gpu: taps must be in 1 .. 16");
     if (options.anisotropy < 1 || options.anisotropy > 64)
@@ -438,6 +445,8 @@ Status addUniforms(RenderProgram& program, const Scene& scene, const RenderTextu
     add(u, "ndfmipAnisotropy", options.anisotropy);
     add(u, "ndfmipShadeEachTexel", options.shadeFilter == ShadeFilter::Texel ? 1 : 0);
     add(u, "ndfmipPixelShift", options.pixelShift);
+    add(u, "ndfmipSpecularAaVariance", options.specularAntiAliasing.variance);
+    add(u, "ndfmipSpecularAaThreshold", options.specularAntiAliasing.threshold);
     add(u, "ndfmipHasAlbedoMap", albedoMap ? 1 : 0);
     add(u, "ndfmipLevelCount", int(bake.levels.size()));
     add(u, "ndfmipPlanes", 0);

@@ -11,6 +11,7 @@
 #include "methods/method_unit.h"
 #include "ndfmip/environment_lighting.h"
 #include "ndfmip/environment_sh_views.h"
+#include "ndfmip/glsl.h"
 #include "ndfmip/interpolated.h"
 #include "ndfmip/render.h"
 #include "ndfmip/vmf.h"
@@ -726,8 +727,7 @@ bool truthFilterFromString(const std::string& name, TruthFilter& out) {
 }
 
 float specularAntiAliasingKernel(const SpecularAntiAliasing& aa, glm::vec3 du, glm::vec3 dv) {
-    const float spread = glm::dot(du, du) + glm::dot(dv, dv);
-    return std::min(2.f * aa.variance * spread, aa.threshold);
+    return glsl().ndfmipSpecularAaKernel(du, dv, aa.variance, aa.threshold);
 }
 
 const char* shadeFilterName(ShadeFilter filter) {

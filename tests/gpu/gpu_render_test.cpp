@@ -129,6 +129,33 @@ INSTANTIATE_TEST_SUITE_P(
         return name;
     });
 
+// An engine's specular anti-aliasing: the single-lobe shaders widened by the normal's change to
+// the next pixels, on the GPU as on the CPU, the plain lookup and the default rule (texel
+// shading), and the image is not the one without it.
+TEST(GpuRender, SpecularAntiAliasingMatchesTheCpu) {
+    NDFMIP_GL_OR_SKIP(gl);
+    RenderOptions plain;
+    plain.taps = 1;
+    plain.lodBias = 0.f;
+    plain.shadeFilter = ShadeFilter::Parameter;
+    for (RenderOptions options : {plain, RenderOptions{}}) {
+        options.specularAntiAliasing = {0.15f, 0.2f};
+        for (const char* method : {"naive", "roughness-mips", "ggx-fit", "ggx-aniso"}) {
+            expectSameImage(method, false, Brdf::Ggx, options);
+            const Scene scene = testScene(false, Brdf::Ggx);
+            const RenderTextures t = texturesFor(method);
+            RenderOptions off = options;
+            off.specularAntiAliasing.variance = 0.f;
+            Result<Image> with = renderGpu(scene, t, method, options);
+            Result<Image> without = renderGpu(scene, t, method, off);
+            ASSERT_TRUE(with && without);
+            Result<ImageComparison> c = compareImages(with.value(), without.value());
+            ASSERT_TRUE(c);
+            EXPECT_GT(c->relativeRmse, 1e-3) << method;
+        }
+    }
+}
+
 TEST(GpuRenderErrors, CpuOnlyCasesAreOneLineErrors) {
     NDFMIP_GL_OR_SKIP(gl);
     Scene scene = testScene(false, Brdf::BlinnPhong);

@@ -131,10 +131,6 @@ TEST(RenderGpuCli, CpuOnlyMethodsAndMissingDriversAreOneLineErrors) {
         test::expectCliRefuses("render " + test::shellArg(kScene) +
                                    " --method groundtruth --gpu -q -o " + test::shellArg(out),
                                {"CPU only"});
-        test::expectCliRefuses("render " + test::shellArg(kScene) +
-                                   " --method naive --gpu --specular-aa 0.15 -q -o " +
-                                   test::shellArg(out),
-                               {"--specular-aa", "CPU only"});
     }
     // No EGL vendor library: libglvnd finds no driver.
     std::string output;

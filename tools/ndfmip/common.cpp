@@ -213,8 +213,7 @@ void addFilteringOptions(CLI::App* c, FilteringArgs& a) {
                   "methods with one GGX or Beckmann lobe an engine shades (naive, roughness-mips, "
                   "ggx-fit, ggx-aniso): an engine's geometric specular anti-aliasing, the "
                   "normal's change to the next pixels as a spread added to alpha^2 (Filament's "
-                  "and HDRP's screen-space variance: 0.15 is Filament's default; 0 = off; CPU "
-                  "only)")
+                  "and HDRP's screen-space variance: 0.15 is Filament's default; 0 = off)")
         ->check(CLI::Range(0.f, 1000.f))
         ->capture_default_str();
     c->add_option("--specular-aa-threshold", a.specularAntiAliasing.threshold,

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "methods/method_unit.h"
+#include "ndfmip/glsl.h"
 
 namespace ndfmip {
 
@@ -57,14 +58,14 @@ glm::vec3 shadeRoughnessMipsEnvironment(const ShaderSetup& setup, const Material
 // has no alpha, and is left as it is.
 void widenMaterial(const ShaderSetup&, Material& m, float*, float kernel) {
     if (m.brdf == Brdf::Ggx || m.brdf == Brdf::Beckmann)
-        m.roughness = std::sqrt(std::min(m.roughness * m.roughness + kernel, 1.f));
+        m.roughness = glsl().ndfmipSpecularAaAlpha(m.roughness, kernel);
 }
 
 // Specular anti-aliasing: the stored roughness (after the normal), kept in its own encoding.
 void widenStoredRoughness(const ShaderSetup& setup, Material&, float* p, float kernel) {
     const float r = glm::clamp(p[3], 0.f, 1.f);
     const float alpha = setup.roughnessIsAlpha ? r : r * r;
-    const float widened = std::sqrt(std::min(alpha * alpha + kernel, 1.f));
+    const float widened = glsl().ndfmipSpecularAaAlpha(alpha, kernel);
     p[3] = setup.roughnessIsAlpha ? widened : std::sqrt(widened);
 }
 
