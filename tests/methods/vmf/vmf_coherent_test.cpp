@@ -483,6 +483,19 @@ TEST(VmfCoherent, PyramidIsTheSameOnAnyThreadCount) {
     EXPECT_EQ(lobeMismatch(one), lobeMismatch(many));
 }
 
+// A size x size map whose columns alternate every two texels between vMF samples (kappa) about
+// two directions `polar` degrees from z, at azimuths a and b.
+Image alternatingColumns(int size, float polar, float a, float b, float kappa, uint64_t seed) {
+    Image map(size, size, 3);
+    std::mt19937_64 rng(seed);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            glm::vec3 n = sampleVmf(direction(polar, x % 4 < 2 ? a : b), kappa, rng);
+            test::setNormal(map, x, y, n.x, n.y, n.z);
+        }
+    return map;
+}
+
 TEST(VmfCoherent, TopTexelIsThePlainFitOfEveryNormal) {
     // 512 x 512: the top texel's EM over every normal starts from the plain pyramid of a
     // 128 x 128 subsample (stride 4) instead of the whole map's. Columns alternate every two
@@ -490,14 +503,7 @@ TEST(VmfCoherent, TopTexelIsThePlainFitOfEveryNormal) {
     // nats per normal against the whole map's plain fit's 2.45874 (2.45861 with the subsample
     // taken at the same place in every block: the EM finds both sides from there too).
     const int size = 512;
-    Image map(size, size, 3);
-    std::mt19937_64 rng(11);
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x) {
-            glm::vec3 n = sampleVmf(direction(30, x % 4 < 2 ? 0 : 180), 400, rng);
-            test::setNormal(map, x, y, n.x, n.y, n.z);
-        }
-    Pyramid pyramid = buildPyramid(map);
+    Pyramid pyramid = buildPyramid(alternatingColumns(size, 30, 0, 180, 400, 11));
     const int top = int(pyramid.levels.size()) - 1;
     std::vector<VmfLevel> plain = fitVmfPyramid(pyramid, 4, {}, nullptr);
     VmfFitOptions options;
@@ -527,15 +533,7 @@ TEST(VmfCoherent, SmallMapsTopTexelIsThePlainPyramidsOwn) {
     // 64 x 64 (under 256 normals across): the plain pyramid of the whole map is cheap, and its
     // top texel is already the plain fit of every normal, so the coherent pyramid takes it as it
     // is; EM run again from there would move it by its tolerance.
-    const int size = 64;
-    Image map(size, size, 3);
-    std::mt19937_64 rng(5);
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x) {
-            glm::vec3 n = sampleVmf(direction(25, x % 4 < 2 ? 30 : 200), 60, rng);
-            test::setNormal(map, x, y, n.x, n.y, n.z);
-        }
-    Pyramid pyramid = buildPyramid(map);
+    Pyramid pyramid = buildPyramid(alternatingColumns(64, 25, 30, 200, 60, 5));
     VmfFitOptions options;
     options.coherence = kHardwareFilteringCoherence;
     options.alignedKappa = true;
