@@ -103,6 +103,12 @@ float ndfmipSpecularAaKernel(vec3 du, vec3 dv, float variance, float threshold) 
 float ndfmipSpecularAaAlpha(float alpha, float kernel) {
     return sqrt(min(alpha * alpha + kernel, 1.0f));
 }
+// A stored roughness (alpha, or the perceptual sqrt(alpha)) so widened, in its own encoding.
+float ndfmipSpecularAaStored(float stored, bool isAlpha, float kernel) {
+    float r = clamp(stored, 0.0f, 1.0f);
+    float widened = ndfmipSpecularAaAlpha(isAlpha ? r : r * r, kernel);
+    return isAlpha ? widened : sqrt(widened);
+}
 
 // One true unit normal n, h = normalize(l + v): max(n.l, 0) (albedo / pi + specular D(n.h));
 // the ground truth's integrand.

@@ -5,10 +5,8 @@ uniform int ndfmipRoughnessIsAlpha; // 1: alpha, 0: perceptual
 #define NDFMIP_SPECULAR_AA
 // The stored roughness widened by this lookup's specular anti-aliasing, in its own encoding.
 float ndfmipAaRoughness(float stored) {
-    if (!(ndfmipAaKernel > 0.0f)) return stored;
-    float r = clamp(stored, 0.0f, 1.0f);
-    float widened = ndfmipSpecularAaAlpha(ndfmipRoughnessIsAlpha != 0 ? r : r * r, ndfmipAaKernel);
-    return ndfmipRoughnessIsAlpha != 0 ? widened : sqrt(widened);
+    return ndfmipAaKernel > 0.0f ? ndfmipSpecularAaStored(stored, ndfmipRoughnessIsAlpha != 0, ndfmipAaKernel)
+                                 : stored;
 }
 vec3 ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v) {
     return ndfmipShadeRoughnessMips(ndfmipMaterial, albedo, p[0].xyz, ndfmipAaRoughness(p[1].x),

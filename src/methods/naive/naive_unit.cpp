@@ -63,10 +63,7 @@ void widenMaterial(const ShaderSetup&, Material& m, float*, float kernel) {
 
 // Specular anti-aliasing: the stored roughness (after the normal), kept in its own encoding.
 void widenStoredRoughness(const ShaderSetup& setup, Material&, float* p, float kernel) {
-    const float r = glm::clamp(p[3], 0.f, 1.f);
-    const float alpha = setup.roughnessIsAlpha ? r : r * r;
-    const float widened = glsl().ndfmipSpecularAaAlpha(alpha, kernel);
-    p[3] = setup.roughnessIsAlpha ? widened : std::sqrt(widened);
+    p[3] = glsl().ndfmipSpecularAaStored(p[3], setup.roughnessIsAlpha, kernel);
 }
 
 } // namespace
