@@ -172,39 +172,25 @@ vec3 ndfmipPrefilteredRadiance(vec3 reflected, float r, float normalVariance) {
 }
 
 // The material's table bilinear with clamped edges at (n.v, r): the split sum's second factor
-// (specularAlbedo) in R, the dominant direction's share of the normal (dominantShare) in G.
-vec2 ndfmipEnvTable(float mu, float r) {
-    ivec2 size = textureSize(ndfmipEnvAlbedo, 0);
-    vec2 x = clamp(vec2(clamp(mu, 0.0f, 1.0f) * float(size.x - 1), clamp(r, 0.0f, 1.0f) * float(size.y) - 0.5f),
-                   vec2(0.0f), vec2(size - 1));
-    ivec2 x0 = ivec2(x);
-    ivec2 x1 = min(x0 + 1, size - 1);
-    vec2 f = x - vec2(x0);
-    vec2 a = texelFetch(ndfmipEnvAlbedo, x0, 0).rg;
-    vec2 b = texelFetch(ndfmipEnvAlbedo, ivec2(x1.x, x0.y), 0).rg;
-    vec2 c = texelFetch(ndfmipEnvAlbedo, ivec2(x0.x, x1.y), 0).rg;
-    vec2 e = texelFetch(ndfmipEnvAlbedo, x1, 0).rg;
-    return (1.0f - f.y) * ((1.0f - f.x) * a + f.x * b) + f.y * ((1.0f - f.x) * c + f.x * e);
-}
-
-float ndfmipSpecularAlbedo(NdfmipMaterial m, float mu, float r) { return ndfmipEnvTable(mu, r).x; }
-
-// The table's R at (n.v, r) and its slope in n.v: the bilinear interpolant's, from the same four
-// texels (the cell's, the last cell's at n.v = 1).
-vec2 ndfmipSpecularAlbedoAndSlope(NdfmipMaterial m, float mu, float r) {
+// (specularAlbedo) in R, the dominant direction's share of the normal (dominantShare) in G, and
+// R's slope in n.v, the interpolant's (the cell's, the last cell's at n.v = 1).
+vec3 ndfmipEnvTable(float mu, float r) {
     ivec2 size = textureSize(ndfmipEnvAlbedo, 0);
     float x = clamp(mu, 0.0f, 1.0f) * float(size.x - 1);
     float y = clamp(clamp(r, 0.0f, 1.0f) * float(size.y) - 0.5f, 0.0f, float(size.y - 1));
     int x0 = min(int(x), size.x - 2), y0 = int(y);
     int y1 = min(y0 + 1, size.y - 1);
-    float fx = x - float(x0), fy = y - float(y0);
-    float a = texelFetch(ndfmipEnvAlbedo, ivec2(x0, y0), 0).r;
-    float b = texelFetch(ndfmipEnvAlbedo, ivec2(x0 + 1, y0), 0).r;
-    float c = texelFetch(ndfmipEnvAlbedo, ivec2(x0, y1), 0).r;
-    float e = texelFetch(ndfmipEnvAlbedo, ivec2(x0 + 1, y1), 0).r;
-    float value = (1.0f - fy) * ((1.0f - fx) * a + fx * b) + fy * ((1.0f - fx) * c + fx * e);
-    return vec2(value, float(size.x - 1) * ((1.0f - fy) * (b - a) + fy * (e - c)));
+    vec2 f = vec2(x - float(x0), y - float(y0));
+    vec2 a = texelFetch(ndfmipEnvAlbedo, ivec2(x0, y0), 0).rg;
+    vec2 b = texelFetch(ndfmipEnvAlbedo, ivec2(x0 + 1, y0), 0).rg;
+    vec2 c = texelFetch(ndfmipEnvAlbedo, ivec2(x0, y1), 0).rg;
+    vec2 e = texelFetch(ndfmipEnvAlbedo, ivec2(x0 + 1, y1), 0).rg;
+    vec2 value = (1.0f - f.y) * ((1.0f - f.x) * a + f.x * b) + f.y * ((1.0f - f.x) * c + f.x * e);
+    return vec3(value, float(size.x - 1) * ((1.0f - f.y) * (b.x - a.x) + f.y * (e.x - c.x)));
 }
+
+float ndfmipSpecularAlbedo(NdfmipMaterial m, float mu, float r) { return ndfmipEnvTable(mu, r).x; }
+vec2 ndfmipSpecularAlbedoAndSlope(NdfmipMaterial m, float mu, float r) { return ndfmipEnvTable(mu, r).xz; }
 float ndfmipDominantShare(NdfmipMaterial m, float mu, float r) { return ndfmipEnvTable(mu, r).y; }
 
 // irradianceAt: Sum band_l E_lm Y_lm(n), clamped at 0 (truncation rings).

@@ -264,21 +264,9 @@ LobeTables lobeTables(Brdf brdf, int size, int samples) {
     return t;
 }
 
-// Bilinear with clamped edges at (u, v) in [0, 1]^2: columns at u = x/(width - 1), rows at
-// texel centres, v = (y + 0.5)/height (SplitSumLighting::albedo).
-float sampleTable(const Image& table, int channel, float u, float v) {
-    const float x = std::clamp(u * float(table.width - 1), 0.f, float(table.width - 1));
-    const float y = std::clamp(v * table.height - 0.5f, 0.f, float(table.height - 1));
-    const int x0 = int(x), y0 = int(y);
-    const int x1 = std::min(x0 + 1, table.width - 1), y1 = std::min(y0 + 1, table.height - 1);
-    const float fx = x - x0, fy = y - y0;
-    const auto at = [&](int i, int j) { return table.at(i, j)[channel]; };
-    return (1.f - fy) * ((1.f - fx) * at(x0, y0) + fx * at(x1, y0)) +
-           fy * ((1.f - fx) * at(x0, y1) + fx * at(x1, y1));
-}
-
-// sampleTable and its slope in u: the bilinear interpolant's, from the same four entries (the
-// cell's, the last cell's at u = 1). A table at least two entries wide.
+// Bilinear with clamped edges at (u, v) in [0, 1]^2, and its slope in u (the interpolant's: the
+// cell's, the last cell's at u = 1): columns at u = x/(width - 1), rows at texel centres,
+// v = (y + 0.5)/height (SplitSumLighting::albedo). A table at least two entries wide.
 glm::vec2 sampleTableAndSlope(const Image& table, int channel, float u, float v) {
     assert(table.width >= 2);
     const float x = std::clamp(u * float(table.width - 1), 0.f, float(table.width - 1));
@@ -398,12 +386,7 @@ glm::vec3 irradianceAt(const SplitSumLighting& lighting, glm::dvec3 n, glm::dvec
 
 float specularAlbedo(const SplitSumLighting& lighting, Brdf brdf, float mu,
                      float perceptualRoughness) {
-    mu = std::clamp(mu, 0.f, 1.f);
-    perceptualRoughness = std::clamp(perceptualRoughness, 0.f, 1.f);
-    if (lighting.albedoKind == SpecularAlbedo::EngineDfg)
-        return sampleTable(lighting.albedo[0], 2, mu, perceptualRoughness);
-    if (brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx) return 0.f;
-    return sampleTable(lighting.albedo[size_t(int(brdf) - 1)], 0, mu, perceptualRoughness);
+    return specularAlbedoAndSlope(lighting, brdf, mu, perceptualRoughness).x;
 }
 
 glm::vec2 specularAlbedoAndSlope(const SplitSumLighting& lighting, Brdf brdf, float mu,
@@ -420,8 +403,9 @@ glm::vec2 specularAlbedoAndSlope(const SplitSumLighting& lighting, Brdf brdf, fl
 float dominantShare(const SplitSumLighting& lighting, Brdf brdf, float mu,
                     float perceptualRoughness) {
     if (brdf != Brdf::BlinnPhong && brdf != Brdf::Beckmann && brdf != Brdf::Ggx) return 0.f;
-    return sampleTable(lighting.dominant[size_t(int(brdf) - 1)], 0, std::clamp(mu, 0.f, 1.f),
-                       std::clamp(perceptualRoughness, 0.f, 1.f));
+    return sampleTableAndSlope(lighting.dominant[size_t(int(brdf) - 1)], 0,
+                               std::clamp(mu, 0.f, 1.f), std::clamp(perceptualRoughness, 0.f, 1.f))
+        .x;
 }
 
 glm::vec3 prefilteredRadiance(const SplitSumLighting& lighting, EnvironmentLod rule,
