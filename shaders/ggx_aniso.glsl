@@ -87,6 +87,12 @@ vec3 ndfmipBurleyAnisotropyTensor(vec4 c) {
     return ndfmipEngineAnisotropyTensor(vec2(c.y, c.z), alpha / aspect, alpha * aspect);
 }
 
+// An engine's specular anti-aliasing (ndfmipSpecularAaKernel, brdf.glsl) on the tensor: the
+// kernel added to alpha^2 along every direction.
+vec3 ndfmipSpecularAaTensor(vec3 tensor, float kernel) {
+    return tensor + vec3(kernel, 0.0f, kernel);
+}
+
 // The lobe about the renormalised filtered normal, with its cosine: max(n.l, 0) (albedo / pi +
 // specular D(h)), as ndfmipShadeNormal shades one normal.
 vec3 ndfmipShadeGgxAniso(NdfmipMaterial m, vec3 albedo, vec3 filtered, vec3 tensor, vec3 l, vec3 v) {

@@ -3,7 +3,7 @@
 #define NDFMIP_SPECULAR_AA
 // The tensor with this lookup's specular anti-aliasing added along every direction.
 vec3 ndfmipAaTensor(vec3 a) {
-    return ndfmipAaKernel > 0.0f ? a + vec3(ndfmipAaKernel, 0.0f, ndfmipAaKernel) : a;
+    return ndfmipAaKernel > 0.0f ? ndfmipSpecularAaTensor(a, ndfmipAaKernel) : a;
 }
 vec3 ndfmipShadeTexel(vec4 p[NDFMIP_LAYERS], vec3 albedo, vec3 l, vec3 v) {
     return ndfmipShadeGgxAniso(ndfmipMaterial, albedo, p[0].xyz, ndfmipAaTensor(p[1].xyz), l, v);

@@ -140,12 +140,13 @@ template <EngineInputs E> std::string engineDefines(const ShaderSetup&, int) {
         return "";
 }
 
-// Specular anti-aliasing: kernel I added to the squared-roughness tensor (the engine's rule adds
-// it to alpha^2 along every direction). The engine rows' planes are their files' channels, whose
-// engines widen no tensor: they take none.
+// Specular anti-aliasing on the tensor (ndfmipSpecularAaTensor). The engine rows' planes are
+// their files' channels, whose engines widen no tensor: they take none.
 void widenTensor(const ShaderSetup&, Material&, float* p, float kernel) {
-    p[3] += kernel;
-    p[5] += kernel;
+    const glm::vec3 widened = glsl().ndfmipSpecularAaTensor(glm::vec3(p[3], p[4], p[5]), kernel);
+    p[3] = widened.x;
+    p[4] = widened.y;
+    p[5] = widened.z;
 }
 
 template <EngineInputs E> MethodShader anisoShader(const char* name) {
