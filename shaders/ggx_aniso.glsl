@@ -1,9 +1,10 @@
 // ndfmip shading library: one anisotropic GGX lobe about the mean normal (needs brdf.glsl), the
 // lobe ggx-aniso fits per texel and what an engine's anisotropic GGX shades.
 //
-// Textures: ggx-aniso's "normal" (the mean normal renormalised) and "alpha_tensor" (A_tt, A_tb,
-// A_bb: the lobe's squared-roughness tensor in the frame (t, b) about that normal), both
-// hardware-filtered: a blend of tensors is a tensor.
+// Textures: ggx-aniso's "normal" (the lobe's unit axis) and "alpha_moments" (the lobe's
+// squared-roughness tensor A in the frame (t, b) about that normal, plus twice the second moment
+// of the normal's x and y: ndfmipGgxAnisoMoments), both hardware-filtered; the shader takes the
+// blend's tensor from the two blends (ndfmipGgxAnisoTensor).
 
 // The frame about a unit normal n: t the texture's x made orthogonal to n (Gram-Schmidt, as
 // engines make a surface tangent orthogonal to the shading normal), b = n x t; from y where n
@@ -36,6 +37,28 @@ float ndfmipGgxAnisoLobe(vec3 n, vec3 tensor, vec3 h) {
     float q = (abb * x * x - 2.0f * atb * x * y + att * y * y) / det;
     float d = cosH * cosH + q;
     return 1.0f / (NDFMIP_PI * sqrt(det) * d * d);
+}
+
+// What a blend of texels adds to their lobes, as Toksvig's rule adds the normals' spread to
+// alpha^2 (alpha'^2 = alpha^2 + 2 sigma^2, roughness.h's varianceRoughness): twice the covariance
+// of the blended texels' axes.
+#define NDFMIP_GGX_ANISO_AXIS_SPREAD 2.0f
+
+// The texel ggx-aniso stores for its lobe's tensor A about its unit axis n: M = A + 2 n_xy n_xy^T
+// (M_tt, M_tb, M_bb; n_xy the axis's x and y in the texture's frame). A hardware blend of M and
+// of the axes is then mean(A) + 2 (mean(n_xy n_xy^T) - mean(n_xy) mean(n_xy)^T): the blended
+// lobes' own widths plus the spread between their axes, which a blend of A alone loses (LEAN
+// mapping's second moments keep it the same way, Toksvig's |Na| for one isotropic lobe).
+vec3 ndfmipGgxAnisoMoments(vec3 tensor, vec3 n) {
+    return tensor + NDFMIP_GGX_ANISO_AXIS_SPREAD * vec3(n.x * n.x, n.x * n.y, n.y * n.y);
+}
+
+// The lobe's tensor from the blended "alpha_moments" and the blended, not renormalised, normal:
+// at one texel its own A. The spread is taken in the texture's x and y, which the frame (t, b)
+// about the blended normal is up to its tilt (second order in the tilt of the blended axes).
+vec3 ndfmipGgxAnisoTensor(vec3 moments, vec3 filtered) {
+    return moments - NDFMIP_GGX_ANISO_AXIS_SPREAD *
+                         vec3(filtered.x * filtered.x, filtered.x * filtered.y, filtered.y * filtered.y);
 }
 
 // The isotropic alpha an engine's environment lighting reads for the lobe: the root mean of the

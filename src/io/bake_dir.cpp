@@ -503,12 +503,15 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
         if (Status s = writeEngineAnisotropy(*engine, bake, lobes, options, writeMade); !s)
             return Error{s.error};
     }
-    // ggx-aniso's fitted lobe from its tensor (ggx_aniso.glsl), about its normal plane (written
+    // ggx-aniso's fitted lobe from its moments (ggx_aniso.glsl), about its normal plane (written
     // above as the engine's normal map).
-    if (const int tensor = findPlane(bake.planes, "alpha_tensor"); options.engine && tensor >= 0) {
-        const LobeLevels lobes{size_t(tensor), [&bake, tensor](size_t k, size_t i) {
-                                   const float* a = &bake.levels[k][size_t(tensor)]->pixels[3 * i];
-                                   return anisotropicLobe(a[0], a[2], a[1]);
+    const int tensor = findPlane(bake.planes, "alpha_moments"),
+              normal = findPlane(bake.planes, "normal");
+    if (options.engine && tensor >= 0 && normal >= 0) {
+        const LobeLevels lobes{size_t(tensor), [&bake, tensor, normal](size_t k, size_t i) {
+                                   return anisotropicLobeOfGgxAniso(
+                                       &bake.levels[k][size_t(tensor)]->pixels[3 * i],
+                                       &bake.levels[k][size_t(normal)]->pixels[3 * i]);
                                }};
         if (Status s = writeEngineAnisotropy(*options.engine, bake, lobes, options, writeMade); !s)
             return Error{s.error};

@@ -821,18 +821,19 @@ class Filter {
             roughnessG, anisotropy);
     }
 
-    // --method ggx-aniso: the fitted lobe of each texel's tensor (the bake's alpha_tensor,
-    // ggx_aniso.glsl) as KHR_materials_anisotropy stores it (khrAnisotropyLevels).
+    // --method ggx-aniso: the fitted lobe of each texel (the bake's alpha_moments about its
+    // normal, ggx_aniso.glsl) as KHR_materials_anisotropy stores it (khrAnisotropyLevels).
     template <class RoughnessG>
     std::vector<Image>
     fittedAnisotropyLevels(const Bake& bake, const std::vector<SharedImage>& averaged,
                            RoughnessG roughnessG, std::vector<Image>& anisotropy) {
-        const size_t tensor = size_t(findPlane(bake.planes, "alpha_tensor"));
+        const size_t tensor = size_t(findPlane(bake.planes, "alpha_moments")),
+                     normal = size_t(findPlane(bake.planes, "normal"));
         return khrAnisotropyLevels(
             averaged,
             [&](size_t k, size_t i) {
-                const float* t = &bake.levels[k][tensor]->pixels[3 * i];
-                return anisotropicLobe(t[0], t[2], t[1]);
+                return anisotropicLobeOfGgxAniso(&bake.levels[k][tensor]->pixels[3 * i],
+                                                 &bake.levels[k][normal]->pixels[3 * i]);
             },
             roughnessG, anisotropy);
     }

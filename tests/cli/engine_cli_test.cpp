@@ -269,7 +269,8 @@ TEST(EngineCli, LeanBakeWritesEachEnginesOwnAnisotropyInputs) {
 }
 
 // ggx-aniso's fitted lobe in each engine's anisotropy inputs: every texel of levels 0-3 of the
-// files against the lobe of the bake's own alpha_tensor plane (written beside them as EXR), in
+// files against the lobe of the bake's own alpha_moments and normal planes (written beside them as
+// EXR; anisotropicLobeOfGgxAniso), in
 // KHR's, Kulla's (Unreal) and Burley's (Godot) parametrisation; the axis on x from level 1 on.
 TEST(EngineCli, GgxAnisoBakeWritesItsFittedLobeInEachEnginesInputs) {
     test::TempDir dir("ndfmip_engine_ggx_aniso");
@@ -292,13 +293,16 @@ TEST(EngineCli, GgxAnisoBakeWritesItsFittedLobeInEachEnginesInputs) {
         ASSERT_GT(packed.size(), 80u);
         for (uint32_t k = 0; k < 4; ++k) {
             Result<SourceImage> tensor =
-                loadImage(out + "/alpha_tensor_L" + std::to_string(k) + ".exr");
+                loadImage(out + "/alpha_moments_L" + std::to_string(k) + ".exr");
             ASSERT_TRUE(tensor) << tensor.error().message;
+            Result<SourceImage> normal = loadImage(out + "/normal_L" + std::to_string(k) + ".exr");
+            ASSERT_TRUE(normal) << normal.error().message;
             const std::string a = ktx2Level(anisotropy, k), g = ktx2Level(packed, k);
             ASSERT_EQ(a.size(), size_t(4 * (8 >> k) * (8 >> k)));
             for (size_t i = 0; i < a.size() / 4; ++i) {
-                const float* t = &tensor->image.pixels[size_t(tensor->image.channels) * i];
-                const AnisotropicLobe lobe = anisotropicLobe(t[0], t[2], t[1]);
+                const AnisotropicLobe lobe = anisotropicLobeOfGgxAniso(
+                    &tensor->image.pixels[size_t(tensor->image.channels) * i],
+                    &normal->image.pixels[size_t(normal->image.channels) * i]);
                 const auto at = [&](const std::string& s, size_t channel) {
                     return double((unsigned char)s[4 * i + channel]);
                 };

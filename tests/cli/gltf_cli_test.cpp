@@ -692,8 +692,8 @@ TEST(GltfCli, GgxAnisoWritesItsFittedLobeAsKhrMaterialsAnisotropy) {
         // G over the factor: Wall's 0.9, 1 for Plain's made map.
         const double factor = m == 0 ? 0.9 : 1.0;
         for (size_t k = 0; k < 3; ++k) {
-            const float* t = bake.levels[k][1]->at(0, 0);
-            const KhrAnisotropy lobe = khrAnisotropy(t[0], t[2], t[1]);
+            const KhrAnisotropy lobe = khrAnisotropy(anisotropicLobeOfGgxAniso(
+                bake.levels[k][1]->at(0, 0), bake.levels[k][0]->at(0, 0)));
             const auto* a = reinterpret_cast<const unsigned char*>(anisotropy.levels[k].data());
             const auto* r = reinterpret_cast<const unsigned char*>(roughness.levels[k].data());
             if (k > 0) {

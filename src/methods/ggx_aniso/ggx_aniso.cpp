@@ -16,6 +16,9 @@
 //
 // The direction is mode 2's own (its weighted sum over the rings); the isotropic alpha (mode 0,
 // ggx-fit's fit) starts the search over the geometric mean and the log ratio of a1 and a2.
+//
+// Stored is not A but A + 2 n_xy n_xy^T (ggx_aniso.glsl's ndfmipGgxAnisoMoments), so that a
+// hardware blend of neighbouring texels also widens the lobe by the spread between their axes.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -130,11 +133,12 @@ Bake bakeGgxAniso(const Pyramid& pyramid, const BakeOptions& options) {
          {"n.x", "n.y", "n.z"},
          "the lobe's axis: a mode of the footprint's normals near their mean, unit length",
          true},
-        {"alpha_tensor",
-         {"A_tt", "A_tb", "A_bb"},
-         "squared-roughness tensor of the one anisotropic GGX lobe about the normal closest to "
-         "the texel's filtered NDF, in the frame t = the texture's x made orthogonal to the "
-         "normal, b = n x t",
+        {"alpha_moments",
+         {"M_tt", "M_tb", "M_bb"},
+         "A + 2 n_xy n_xy^T: A the squared-roughness tensor of the one anisotropic GGX lobe about "
+         "the normal closest to the texel's filtered NDF, in the frame t = the texture's x made "
+         "orthogonal to the normal, b = n x t; n_xy the normal's x and y (a blend of this and of "
+         "the normals keeps the spread between the blended axes)",
          true},
     };
     const MaterialLobes lobes = materialLobes(options, true);
@@ -163,6 +167,15 @@ Bake bakeGgxAniso(const Pyramid& pyramid, const BakeOptions& options) {
             [&](size_t i, int x, int y) {
                 store(i, isotropic(lobes.alphaAt(x, y))); // one normal: its own lobe
             });
+        for (size_t i = 0; i < tensor.texelCount(); ++i) {
+            float* a = &tensor.pixels[3 * i];
+            const float* n = &normal.pixels[3 * i];
+            const glm::vec3 m = glsl().ndfmipGgxAnisoMoments(glm::vec3(a[0], a[1], a[2]),
+                                                             glm::vec3(n[0], n[1], n[2]));
+            a[0] = m.x;
+            a[1] = m.y;
+            a[2] = m.z;
+        }
         bake.levels[k] = {std::make_shared<const Image>(std::move(normal)),
                           std::make_shared<const Image>(std::move(tensor))};
         if (options.progress) options.progress(k + 1, count);

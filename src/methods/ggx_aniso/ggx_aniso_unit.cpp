@@ -53,16 +53,16 @@ template <EngineInputs E> glm::vec4 engineTexel(const AnisotropicLobe& lobe) {
 // the files' directions (coherentDirections) and their 8 bits.
 template <EngineInputs E> Bake engineAnisotropyPlanes(const Bake& bake) {
     const int normalPlane = findPlane(bake.planes, "normal");
-    const int tensorPlaneIndex = findPlane(bake.planes, "alpha_tensor");
+    const int tensorPlaneIndex = findPlane(bake.planes, "alpha_moments");
     if (normalPlane < 0 || tensorPlaneIndex < 0)
-        throw std::runtime_error("ggx-aniso: the bake has no normal and alpha_tensor planes");
+        throw std::runtime_error("ggx-aniso: the bake has no normal and alpha_moments planes");
     const size_t tensorPlane = size_t(tensorPlaneIndex);
     std::vector<std::pair<int, int>> sizes;
     for (const auto& level : bake.levels)
         sizes.emplace_back(level[tensorPlane]->width, level[tensorPlane]->height);
-    auto lobe = [&bake, tensorPlane](size_t k, size_t i) {
-        const float* a = &bake.levels[k][tensorPlane]->pixels[3 * i];
-        return anisotropicLobe(a[0], a[2], a[1]);
+    auto lobe = [&bake, tensorPlane, normalPlane](size_t k, size_t i) {
+        return anisotropicLobeOfGgxAniso(&bake.levels[k][tensorPlane]->pixels[3 * i],
+                                         &bake.levels[k][size_t(normalPlane)]->pixels[3 * i]);
     };
     const StoredDirections directions = coherentDirections(sizes, lobe);
     auto eightBits = [](float v) { return std::round(std::clamp(v, 0.f, 1.f) * 255.f) / 255.f; };
@@ -91,11 +91,12 @@ template <EngineInputs E> Bake engineAnisotropyPlanes(const Bake& bake) {
     return out;
 }
 
-// The lobe's tensor from the blended planes: the stored one, or the one the engine decodes from
-// its blended channels (ggx_aniso.glsl).
+// The lobe's tensor from the blended planes: the bake's, from its blended moments and normal, or
+// the one the engine decodes from its blended channels (ggx_aniso.glsl).
 template <EngineInputs E> glm::vec3 tensorOf(const float* p) {
     if constexpr (E == EngineInputs::Tensor)
-        return {p[3], p[4], p[5]};
+        return glsl().ndfmipGgxAnisoTensor(glm::vec3(p[3], p[4], p[5]),
+                                           glm::vec3(p[0], p[1], p[2]));
     else if constexpr (E == EngineInputs::Khr)
         return glsl().ndfmipKhrAnisotropyTensor(glm::vec4(p[3], p[4], p[5], p[6]));
     else if constexpr (E == EngineInputs::Kulla)
@@ -140,8 +141,9 @@ template <EngineInputs E> std::string engineDefines(const ShaderSetup&, int) {
         return "";
 }
 
-// Specular anti-aliasing on the tensor (ndfmipSpecularAaTensor). The engine rows' planes are
-// their files' channels, whose engines widen no tensor: they take none.
+// Specular anti-aliasing on the tensor (ndfmipSpecularAaTensor), added to the blended moments,
+// which adds it to their tensor. The engine rows' planes are their files' channels, whose engines
+// widen no tensor: they take none.
 void widenTensor(const ShaderSetup&, Material&, float* p, float kernel) {
     const glm::vec3 widened = glsl().ndfmipSpecularAaTensor(glm::vec3(p[3], p[4], p[5]), kernel);
     p[3] = widened.x;
@@ -175,10 +177,14 @@ template <EngineInputs E> MethodShader anisoShader(const char* name) {
 
 void inspectGgxAniso(nlohmann::json& out, const LoadedBake& bake, int x, int y,
                      const InspectOptions&) {
-    out["normal"] = jsonVec3(bake.level[requirePlane(bake, "normal")].at(x, y));
-    const float* a = bake.level[requirePlane(bake, "alpha_tensor")].at(x, y);
-    out["alpha_tensor"] = {{a[0], a[1]}, {a[1], a[2]}};
-    const AnisotropicLobe lobe = anisotropicLobe(a[0], a[2], a[1]);
+    const float* n = bake.level[requirePlane(bake, "normal")].at(x, y);
+    out["normal"] = jsonVec3(n);
+    const float* m = bake.level[requirePlane(bake, "alpha_moments")].at(x, y);
+    out["alpha_moments"] = {{m[0], m[1]}, {m[1], m[2]}};
+    const glm::vec3 a =
+        glsl().ndfmipGgxAnisoTensor(glm::vec3(m[0], m[1], m[2]), glm::vec3(n[0], n[1], n[2]));
+    out["alpha_tensor"] = {{a.x, a.y}, {a.y, a.z}};
+    const AnisotropicLobe lobe = anisotropicLobe(a.x, a.z, a.y);
     out["alpha_t"] = lobe.alphaT;
     out["alpha_b"] = lobe.alphaB;
     out["direction"] = {lobe.direction.x, lobe.direction.y};
@@ -194,7 +200,8 @@ MethodUnit ggxAnisoUnit() {
                 "the texel's filtered NDF (needs --base-roughness)";
     u.bake = bakeGgxAniso;
     u.planes = [](const BakeParameters&, bool) {
-        return std::vector<PlaneInfo>{planeOf("normal", 3, true), planeOf("alpha_tensor", 3, true)};
+        return std::vector<PlaneInfo>{planeOf("normal", 3, true),
+                                      planeOf("alpha_moments", 3, true)};
     };
     u.parameters = {materialRoughnessParameter()}; // the shader checks the material's
     // The planes, and with a roughness map its alpha.

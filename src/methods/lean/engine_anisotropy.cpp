@@ -30,6 +30,12 @@ AnisotropicLobe anisotropicLobeOfMoments(const float* m, float cross, float alph
     return anisotropicLobe(alpha2 + 2.f * own.x, alpha2 + 2.f * own.y, 2.f * own.z);
 }
 
+AnisotropicLobe anisotropicLobeOfGgxAniso(const float* m, const float* n) {
+    const glm::vec3 a =
+        glsl().ndfmipGgxAnisoTensor(glm::vec3(m[0], m[1], m[2]), glm::vec3(n[0], n[1], n[2]));
+    return anisotropicLobe(a.x, a.z, a.y);
+}
+
 StoredDirections
 coherentDirections(const std::vector<std::pair<int, int>>& sizes,
                    const std::function<AnisotropicLobe(size_t k, size_t i)>& lobe) {

@@ -38,6 +38,10 @@ AnisotropicLobe anisotropicLobe(float axx, float ayy, float axy);
 // the tensor alpha2 I + 2 Sigma, Sigma the slopes' covariance (lean.glsl's).
 AnisotropicLobe anisotropicLobeOfMoments(const float* moments, float cross, float alpha2);
 
+// The lobe of one texel of a ggx-aniso bake: its alpha_moments less twice its unit normal's x and
+// y second moment (ggx_aniso.glsl's ndfmipGgxAnisoTensor), the fitted tensor A.
+AnisotropicLobe anisotropicLobeOfGgxAniso(const float* alphaMoments, const float* normal);
+
 // ---- Directions that blend ---------------------------------------------------------------------
 
 // The directions an engine's direction texture stores, chosen so that its sampler's blends keep
