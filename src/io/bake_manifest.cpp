@@ -175,7 +175,8 @@ void readPlanes(const json& m, LoadedBake& bake) {
     if (!same) {
         const std::string what = unit.describe(bake.parameters);
         failManifest("'planes' do not match a " + what + ": expected " + planeList(expected) +
-                     "; found " + (planes.empty() ? std::string("none") : planeList(bake.planes)));
+                     "; found " + (planes.empty() ? std::string("none") : planeList(bake.planes)) +
+                     " (a bake made by another version of ndfmip: bake it again)");
     }
 }
 

@@ -179,6 +179,15 @@ TEST_F(TamperedBake, PlanesMustBeTheMethods) {
     expectRefused({manifest(), "'planes' do not match", "not linear"});
 }
 
+TEST_F(TamperedBake, AnOlderGgxAnisoBakeIsRefusedWithAHint) {
+    // ggx-aniso bakes before alpha_moments held the tensor alone, as alpha_tensor: read as
+    // moments it would shade another lobe, so it is refused, saying what to do.
+    makeBake("--method ggx-aniso --base-roughness 0.2");
+    tamper([](json& m) { m["planes"][1]["name"] = "alpha_tensor"; });
+    expectRefused({manifest(), "'planes' do not match a ggx-aniso bake", "alpha_tensor (3)",
+                   "bake it again"});
+}
+
 TEST_F(TamperedBake, LevelFilesMustBePlainNamesInsideTheFolder) {
     makeBake("--method toksvig");
     writeBytes(tmp.path / "outside.exr", fileBytes(bake / "mean_L0.exr"));
