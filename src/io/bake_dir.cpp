@@ -505,12 +505,13 @@ Result<std::vector<std::string>> writeContainers(const fs::path& folder, const B
     }
     // ggx-aniso's fitted lobe from its moments (ggx_aniso.glsl), about its normal plane (written
     // above as the engine's normal map).
-    const int tensor = findPlane(bake.planes, "alpha_moments"),
+    const int alphaMoments = findPlane(bake.planes, "alpha_moments"),
               normal = findPlane(bake.planes, "normal");
-    if (options.engine && tensor >= 0 && normal >= 0) {
-        const LobeLevels lobes{size_t(tensor), [&bake, tensor, normal](size_t k, size_t i) {
+    if (options.engine && alphaMoments >= 0 && normal >= 0) {
+        const LobeLevels lobes{size_t(alphaMoments),
+                               [&bake, alphaMoments, normal](size_t k, size_t i) {
                                    return anisotropicLobeOfGgxAniso(
-                                       &bake.levels[k][size_t(tensor)]->pixels[3 * i],
+                                       &bake.levels[k][size_t(alphaMoments)]->pixels[3 * i],
                                        &bake.levels[k][size_t(normal)]->pixels[3 * i]);
                                }};
         if (Status s = writeEngineAnisotropy(*options.engine, bake, lobes, options, writeMade); !s)

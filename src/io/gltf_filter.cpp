@@ -827,12 +827,12 @@ class Filter {
     std::vector<Image>
     fittedAnisotropyLevels(const Bake& bake, const std::vector<SharedImage>& averaged,
                            RoughnessG roughnessG, std::vector<Image>& anisotropy) {
-        const size_t tensor = size_t(findPlane(bake.planes, "alpha_moments")),
+        const size_t moments = size_t(findPlane(bake.planes, "alpha_moments")),
                      normal = size_t(findPlane(bake.planes, "normal"));
         return khrAnisotropyLevels(
             averaged,
             [&](size_t k, size_t i) {
-                return anisotropicLobeOfGgxAniso(&bake.levels[k][tensor]->pixels[3 * i],
+                return anisotropicLobeOfGgxAniso(&bake.levels[k][moments]->pixels[3 * i],
                                                  &bake.levels[k][normal]->pixels[3 * i]);
             },
             roughnessG, anisotropy);

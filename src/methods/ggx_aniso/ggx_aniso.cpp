@@ -167,6 +167,7 @@ Bake bakeGgxAniso(const Pyramid& pyramid, const BakeOptions& options) {
             [&](size_t i, int x, int y) {
                 store(i, isotropic(lobes.alphaAt(x, y))); // one normal: its own lobe
             });
+        // What the level stores: each fitted tensor plus its axis's moment.
         for (size_t i = 0; i < tensor.texelCount(); ++i) {
             float* a = &tensor.pixels[3 * i];
             const float* n = &normal.pixels[3 * i];

@@ -53,15 +53,15 @@ template <EngineInputs E> glm::vec4 engineTexel(const AnisotropicLobe& lobe) {
 // the files' directions (coherentDirections) and their 8 bits.
 template <EngineInputs E> Bake engineAnisotropyPlanes(const Bake& bake) {
     const int normalPlane = findPlane(bake.planes, "normal");
-    const int tensorPlaneIndex = findPlane(bake.planes, "alpha_moments");
-    if (normalPlane < 0 || tensorPlaneIndex < 0)
+    const int momentsPlaneIndex = findPlane(bake.planes, "alpha_moments");
+    if (normalPlane < 0 || momentsPlaneIndex < 0)
         throw std::runtime_error("ggx-aniso: the bake has no normal and alpha_moments planes");
-    const size_t tensorPlane = size_t(tensorPlaneIndex);
+    const size_t momentsPlane = size_t(momentsPlaneIndex);
     std::vector<std::pair<int, int>> sizes;
     for (const auto& level : bake.levels)
-        sizes.emplace_back(level[tensorPlane]->width, level[tensorPlane]->height);
-    auto lobe = [&bake, tensorPlane, normalPlane](size_t k, size_t i) {
-        return anisotropicLobeOfGgxAniso(&bake.levels[k][tensorPlane]->pixels[3 * i],
+        sizes.emplace_back(level[momentsPlane]->width, level[momentsPlane]->height);
+    auto lobe = [&bake, momentsPlane, normalPlane](size_t k, size_t i) {
+        return anisotropicLobeOfGgxAniso(&bake.levels[k][momentsPlane]->pixels[3 * i],
                                          &bake.levels[k][size_t(normalPlane)]->pixels[3 * i]);
     };
     const StoredDirections directions = coherentDirections(sizes, lobe);
@@ -77,7 +77,7 @@ template <EngineInputs E> Bake engineAnisotropyPlanes(const Bake& bake) {
                    "the lobe as the engine's files hold it, 8-bit",
                    true}};
     for (size_t k = 0; k < bake.levels.size(); ++k) {
-        const Image& tensor = *bake.levels[k][tensorPlane];
+        const Image& tensor = *bake.levels[k][momentsPlane];
         Image texels(tensor.width, tensor.height, 4, Image::Uninitialized{});
         for (size_t i = 0; i < tensor.texelCount(); ++i) {
             AnisotropicLobe l = lobe(k, i);
