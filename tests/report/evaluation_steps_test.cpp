@@ -310,7 +310,7 @@ TEST(EvaluationSteps, EachEnginesChannelsBlendedAcrossTheVerticalKeepTheTensorsE
     // 2 x 2 blocks of normals at +-20 degrees along 84 or 96 degrees from x, in a checkerboard of
     // blocks: level 1's lobes point near the y axis, which KHR_materials_anisotropy's direction
     // (x >= 0 as a lobe's axis is given) crosses between neighbours. One trilinear lookup at
-    // footprint 2 blends neighbouring level-1 texels: ggx-aniso blends their tensors, the engine
+    // footprint 2 blends neighbouring level-1 texels: ggx-aniso blends their moments, the engine
     // rows their files' channels (8-bit, decoded after the blend as the engines do). With the
     // files' directions signed to agree, the channels' blend loses next to nothing (measured, KHR's
     // 0.361, Kulla's 0.355, Burley's 0.363 against 0.363); KHR's stored with x >= 0 blend to
