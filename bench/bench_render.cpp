@@ -25,10 +25,14 @@ ndfmip::Scene grazingPlane(int pixels) {
     return s;
 }
 
-ndfmip::RenderTextures texturesFor(ndfmip::Method method) {
+// The bake of `method` for the scene's material: the fitted single lobes are fitted to its
+// roughness.
+ndfmip::RenderTextures texturesFor(ndfmip::Method method, const ndfmip::Material& material) {
     ndfmip::RenderTextures t;
     t.normals = ndfmip::bench::syntheticMap(1024);
-    t.bake = ndfmip::bakeMethod(method, ndfmip::buildPyramid(t.normals), {});
+    ndfmip::BakeOptions options;
+    if (ndfmip::bakeFitsMaterialRoughness(method)) options.baseRoughness = material.roughness;
+    t.bake = ndfmip::bakeMethod(method, ndfmip::buildPyramid(t.normals), options);
     return t;
 }
 
@@ -50,7 +54,7 @@ void BM_RenderGroundTruth(benchmark::State& state) {
 // lookup with the parameters blended.
 void renderMethod(benchmark::State& state, const ndfmip::Scene& scene, ndfmip::Method method,
                   bool plain, float specularAa = 0.f) {
-    const ndfmip::RenderTextures t = texturesFor(method);
+    const ndfmip::RenderTextures t = texturesFor(method, scene.material);
     ndfmip::RenderOptions o;
     o.specularAntiAliasing.variance = specularAa;
     if (plain) {
@@ -71,7 +75,8 @@ void BM_RenderMethod(benchmark::State& state, ndfmip::Method method) {
 }
 
 // The plain lookup (an engine's one tap, parameters blended) under GGX alpha = 0.1: vmf's lobes
-// convolved with GGX (a 12-node mixture per lobe) against Toksvig's one widened lobe.
+// convolved with GGX (a 12-node mixture per lobe) and the fitted single lobes (ggx-fit's
+// roughness, ggx-aniso's tensor from its moments) against Toksvig's one widened lobe.
 void BM_RenderMethodGgx(benchmark::State& state, ndfmip::Method method) {
     ndfmip::Scene scene = grazingPlane(int(state.range(0)));
     scene.material.brdf = ndfmip::Brdf::Ggx;
@@ -121,6 +126,14 @@ BENCHMARK_CAPTURE(BM_RenderMethodGgx, toksvig, ndfmip::Method::Toksvig)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK_CAPTURE(BM_RenderMethodGgx, vmf4, ndfmip::Method::Vmf)
+    ->Arg(1024)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_RenderMethodGgx, ggx_fit, ndfmip::Method::GgxFit)
+    ->Arg(1024)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_RenderMethodGgx, ggx_aniso, ndfmip::Method::GgxAniso)
     ->Arg(1024)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
