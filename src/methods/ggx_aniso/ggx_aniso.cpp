@@ -148,9 +148,16 @@ Bake bakeGgxAniso(const Pyramid& pyramid, const BakeOptions& options) {
         const Image& mean = levelMean(pyramid, k);
         Image normal(mean.width, mean.height, 3, Image::Uninitialized{});
         Image tensor(mean.width, mean.height, 3, Image::Uninitialized{});
-        auto store = [&tensor](size_t i, const Tensor& a) {
+        // What the level stores: the fitted tensor plus its axis's moment (fitLevel has written
+        // the texel's axis before it fits the lobe).
+        auto store = [&tensor, &normal](size_t i, const Tensor& a) {
+            const float* n = &normal.pixels[3 * i];
+            const glm::vec3 m = glsl().ndfmipGgxAnisoMoments(glm::vec3(a.tt, a.tb, a.bb),
+                                                             glm::vec3(n[0], n[1], n[2]));
             float* out = &tensor.pixels[3 * i];
-            out[0] = a.tt, out[1] = a.tb, out[2] = a.bb;
+            out[0] = m.x;
+            out[1] = m.y;
+            out[2] = m.z;
         };
         fitLevel(
             pyramid, lobes, k, normal,
@@ -167,16 +174,6 @@ Bake bakeGgxAniso(const Pyramid& pyramid, const BakeOptions& options) {
             [&](size_t i, int x, int y) {
                 store(i, isotropic(lobes.alphaAt(x, y))); // one normal: its own lobe
             });
-        // What the level stores: each fitted tensor plus its axis's moment.
-        for (size_t i = 0; i < tensor.texelCount(); ++i) {
-            float* a = &tensor.pixels[3 * i];
-            const float* n = &normal.pixels[3 * i];
-            const glm::vec3 m = glsl().ndfmipGgxAnisoMoments(glm::vec3(a[0], a[1], a[2]),
-                                                             glm::vec3(n[0], n[1], n[2]));
-            a[0] = m.x;
-            a[1] = m.y;
-            a[2] = m.z;
-        }
         bake.levels[k] = {std::make_shared<const Image>(std::move(normal)),
                           std::make_shared<const Image>(std::move(tensor))};
         if (options.progress) options.progress(k + 1, count);
