@@ -292,16 +292,16 @@ TEST(EngineCli, GgxAnisoBakeWritesItsFittedLobeInEachEnginesInputs) {
         ASSERT_GT(anisotropy.size(), 80u);
         ASSERT_GT(packed.size(), 80u);
         for (uint32_t k = 0; k < 4; ++k) {
-            Result<SourceImage> tensor =
+            Result<SourceImage> moments =
                 loadImage(out + "/alpha_moments_L" + std::to_string(k) + ".exr");
-            ASSERT_TRUE(tensor) << tensor.error().message;
+            ASSERT_TRUE(moments) << moments.error().message;
             Result<SourceImage> normal = loadImage(out + "/normal_L" + std::to_string(k) + ".exr");
             ASSERT_TRUE(normal) << normal.error().message;
             const std::string a = ktx2Level(anisotropy, k), g = ktx2Level(packed, k);
             ASSERT_EQ(a.size(), size_t(4 * (8 >> k) * (8 >> k)));
             for (size_t i = 0; i < a.size() / 4; ++i) {
                 const AnisotropicLobe lobe = anisotropicLobeOfGgxAniso(
-                    &tensor->image.pixels[size_t(tensor->image.channels) * i],
+                    &moments->image.pixels[size_t(moments->image.channels) * i],
                     &normal->image.pixels[size_t(normal->image.channels) * i]);
                 const auto at = [&](const std::string& s, size_t channel) {
                     return double((unsigned char)s[4 * i + channel]);

@@ -1,8 +1,8 @@
 // ggx-aniso: per texel and level, the one anisotropic GGX lobe about the level's axis (ggx-fit's:
 // a mode of the footprint's normals near their mean, ndf_rings.h's modeAxis) that
 // best matches the texel's exact filtered NDF (ndf_rings.h): two roughnesses and the direction of
-// the wider, stored as the squared-roughness tensor A in the frame (t, b) about the normal
-// (shaders/ggx_aniso.glsl), which a hardware blend keeps a tensor.
+// the wider, as the squared-roughness tensor A in the frame (t, b) about the normal
+// (shaders/ggx_aniso.glsl), stored with its axis's moment added (below).
 //
 // The error is ggx-fit's, the L2 distance of the two NDFs over the sphere, read through the
 // azimuthal modes 0 and 2 on the rings about the normal. The lobe, centred on the normal, has
@@ -147,14 +147,14 @@ Bake bakeGgxAniso(const Pyramid& pyramid, const BakeOptions& options) {
     for (int k = 0; k < count; ++k) {
         const Image& mean = levelMean(pyramid, k);
         Image normal(mean.width, mean.height, 3, Image::Uninitialized{});
-        Image tensor(mean.width, mean.height, 3, Image::Uninitialized{});
+        Image moments(mean.width, mean.height, 3, Image::Uninitialized{});
         // What the level stores: the fitted tensor plus its axis's moment (fitLevel has written
         // the texel's axis before it fits the lobe).
-        auto store = [&tensor, &normal](size_t i, const Tensor& a) {
+        auto store = [&moments, &normal](size_t i, const Tensor& a) {
             const float* n = &normal.pixels[3 * i];
             const glm::vec3 m = glsl().ndfmipGgxAnisoMoments(glm::vec3(a.tt, a.tb, a.bb),
                                                              glm::vec3(n[0], n[1], n[2]));
-            float* out = &tensor.pixels[3 * i];
+            float* out = &moments.pixels[3 * i];
             out[0] = m.x;
             out[1] = m.y;
             out[2] = m.z;
@@ -162,7 +162,7 @@ Bake bakeGgxAniso(const Pyramid& pyramid, const BakeOptions& options) {
         fitLevel(
             pyramid, lobes, k, normal,
             [](const float* n) {
-                // The frame the tensor is stored in (ggx_aniso.glsl).
+                // The frame the tensor A is fitted in (ggx_aniso.glsl).
                 const glm::vec3 axis(n[0], n[1], n[2]);
                 const glm::vec3 t = glsl().ndfmipAnisoTangent(axis);
                 const glm::vec3 b = glm::cross(axis, t);
@@ -175,7 +175,7 @@ Bake bakeGgxAniso(const Pyramid& pyramid, const BakeOptions& options) {
                 store(i, isotropic(lobes.alphaAt(x, y))); // one normal: its own lobe
             });
         bake.levels[k] = {std::make_shared<const Image>(std::move(normal)),
-                          std::make_shared<const Image>(std::move(tensor))};
+                          std::make_shared<const Image>(std::move(moments))};
         if (options.progress) options.progress(k + 1, count);
     }
     return bake;

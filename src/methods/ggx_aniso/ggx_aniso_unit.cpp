@@ -1,7 +1,7 @@
 // ggx-aniso as a unit, and its shaders: the level's unit normal with the fitted anisotropic GGX
-// lobe's tensor, both blended by the lookup (shaders/ggx_aniso.glsl); and ggx-aniso-khr,
-// ggx-aniso-kulla and ggx-aniso-burley, the same lobe as the engines sample it from their files
-// (KHR_materials_anisotropy; Unreal's and Unity HDRP's inputs; Godot's).
+// lobe's tensor stored as moments, both blended by the lookup (shaders/ggx_aniso.glsl); and
+// ggx-aniso-khr, ggx-aniso-kulla and ggx-aniso-burley, the same lobe as the engines sample it from
+// their files (KHR_materials_anisotropy; Unreal's and Unity HDRP's inputs; Godot's).
 
 #include <algorithm>
 #include <cmath>
@@ -27,10 +27,10 @@ Status prepareGgxAniso(const Material& m, const RenderTextures& textures,
     return prepareSplitSumSetup(m, textures, options, setup);
 }
 
-// Where a row's shader reads its lobe: the bake's own tensor (ggx-aniso), or an engine's inputs
+// Where a row's shader reads its lobe: the bake's own moments (ggx-aniso), or an engine's inputs
 // (engine_anisotropy.h) for the engine rows: glTF's KHR_materials_anisotropy (three.js, Filament,
 // Bevy), Kulla's (Unreal, Unity HDRP), Burley's (Godot).
-enum class EngineInputs { Tensor, Khr, Kulla, Burley };
+enum class EngineInputs { Moments, Khr, Kulla, Burley };
 
 // A texel of the engine's files as the row's plane holds it: the perceptual roughness, the
 // direction as (d + 1)/2, the anisotropy (KHR's strength or the engine's k).
@@ -77,9 +77,9 @@ template <EngineInputs E> Bake engineAnisotropyPlanes(const Bake& bake) {
                    "the lobe as the engine's files hold it, 8-bit",
                    true}};
     for (size_t k = 0; k < bake.levels.size(); ++k) {
-        const Image& tensor = *bake.levels[k][momentsPlane];
-        Image texels(tensor.width, tensor.height, 4, Image::Uninitialized{});
-        for (size_t i = 0; i < tensor.texelCount(); ++i) {
+        const Image& moments = *bake.levels[k][momentsPlane];
+        Image texels(moments.width, moments.height, 4, Image::Uninitialized{});
+        for (size_t i = 0; i < moments.texelCount(); ++i) {
             AnisotropicLobe l = lobe(k, i);
             l.direction = directions.at(k, i);
             const glm::vec4 texel = engineTexel<E>(l);
@@ -94,7 +94,7 @@ template <EngineInputs E> Bake engineAnisotropyPlanes(const Bake& bake) {
 // The lobe's tensor from the blended planes: the bake's, from its blended moments and normal, or
 // the one the engine decodes from its blended channels (ggx_aniso.glsl).
 template <EngineInputs E> glm::vec3 tensorOf(const float* p) {
-    if constexpr (E == EngineInputs::Tensor)
+    if constexpr (E == EngineInputs::Moments)
         return glsl().ndfmipGgxAnisoTensor(glm::vec3(p[3], p[4], p[5]),
                                            glm::vec3(p[0], p[1], p[2]));
     else if constexpr (E == EngineInputs::Khr)
@@ -165,7 +165,7 @@ template <EngineInputs E> MethodShader anisoShader(const char* name) {
                         false,
                         nullptr,
                         nullptr};
-    if constexpr (E != EngineInputs::Tensor) {
+    if constexpr (E != EngineInputs::Moments) {
         shader.glsl = "render/ggx_aniso_engine.glsl";
         shader.gpuDefines = engineDefines<E>;
         shader.planesOf = engineAnisotropyPlanes<E>;
@@ -217,7 +217,7 @@ MethodUnit ggxAnisoUnit() {
 }
 
 std::vector<MethodShader> ggxAnisoShaders() {
-    return {anisoShader<EngineInputs::Tensor>("ggx-aniso"),
+    return {anisoShader<EngineInputs::Moments>("ggx-aniso"),
             anisoShader<EngineInputs::Khr>("ggx-aniso-khr"),
             anisoShader<EngineInputs::Kulla>("ggx-aniso-kulla"),
             anisoShader<EngineInputs::Burley>("ggx-aniso-burley")};
